@@ -1,0 +1,48 @@
+#include "interceptor/config.h"
+
+#include <cerrno>
+#include <cstdio>
+#include <cstdlib>
+
+namespace glcast {
+
+static bool read_uint(const char* name, uint64_t min, uint64_t max, uint64_t& out) {
+    const char* text = std::getenv(name);
+    if (!text || !*text) return true;
+    char* end = nullptr;
+    errno = 0;
+    const unsigned long long v = std::strtoull(text, &end, 10);
+    if (errno || *end || v < min || v > max || text[0] == '-') {
+        std::fprintf(stderr, "glcast: %s=%s is not an integer in [%llu, %llu]; glcast stays off\n", name, text,
+                     (unsigned long long)min, (unsigned long long)max);
+        return false;
+    }
+    out = v;
+    return true;
+}
+
+static ShimConfig load() {
+    ShimConfig c;
+    bool ok = true;
+    if (const char* p = std::getenv("GLCAST_CAPTURE")) c.capture_path = p;
+    uint64_t v = 0;
+    ok &= read_uint("GLCAST_FRAMES", 0, UINT32_MAX, c.frames);
+    v = 0;
+    ok &= read_uint("GLCAST_EXIT_AFTER_FRAMES", 0, 1, v);
+    c.exit_after = v;
+    v = 1;
+    ok &= read_uint("GLCAST_ZSTD_LEVEL", 0, 19, v);
+    c.zstd_level = int(v);
+    v = 0;
+    ok &= read_uint("GLCAST_VERBOSE", 0, 1, v);
+    c.verbose = v;
+    if (!ok) c.capture_path.clear();
+    return c;
+}
+
+const ShimConfig& shim_config() {
+    static const ShimConfig config = load();
+    return config;
+}
+
+}  // namespace glcast

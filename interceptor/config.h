@@ -1,0 +1,22 @@
+// Every GLCAST_* environment variable the shim reads, read once and checked (style.md 14).
+// docs/environment.md lists them.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace glcast {
+
+struct ShimConfig {
+    std::string capture_path;   // GLCAST_CAPTURE: write the stream to this file
+    uint64_t frames = 0;        // GLCAST_FRAMES: stop recording after this many frames (0: never)
+    bool exit_after = false;    // GLCAST_EXIT_AFTER_FRAMES=1: end the program once they are written
+    int zstd_level = 1;         // GLCAST_ZSTD_LEVEL: 0 stores messages uncompressed
+    bool verbose = false;       // GLCAST_VERBOSE=1: summary on stderr at exit
+    bool has_consumer() const { return !capture_path.empty(); }
+};
+
+// Parsed on first use; an invalid value is reported and the shim stays passive.
+const ShimConfig& shim_config();
+
+}  // namespace glcast

@@ -1,0 +1,150 @@
+// Per-thread recursion guard, tuple recording and the stream's lifetime inside the host program.
+#include "interceptor/shim.h"
+
+#include <unistd.h>
+
+#include <atomic>
+#include <cstdio>
+#include <cstring>
+#include <memory>
+#include <mutex>
+
+#include "glcast_commands.h"
+#include "interceptor/config.h"
+#include "interceptor/shim_internal.h"
+#include "master/client_arrays.h"
+#include "master/driver_size_queries.h"
+#include "master/stream.h"
+#include "protocol/format.h"
+
+namespace glcast {
+
+bool g_recording = false;
+
+static std::atomic<uint32_t> g_unserialized[kOpcodeCount];
+static std::once_flag g_stream_once;
+static std::unique_ptr<Stream> g_stream;
+
+ThreadState& thread_state() {
+    // thread_local with a constructor: each thread gets its own scratch buffer and sizes.
+    static thread_local ThreadState state;
+    return state;
+}
+
+Stream* stream() {
+    std::call_once(g_stream_once, [] {
+        const ShimConfig& c = shim_config();
+        std::vector<std::unique_ptr<MessageSink>> sinks;
+        try {
+            if (!c.capture_path.empty()) sinks.push_back(std::make_unique<CaptureFileSink>(c.capture_path));
+        } catch (const std::exception& e) {
+            std::fprintf(stderr, "glcast: %s; capture disabled\n", e.what());
+            g_recording = false;
+            return;
+        }
+        g_stream = std::make_unique<Stream>(std::move(sinks), c.zstd_level, 16);
+    });
+    return g_stream.get();
+}
+
+CallScope::CallScope(uint32_t opcode) : opcode_(opcode) {
+    ThreadState& ts = thread_state();
+    recording_ = g_recording && ts.depth == 0;
+    ts.depth++;
+    ts.opcode = opcode;
+}
+
+CallScope::~CallScope() { thread_state().depth--; }
+
+Encoder& CallScope::begin_record() {
+    ThreadState& ts = thread_state();
+    ts.scratch.clear();
+    ts.encoder.set_context(ts.context_id);
+    ts.encoder.clear_failure();
+    ts.sizes.clear_failure();
+    return ts.encoder;
+}
+
+SizeQueries& CallScope::sizes() { return thread_state().sizes; }
+
+void CallScope::commit_record() {
+    ThreadState& ts = thread_state();
+    const std::string& why = !ts.encoder.failure().empty() ? ts.encoder.failure() : ts.sizes.failure();
+    if (!why.empty()) {
+        const std::string reason = why;  // unserialized() reuses the encoder
+        unserialized(reason.c_str());
+        return;
+    }
+    if (Stream* s = stream()) s->append(ts.scratch.data(), ts.scratch.size());
+}
+
+Encoder& CallScope::begin_synthetic(uint32_t opcode) {
+    ThreadState& ts = thread_state();
+    ts.synthetic.clear();
+    Encoder& e = ts.synthetic_encoder;
+    e.set_context(ts.context_id);
+    e.begin(opcode);
+    return e;
+}
+
+void CallScope::commit_synthetic() {
+    ThreadState& ts = thread_state();
+    ts.synthetic_encoder.end();
+    if (Stream* s = stream()) s->append(ts.synthetic.data(), ts.synthetic.size());
+}
+
+void CallScope::unserialized(const char* reason) {
+    const CommandInfo* info = command_info(opcode_);
+    if (!reason || !*reason) reason = info && *info->reason ? info->reason : "not serializable";
+    if (g_unserialized[opcode_].fetch_add(1, std::memory_order_relaxed) == 0 && shim_config().verbose)
+        std::fprintf(stderr, "glcast: %s forwarded, not serialized: %s\n", info ? info->name : "?", reason);
+    Encoder& e = begin_synthetic(kSynthUnserialized);
+    e.value<uint32_t>(opcode_);
+    e.string(reason);
+    commit_synthetic();
+    if (Stream* s = stream()) s->count_unserialized();
+}
+
+uint32_t current_context_id() { return thread_state().context_id; }
+void set_current_context(uint32_t id) { thread_state().context_id = id; }
+
+void print_summary() {
+    if (!g_stream) return;
+    const StreamStats st = g_stream->stats();
+    std::fprintf(stderr,
+                 "glcast: %llu frames, %llu tuples, %.1f KiB raw, %.1f KiB stored, array cache %llu hits / %llu "
+                 "misses, %llu calls unserialized\n",
+                 (unsigned long long)st.frames, (unsigned long long)st.tuples, st.raw_bytes / 1024.0,
+                 st.stored_bytes / 1024.0, (unsigned long long)st.array_cache_hits,
+                 (unsigned long long)st.array_cache_misses, (unsigned long long)st.unserialized);
+    for (uint32_t op = 0; op < kOpcodeCount; ++op)
+        if (uint32_t n = g_unserialized[op].load())
+            std::fprintf(stderr, "glcast:   unserialized %s x%u: %s\n", command_info(op)->name, n,
+                         *command_info(op)->reason ? command_info(op)->reason : "size unknown at run time");
+}
+
+void finish_stream() {
+    if (!g_stream) return;
+    g_stream->close();
+    if (shim_config().verbose) print_summary();
+}
+
+void on_frame_end() {
+    Stream* s = stream();
+    if (!s) return;
+    s->end_frame();
+    const ShimConfig& c = shim_config();
+    if (c.frames && s->frame() >= c.frames) {
+        g_recording = false;
+        finish_stream();
+        if (c.exit_after) _exit(0);
+    }
+}
+
+__attribute__((constructor)) static void shim_init() { g_recording = shim_config().has_consumer(); }
+__attribute__((destructor)) static void shim_fini() {
+    g_recording = false;
+    finish_stream();
+}
+
+}  // namespace glcast

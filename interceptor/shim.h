@@ -1,0 +1,64 @@
+// The shim's per-call machinery, shared by the generated entry points and interceptor/special.
+//
+// Every entry point has the same shape (style.md 8): resolve the real function, open a
+// CallScope (the per-thread recursion guard), call the driver first, then encode request and
+// reply. Only outermost calls (depth 0) of a process with a consumer are recorded.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "master/encoder.h"
+#include "master/size_queries.h"
+
+namespace glcast {
+
+struct DrawRange;
+
+void* real_proc(uint32_t opcode);               // the driver's function, or nullptr
+void* real_proc_by_name(const char* name);      // same, for names the registry lacks
+extern void* const kEntryPoints[];              // generated: our wrapper per opcode
+extern bool g_recording;                        // a consumer is configured and not finished
+
+struct ThreadState;
+ThreadState& thread_state();
+
+class CallScope {
+public:
+    explicit CallScope(uint32_t opcode);
+    ~CallScope();
+    CallScope(const CallScope&) = delete;
+    CallScope& operator=(const CallScope&) = delete;
+
+    bool recording() const { return recording_; }
+    uint32_t opcode() const { return opcode_; }
+
+    // Encodes one tuple with `encode(Encoder&, SizeQueries&)` and appends it to the stream,
+    // or, when a size was unknown, records the call as unserialized with the reason.
+    template <class F>
+    void record(F&& encode) {
+        Encoder& e = begin_record();
+        encode(e, sizes());
+        commit_record();
+    }
+    // Synthetic tuple with a hand-written body (protocol/format.h).
+    Encoder& begin_synthetic(uint32_t opcode);
+    void commit_synthetic();
+
+    void ship_client_arrays(const DrawRange& range);  // before a draw's tuple
+    void unserialized(const char* reason = nullptr);
+
+private:
+    Encoder& begin_record();
+    void commit_record();
+    SizeQueries& sizes();
+
+    uint32_t opcode_;
+    bool recording_;
+};
+
+// Contexts (special/context.cpp): small ids that tuples carry instead of driver handles.
+uint32_t current_context_id();
+void set_current_context(uint32_t id);
+
+}  // namespace glcast

@@ -1,0 +1,235 @@
+// Mapped buffer objects.
+//
+// The application writes into driver memory between map and unmap, outside any GL call, so
+// the stream learns the contents only when GL is told they are ready:
+//  - glUnmapBuffer: the whole mapped range travels (kSynthBufferWrite), unless the map was
+//    GL_MAP_FLUSH_EXPLICIT_BIT, in which case only glFlushMappedBufferRange ranges do;
+//  - the memory must be read *before* the real unmap, after which the pointer is invalid;
+//    this is the one place where the driver is called after encoding;
+//  - persistent maps (GL_MAP_PERSISTENT_BIT) stay mapped while the program draws: a shadow
+//    copy taken at map time is compared before every draw, and the changed span travels.
+//    Comparison costs a memcmp of the mapped range per draw; page protection would be cheaper
+//    for large idle maps (apitrace's glmemshadow) and is left for when a program needs it.
+// Read-only maps change nothing and are only recorded.
+#include <algorithm>
+#include <cstring>
+#include <map>
+#include <mutex>
+#include <vector>
+
+#include "glcast_commands.h"
+#include "glcast_encode.h"
+#include "glcast_special.h"
+#include "interceptor/shim.h"
+#include "master/driver_size_queries.h"
+#include "protocol/format.h"
+
+namespace glcast {
+namespace {
+
+struct Mapping {
+    uint8_t* pointer = nullptr;
+    int64_t offset = 0, length = 0;
+    GLbitfield access = 0;
+    std::vector<uint8_t> shadow;  // persistent maps only
+};
+
+std::mutex g_mutex;
+std::map<std::pair<uint32_t, GLuint>, Mapping> g_maps;  // (context id, buffer name)
+
+GLenum binding_of(GLenum target) {
+    switch (target) {
+    case GL_ARRAY_BUFFER: return GL_ARRAY_BUFFER_BINDING;
+    case GL_ELEMENT_ARRAY_BUFFER: return GL_ELEMENT_ARRAY_BUFFER_BINDING;
+    case GL_PIXEL_PACK_BUFFER: return GL_PIXEL_PACK_BUFFER_BINDING;
+    case GL_PIXEL_UNPACK_BUFFER: return GL_PIXEL_UNPACK_BUFFER_BINDING;
+    case GL_UNIFORM_BUFFER: return GL_UNIFORM_BUFFER_BINDING;
+    case GL_TEXTURE_BUFFER: return GL_TEXTURE_BUFFER_BINDING;
+    case GL_TRANSFORM_FEEDBACK_BUFFER: return GL_TRANSFORM_FEEDBACK_BUFFER_BINDING;
+    case GL_COPY_READ_BUFFER: return GL_COPY_READ_BUFFER_BINDING;
+    case GL_COPY_WRITE_BUFFER: return GL_COPY_WRITE_BUFFER_BINDING;
+    case GL_DRAW_INDIRECT_BUFFER: return GL_DRAW_INDIRECT_BUFFER_BINDING;
+    case GL_DISPATCH_INDIRECT_BUFFER: return GL_DISPATCH_INDIRECT_BUFFER_BINDING;
+    case GL_SHADER_STORAGE_BUFFER: return GL_SHADER_STORAGE_BUFFER_BINDING;
+    case GL_ATOMIC_COUNTER_BUFFER: return GL_ATOMIC_COUNTER_BUFFER_BINDING;
+    case GL_QUERY_BUFFER: return GL_QUERY_BUFFER_BINDING;
+    default: return 0;
+    }
+}
+
+GLuint bound_buffer(GLenum target) {
+    const GLenum binding = binding_of(target);
+    return binding ? GLuint(real_get_integer(binding)) : 0;
+}
+
+int64_t buffer_size(GLenum target) {
+    static const auto get = reinterpret_cast<PFNGLGETBUFFERPARAMETERI64VPROC>(real_proc(OP_glGetBufferParameteri64v));
+    GLint64 v = 0;
+    if (get) get(target, GL_BUFFER_SIZE, &v);
+    return v;
+}
+
+GLbitfield access_bits(GLenum access) {  // glMapBuffer's enum to glMapBufferRange's bits
+    switch (access) {
+    case GL_READ_ONLY: return GL_MAP_READ_BIT;
+    case GL_WRITE_ONLY: return GL_MAP_WRITE_BIT;
+    default: return GL_MAP_READ_BIT | GL_MAP_WRITE_BIT;
+    }
+}
+
+void emit_write(CallScope& scope, GLuint buffer, int64_t offset, const uint8_t* data, int64_t bytes) {
+    if (bytes <= 0) return;
+    Encoder& e = scope.begin_synthetic(kSynthBufferWrite);
+    e.value<uint32_t>(buffer);
+    e.value<uint64_t>(uint64_t(offset));
+    e.data(data, bytes, 1);
+    scope.commit_synthetic();
+}
+
+void mapped(CallScope& scope, GLuint buffer, void* pointer, int64_t offset, int64_t length, GLbitfield access) {
+    if (!pointer || !buffer) return;
+    Mapping m{static_cast<uint8_t*>(pointer), offset, length, access, {}};
+    if ((access & GL_MAP_PERSISTENT_BIT) && (access & GL_MAP_WRITE_BIT))
+        m.shadow.assign(m.pointer, m.pointer + length);
+    (void)scope;
+    std::lock_guard lock(g_mutex);
+    g_maps[{current_context_id(), buffer}] = std::move(m);
+}
+
+// Ships what the program wrote into a mapping; for persistent maps only the changed span.
+void ship_changes(CallScope& scope, GLuint buffer, Mapping& m, int64_t from, int64_t bytes) {
+    if (!(m.access & GL_MAP_WRITE_BIT)) return;
+    from = std::clamp<int64_t>(from, 0, m.length);
+    bytes = std::clamp<int64_t>(bytes, 0, m.length - from);
+    if (m.shadow.empty()) {
+        emit_write(scope, buffer, m.offset + from, m.pointer + from, bytes);
+        return;
+    }
+    int64_t lo = from, hi = from + bytes;
+    while (lo < hi && m.pointer[lo] == m.shadow[size_t(lo)]) ++lo;
+    while (hi > lo && m.pointer[hi - 1] == m.shadow[size_t(hi - 1)]) --hi;
+    if (lo == hi) return;
+    std::memcpy(m.shadow.data() + lo, m.pointer + lo, size_t(hi - lo));
+    emit_write(scope, buffer, m.offset + lo, m.pointer + lo, hi - lo);
+}
+
+// Before glUnmapBuffer: the data goes out first, then the real unmap, then its tuple.
+template <class Unmap, class Encode>
+GLboolean unmap(CallScope& scope, GLuint buffer, Unmap&& real_unmap, Encode&& encode) {
+    if (scope.recording()) {
+        std::lock_guard lock(g_mutex);
+        auto it = g_maps.find({current_context_id(), buffer});
+        if (it != g_maps.end()) {
+            Mapping& m = it->second;
+            if (!(m.access & GL_MAP_FLUSH_EXPLICIT_BIT) || !m.shadow.empty())
+                ship_changes(scope, buffer, m, 0, m.length);
+        }
+    }
+    const GLboolean ret = real_unmap();
+    {
+        std::lock_guard lock(g_mutex);
+        g_maps.erase({current_context_id(), buffer});
+    }
+    if (scope.recording()) scope.record([&](Encoder& e, SizeQueries& sz) { encode(e, sz, ret); });
+    return ret;
+}
+
+void flushed(CallScope& scope, GLuint buffer, int64_t offset, int64_t length) {
+    std::lock_guard lock(g_mutex);
+    auto it = g_maps.find({current_context_id(), buffer});
+    if (it != g_maps.end()) ship_changes(scope, buffer, it->second, offset, length);
+}
+
+}  // namespace
+
+// Called before every draw: persistent mappings may have been written since the last one.
+void ship_mapped_writes(CallScope& scope) {
+    std::lock_guard lock(g_mutex);
+    if (g_maps.empty()) return;
+    const uint32_t ctx = current_context_id();
+    for (auto& [key, m] : g_maps)
+        if (key.first == ctx && !m.shadow.empty()) ship_changes(scope, key.second, m, 0, m.length);
+}
+
+void* special::glMapBuffer(glMapBuffer_fn real, CallScope& scope, GLenum target, GLenum access) {
+    void* ret = real(target, access);
+    if (!scope.recording()) return ret;
+    scope.record([&](Encoder& e, SizeQueries& sz) { encode_glMapBuffer(e, sz, target, access, ret); });
+    mapped(scope, bound_buffer(target), ret, 0, buffer_size(target), access_bits(access));
+    return ret;
+}
+
+void* special::glMapBufferARB(glMapBufferARB_fn real, CallScope& scope, GLenum target, GLenum access) {
+    void* ret = real(target, access);
+    if (!scope.recording()) return ret;
+    scope.record([&](Encoder& e, SizeQueries& sz) { encode_glMapBufferARB(e, sz, target, access, ret); });
+    mapped(scope, bound_buffer(target), ret, 0, buffer_size(target), access_bits(access));
+    return ret;
+}
+
+void* special::glMapBufferRange(glMapBufferRange_fn real, CallScope& scope, GLenum target, GLintptr offset,
+                                GLsizeiptr length, GLbitfield access) {
+    void* ret = real(target, offset, length, access);
+    if (!scope.recording()) return ret;
+    scope.record([&](Encoder& e, SizeQueries& sz) { encode_glMapBufferRange(e, sz, target, offset, length, access, ret); });
+    mapped(scope, bound_buffer(target), ret, offset, length, access);
+    return ret;
+}
+
+void* special::glMapNamedBuffer(glMapNamedBuffer_fn real, CallScope& scope, GLuint buffer, GLenum access) {
+    void* ret = real(buffer, access);
+    if (!scope.recording()) return ret;
+    scope.record([&](Encoder& e, SizeQueries& sz) { encode_glMapNamedBuffer(e, sz, buffer, access, ret); });
+    static const auto get = reinterpret_cast<PFNGLGETNAMEDBUFFERPARAMETERI64VPROC>(
+        real_proc(OP_glGetNamedBufferParameteri64v));
+    GLint64 size = 0;
+    if (get) get(buffer, GL_BUFFER_SIZE, &size);
+    mapped(scope, buffer, ret, 0, size, access_bits(access));
+    return ret;
+}
+
+void* special::glMapNamedBufferRange(glMapNamedBufferRange_fn real, CallScope& scope, GLuint buffer,
+                                     GLintptr offset, GLsizeiptr length, GLbitfield access) {
+    void* ret = real(buffer, offset, length, access);
+    if (!scope.recording()) return ret;
+    scope.record([&](Encoder& e, SizeQueries& sz) {
+        encode_glMapNamedBufferRange(e, sz, buffer, offset, length, access, ret);
+    });
+    mapped(scope, buffer, ret, offset, length, access);
+    return ret;
+}
+
+GLboolean special::glUnmapBuffer(glUnmapBuffer_fn real, CallScope& scope, GLenum target) {
+    return unmap(scope, bound_buffer(target), [&] { return real(target); },
+                 [&](Encoder& e, SizeQueries& sz, GLboolean ret) { encode_glUnmapBuffer(e, sz, target, ret); });
+}
+
+GLboolean special::glUnmapBufferARB(glUnmapBufferARB_fn real, CallScope& scope, GLenum target) {
+    return unmap(scope, bound_buffer(target), [&] { return real(target); },
+                 [&](Encoder& e, SizeQueries& sz, GLboolean ret) { encode_glUnmapBufferARB(e, sz, target, ret); });
+}
+
+GLboolean special::glUnmapNamedBuffer(glUnmapNamedBuffer_fn real, CallScope& scope, GLuint buffer) {
+    return unmap(scope, buffer, [&] { return real(buffer); },
+                 [&](Encoder& e, SizeQueries& sz, GLboolean ret) { encode_glUnmapNamedBuffer(e, sz, buffer, ret); });
+}
+
+void special::glFlushMappedBufferRange(glFlushMappedBufferRange_fn real, CallScope& scope, GLenum target,
+                                       GLintptr offset, GLsizeiptr length) {
+    if (scope.recording()) flushed(scope, bound_buffer(target), offset, length);
+    real(target, offset, length);
+    if (scope.recording())
+        scope.record([&](Encoder& e, SizeQueries& sz) { encode_glFlushMappedBufferRange(e, sz, target, offset, length); });
+}
+
+void special::glFlushMappedNamedBufferRange(glFlushMappedNamedBufferRange_fn real, CallScope& scope, GLuint buffer,
+                                            GLintptr offset, GLsizeiptr length) {
+    if (scope.recording()) flushed(scope, buffer, offset, length);
+    real(buffer, offset, length);
+    if (scope.recording())
+        scope.record([&](Encoder& e, SizeQueries& sz) {
+            encode_glFlushMappedNamedBufferRange(e, sz, buffer, offset, length);
+        });
+}
+
+}  // namespace glcast

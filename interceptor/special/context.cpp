@@ -1,0 +1,198 @@
+// Contexts and frames. Tuples carry small context ids instead of driver handles; a
+// kSynthContext tuple after each creation call says which handle got which id, and a
+// kSynthDrawableSize tuple says how big the window is whenever that changes. A frame ends
+// at every swap, after the swap's own tuple.
+#include <map>
+#include <mutex>
+
+#include "glcast_commands.h"
+#include "glcast_encode.h"
+#include "glcast_special.h"
+#include "interceptor/dl_hooks.h"
+#include "interceptor/shim.h"
+#include "interceptor/shim_internal.h"
+#include "protocol/format.h"
+
+namespace glcast {
+namespace {
+
+std::mutex g_mutex;
+std::map<const void*, uint32_t> g_context_ids;
+uint32_t g_next_id = 1;
+std::map<uint64_t, std::pair<int32_t, int32_t>> g_drawable_sizes;
+
+uint32_t id_of(const void* handle) {
+    std::lock_guard lock(g_mutex);
+    auto it = g_context_ids.find(handle);
+    return it == g_context_ids.end() ? 0 : it->second;
+}
+
+void created(CallScope& scope, const void* handle, const void* share, uint8_t api) {
+    if (!handle) return;
+    uint32_t id;
+    {
+        std::lock_guard lock(g_mutex);
+        id = g_context_ids[handle] = g_next_id++;
+    }
+    Encoder& e = scope.begin_synthetic(kSynthContext);
+    e.value<uint32_t>(id);
+    e.address(handle);
+    e.value<uint32_t>(id_of(share));
+    e.value<uint8_t>(api);
+    scope.commit_synthetic();
+}
+
+void destroyed(const void* handle) {
+    std::lock_guard lock(g_mutex);
+    g_context_ids.erase(handle);
+}
+
+void drawable_size(CallScope& scope, uint64_t drawable, int32_t w, int32_t h) {
+    {
+        std::lock_guard lock(g_mutex);
+        auto& size = g_drawable_sizes[drawable];
+        if (size == std::make_pair(w, h)) return;
+        size = {w, h};
+    }
+    Encoder& e = scope.begin_synthetic(kSynthDrawableSize);
+    e.value<uint64_t>(drawable);
+    e.value<int32_t>(w);
+    e.value<int32_t>(h);
+    scope.commit_synthetic();
+}
+
+void glx_drawable_size(CallScope& scope, Display* dpy, GLXDrawable drawable) {
+    if (!dpy || !drawable) return;
+    static const auto query = reinterpret_cast<PFNGLXQUERYDRAWABLEPROC>(real_proc(OP_glXQueryDrawable));
+    unsigned w = 0, h = 0;
+    if (query) {
+        query(dpy, drawable, GLX_WIDTH, &w);
+        query(dpy, drawable, GLX_HEIGHT, &h);
+    }
+    drawable_size(scope, drawable, int32_t(w), int32_t(h));
+}
+
+void egl_drawable_size(CallScope& scope, EGLDisplay dpy, EGLSurface surface) {
+    if (!dpy || !surface) return;
+    static const auto query = reinterpret_cast<PFNEGLQUERYSURFACEPROC>(real_proc(OP_eglQuerySurface));
+    EGLint w = 0, h = 0;
+    if (query) {
+        query(dpy, surface, EGL_WIDTH, &w);
+        query(dpy, surface, EGL_HEIGHT, &h);
+    }
+    drawable_size(scope, reinterpret_cast<uintptr_t>(surface), w, h);
+}
+
+template <class F>
+void record(CallScope& scope, F&& f) {
+    if (scope.recording()) scope.record(f);
+}
+
+}  // namespace
+
+GLXContext special::glXCreateContext(glXCreateContext_fn real, CallScope& scope, Display* dpy, XVisualInfo* vis,
+                                     GLXContext shareList, Bool direct) {
+    GLXContext ret = real(dpy, vis, shareList, direct);
+    if (!scope.recording()) return ret;
+    scope.record([&](Encoder& e, SizeQueries& sz) { encode_glXCreateContext(e, sz, dpy, vis, shareList, direct, ret); });
+    created(scope, ret, shareList, 0);
+    return ret;
+}
+
+GLXContext special::glXCreateNewContext(glXCreateNewContext_fn real, CallScope& scope, Display* dpy,
+                                        GLXFBConfig config, int render_type, GLXContext share_list, Bool direct) {
+    GLXContext ret = real(dpy, config, render_type, share_list, direct);
+    if (!scope.recording()) return ret;
+    scope.record([&](Encoder& e, SizeQueries& sz) {
+        encode_glXCreateNewContext(e, sz, dpy, config, render_type, share_list, direct, ret);
+    });
+    created(scope, ret, share_list, 0);
+    return ret;
+}
+
+GLXContext special::glXCreateContextAttribsARB(glXCreateContextAttribsARB_fn real, CallScope& scope, Display* dpy,
+                                               GLXFBConfig config, GLXContext share_context, Bool direct,
+                                               const int* attrib_list) {
+    GLXContext ret = real(dpy, config, share_context, direct, attrib_list);
+    if (!scope.recording()) return ret;
+    scope.record([&](Encoder& e, SizeQueries& sz) {
+        encode_glXCreateContextAttribsARB(e, sz, dpy, config, share_context, direct, attrib_list, ret);
+    });
+    created(scope, ret, share_context, 0);
+    return ret;
+}
+
+Bool special::glXMakeCurrent(glXMakeCurrent_fn real, CallScope& scope, Display* dpy, GLXDrawable drawable,
+                             GLXContext ctx) {
+    Bool ret = real(dpy, drawable, ctx);
+    if (ret) set_current_context(ctx ? id_of(ctx) : 0);
+    if (!scope.recording()) return ret;
+    record(scope, [&](Encoder& e, SizeQueries& sz) { encode_glXMakeCurrent(e, sz, dpy, drawable, ctx, ret); });
+    if (ret && ctx) glx_drawable_size(scope, dpy, drawable);
+    return ret;
+}
+
+Bool special::glXMakeContextCurrent(glXMakeContextCurrent_fn real, CallScope& scope, Display* dpy,
+                                    GLXDrawable draw, GLXDrawable read, GLXContext ctx) {
+    Bool ret = real(dpy, draw, read, ctx);
+    if (ret) set_current_context(ctx ? id_of(ctx) : 0);
+    if (!scope.recording()) return ret;
+    record(scope, [&](Encoder& e, SizeQueries& sz) { encode_glXMakeContextCurrent(e, sz, dpy, draw, read, ctx, ret); });
+    if (ret && ctx) glx_drawable_size(scope, dpy, draw);
+    return ret;
+}
+
+void special::glXDestroyContext(glXDestroyContext_fn real, CallScope& scope, Display* dpy, GLXContext ctx) {
+    real(dpy, ctx);
+    record(scope, [&](Encoder& e, SizeQueries& sz) { encode_glXDestroyContext(e, sz, dpy, ctx); });
+    destroyed(ctx);
+}
+
+void special::glXSwapBuffers(glXSwapBuffers_fn real, CallScope& scope, Display* dpy, GLXDrawable drawable) {
+    if (!scope.recording()) return real(dpy, drawable);
+    glx_drawable_size(scope, dpy, drawable);
+    real(dpy, drawable);
+    scope.record([&](Encoder& e, SizeQueries& sz) { encode_glXSwapBuffers(e, sz, dpy, drawable); });
+    on_frame_end();
+}
+
+EGLContext special::eglCreateContext(eglCreateContext_fn real, CallScope& scope, EGLDisplay dpy, EGLConfig config,
+                                     EGLContext share_context, const EGLint* attrib_list) {
+    note_egl_in_use();
+    EGLContext ret = real(dpy, config, share_context, attrib_list);
+    if (!scope.recording()) return ret;
+    scope.record([&](Encoder& e, SizeQueries& sz) {
+        encode_eglCreateContext(e, sz, dpy, config, share_context, attrib_list, ret);
+    });
+    created(scope, ret, share_context, 1);
+    return ret;
+}
+
+EGLBoolean special::eglMakeCurrent(eglMakeCurrent_fn real, CallScope& scope, EGLDisplay dpy, EGLSurface draw,
+                                   EGLSurface read, EGLContext ctx) {
+    note_egl_in_use();
+    EGLBoolean ret = real(dpy, draw, read, ctx);
+    if (ret) set_current_context(ctx ? id_of(ctx) : 0);
+    if (!scope.recording()) return ret;
+    record(scope, [&](Encoder& e, SizeQueries& sz) { encode_eglMakeCurrent(e, sz, dpy, draw, read, ctx, ret); });
+    if (ret && ctx) egl_drawable_size(scope, dpy, draw);
+    return ret;
+}
+
+EGLBoolean special::eglDestroyContext(eglDestroyContext_fn real, CallScope& scope, EGLDisplay dpy, EGLContext ctx) {
+    EGLBoolean ret = real(dpy, ctx);
+    record(scope, [&](Encoder& e, SizeQueries& sz) { encode_eglDestroyContext(e, sz, dpy, ctx, ret); });
+    destroyed(ctx);
+    return ret;
+}
+
+EGLBoolean special::eglSwapBuffers(eglSwapBuffers_fn real, CallScope& scope, EGLDisplay dpy, EGLSurface surface) {
+    if (!scope.recording()) return real(dpy, surface);
+    egl_drawable_size(scope, dpy, surface);
+    EGLBoolean ret = real(dpy, surface);
+    scope.record([&](Encoder& e, SizeQueries& sz) { encode_eglSwapBuffers(e, sz, dpy, surface, ret); });
+    on_frame_end();
+    return ret;
+}
+
+}  // namespace glcast

@@ -1,0 +1,42 @@
+// Client-memory vertex arrays: GL reads them at the draw, so the shim ships them then, over
+// exactly the range the draw uses, and only when they changed since the last time (the
+// shadow-copy array cache of design.md 4). Buffer-object arrays travel with the buffer data.
+#pragma once
+
+#include <cstdint>
+
+namespace glcast {
+
+class CallScope;
+
+struct DrawRange {
+    enum Kind : uint8_t { Arrays, Elements, MultiArrays } kind = Arrays;
+    int64_t first = 0, count = 0;        // Arrays
+    const void* indices = nullptr;       // Elements: client pointer or buffer offset
+    uint32_t type = 0;
+    int64_t basevertex = 0;
+    int64_t instances = 1;
+    const int32_t* firsts = nullptr;     // MultiArrays
+    const int32_t* counts = nullptr;
+    int64_t drawcount = 0;
+
+    static DrawRange arrays(int64_t first, int64_t count, int64_t instances);
+    static DrawRange elements(const void* indices, uint32_t type, int64_t count, int64_t basevertex,
+                              int64_t instances);
+    static DrawRange multi_arrays(const int32_t* firsts, const int32_t* counts, int64_t drawcount);
+};
+
+// Called by the encoder of a vertex-pointer command that got client memory.
+void note_client_pointer(uint32_t opcode);
+uint32_t thread_state_opcode();
+
+// glLockArraysEXT / glUnlockArraysEXT: locked elements are read even if the draw does not.
+void lock_client_arrays(int64_t first, int64_t count);
+void unlock_client_arrays();
+
+// Computes [min, max] of an index array (after base vertex), skipping the primitive-restart
+// index; false when no index is drawn. Exposed for tests.
+bool index_range(const void* indices, uint32_t type, int64_t count, int64_t basevertex,
+                 bool restart, uint32_t restart_index, int64_t& lo, int64_t& hi);
+
+}  // namespace glcast

@@ -1,0 +1,22 @@
+// SizeQueries answered by the real driver of the host program's current context. The calls
+// go to the driver directly (real_proc), never through our entry points, so they are not
+// recorded and cannot recurse.
+#pragma once
+
+#include "master/size_queries.h"
+
+namespace glcast {
+
+class DriverSizeQueries : public SizeQueries {
+public:
+    PixelStore pixel_store(Dir dir) override;
+    bool bound(uint32_t binding_query) override;
+    int64_t driver_count(uint32_t pname) override;
+    int64_t tex_level(uint32_t target, int32_t level, uint32_t pname) override;
+    bool client_pointer(const void* pointer) override;
+};
+
+// The real driver's glGetIntegerv for one value, 0 when there is no such function.
+int32_t real_get_integer(uint32_t pname);
+
+}  // namespace glcast

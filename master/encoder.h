@@ -1,0 +1,99 @@
+// Encodes one tuple (u32 opcode, u32 context, u32 body length, body) into a growing byte
+// buffer. Used by the generated encode_* functions; see protocol/format.h for the layout.
+#pragma once
+
+#include <cstdint>
+#include <cstring>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include <X11/Xutil.h>
+
+#include "protocol/command_info.h"
+
+namespace glcast {
+
+using u8_t = uint8_t;
+using i8_t = int8_t;
+using u16_t = uint16_t;
+using i16_t = int16_t;
+using u32_t = uint32_t;
+using i32_t = int32_t;
+using u64_t = uint64_t;
+using i64_t = int64_t;
+using f32_t = float;
+using f64_t = double;
+
+template <class W, class T>
+inline W to_wire(T v) {
+    if constexpr (std::is_pointer_v<T>)
+        return static_cast<W>(reinterpret_cast<uintptr_t>(v));
+    else
+        return static_cast<W>(v);
+}
+
+// Largest array the encoder will read from the application: anything bigger is treated as
+// an unknown size (forwarded and counted), never a giant read.
+inline constexpr int64_t kMaxArrayBytes = int64_t(1) << 30;
+
+class Encoder {
+public:
+    explicit Encoder(std::vector<uint8_t>& out) : out_(out) {}
+
+    void begin(uint32_t opcode);
+    void end();                      // patches the body length
+    void set_context(uint32_t ctx) { context_ = ctx; }
+    uint32_t opcode() const { return opcode_; }
+
+    template <class T>
+    void value(T v) {
+        static_assert(std::is_arithmetic_v<T>);
+        put(&v, sizeof v);
+    }
+    void address(const void* p) { value<uint64_t>(reinterpret_cast<uintptr_t>(p)); }
+
+    // Pointer records (PtrTag). `count` is in elements of `elem_bytes`; a negative count
+    // (the application's error: GL reads nothing) encodes as zero elements.
+    void data(const void* p, int64_t count, size_t elem_bytes);
+    void offset(const void* p);
+    void deferred(const void* p, bool in_buffer);
+    void string(const char* s);
+    void string_array(int64_t count, const char* const* strings, const int* lengths);
+    template <class T>
+    void attrib_list(const T* list);                  // int or EGLAttrib lists
+    void visual_attribs(const int* list);
+    void visualinfo(const XVisualInfo* vi);
+    void reply_marker(const void* p);
+
+    // Reply part: the data of an output whose request record was PtrTag::Reply.
+    void reply_data(const void* p, int64_t count, size_t elem_bytes);
+    void reply_string(const char* s, int64_t capacity);
+
+    // Set when a size could not be determined or was absurd: the tuple must be discarded.
+    void fail(std::string reason) { if (failure_.empty()) failure_ = std::move(reason); }
+    const std::string& failure() const { return failure_; }
+    void clear_failure() { failure_.clear(); }
+
+private:
+    void put(const void* p, size_t n);
+    void tag(PtrTag t) { value<uint8_t>(static_cast<uint8_t>(t)); }
+    bool checked_bytes(int64_t count, size_t elem_bytes, uint32_t& out_count);
+
+    std::vector<uint8_t>& out_;
+    size_t start_ = 0;
+    uint32_t opcode_ = 0;
+    uint32_t context_ = 0;
+    std::string failure_;
+};
+
+template <class T>
+void Encoder::attrib_list(const T* list) {
+    if (!list) { tag(PtrTag::Null); return; }
+    size_t n = 0;
+    while (n < 512 && list[n] != 0) n += 2;  // key/value pairs up to the 0 key
+    if (n >= 512) { fail("attribute list without terminator"); tag(PtrTag::Null); return; }
+    data(list, int64_t(n + 1), sizeof(T));
+}
+
+}  // namespace glcast

@@ -1,0 +1,64 @@
+#include "master/launcher.h"
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <climits>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+
+namespace glcast {
+
+static bool readable(const std::string& p) { return access(p.c_str(), R_OK) == 0; }
+
+std::string shim_path() {
+    if (const char* p = std::getenv("GLCAST_SHIM")) return p;
+    char exe[PATH_MAX] = {};
+    const ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
+    if (n > 0) {
+        std::string dir(exe, size_t(n));
+        dir = dir.substr(0, dir.rfind('/'));
+        for (const char* rel : {"/libglcast.so", "/../lib/glcast/libglcast.so"})
+            if (readable(dir + rel)) return dir + rel;
+    }
+    return std::string(GLCAST_LIBDIR) + "/libglcast.so";
+}
+
+int run_with_shim(const std::vector<std::string>& argv, const std::map<std::string, std::string>& env) {
+    const std::string shim = shim_path();
+    if (!readable(shim)) {
+        std::fprintf(stderr, "glcast: the shim %s is missing (set GLCAST_SHIM or build target glcast)\n", shim.c_str());
+        return -1;
+    }
+    const pid_t pid = fork();
+    if (pid < 0) {
+        std::fprintf(stderr, "glcast: fork: %s\n", std::strerror(errno));
+        return -1;
+    }
+    if (pid == 0) {
+        std::string preload = shim;
+        if (const char* old = std::getenv("LD_PRELOAD"); old && *old) preload += std::string(":") + old;
+        setenv("LD_PRELOAD", preload.c_str(), 1);
+        for (const auto& [k, v] : env) setenv(k.c_str(), v.c_str(), 1);
+        std::vector<char*> args;
+        for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+        args.push_back(nullptr);
+        execvp(args[0], args.data());
+        std::fprintf(stderr, "glcast: cannot run %s: %s\n", args[0], std::strerror(errno));
+        _exit(127);
+    }
+    // Ctrl-C reaches the program (same process group); we only wait for it.
+    signal(SIGINT, SIG_IGN);
+    int status = 0;
+    while (waitpid(pid, &status, 0) < 0)
+        if (errno != EINTR) return -1;
+    signal(SIGINT, SIG_DFL);
+    if (WIFEXITED(status)) return WEXITSTATUS(status);
+    if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
+    return -1;
+}
+
+}  // namespace glcast

@@ -1,0 +1,179 @@
+#include "master/stream.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+#include <zlib.h>
+#include <zstd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <stdexcept>
+
+#include "glcast_commands.h"
+#include "protocol/format.h"
+
+namespace glcast {
+
+// A frame larger than this is split over several messages, bounding every allocation.
+static constexpr size_t kBatchBytes = 8u << 20;
+
+Stream::Stream(std::vector<std::unique_ptr<MessageSink>> sinks, int zstd_level, size_t queue_depth)
+    : queue_depth_(queue_depth ? queue_depth : 1), zstd_level_(zstd_level), sinks_(std::move(sinks)) {
+    writer_ = std::thread([this] { writer_loop(); });
+}
+
+Stream::~Stream() { close(); }
+
+void Stream::append(const uint8_t* tuple, size_t bytes) {
+    std::unique_lock lock(mutex_);
+    if (closed_) return;
+    if (open_.size() + bytes > kBatchBytes && !open_.empty()) seal_locked(false);
+    // Lossless sinks: a full queue makes the application wait rather than drop data.
+    queue_changed_.wait(lock, [&] { return queue_.size() < queue_depth_ || stopping_; });
+    open_.insert(open_.end(), tuple, tuple + bytes);
+    stats_.tuples++;
+    stats_.raw_bytes += bytes;
+}
+
+void Stream::end_frame() {
+    std::unique_lock lock(mutex_);
+    if (closed_) return;
+    queue_changed_.wait(lock, [&] { return queue_.size() < queue_depth_ || stopping_; });
+    seal_locked(true);
+    stats_.frames++;
+    open_frame_ = uint32_t(stats_.frames);
+}
+
+void Stream::seal_locked(bool frame_end) {
+    if (open_.empty() && !frame_end) return;
+    queue_.push_back(Batch{std::move(open_), next_sequence_++, open_frame_, frame_end});
+    open_.clear();
+    in_flight_++;
+    queue_changed_.notify_all();
+}
+
+void Stream::flush() {
+    std::unique_lock lock(mutex_);
+    if (closed_) return;
+    seal_locked(false);
+    queue_changed_.wait(lock, [&] { return in_flight_ == 0; });
+}
+
+void Stream::close() {
+    {
+        std::unique_lock lock(mutex_);
+        if (closed_) return;
+        seal_locked(false);
+        stopping_ = true;
+        closed_ = true;
+        queue_changed_.notify_all();
+    }
+    if (writer_.joinable()) writer_.join();
+    for (auto& s : sinks_) s->close();
+}
+
+uint64_t Stream::frame() const {
+    std::lock_guard lock(mutex_);
+    return stats_.frames;
+}
+
+StreamStats Stream::stats() const {
+    std::lock_guard lock(mutex_);
+    return stats_;
+}
+
+void Stream::count_cache(bool hit) {
+    std::lock_guard lock(mutex_);
+    (hit ? stats_.array_cache_hits : stats_.array_cache_misses)++;
+}
+
+void Stream::count_unserialized() {
+    std::lock_guard lock(mutex_);
+    stats_.unserialized++;
+}
+
+void Stream::writer_loop() {
+    ZSTD_CCtx* cctx = ZSTD_createCCtx();
+    std::vector<uint8_t> message;
+    for (;;) {
+        Batch batch;
+        {
+            std::unique_lock lock(mutex_);
+            queue_changed_.wait(lock, [&] { return !queue_.empty() || stopping_; });
+            if (queue_.empty()) break;
+            batch = std::move(queue_.front());
+            queue_.pop_front();
+            queue_changed_.notify_all();
+        }
+        MessageHeader h{};
+        h.magic = kMessageMagic;
+        h.sequence = batch.sequence;
+        h.frame = batch.frame;
+        h.raw_bytes = uint32_t(batch.payload.size());
+        message.resize(sizeof h + ZSTD_compressBound(batch.payload.size()));
+        size_t stored = batch.payload.size();
+        if (zstd_level_ > 0 && !batch.payload.empty()) {
+            const size_t n = ZSTD_compressCCtx(cctx, message.data() + sizeof h, message.size() - sizeof h,
+                                               batch.payload.data(), batch.payload.size(), zstd_level_);
+            if (!ZSTD_isError(n) && n < batch.payload.size()) {
+                stored = n;
+                h.flags |= kMsgCompressed;
+            }
+        }
+        if (!(h.flags & kMsgCompressed) && stored)
+            std::memcpy(message.data() + sizeof h, batch.payload.data(), stored);
+        if (batch.frame_end) h.flags |= kMsgFrameEnd;
+        h.stored_bytes = uint32_t(stored);
+        h.crc32 = uint32_t(crc32(0, message.data() + sizeof h, uInt(stored)));
+        std::memcpy(message.data(), &h, sizeof h);
+        message.resize(sizeof h + stored);
+        for (auto& s : sinks_) s->write(message);
+        std::lock_guard lock(mutex_);
+        stats_.messages++;
+        stats_.stored_bytes += message.size();
+        in_flight_--;
+        queue_changed_.notify_all();
+    }
+    ZSTD_freeCCtx(cctx);
+}
+
+static void write_all(int fd, const void* data, size_t n, const std::string& path) {
+    auto p = static_cast<const uint8_t*>(data);
+    while (n) {
+        const ssize_t w = ::write(fd, p, n);
+        if (w < 0 && errno == EINTR) continue;
+        if (w < 0) {
+            std::fprintf(stderr, "glcast: writing %s: %s\n", path.c_str(), std::strerror(errno));
+            return;
+        }
+        p += w;
+        n -= size_t(w);
+    }
+}
+
+CaptureFileSink::CaptureFileSink(const std::string& path) : path_(path) {
+    fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (fd_ < 0) throw std::runtime_error("cannot create " + path + ": " + std::strerror(errno));
+    FileHeader h{};
+    std::memcpy(h.magic, kFileMagic, sizeof h.magic);
+    h.version = kFormatVersion;
+    h.header_bytes = sizeof h;
+    h.opcode_table_hash = kOpcodeTableHash;
+    h.opcode_count = kOpcodeCount;
+    std::snprintf(h.registry, sizeof h.registry, "%s", GLCAST_REGISTRY_REVISION);
+    write_all(fd_, &h, sizeof h, path_);
+}
+
+CaptureFileSink::~CaptureFileSink() { close(); }
+
+void CaptureFileSink::write(const std::vector<uint8_t>& message) {
+    if (fd_ >= 0) write_all(fd_, message.data(), message.size(), path_);
+}
+
+void CaptureFileSink::close() {
+    if (fd_ >= 0) ::close(fd_);
+    fd_ = -1;
+}
+
+}  // namespace glcast

@@ -1,0 +1,85 @@
+// The master's side of the stream: tuples appended by application threads are batched into
+// messages (a frame ends at a swap, a large frame is split), and a writer thread compresses
+// and hands each message to the sinks (capture file now; the ZeroMQ publisher later) behind
+// a bounded queue, so encoding is the only work on the application's threads.
+#pragma once
+
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace glcast {
+
+class MessageSink {
+public:
+    virtual ~MessageSink() = default;
+    // header + stored payload of one message, as framed by protocol/format.h
+    virtual void write(const std::vector<uint8_t>& message) = 0;
+    virtual void close() {}
+};
+
+struct StreamStats {
+    uint64_t frames = 0, tuples = 0, raw_bytes = 0, stored_bytes = 0, messages = 0;
+    uint64_t unserialized = 0, array_cache_hits = 0, array_cache_misses = 0;
+};
+
+class Stream {
+public:
+    Stream(std::vector<std::unique_ptr<MessageSink>> sinks, int zstd_level, size_t queue_depth);
+    ~Stream();
+
+    void append(const uint8_t* tuple, size_t bytes);  // one whole tuple; thread-safe
+    void end_frame();                                  // after a swap's tuple
+    void flush();                                      // seal the open batch, wait for the writer
+    void close();                                      // flush, stop the writer, close sinks
+    uint64_t frame() const;
+    StreamStats stats() const;
+    void count_cache(bool hit);
+    void count_unserialized();
+
+private:
+    void seal_locked(bool frame_end);
+    void writer_loop();
+
+    struct Batch {
+        std::vector<uint8_t> payload;
+        uint64_t sequence;
+        uint32_t frame;
+        bool frame_end;
+    };
+
+    mutable std::mutex mutex_;
+    std::condition_variable queue_changed_;
+    std::vector<uint8_t> open_;       // the batch being filled
+    uint32_t open_frame_ = 0;
+    std::deque<Batch> queue_;
+    size_t queue_depth_;
+    size_t in_flight_ = 0;
+    bool stopping_ = false;
+    bool closed_ = false;
+    uint64_t next_sequence_ = 0;
+    StreamStats stats_;
+    int zstd_level_;
+    std::vector<std::unique_ptr<MessageSink>> sinks_;
+    std::thread writer_;
+};
+
+// Writes a capture file: the file header, then each message as it arrives.
+class CaptureFileSink : public MessageSink {
+public:
+    explicit CaptureFileSink(const std::string& path);
+    ~CaptureFileSink() override;
+    void write(const std::vector<uint8_t>& message) override;
+    void close() override;
+
+private:
+    std::string path_;
+    int fd_ = -1;
+};
+
+}  // namespace glcast

@@ -1,0 +1,140 @@
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+#include <zlib.h>
+#include <zstd.h>
+
+#include <cerrno>
+#include <cstring>
+
+#include "glcast_commands.h"
+#include "protocol/decoder.h"
+
+namespace glcast {
+namespace {
+
+class FileSource : public Source {
+public:
+    explicit FileSource(const std::string& path) : path_(path) {
+        fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+        if (fd_ < 0) throw std::runtime_error(path + ": " + std::strerror(errno));
+        struct stat st {};
+        if (fstat(fd_, &st) != 0 || !S_ISREG(st.st_mode)) {
+            ::close(fd_);
+            throw std::runtime_error(path + ": not a regular file");
+        }
+        size_ = uint64_t(st.st_size);
+    }
+    ~FileSource() override { ::close(fd_); }
+    uint64_t size() const override { return size_; }
+    void read(uint64_t offset, void* dst, size_t n) override {
+        auto p = static_cast<uint8_t*>(dst);
+        while (n) {
+            const ssize_t got = ::pread(fd_, p, n, off_t(offset));
+            if (got < 0 && errno == EINTR) continue;
+            if (got <= 0) throw DecodeError(offset, path_ + ": read failed");
+            p += got;
+            offset += uint64_t(got);
+            n -= size_t(got);
+        }
+    }
+
+private:
+    std::string path_;
+    int fd_ = -1;
+    uint64_t size_ = 0;
+};
+
+class MemorySource : public Source {
+public:
+    MemorySource(const uint8_t* data, size_t size) : data_(data), size_(size) {}
+    uint64_t size() const override { return size_; }
+    void read(uint64_t offset, void* dst, size_t n) override { std::memcpy(dst, data_ + offset, n); }
+
+private:
+    const uint8_t* data_;
+    size_t size_;
+};
+
+std::string hex(uint64_t v) {
+    char b[24];
+    std::snprintf(b, sizeof b, "0x%016llx", (unsigned long long)v);
+    return b;
+}
+
+}  // namespace
+
+std::unique_ptr<Source> open_file_source(const std::string& path) { return std::make_unique<FileSource>(path); }
+std::unique_ptr<Source> memory_source(const uint8_t* data, size_t size) {
+    return std::make_unique<MemorySource>(data, size);
+}
+
+CaptureReader::CaptureReader(std::unique_ptr<Source> source) : source_(std::move(source)) {
+    if (source_->size() < sizeof(FileHeader)) {
+        char magic[8] = {};
+        source_->read(0, magic, std::min<uint64_t>(sizeof magic, source_->size()));
+        if (std::memcmp(magic, kFileMagic, std::min<uint64_t>(8, source_->size())) != 0 || source_->size() == 0)
+            throw DecodeError(0, "not a glcast capture (bad magic)");
+        throw DecodeError(source_->size(), "truncated file header (" + std::to_string(source_->size()) + " of " +
+                                               std::to_string(sizeof(FileHeader)) + " bytes)");
+    }
+    source_->read(0, &header_, sizeof header_);
+    if (std::memcmp(header_.magic, kFileMagic, sizeof kFileMagic) != 0)
+        throw DecodeError(0, "not a glcast capture (bad magic)");
+    if (header_.version != kFormatVersion)
+        throw DecodeError(8, "format version " + std::to_string(header_.version) + ", this glcast reads version " +
+                                 std::to_string(kFormatVersion));
+    if (header_.header_bytes < sizeof(FileHeader) || header_.header_bytes > 4096 ||
+        header_.header_bytes > source_->size())
+        throw DecodeError(12, "implausible header length " + std::to_string(header_.header_bytes));
+    if (header_.opcode_table_hash != kOpcodeTableHash || header_.opcode_count != kOpcodeCount)
+        throw DecodeError(16, "opcode table mismatch: file " + hex(header_.opcode_table_hash) + " with " +
+                                  std::to_string(header_.opcode_count) + " opcodes, this glcast " +
+                                  hex(kOpcodeTableHash) + " with " + std::to_string(kOpcodeCount) +
+                                  " (captured with a different registry or annotation set)");
+    offset_ = header_.header_bytes;
+}
+
+bool CaptureReader::next(Message& m) {
+    const uint64_t size = source_->size();
+    if (offset_ == size) return false;
+    if (size - offset_ < sizeof(MessageHeader))
+        throw DecodeError(offset_, "truncated message header (" + std::to_string(size - offset_) + " bytes left)");
+    m.offset = offset_;
+    source_->read(offset_, &m.header, sizeof m.header);
+    const MessageHeader& h = m.header;
+    if (h.magic != kMessageMagic) throw DecodeError(offset_, "bad message magic (corrupted stream)");
+    if (h.flags & ~uint32_t(kMsgCompressed | kMsgFrameEnd))
+        throw DecodeError(offset_ + 4, "unknown message flags " + std::to_string(h.flags));
+    if (h.sequence != expected_sequence_)
+        throw DecodeError(offset_ + 8, "message sequence " + std::to_string(h.sequence) + ", expected " +
+                                           std::to_string(expected_sequence_));
+    if (h.raw_bytes > kMaxMessageBytes || h.stored_bytes > kMaxMessageBytes)
+        throw DecodeError(offset_ + 20, "absurd message length (" + std::to_string(h.stored_bytes) + " stored, " +
+                                            std::to_string(h.raw_bytes) + " raw; limit " +
+                                            std::to_string(kMaxMessageBytes) + ")");
+    const uint64_t payload_at = offset_ + sizeof(MessageHeader);
+    if (h.stored_bytes > size - payload_at)
+        throw DecodeError(payload_at, "truncated message: " + std::to_string(h.stored_bytes) + " bytes announced, " +
+                                          std::to_string(size - payload_at) + " left");
+    if (!(h.flags & kMsgCompressed) && h.stored_bytes != h.raw_bytes)
+        throw DecodeError(offset_ + 20, "uncompressed message with different stored and raw lengths");
+    std::vector<uint8_t> stored(h.stored_bytes);
+    source_->read(payload_at, stored.data(), stored.size());
+    if (uint32_t(crc32(0, stored.data(), uInt(stored.size()))) != h.crc32)
+        throw DecodeError(payload_at, "message checksum mismatch (corrupted stream)");
+    if (h.flags & kMsgCompressed) {
+        m.payload.resize(h.raw_bytes);
+        const size_t n = ZSTD_decompress(m.payload.data(), m.payload.size(), stored.data(), stored.size());
+        if (ZSTD_isError(n) || n != h.raw_bytes)
+            throw DecodeError(payload_at, std::string("bad zstd payload: ") +
+                                              (ZSTD_isError(n) ? ZSTD_getErrorName(n) : "length differs from header"));
+    } else {
+        m.payload = std::move(stored);
+    }
+    offset_ = payload_at + h.stored_bytes;
+    expected_sequence_++;
+    return true;
+}
+
+}  // namespace glcast

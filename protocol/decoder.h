@@ -1,0 +1,115 @@
+// Reading the stream back: capture files and messages (CaptureReader), and tuples
+// (decode_tuple). The decoder distrusts its input (style.md 12): every length is checked
+// against what is left, every opcode against the table, and a violation throws DecodeError
+// naming the byte offset. Nothing is allocated from an unchecked length.
+#pragma once
+
+#include <cstdint>
+#include <cstring>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "protocol/command_info.h"
+#include "protocol/format.h"
+
+namespace glcast {
+
+class DecodeError : public std::runtime_error {
+public:
+    DecodeError(uint64_t offset, const std::string& what);
+    uint64_t offset() const { return offset_; }
+
+private:
+    uint64_t offset_;
+};
+
+// Bounds-checked little-endian reads over one buffer; `base` is the buffer's position in
+// the file, for error messages.
+class ByteReader {
+public:
+    ByteReader(const uint8_t* data, size_t size, uint64_t base) : data_(data), size_(size), base_(base) {}
+    template <class T>
+    T get() {
+        T v;
+        need(sizeof v, "value");
+        std::memcpy(&v, data_ + pos_, sizeof v);
+        pos_ += sizeof v;
+        return v;
+    }
+    const uint8_t* bytes(size_t n, const char* what) {
+        need(n, what);
+        const uint8_t* p = data_ + pos_;
+        pos_ += n;
+        return p;
+    }
+    size_t remaining() const { return size_ - pos_; }
+    uint64_t offset() const { return base_ + pos_; }
+    void need(size_t n, const char* what) const;
+
+private:
+    const uint8_t* data_;
+    size_t size_;
+    size_t pos_ = 0;
+    uint64_t base_;
+};
+
+struct PtrRecord {
+    PtrTag tag = PtrTag::Null;
+    uint32_t count = 0;            // elements, for Data
+    const uint8_t* data = nullptr; // count * wire_bytes(elem) bytes
+    uint64_t value = 0;            // Offset / ClientAddress
+};
+
+struct Arg {
+    uint64_t bits = 0;             // Value / Address: raw little-endian bits
+    PtrRecord ptr;                 // pointer kinds
+    std::vector<PtrRecord> strings;// StringArray
+    PtrRecord reply;               // Out / OutString: data from the reply part (tag Data)
+};
+
+struct Call {
+    uint32_t opcode = 0;
+    uint32_t context = 0;
+    uint64_t offset = 0;           // file offset of the tuple header (or payload offset)
+    const CommandInfo* info = nullptr;  // nullptr for synthetic opcodes
+    std::vector<Arg> args;
+    Arg ret;
+    const uint8_t* body = nullptr; // raw body (synthetic tuples are parsed by their users)
+    uint32_t body_bytes = 0;
+};
+
+// Decodes one tuple at the reader's position.
+void decode_tuple(ByteReader& r, Call& call);
+
+struct Message {
+    MessageHeader header{};
+    uint64_t offset = 0;           // file offset of the message header
+    std::vector<uint8_t> payload;  // decompressed
+};
+
+// Byte source of a capture: a file, or memory (tests and the fuzzer).
+class Source {
+public:
+    virtual ~Source() = default;
+    virtual uint64_t size() const = 0;
+    virtual void read(uint64_t offset, void* dst, size_t n) = 0;  // within size()
+};
+std::unique_ptr<Source> open_file_source(const std::string& path);  // throws std::runtime_error
+std::unique_ptr<Source> memory_source(const uint8_t* data, size_t size);
+
+class CaptureReader {
+public:
+    explicit CaptureReader(std::unique_ptr<Source> source);  // reads and checks the header
+    const FileHeader& header() const { return header_; }
+    bool next(Message& m);  // false at a clean end of file; throws DecodeError
+
+private:
+    std::unique_ptr<Source> source_;
+    FileHeader header_{};
+    uint64_t offset_ = 0;
+    uint64_t expected_sequence_ = 0;
+};
+
+}  // namespace glcast

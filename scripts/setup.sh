@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Installs every Debian package glcast's build, tests and benchmarks need.
+# Run as root on a fresh Debian 12 machine; safe to run again (apt-get is idempotent).
+set -euo pipefail
+
+packages=(
+  # build
+  build-essential cmake pkg-config python3 python3-jinja2 python3-yaml
+  clang libclang-rt-14-dev              # libFuzzer target over the decoder
+  # GL, windowing, registry
+  khronos-api libgl-dev libegl-dev libgl1-mesa-dri libglx-mesa0 libegl-mesa0
+  libosmesa6-dev libglfw3-dev libglm-dev libx11-dev
+  # stream
+  libzstd-dev zlib1g-dev libpng-dev libzmq3-dev cppzmq-dev
+  # tests: X server, real third-party GL programs
+  xvfb xauth mesa-utils xscreensaver-gl googletest
+  # benchmarks
+  apitrace
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  if [[ $(id -u) -ne 0 ]]; then
+    echo "setup: missing packages: ${missing[*]} (run this script as root)" >&2
+    exit 1
+  fi
+  export DEBIAN_FRONTEND=noninteractive
+  apt-get update -qq
+  apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+echo "setup: all ${#packages[@]} packages present"
