@@ -85,42 +85,57 @@ class Classifier:
             return "bitfield"
         if p.base in ("GLboolean", "Bool", "EGLBoolean"):
             return "bool"
+        if p.base in self.opaque:
+            return "handle"
         return ""
 
     # -- lengths -----------------------------------------------------------------------
+    def lookup(self, table, cmd, suffix=""):
+        """An annotation for cmd, or for the command it aliases (an ARB/EXT twin of a core command)."""
+        for name in (cmd.name, cmd.alias):
+            if name and name + suffix in table:
+                return table[name + suffix]
+        return None
+
     def length(self, cmd, p, direction):
-        over = self.overrides.get(f"{cmd.name}.{p.name}", {})
+        over = self.lookup(self.overrides, cmd, "." + p.name) or {}
         expr = over.get("len") or p.len
         if expr is None:
-            if cmd.name in self.table_of:   # DSA twins whose len gl.xml left out
+            if self.lookup(self.table_of, cmd):   # DSA twins whose len gl.xml left out
                 return self.pname_length(cmd, p, "")
             return None
         expr = str(expr)
         m = re.fullmatch(r"COMPSIZE\((.*)\)", expr)
         if m:
             args = m.group(1).replace(" ", "")
-            if args in ("pname", "target", "buffer", "query") or cmd.name in self.table_of:
+            if args in ("pname", "target", "buffer", "query") or self.lookup(self.table_of, cmd):
                 return self.pname_length(cmd, p, args)
             rule = self.a["compsize"].get(args)
             if rule is None:
                 raise Unserializable(f"no size rule for COMPSIZE({args}) of {p.name}")
             expr = rule
         elem = WIRE_BYTES.get(self.elem_wire(p), 1)
-        per_count = (self.a.get("per_count") or {}).get(cmd.name)
+        per_count = self.lookup(self.a.get("per_count") or {}, cmd)
         if "$per_count" in expr:
             if per_count is None:
                 raise Unserializable(f"COMPSIZE(count) of {p.name}: no per_count entry")
             expr = expr.replace("$per_count", str(per_count))
         expr = expr.replace("$dir", "Dir::In" if direction == "in" else "Dir::Out")
         expr = expr.replace("$elem_bytes", str(elem))
-        names = {q.name for q in cmd.params}
-        for ident in re.findall(r"\b[a-zA-Z_]\w*\b", re.sub(r"sz\.\w+|Dir::\w+|PnameTable::\w+|GL_\w+", "", expr)):
-            if ident not in names:
-                raise Unserializable(f"size expression '{expr}' of {p.name} names unknown '{ident}'")
+        self.check_expr(cmd, expr, p.name)
         return expr
 
+    @staticmethod
+    def check_expr(cmd, expr, what, extra=()):
+        """Every identifier of an annotation expression must be a parameter of cmd (aliases
+        inherit annotations, and an alias may name its parameters differently)."""
+        names = {q.name for q in cmd.params} | set(extra)
+        for ident in re.findall(r"\b[a-zA-Z_]\w*\b", re.sub(r"sz\.\w+|Dir::\w+|PnameTable::\w+|GL_\w+|\bint64_t\b", "", str(expr))):
+            if ident not in names and not ident.isdigit():
+                raise Unserializable(f"annotation '{expr}' of {what} names unknown '{ident}'")
+
     def pname_length(self, cmd, p, args):
-        table = self.table_of.get(cmd.name)
+        table = self.lookup(self.table_of, cmd)
         if table is None:
             raise Unserializable(f"COMPSIZE({args}) of {p.name}: no pname table")
         if table not in self.known_tables:
@@ -144,7 +159,7 @@ class Classifier:
 
     # -- one parameter -----------------------------------------------------------------
     def param(self, cmd, p):
-        over = self.overrides.get(f"{cmd.name}.{p.name}", {})
+        over = self.lookup(self.overrides, cmd, "." + p.name) or {}
         kind = over.get("kind")
         if p.stars == 0 and p.base in ("XVisualInfo",):
             raise Unserializable(f"{p.name}: XVisualInfo by value")
@@ -154,8 +169,14 @@ class Classifier:
             return Wire(kind, "u64")
         if kind in ("attrib_list", "visual_attribs"):
             return Wire(kind, "i64" if p.base == "EGLAttrib" else "i32")
+        if kind in ("string_array", "index_arrays"):
+            self.check_expr(cmd, over["count"], p.name)
+            self.check_expr(cmd, over.get("lengths") or over.get("counts") or "", p.name, extra=("i",))
         if kind == "string_array":
             return Wire("string_array", "i8", count=str(over["count"]), lengths=over.get("lengths"))
+        if kind == "index_arrays":
+            return Wire("index_arrays", "u8", count=str(over["count"]), lengths=str(over["counts"]),
+                        source="GL_ELEMENT_ARRAY_BUFFER_BINDING")
         if p.base in self.opaque and p.base not in ("GLsync",) and p.stars == 1 and p.base in (
                 "Display", "EGLNativeWindowType", "EGLNativePixmapType"):
             return Wire("address")
@@ -185,13 +206,14 @@ class Classifier:
         base = re.sub(r"\bconst\b|\*", " ", r).strip()
         stars = r.count("*")
         if stars == 0:
-            d = "enum" if base in ("GLenum", "EGLenum") else "bool" if base in ("GLboolean", "Bool", "EGLBoolean") else ""
+            d = ("enum" if base in ("GLenum", "EGLenum") else "bool" if base in ("GLboolean", "Bool", "EGLBoolean")
+                 else "handle" if base in self.opaque else "")
             return Wire("value", self.scalar(base), display=d)
         if base in TEXT_TYPES:
             return Wire("string", "i8", display="text")
         if base == "XVisualInfo":
             return Wire("visualinfo", "u8")
-        arr = (self.a.get("returns") or {}).get(cmd.name)
+        arr = self.lookup(self.a.get("returns") or {}, cmd)
         if arr:
             return Wire("out", "u64", len=arr)
         return Wire("address")
@@ -199,10 +221,12 @@ class Classifier:
     def plan(self, cmd, opcode, handwritten):
         plan = Plan(cmd, opcode, handwritten=cmd.name in handwritten)
         plan.reply_only = any(fnmatch.fnmatchcase(cmd.name, pat) for pat in self.a["reply_only"])
-        plan.draw = (self.a.get("draws") or {}).get(cmd.name)
+        plan.draw = self.lookup(self.a.get("draws") or {}, cmd)
         try:
             plan.params = [self.param(cmd, p) for p in cmd.params]
             plan.ret = self.ret(cmd)
+            for key, expr in (plan.draw or {}).items():
+                self.check_expr(cmd, expr, f"draw range ({key})")
         except Unserializable as e:
             plan.reason = str(e)
             plan.params = []

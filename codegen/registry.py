@@ -26,6 +26,7 @@ class Command:
     api: str            # "gl", "glx" or "egl"
     origin: str = ""    # first feature (e.g. "GL_VERSION_1_0") or extension that requires it
     origins: list = field(default_factory=list)
+    alias: str | None = None  # the command this one is an alias of (same semantics)
 
     @property
     def is_core(self):
@@ -61,7 +62,9 @@ def load(path, api):
     for el in root.find("commands").findall("command"):
         proto = el.find("proto")
         name = proto.find("name").text
-        commands.append(Command(name, _ret(proto, name), [_param(p) for p in el.findall("param")], api))
+        alias = el.find("alias")
+        commands.append(Command(name, _ret(proto, name), [_param(p) for p in el.findall("param")], api,
+                                alias=alias.get("name") if alias is not None else None))
     by_name = {c.name: c for c in commands}
 
     def require(owner, node):

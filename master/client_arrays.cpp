@@ -51,8 +51,8 @@ uint32_t kinds_for(uint32_t opcode) {
     case OP_glVertexPointer: case OP_glVertexPointerEXT: return bit(ClientSlot::Vertex);
     case OP_glNormalPointer: case OP_glNormalPointerEXT: return bit(ClientSlot::Normal);
     case OP_glColorPointer: case OP_glColorPointerEXT: return bit(ClientSlot::Color);
-    case OP_glSecondaryColorPointer: return bit(ClientSlot::SecondaryColor);
-    case OP_glFogCoordPointer: return bit(ClientSlot::FogCoord);
+    case OP_glSecondaryColorPointer: case OP_glSecondaryColorPointerEXT: return bit(ClientSlot::SecondaryColor);
+    case OP_glFogCoordPointer: case OP_glFogCoordPointerEXT: return bit(ClientSlot::FogCoord);
     case OP_glIndexPointer: return bit(ClientSlot::Index);
     case OP_glEdgeFlagPointer: return bit(ClientSlot::EdgeFlag);
     case OP_glTexCoordPointer: case OP_glTexCoordPointerEXT: return bit(ClientSlot::TexCoord);
@@ -235,6 +235,18 @@ DrawRange DrawRange::multi_arrays(const int32_t* firsts, const int32_t* counts, 
     return r;
 }
 
+DrawRange DrawRange::multi_elements(const void* const* indices, uint32_t type, const int32_t* counts,
+                                    int64_t drawcount, const int32_t* basevertices) {
+    DrawRange r;
+    r.kind = MultiElements;
+    r.index_arrays = indices;
+    r.type = type;
+    r.counts = counts;
+    r.drawcount = drawcount;
+    r.basevertices = basevertices;
+    return r;
+}
+
 void note_client_pointer(uint32_t opcode) {
     std::lock_guard lock(g_mutex);
     arrays_of_current().kinds_used |= kinds_for(opcode);
@@ -269,6 +281,19 @@ static bool vertex_range(const DrawRange& r, int64_t& lo, int64_t& hi) {
             if (r.counts[i] <= 0) continue;
             lo = any ? std::min<int64_t>(lo, r.firsts[i]) : r.firsts[i];
             hi = any ? std::max<int64_t>(hi, r.firsts[i] + r.counts[i] - 1) : r.firsts[i] + r.counts[i] - 1;
+            any = true;
+        }
+        return any;
+    }
+    case DrawRange::MultiElements: {
+        bool any = false;
+        for (int64_t i = 0; r.index_arrays && r.counts && i < r.drawcount; ++i) {
+            int64_t l = 0, h = -1;
+            const DrawRange one = DrawRange::elements(r.index_arrays[i], r.type, r.counts[i],
+                                           r.basevertices ? r.basevertices[i] : 0, 1);
+            if (!vertex_range(one, l, h)) continue;
+            lo = any ? std::min(lo, l) : l;
+            hi = any ? std::max(hi, h) : h;
             any = true;
         }
         return any;

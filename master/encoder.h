@@ -60,6 +60,16 @@ public:
     void deferred(const void* p, bool in_buffer);
     void string(const char* s);
     void string_array(int64_t count, const char* const* strings, const int* lengths);
+    template <class BytesOf>
+    void index_arrays(const void* const* arrays, int64_t count, bool in_buffer, BytesOf&& bytes_of) {
+        if (count < 0 || !arrays) count = 0;
+        if (count > 1 << 20) { fail("index array list of " + std::to_string(count) + " entries"); count = 0; }
+        value<uint32_t>(uint32_t(count));
+        for (int64_t i = 0; i < count; ++i) {
+            if (in_buffer) offset(arrays[i]);
+            else data(arrays[i], bytes_of(i), 1);
+        }
+    }
     template <class T>
     void attrib_list(const T* list);                  // int or EGLAttrib lists
     void visual_attribs(const int* list);

@@ -193,6 +193,23 @@ int64_t SizeQueries::pname_count(PnameTable table, uint32_t pname) {
     return n;
 }
 
+int64_t SizeQueries::renderer_integer_count(int32_t attribute) {
+    switch (attribute) {
+    case GLX_RENDERER_VENDOR_ID_MESA: case GLX_RENDERER_DEVICE_ID_MESA: case GLX_RENDERER_ACCELERATED_MESA:
+    case GLX_RENDERER_VIDEO_MEMORY_MESA: case GLX_RENDERER_UNIFIED_MEMORY_ARCHITECTURE_MESA:
+    case GLX_RENDERER_PREFERRED_PROFILE_MESA:
+        return 1;
+    case GLX_RENDERER_OPENGL_CORE_PROFILE_VERSION_MESA: case GLX_RENDERER_OPENGL_COMPATIBILITY_PROFILE_VERSION_MESA:
+    case GLX_RENDERER_OPENGL_ES_PROFILE_VERSION_MESA: case GLX_RENDERER_OPENGL_ES2_PROFILE_VERSION_MESA:
+        return 2;
+    case GLX_RENDERER_VERSION_MESA:
+        return 3;
+    default:
+        fail("GLX renderer attribute " + std::to_string(attribute) + " has no known size");
+        return 0;
+    }
+}
+
 int64_t SizeQueries::map_query(uint32_t target, uint32_t query) {
     const bool two_d = target >= GL_MAP2_COLOR_4 && target <= GL_MAP2_VERTEX_4;
     return pname_count(two_d ? PnameTable::map2_query : PnameTable::map1_query, query);

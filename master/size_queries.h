@@ -49,6 +49,7 @@ public:
     int64_t uniform_components(uint32_t program, int32_t location);
     int64_t pname_count(PnameTable table, uint32_t pname);
     int64_t map_query(uint32_t target, uint32_t query);
+    int64_t renderer_integer_count(int32_t attribute);  // GLX_MESA_query_renderer
 
     void fail(const std::string& reason) { if (failure_.empty()) failure_ = reason; }
     const std::string& failure() const { return failure_; }

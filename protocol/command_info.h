@@ -20,6 +20,7 @@ enum class ArgKind : uint8_t {
     AttribList,     // pointer record of a 0-terminated key/value list
     VisualAttribs,  // pointer record of glXChooseVisual's list
     VisualInfo,     // pointer record of an encoded XVisualInfo
+    IndexArrays,    // u32 count, then that many pointer records (data or buffer offsets)
 };
 
 enum class Wire : uint8_t { U8, I8, U16, I16, U32, I32, U64, I64, F32, F64 };
@@ -34,7 +35,7 @@ inline constexpr size_t wire_bytes(Wire w) {
 }
 
 // How the dump shows a value (named to stay clear of Xlib's Display and Bool macros).
-enum class ShowAs : uint8_t { Plain, Enum, Bitfield, Boolean, Text };
+enum class ShowAs : uint8_t { Plain, Enum, Bitfield, Boolean, Text, Handle };
 
 // Tags of a pointer record.
 enum class PtrTag : uint8_t {

@@ -86,12 +86,13 @@ void decode_tuple(ByteReader& r, Call& call) {
         switch (p.kind) {
         case ArgKind::Value:
         case ArgKind::Address: read_value(b, p, a); break;
-        case ArgKind::StringArray: {
+        case ArgKind::StringArray:
+        case ArgKind::IndexArrays: {
             const uint32_t n = b.get<uint32_t>();
             if (n > b.remaining())  // every record takes at least one byte
-                throw DecodeError(b.offset(), "string array of " + std::to_string(n) + " entries runs past the tuple");
+                throw DecodeError(b.offset(), "array list of " + std::to_string(n) + " entries runs past the tuple");
             a.strings.reserve(n);
-            for (uint32_t k = 0; k < n; ++k) a.strings.push_back(read_pointer(b, Wire::I8, false));
+            for (uint32_t k = 0; k < n; ++k) a.strings.push_back(read_pointer(b, p.wire, false));
             break;
         }
         case ArgKind::Out:

@@ -65,7 +65,7 @@ struct PtrRecord {
 struct Arg {
     uint64_t bits = 0;             // Value / Address: raw little-endian bits
     PtrRecord ptr;                 // pointer kinds
-    std::vector<PtrRecord> strings;// StringArray
+    std::vector<PtrRecord> strings;// StringArray, IndexArrays
     PtrRecord reply;               // Out / OutString: data from the reply part (tag Data)
 };
 

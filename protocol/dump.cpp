@@ -29,7 +29,9 @@ std::string number(const uint8_t* p, Wire w, ShowAs d) {
     case Wire::I32: { int32_t v; std::memcpy(&v, p, 4);
         if (d == ShowAs::Boolean) return v ? "True" : "False";
         std::snprintf(b, sizeof b, "%d", v); break; }
-    case Wire::U64: { uint64_t v; std::memcpy(&v, p, 8); std::snprintf(b, sizeof b, "%" PRIu64, v); break; }
+    case Wire::U64: { uint64_t v; std::memcpy(&v, p, 8);
+        if (d == ShowAs::Handle) return v ? hex(v) : "NULL";
+        std::snprintf(b, sizeof b, "%" PRIu64, v); break; }
     case Wire::I64: { int64_t v; std::memcpy(&v, p, 8); std::snprintf(b, sizeof b, "%" PRId64, v); break; }
     case Wire::F32: { float v; std::memcpy(&v, p, 4); std::snprintf(b, sizeof b, "%g", double(v)); break; }
     case Wire::F64: { double v; std::memcpy(&v, p, 8); std::snprintf(b, sizeof b, "%g", v); break; }
@@ -95,6 +97,14 @@ std::string argument(const Arg& a, const ParamInfo& p, const DumpOptions& opt) {
     switch (p.kind) {
     case ArgKind::Value: return number(reinterpret_cast<const uint8_t*>(&a.bits), p.wire, p.show);
     case ArgKind::Address: return a.bits ? hex(a.bits) : "NULL";
+    case ArgKind::IndexArrays: {
+        std::string s = "{";
+        for (size_t i = 0; i < a.strings.size(); ++i) {
+            if (i) s += ", ";
+            s += pointer(a.strings[i], p, opt);
+        }
+        return s + "}";
+    }
     case ArgKind::StringArray: {
         std::string s = "{";
         for (size_t i = 0; i < a.strings.size(); ++i) {
