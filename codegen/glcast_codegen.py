@@ -36,6 +36,7 @@ OUTPUTS = {  # template -> generated file
     "pnames.cpp.j2": "glcast_pnames.cpp",
     "entrypoints.cpp.j2": "glcast_entrypoints.cpp",
     "special.h.j2": "glcast_special.h",
+    "roundtrip_test.cpp.j2": "glcast_roundtrip_test.cpp",
 }
 
 
@@ -60,7 +61,21 @@ class Model:
 
         classifier = Classifier(self.annotations, self.pnames, {**gl_enums, **glx_enums})
         self.plans = [classifier.plan(c, i, set(self.handwritten)) for i, c in enumerate(self.commands)]
+        self.add_sample_pnames(classifier)
         self.check_annotations()
+
+    def add_sample_pnames(self, classifier):
+        """For the round-trip test: a pname each table knows, so enum-sized arrays encode."""
+        first = {}
+        for t in self.pname_tables():
+            for body, names in t["cases"]:
+                if body != "-1":
+                    first.setdefault(t["name"], names[0][0])
+        for p in self.plans:
+            table = classifier.lookup(classifier.table_of, p.cmd)
+            p.sample_pname = first.get(table) if table else None
+            names = [q.name for q in p.cmd.params]
+            p.sample_param = next((k for k in ("pname", "query", "buffer", "target") if k in names), None)
 
     def check_handwritten(self):
         names = {c.name for c in self.commands}

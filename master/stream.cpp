@@ -152,9 +152,7 @@ static void write_all(int fd, const void* data, size_t n, const std::string& pat
     }
 }
 
-CaptureFileSink::CaptureFileSink(const std::string& path) : path_(path) {
-    fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-    if (fd_ < 0) throw std::runtime_error("cannot create " + path + ": " + std::strerror(errno));
+FileHeader make_file_header() {
     FileHeader h{};
     std::memcpy(h.magic, kFileMagic, sizeof h.magic);
     h.version = kFormatVersion;
@@ -162,6 +160,13 @@ CaptureFileSink::CaptureFileSink(const std::string& path) : path_(path) {
     h.opcode_table_hash = kOpcodeTableHash;
     h.opcode_count = kOpcodeCount;
     std::snprintf(h.registry, sizeof h.registry, "%s", GLCAST_REGISTRY_REVISION);
+    return h;
+}
+
+CaptureFileSink::CaptureFileSink(const std::string& path) : path_(path) {
+    fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (fd_ < 0) throw std::runtime_error("cannot create " + path + ": " + std::strerror(errno));
+    const FileHeader h = make_file_header();
     write_all(fd_, &h, sizeof h, path_);
 }
 

@@ -69,6 +69,9 @@ private:
     std::thread writer_;
 };
 
+struct FileHeader;
+FileHeader make_file_header();  // the header this build writes (magic, version, table hash)
+
 // Writes a capture file: the file header, then each message as it arrives.
 class CaptureFileSink : public MessageSink {
 public:

@@ -109,6 +109,9 @@ bool CaptureReader::next(Message& m) {
     if (h.sequence != expected_sequence_)
         throw DecodeError(offset_ + 8, "message sequence " + std::to_string(h.sequence) + ", expected " +
                                            std::to_string(expected_sequence_));
+    if (h.frame != expected_frame_)
+        throw DecodeError(offset_ + 16, "message of frame " + std::to_string(h.frame) + ", expected frame " +
+                                            std::to_string(expected_frame_));
     if (h.raw_bytes > kMaxMessageBytes || h.stored_bytes > kMaxMessageBytes)
         throw DecodeError(offset_ + 20, "absurd message length (" + std::to_string(h.stored_bytes) + " stored, " +
                                             std::to_string(h.raw_bytes) + " raw; limit " +
@@ -134,6 +137,7 @@ bool CaptureReader::next(Message& m) {
     }
     offset_ = payload_at + h.stored_bytes;
     expected_sequence_++;
+    if (h.flags & kMsgFrameEnd) expected_frame_++;
     return true;
 }
 

@@ -110,6 +110,7 @@ private:
     FileHeader header_{};
     uint64_t offset_ = 0;
     uint64_t expected_sequence_ = 0;
+    uint64_t expected_frame_ = 0;
 };
 
 }  // namespace glcast

@@ -1,0 +1,117 @@
+#!/usr/bin/env python3
+"""Generator unit tests (style.md 15a): how the classifier plans the tricky commands, and
+that the generator refuses inconsistent annotation files."""
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, "..", "codegen"))
+import glcast_codegen  # noqa: E402
+
+MODEL = glcast_codegen.Model()
+PLANS = {p.cmd.name: p for p in MODEL.plans}
+
+
+def wire(command, param):
+    p = PLANS[command]
+    return p.params[[q.name for q in p.cmd.params].index(param)]
+
+
+class TrickyCommands(unittest.TestCase):
+    def test_teximage_size_follows_pixel_store_and_unpack_buffer(self):
+        w = wire("glTexImage2D", "pixels")
+        self.assertEqual(w.kind, "in")
+        self.assertEqual(w.len, "sz.image(Dir::In, format, type, width, height, 1)")
+        self.assertEqual(w.source, "GL_PIXEL_UNPACK_BUFFER_BINDING")
+        self.assertEqual(wire("glReadPixels", "pixels").kind, "out")
+        self.assertIn("Dir::Out", wire("glReadPixels", "pixels").len)
+
+    def test_enum_dependent_counts(self):
+        self.assertEqual(wire("glLightfv", "params").len, "sz.pname_count(PnameTable::light, pname)")
+        self.assertEqual(wire("glMaterialfv", "params").len, "sz.pname_count(PnameTable::material, pname)")
+        g = wire("glGetFloatv", "data")
+        self.assertEqual((g.kind, g.len), ("out", "sz.pname_count(PnameTable::get, pname)"))
+        self.assertTrue(PLANS["glGetFloatv"].reply_only)
+        # indexed glGet keys its table on `target`
+        self.assertEqual(wire("glGetIntegeri_v", "data").len, "sz.pname_count(PnameTable::get_indexed, target)")
+
+    def test_type_sized_and_string_arrays(self):
+        self.assertEqual(wire("glCallLists", "lists").len, "sz.call_lists(n, type)")
+        s = wire("glShaderSource", "string")
+        self.assertEqual((s.kind, s.count, s.lengths), ("string_array", "count", "length"))
+
+    def test_draw_elements_and_client_arrays(self):
+        w = wire("glDrawElements", "indices")
+        self.assertEqual((w.source, w.len), ("GL_ELEMENT_ARRAY_BUFFER_BINDING", "count * sz.type_bytes(type)"))
+        self.assertEqual(PLANS["glDrawElements"].draw["indices"], "indices")
+        self.assertEqual(wire("glVertexPointer", "pointer").kind, "deferred")
+        self.assertEqual(wire("glMultiDrawElements", "indices").kind, "index_arrays")
+
+    def test_outputs_and_handwritten(self):
+        g = wire("glGenTextures", "textures")
+        self.assertEqual((g.kind, g.len), ("out", "n"))
+        m = PLANS["glMapBufferRange"]
+        self.assertTrue(m.handwritten)
+        self.assertEqual(m.ret.kind, "address")
+
+    def test_aliases_inherit_annotations(self):
+        self.assertEqual(wire("glPointParameterfvARB", "params").len,
+                         "sz.pname_count(PnameTable::point_parameter, pname)")
+        self.assertEqual(wire("glVertexAttribPointerARB", "pointer").kind, "deferred")
+
+    def test_core_coverage_is_complete(self):
+        core = [p for p in MODEL.plans if p.cmd.is_core]
+        missing = [p.cmd.name for p in core if not p.serializable]
+        self.assertEqual(missing, [])
+        self.assertGreater(len(core), 1080)
+
+    def test_opcodes_are_stable_registry_order(self):
+        self.assertEqual([p.opcode for p in MODEL.plans], list(range(len(MODEL.plans))))
+        self.assertEqual(MODEL.table_hash(), glcast_codegen.Model().table_hash())
+
+
+class AnnotationErrors(unittest.TestCase):
+    def run_with(self, edit):
+        """Runs the generator on a copy of codegen/ whose annotations `edit` changed."""
+        with tempfile.TemporaryDirectory() as tmp:
+            subprocess.run(["cp", "-r", os.path.join(HERE, "..", "codegen"), tmp], check=True)
+            subprocess.run(["cp", "-r", os.path.join(HERE, "..", "interceptor"), tmp], check=True)
+            edit(os.path.join(tmp, "codegen", "annotations"))
+            return subprocess.run([sys.executable, os.path.join(tmp, "codegen", "glcast_codegen.py"), "--report"],
+                                  capture_output=True, text=True)
+
+    def test_handwritten_name_not_in_registry(self):
+        def edit(d):
+            with open(os.path.join(d, "handwritten.txt"), "a") as f:
+                f.write("glNoSuchCommand\n")
+        r = self.run_with(edit)
+        self.assertNotEqual(r.returncode, 0)
+        self.assertIn("glNoSuchCommand", r.stderr)
+
+    def test_parameter_that_does_not_exist(self):
+        def edit(d):
+            with open(os.path.join(d, "commands.yaml"), "a") as f:
+                f.write("")
+            path = os.path.join(d, "commands.yaml")
+            text = open(path).read().replace("  glNamedBufferData.data: {len: size}",
+                                              "  glNamedBufferData.bogus: {len: size}")
+            open(path, "w").write(text)
+        r = self.run_with(edit)
+        self.assertNotEqual(r.returncode, 0)
+        self.assertIn("glNamedBufferData.bogus", r.stderr)
+
+    def test_unknown_enum_in_pname_table(self):
+        def edit(d):
+            path = os.path.join(d, "pnames.yaml")
+            text = open(path).read().replace("  light:\n    counts:\n", "  light:\n    counts:\n      GL_NOT_AN_ENUM: 4\n")
+            open(path, "w").write(text)
+        r = self.run_with(edit)
+        self.assertNotEqual(r.returncode, 0, r.stdout[-500:])
+        self.assertIn("GL_NOT_AN_ENUM", r.stderr)
+
+
+if __name__ == "__main__":
+    unittest.main(verbosity=2)
