@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cstring>
 #include <map>
+#include <tuple>
 #include <mutex>
 #include <vector>
 
@@ -25,18 +26,55 @@ void ship_mapped_writes(CallScope& scope);  // special/buffer_map.cpp
 
 namespace {
 
+// One cached array range: a program often draws several ranges of one array per frame, so
+// the cache keys on the range, not only on the array slot.
+struct ShadowKey {
+    uint8_t slot;
+    uint32_t index;
+    const void* pointer;
+    uint32_t first_byte;
+    uint32_t bytes;
+    bool operator<(const ShadowKey& o) const {
+        return std::tie(slot, index, pointer, first_byte, bytes) <
+               std::tie(o.slot, o.index, o.pointer, o.first_byte, o.bytes);
+    }
+};
 struct Shadow {
-    const void* pointer = nullptr;
-    uint32_t first_byte = 0;
+    uint32_t handle = 0;
+    uint64_t last_use = 0;
     std::vector<uint8_t> bytes;
 };
+constexpr size_t kMaxShadowsPerContext = 1024;
 
 struct ContextArrays {
     uint32_t kinds_used = 0;  // bit per ClientSlot that got client memory
     bool locked = false;
     int64_t lock_first = 0, lock_count = 0;
-    std::map<uint32_t, Shadow> shadows;  // by handle: slot kind << 16 | index
+    std::map<ShadowKey, Shadow> shadows;
+    uint32_t next_handle = 1;
+    uint64_t clock = 0;
 };
+
+// The cache entry for `key`, evicting the least recently used one when the cache is full
+// (its handle is reused: the slave overwrites that copy).
+Shadow& shadow_for(ContextArrays& c, const ShadowKey& key, bool& fresh) {
+    auto it = c.shadows.find(key);
+    fresh = it == c.shadows.end();
+    if (!fresh) return it->second;
+    uint32_t handle = c.next_handle;
+    if (c.shadows.size() >= kMaxShadowsPerContext) {
+        auto oldest = std::min_element(c.shadows.begin(), c.shadows.end(), [](const auto& a, const auto& b) {
+            return a.second.last_use < b.second.last_use;
+        });
+        handle = oldest->second.handle;
+        c.shadows.erase(oldest);
+    } else {
+        c.next_handle++;
+    }
+    Shadow& s = c.shadows[key];
+    s.handle = handle;
+    return s;
+}
 
 std::mutex g_mutex;
 std::map<uint32_t, ContextArrays> g_contexts;
@@ -341,8 +379,14 @@ void CallScope::ship_client_arrays(const DrawRange& range) {
             last = (std::max<int64_t>(range.instances, 1) - 1) / a.divisor;
         }
         const int64_t bytes = elem ? (last - first) * stride + elem : 0;
+        if (bytes < 0 || bytes > kMaxArrayBytes) {
+            e.fail("client array range of " + std::to_string(bytes) + " bytes");
+            break;
+        }
         const uint32_t first_byte = uint32_t(first * stride);
-        const uint32_t handle = uint32_t(a.slot) << 16 | a.index;
+        bool fresh = false;
+        Shadow& sh = shadow_for(c, ShadowKey{uint8_t(a.slot), a.index, a.pointer, first_byte, uint32_t(bytes)}, fresh);
+        sh.last_use = ++c.clock;
         e.value<uint8_t>(uint8_t(a.slot));
         e.value<uint32_t>(a.index);
         e.value<int32_t>(a.size);
@@ -350,23 +394,24 @@ void CallScope::ship_client_arrays(const DrawRange& range) {
         e.value<int32_t>(int32_t(stride));
         e.value<uint8_t>(a.normalized);
         e.value<uint8_t>(a.integer);
-        e.value<uint32_t>(handle);
+        e.value<uint32_t>(sh.handle);
         e.value<uint32_t>(first_byte);
-        Shadow& sh = c.shadows[handle];
         const uint8_t* data = a.pointer + first_byte;
-        const bool hit = sh.pointer == a.pointer && sh.first_byte == first_byte && sh.bytes.size() == size_t(bytes) &&
-                         std::memcmp(sh.bytes.data(), data, size_t(bytes)) == 0;
+        const bool hit = !fresh && std::memcmp(sh.bytes.data(), data, size_t(bytes)) == 0;
         e.value<uint8_t>(hit);
         if (!hit) {
             e.value<uint32_t>(uint32_t(bytes));
             const size_t at = thread_state().synthetic.size();
             thread_state().synthetic.resize(at + size_t(bytes));
             std::memcpy(thread_state().synthetic.data() + at, data, size_t(bytes));
-            sh.pointer = a.pointer;
-            sh.first_byte = first_byte;
             sh.bytes.assign(data, data + bytes);
         }
         if (s) s->count_cache(hit);
+    }
+    if (!thread_state().synthetic_encoder.failure().empty()) {
+        unserialized(thread_state().synthetic_encoder.failure().c_str());
+        thread_state().synthetic_encoder.clear_failure();
+        return;
     }
     commit_synthetic();
 }

@@ -1,6 +1,7 @@
 #include "master/stream.h"
 
 #include <fcntl.h>
+#include <sys/file.h>
 #include <unistd.h>
 #include <zlib.h>
 #include <zstd.h>
@@ -163,9 +164,31 @@ FileHeader make_file_header() {
     return h;
 }
 
+// A second GL process writing to the same path (a program that starts another GL program)
+// would interleave two streams: the first takes an exclusive lock, later ones write beside it.
+static int open_locked(const std::string& path) {
+    const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0644);
+    if (fd < 0) throw std::runtime_error("cannot create " + path + ": " + std::strerror(errno));
+    if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
+        ::close(fd);
+        return -1;
+    }
+    if (ftruncate(fd, 0) != 0) {
+        ::close(fd);
+        throw std::runtime_error("cannot truncate " + path + ": " + std::strerror(errno));
+    }
+    return fd;
+}
+
 CaptureFileSink::CaptureFileSink(const std::string& path) : path_(path) {
-    fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-    if (fd_ < 0) throw std::runtime_error("cannot create " + path + ": " + std::strerror(errno));
+    fd_ = open_locked(path_);
+    if (fd_ < 0) {
+        path_ = path + "." + std::to_string(getpid());
+        std::fprintf(stderr, "glcast: %s is being written by another process; this one writes %s\n", path.c_str(),
+                     path_.c_str());
+        fd_ = open_locked(path_);
+        if (fd_ < 0) throw std::runtime_error("cannot lock " + path_);
+    }
     const FileHeader h = make_file_header();
     write_all(fd_, &h, sizeof h, path_);
 }

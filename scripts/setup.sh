@@ -13,7 +13,7 @@ packages=(
   # stream
   libzstd-dev zlib1g-dev libpng-dev libzmq3-dev cppzmq-dev
   # tests: X server, real third-party GL programs
-  xvfb xauth mesa-utils xscreensaver-gl googletest
+  xvfb xauth mesa-utils xscreensaver-gl googletest libgtest-dev
   # benchmarks
   apitrace
 )

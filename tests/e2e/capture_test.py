@@ -1,0 +1,180 @@
+#!/usr/bin/env python3
+"""End-to-end capture tests: real GL programs run under Xvfb with the shim preloaded, and the
+dump of what they sent is checked against what they did (names they printed, calls they made).
+
+    capture_test.py CASE     with GLCAST, GLCAST_SHIM, APPS_DIR, OUT_DIR in the environment
+"""
+import os
+import re
+import subprocess
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from xvfb import Xvfb  # noqa: E402
+
+GLCAST = os.environ["GLCAST"]
+APPS = os.environ.get("APPS_DIR", "")
+OUT = os.environ.get("OUT_DIR", "/tmp/glcast-e2e")
+os.makedirs(OUT, exist_ok=True)
+
+
+def check(cond, msg):
+    if not cond:
+        raise AssertionError(msg)
+
+
+def capture(name, program, frames, env=None):
+    path = os.path.join(OUT, name + ".glcs")
+    if os.path.exists(path):
+        os.remove(path)
+    r = subprocess.run([GLCAST, "capture", "-o", path, "--frames", str(frames), "--"] + program,
+                       capture_output=True, text=True, timeout=240, env=env)
+    check(r.returncode == 0, f"{program[0]} under the shim exited {r.returncode}: {r.stderr[-2000:]}")
+    check(os.path.exists(path), f"no capture written: {r.stderr[-2000:]}")
+    return path, r.stdout
+
+
+def dump(path, *extra):
+    r = subprocess.run([GLCAST, "dump", path, *extra], capture_output=True, text=True, timeout=120)
+    check(r.returncode == 0, f"dump failed: {r.stderr}")
+    return r.stdout
+
+
+def printed_names(stdout, app, call):
+    m = re.search(rf"{app}: {call} -> ([\d ]+)", stdout)
+    check(m, f"{app} did not print its {call} names: {stdout!r}")
+    return [int(x) for x in m.group(1).split()]
+
+
+def reply_names(text, call):
+    """Names in the replies of every `call` of the dump, in order."""
+    names = []
+    for m in re.finditer(rf"^\d+ (?:\[no context\] )?{call}\(.*?= &\{{([^}}]*)\}}", text, re.M):
+        names += [int(x) for x in m.group(1).split(", ") if x.isdigit()]
+    return names
+
+
+def summaries(text):
+    return re.findall(r"^# frame (\d+): (\d+) calls.*?client arrays (\d+) sent \((\d+) bytes\) / (\d+) cache hits, "
+                      r"(\d+) buffer writes, (\d+) unserialized", text, re.M)
+
+
+def common(text, frames, swap="glXSwapBuffers"):
+    s = summaries(text)
+    check(len(s) == frames, f"{len(s)} frame summaries, expected {frames}")
+    check(len(re.findall(rf"^\d+ {swap}\(", text, re.M)) == frames, f"{swap} count differs from {frames}")
+    return s
+
+
+def case_ff_scene():
+    path, out = capture("ff_scene", [os.path.join(APPS, "ff_scene"), "--frames", "8"], 8)
+    text = dump(path)
+    s = common(text, 8)
+    check(reply_names(text, "glGenTextures")[:2] == printed_names(out, "ff_scene", "glGenTextures"),
+          "glGenTextures replies differ from the names the program saw")
+    lists = printed_names(out, "ff_scene", "glGenLists")
+    check(re.search(rf"glGenLists\(range = \d+\) = {lists[0]}$", text, re.M), "glGenLists reply differs")
+    check(re.search(rf"glNewList\(list = {lists[0]}, mode = GL_COMPILE\)", text), "display list not streamed")
+    check(re.search(r"glTexImage2D\(.*pixels = blob\(\d+\)\)", text), "texture pixels missing")
+    check(re.search(r"glLightfv\(light = GL_LIGHT0, pname = GL_POSITION, params = \{[^}]*\}\)", text),
+          "glLightfv position missing")
+    # client arrays: sent in the first frame, cache hits for unchanged ones later, and the
+    # array that changes every frame sent again
+    check(int(s[0][2]) > 0, "no client arrays shipped in frame 0")
+    check(all(int(f[4]) > 0 for f in s[1:]), "unchanged client arrays were not cache hits")
+    check(all(int(f[2]) > 0 for f in s[1:]), "the array the program changes every frame was not resent")
+    # the indexed draw ships the range up to the max index, not the index count
+    m = re.search(r"glcast.client_arrays\(vertex\[0\] 3xGL_FLOAT stride 12 from byte (\d+) (\d+) bytes.*\n\d+ "
+                  r"glDrawElements\(mode = \w+, count = (\d+), type = GL_UNSIGNED_SHORT, indices = \{", text)
+    check(m, "no client-array draw with client indices")
+    vertices = (int(m.group(1)) + int(m.group(2))) // 12
+    check(vertices > int(m.group(3)) // 2, f"range {vertices} vertices looks like the index count")
+    print(f"ff_scene: {len(s)} frames, frame 0 {s[0][1]} calls, later {s[-1][1]} calls, "
+          f"{s[-1][4]} cache hits/frame")
+
+
+def case_core_scene():
+    path, out = capture("core_scene", [os.path.join(APPS, "core_scene"), "--frames", "6"], 6)
+    text = dump(path)
+    common(text, 6)
+    check(reply_names(text, "glGenBuffers")[:3] == printed_names(out, "core_scene", "glGenBuffers")[:3],
+          "glGenBuffers replies differ from the program's names")
+    check(re.search(r"glXCreateContextAttribsARB\(.*attrib_list = \{[^}]*\b3, [^}]*\}", text), "no 3.x context")
+    check(re.search(r'glShaderSource\(shader = \d+, count = 2, string = \{"#version 330', text),
+          "shader source strings missing")
+    check(re.search(r"glCheckFramebufferStatus\(target = GL_FRAMEBUFFER\) = GL_FRAMEBUFFER_COMPLETE", text),
+          "FBO status reply missing")
+    check(re.search(r"glcast.buffer_write\(buffer = \d+, offset = \d+, bytes = \d+\)\n\d+ glUnmapBuffer", text),
+          "mapped range not shipped before glUnmapBuffer")
+    check(re.search(r"glDrawElements\(.*indices = buffer\+0x", text), "element-buffer draw missing")
+    print("core_scene: ok")
+
+
+def case_glfw_dynamic():
+    path, out = capture("glfw_dynamic", [os.path.join(APPS, "glfw_dynamic"), "--frames", "5"], 5)
+    text = dump(path)
+    s = common(text, 5)
+    check(all(int(f[1]) >= 5 for f in s), "GLFW-loaded GL calls were not captured")
+    check(re.search(r"^\d+ glClear\(", text, re.M) and re.search(r"^\d+ glDraw", text, re.M),
+          "glClear/glDraw* missing: dlopen/glfwGetProcAddress path not intercepted")
+    print(f"glfw_dynamic: {s[-1][1]} calls per frame")
+
+
+def case_glxgears():
+    path, _ = capture("glxgears", ["glxgears"], 30)
+    text = dump(path)
+    s = common(text, 30)
+    check(reply_names(text, "glGenLists") == [] and re.search(r"glGenLists\(range = 1\) = 1$", text, re.M),
+          "glGenLists reply")
+    for n in (1, 2, 3):
+        check(re.search(rf"glCallList\(list = {n}\)", text), f"glCallList({n}) missing")
+    check(all(f[6] == "0" for f in s), "glxgears calls were left unserialized")
+    check(re.search(r"glcast.drawable_size\(drawable = 0x[0-9a-f]+, width = 300, height = 300\)", text),
+          "drawable size missing")
+    print(f"glxgears: 30 frames, {s[1][1]} calls per frame after the first")
+
+
+def case_bad_files():
+    good = os.path.join(OUT, "glxgears.glcs")
+    if not os.path.exists(good):
+        case_glxgears()
+    data = open(good, "rb").read()
+    cases = {
+        "truncated": data[: len(data) // 2],
+        "foreign": b"\x89PNG\r\n\x1a\n" + bytes(200),
+        "empty": b"",
+        "corrupted": data[:100] + bytes([data[100] ^ 0xFF]) + data[101:],
+        "absurd_length": data[:64 + 20] + b"\xf0\xff\xff\xff" + data[64 + 24:],
+    }
+    for name, content in cases.items():
+        p = os.path.join(OUT, f"bad_{name}.glcs")
+        open(p, "wb").write(content)
+        r = subprocess.run([GLCAST, "dump", p], capture_output=True, text=True, timeout=60)
+        check(r.returncode == 1, f"{name}: exit {r.returncode}, stderr {r.stderr!r}")
+        check(re.search(r"at byte \d+", r.stderr), f"{name}: no byte offset in {r.stderr!r}")
+        print(f"{name}: {r.stderr.strip()}")
+    r = subprocess.run([GLCAST, "dump", "/nonexistent.glcs"], capture_output=True, text=True)
+    check(r.returncode == 1 and "nonexistent" in r.stderr, "missing file")
+    r = subprocess.run([GLCAST, "dump", good, "--frames", "9:3"], capture_output=True, text=True)
+    check(r.returncode == 2 and "--frames" in r.stderr, "bad --frames accepted")
+
+
+def case_children():
+    # a shell that is not a GL program passes through and writes nothing; its GL child is captured
+    p = os.path.join(OUT, "children.glcs")
+    if os.path.exists(p):
+        os.remove(p)
+    r = subprocess.run([GLCAST, "capture", "-o", p, "--", "sh", "-c", "ls / > /dev/null; echo hi"],
+                       capture_output=True, text=True, timeout=60)
+    check(r.returncode == 0 and r.stdout.strip() == "hi", f"non-GL program disturbed: {r}")
+    check(not os.path.exists(p), "a capture file was written for a program without GL calls")
+    r = subprocess.run([GLCAST, "capture", "-o", p, "--frames", "3", "--", "sh", "-c", "true; glxgears"],
+                       capture_output=True, text=True, timeout=120)
+    check(r.returncode == 0, f"glxgears under sh: {r.stderr}")
+    common(dump(p), 3)
+
+
+if __name__ == "__main__":
+    with Xvfb():
+        globals()["case_" + sys.argv[1]]()
+    print("PASS")
