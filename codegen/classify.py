@@ -41,6 +41,7 @@ class Wire:
     source: str | None = None     # binding enum: non-zero means the pointer is a buffer offset
     count: str | None = None      # string_array
     lengths: str | None = None    # string_array
+    terminator: str | None = None # attrib_list: the key that ends the list (default 0)
     display: str = ""             # enum | bitfield | bool | handle | text | ""
 
 
@@ -168,7 +169,7 @@ class Classifier:
         if kind in ("address", "deferred"):
             return Wire(kind, "u64")
         if kind in ("attrib_list", "visual_attribs"):
-            return Wire(kind, "i64" if p.base == "EGLAttrib" else "i32")
+            return Wire(kind, "i64" if p.base == "EGLAttrib" else "i32", terminator=over.get("terminator"))
         if kind in ("string_array", "index_arrays"):
             self.check_expr(cmd, over["count"], p.name)
             self.check_expr(cmd, over.get("lengths") or over.get("counts") or "", p.name, extra=("i",))

@@ -71,7 +71,7 @@ public:
         }
     }
     template <class T>
-    void attrib_list(const T* list);                  // int or EGLAttrib lists
+    void attrib_list(const T* list, int64_t terminator = 0);  // int or EGLAttrib key/value lists
     void visual_attribs(const int* list);
     void visualinfo(const XVisualInfo* vi);
     void reply_marker(const void* p);
@@ -98,10 +98,10 @@ private:
 };
 
 template <class T>
-void Encoder::attrib_list(const T* list) {
+void Encoder::attrib_list(const T* list, int64_t terminator) {
     if (!list) { tag(PtrTag::Null); return; }
     size_t n = 0;
-    while (n < 512 && list[n] != 0) n += 2;  // key/value pairs up to the 0 key
+    while (n < 512 && int64_t(list[n]) != terminator) n += 2;  // key/value pairs up to the terminating key
     if (n >= 512) { fail("attribute list without terminator"); tag(PtrTag::Null); return; }
     data(list, int64_t(n + 1), sizeof(T));
 }

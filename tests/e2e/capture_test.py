@@ -134,6 +134,19 @@ def case_glxgears():
     print(f"glxgears: 30 frames, {s[1][1]} calls per frame after the first")
 
 
+def case_xscreensaver_gears():
+    # xscreensaver 6's GL hacks render through EGL on X11: frames end at eglSwapBuffers
+    hack = "/usr/libexec/xscreensaver/gears"
+    path, _ = capture("xscreensaver_gears", [hack, "-window"], 10)
+    text = dump(path)
+    s = common(text, 10, swap="eglSwapBuffers")
+    m = re.search(r"eglCreateContext\(.*attrib_list = \{([^}]*)\}\) = 0x", text)
+    check(m and m.group(1).split(", ")[-1] == "12344", "EGL attribute list not cut at EGL_NONE")
+    check(re.search(r"glcast.context\(id = 1, .*api = EGL\)", text), "EGL context not announced")
+    check(all(f[6] == "0" for f in s), "calls left unserialized")
+    print(f"xscreensaver gears: {s[-1][1]} calls per frame")
+
+
 def case_bad_files():
     good = os.path.join(OUT, "glxgears.glcs")
     if not os.path.exists(good):
