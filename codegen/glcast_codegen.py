@@ -112,6 +112,31 @@ class Model:
                      f"{[(w.kind, w.wire) for w in p.params]}{p.ret and (p.ret.kind, p.ret.wire)};".encode())
         return int.from_bytes(h.digest()[:8], "little")
 
+    def enum_groups(self):
+        """The gl.xml groups parameters refer to: [(group, [(value, preferred name)])], with
+        each plan's params given a `group` index into that list."""
+        used = sorted({q.group for p in self.plans for q in p.cmd.params if q.group in self.groups})
+        index = {g: i for i, g in enumerate(used)}
+        for p in self.plans:
+            p.groups = [index.get(q.group, -1) for q in p.cmd.params]
+        out = []
+        for g in used:
+            best = {}
+            for name in self.groups[g]:
+                value = self.enums.get(name)
+                if value is None or value > 0xFFFFFFFF:
+                    continue
+                rank = (self.is_extension_name(name), len(name))
+                if value not in best or rank < best[value][0]:
+                    best[value] = (rank, name)
+            out.append((g, sorted((v, n) for v, (r, n) in best.items())))
+        return out
+
+    @staticmethod
+    def is_extension_name(name):
+        return bool(re.search(r"_(ARB|EXT|NV|AMD|ATI|SGIX?|SGIS|OES|KHR|MESA|APPLE|IBM|INTEL|3DFX|"
+                              r"HP|IMG|OML|PGI|QCOM|REND|S3|SUN|SUNX|WIN|GREMEDY|INGR|OVR|MESAX|ANGLE)$", name))
+
     def enum_names(self):
         """value -> preferred name: core names before extension suffixes, first seen wins."""
         best = {}
@@ -119,9 +144,7 @@ class Model:
             if value > 0xFFFFFFFF or name in ("GL_TRUE", "GL_FALSE", "GL_NONE", "GL_ZERO", "GL_ONE",
                                               "GL_NO_ERROR", "GL_POINTS"):
                 continue
-            ext = bool(re.search(r"_(ARB|EXT|NV|AMD|ATI|SGIX?|SGIS|OES|KHR|MESA|APPLE|IBM|INTEL|3DFX|"
-                                 r"HP|IMG|OML|PGI|QCOM|REND|S3|SUN|SUNX|WIN|GREMEDY|INGR|OVR|MESAX|ANGLE)$", name))
-            rank = (ext, len(name))
+            rank = (self.is_extension_name(name), len(name))
             if value not in best or rank < best[value][0]:
                 best[value] = (rank, name)
         return sorted((v, n) for v, (r, n) in best.items())
@@ -227,7 +250,8 @@ def main():
     if not args.out:
         ap.error("--out DIR is required")
     env = make_env()
-    ctx = {"plans": model.plans, "table_hash": model.table_hash(), "enum_names": model.enum_names(),
+    ctx = {"plans": model.plans, "enum_groups": model.enum_groups(), "table_hash": model.table_hash(),
+           "enum_names": model.enum_names(),
            "pname_tables": model.pname_tables(), "opcode_count": len(model.plans)}
     os.makedirs(args.out, exist_ok=True)
     for template, name in OUTPUTS.items():

@@ -4,6 +4,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <string>
 
 namespace glcast {
 
@@ -51,6 +52,7 @@ struct ParamInfo {
     ArgKind kind;
     Wire wire;
     ShowAs show;
+    int16_t group;  // gl.xml enum group of the value, -1 if none: names enums and bits
 };
 
 enum CommandFlags : uint8_t {
@@ -73,6 +75,8 @@ struct CommandInfo {
 
 const CommandInfo* command_info(uint32_t opcode);  // nullptr for an unknown opcode
 const char* enum_name(uint32_t value);             // nullptr when the registry has none
+const char* enum_name(uint32_t value, int group);  // prefers the name of `group`, then any name
+std::string bitfield_names(uint32_t value, int group);  // "GL_A_BIT | GL_B_BIT | 0x100"
 uint32_t opcode_count();
 uint64_t opcode_table_hash();
 int opcode_by_name(const char* name);  // -1 if unknown

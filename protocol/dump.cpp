@@ -12,7 +12,7 @@ std::string hex(uint64_t v) {
     return b;
 }
 
-std::string number(const uint8_t* p, Wire w, ShowAs d) {
+std::string number(const uint8_t* p, Wire w, ShowAs d, int group = -1) {
     char b[64];
     switch (w) {
     case Wire::U8: { uint8_t v; std::memcpy(&v, p, 1);
@@ -22,8 +22,8 @@ std::string number(const uint8_t* p, Wire w, ShowAs d) {
     case Wire::U16: { uint16_t v; std::memcpy(&v, p, 2); std::snprintf(b, sizeof b, "%u", v); break; }
     case Wire::I16: { int16_t v; std::memcpy(&v, p, 2); std::snprintf(b, sizeof b, "%d", v); break; }
     case Wire::U32: { uint32_t v; std::memcpy(&v, p, 4);
-        if (d == ShowAs::Enum) { if (const char* n = enum_name(v)) return n; return hex(v); }
-        if (d == ShowAs::Bitfield) return hex(v);
+        if (d == ShowAs::Enum) { if (const char* n = enum_name(v, group)) return n; return hex(v); }
+        if (d == ShowAs::Bitfield) return bitfield_names(v, group);
         if (d == ShowAs::Boolean) return v ? "GL_TRUE" : "GL_FALSE";
         std::snprintf(b, sizeof b, "%u", v); break; }
     case Wire::I32: { int32_t v; std::memcpy(&v, p, 4);
@@ -53,7 +53,7 @@ std::string quoted(const uint8_t* p, uint32_t n, size_t limit = 80) {
     return s;
 }
 
-std::string elements(const PtrRecord& r, Wire w, ShowAs d, const DumpOptions& opt) {
+std::string elements(const PtrRecord& r, Wire w, ShowAs d, const DumpOptions& opt, int group = -1) {
     if (d == ShowAs::Text || w == Wire::I8) return quoted(r.data, r.count);
     if (w == Wire::U8 && d != ShowAs::Boolean && r.count > opt.max_elements)
         return "blob(" + std::to_string(r.count) + ")";
@@ -61,7 +61,7 @@ std::string elements(const PtrRecord& r, Wire w, ShowAs d, const DumpOptions& op
     const size_t n = wire_bytes(w);
     for (uint32_t i = 0; i < r.count && i < opt.max_elements; ++i) {
         if (i) s += ", ";
-        s += number(r.data + i * n, w, d);
+        s += number(r.data + i * n, w, d, group);
     }
     if (r.count > opt.max_elements) s += ", ... (" + std::to_string(r.count) + ")";
     return s + "}";
@@ -90,12 +90,12 @@ std::string pointer(const PtrRecord& r, const ParamInfo& p, const DumpOptions& o
         }
         return s + "}";
     }
-    return elements(r, p.wire, p.show, opt);
+    return elements(r, p.wire, p.show, opt, p.group);
 }
 
 std::string argument(const Arg& a, const ParamInfo& p, const DumpOptions& opt) {
     switch (p.kind) {
-    case ArgKind::Value: return number(reinterpret_cast<const uint8_t*>(&a.bits), p.wire, p.show);
+    case ArgKind::Value: return number(reinterpret_cast<const uint8_t*>(&a.bits), p.wire, p.show, p.group);
     case ArgKind::Address: return a.bits ? hex(a.bits) : "NULL";
     case ArgKind::IndexArrays: {
         std::string s = "{";
@@ -117,7 +117,7 @@ std::string argument(const Arg& a, const ParamInfo& p, const DumpOptions& opt) {
     case ArgKind::OutString:
         if (a.ptr.tag == PtrTag::Reply) {
             if (p.kind == ArgKind::OutString) return "&" + quoted(a.reply.data, a.reply.count);
-            return "&" + elements(a.reply, p.wire, p.show, opt);
+            return "&" + elements(a.reply, p.wire, p.show, opt, p.group);
         }
         return pointer(a.ptr, p, opt);
     default: return pointer(a.ptr, p, opt);
@@ -237,6 +237,7 @@ void dump_capture(CaptureReader& reader, const DumpOptions& opt, FILE* out) {
     Call call;
     FrameSummary sum;
     uint64_t index = 0;
+    uint32_t context = UINT32_MAX;
     while (reader.next(m)) {
         const uint64_t frame = sum.frame;
         if (frame > opt.last_frame) break;
@@ -249,8 +250,11 @@ void dump_capture(CaptureReader& reader, const DumpOptions& opt, FILE* out) {
                 sum.calls++;
                 sum.raw_bytes += kTupleHeaderBytes + call.body_bytes;
                 std::string line = call.info ? format_call(call, opt) : format_synthetic(call, &sum);
-                if (shown && opt.calls)
-                    std::fprintf(out, "%" PRIu64 " %s%s\n", index, call.context ? "" : "[no context] ", line.c_str());
+                if (shown && opt.calls) {
+                    if (call.context != context) std::fprintf(out, "# context %u\n", call.context);
+                    std::fprintf(out, "%" PRIu64 " %s\n", index, line.c_str());
+                }
+                context = call.context;
                 index++;
             }
         } catch (const DecodeError& e) {

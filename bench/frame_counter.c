@@ -1,0 +1,49 @@
+/* Benchmark helper, preloaded before whatever is measured: counts glXSwapBuffers and
+ * eglSwapBuffers, and after FRAME_COUNTER_EXIT frames prints the time from frame
+ * FRAME_COUNTER_SKIP to the last one and ends the program. Costs one clock read per frame. */
+#define _GNU_SOURCE
+#include <dlfcn.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <time.h>
+#include <unistd.h>
+
+static long frames, skip = 10, stop;
+static double t0;
+
+static double now(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+static void frame(void) {
+    if (!stop) {
+        const char* s = getenv("FRAME_COUNTER_EXIT");
+        const char* k = getenv("FRAME_COUNTER_SKIP");
+        stop = s ? atol(s) : 1000000000L;
+        if (k) skip = atol(k);
+    }
+    if (++frames == skip) t0 = now();
+    if (frames == stop) {
+        const double dt = now() - t0;
+        fprintf(stderr, "frame_counter: %ld frames in %.4f s = %.2f fps\n", frames - skip, dt, (frames - skip) / dt);
+        fflush(stderr);
+        _exit(0);
+    }
+}
+
+void glXSwapBuffers(void* dpy, unsigned long drawable) {
+    static void (*real)(void*, unsigned long);
+    if (!real) real = (void (*)(void*, unsigned long))dlsym(RTLD_NEXT, "glXSwapBuffers");
+    real(dpy, drawable);
+    frame();
+}
+
+unsigned eglSwapBuffers(void* dpy, void* surface) {
+    static unsigned (*real)(void*, void*);
+    if (!real) real = (unsigned (*)(void*, void*))dlsym(RTLD_NEXT, "eglSwapBuffers");
+    unsigned r = real(dpy, surface);
+    frame();
+    return r;
+}

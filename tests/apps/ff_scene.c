@@ -1,0 +1,588 @@
+/*
+ * ff_scene.c - glcast test app: OpenGL 1.x fixed function through Xlib + GLX.
+ *
+ * A small lit 3D scene: a large textured ground plane (immediate mode), boxes
+ * standing on it (display list, client vertex arrays), a sphere floating above
+ * the ground (glDrawRangeElements), and a waving flag whose client arrays
+ * change every frame (glDrawArrays with GL_COLOR_ARRAY). The camera orbits
+ * slowly, driven by the frame index only, so every frame is reproducible.
+ *
+ * Exercised on purpose (for the capture side):
+ *  - glGenTextures / glTexImage2D (all mip levels) / glTexParameteri, GL_MODULATE
+ *  - glGenLists / glNewList(GL_COMPILE) / glCallList
+ *  - GL_LIGHTING, GL_LIGHT0 positional, glLightfv, glMaterialfv, glColorMaterial
+ *  - client arrays: glDrawElements with an out-of-order GLushort index array
+ *    whose range (24..47) is not [0, count/2): the used range must come from
+ *    the min/max index; glDrawArrays with first != 0 and == 0;
+ *    glDrawRangeElements; glLockArraysEXT/glUnlockArraysEXT if present
+ *  - arrays whose content changes every frame (flag positions, normals) next
+ *    to arrays that never change (flag colours, boxes, sphere)
+ *
+ * Prints to stdout:
+ *   ff_scene: GL_RENDERER <string>
+ *   ff_scene: GL_VERSION <string>
+ *   ff_scene: GL_EXT_compiled_vertex_array <yes|no>
+ *   ff_scene: glGenTextures -> <ground> <crate>
+ *   ff_scene: glGenLists -> <base>
+ *   ff_scene: frames <N>
+ */
+#include <GL/gl.h>
+#include <GL/glx.h>
+#include <X11/Xlib.h>
+#include <X11/Xutil.h>
+#include <math.h>
+
+#include "app_common.h"
+
+static const char *PROG = "ff_scene";
+
+/* ---------------------------------------------------------------- geometry */
+
+/* Unit cube (-0.5..0.5), 6 quads, CCW from outside. */
+static GLfloat box_pos[24][3], box_nrm[24][3], box_tc[24][2];
+
+static void build_unit_box(void)
+{
+    /* per face: normal n, tangents u, v with u x v = n */
+    static const float f[6][3][3] = {
+        {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}},  {{-1, 0, 0}, {0, 0, 1}, {0, 1, 0}},
+        {{0, 1, 0}, {0, 0, 1}, {1, 0, 0}},  {{0, -1, 0}, {1, 0, 0}, {0, 0, 1}},
+        {{0, 0, 1}, {1, 0, 0}, {0, 1, 0}},  {{0, 0, -1}, {0, 1, 0}, {1, 0, 0}},
+    };
+    static const float cu[4] = {-1, 1, 1, -1}, cv[4] = {-1, -1, 1, 1};
+    int i, k, c;
+    for (i = 0; i < 6; i++) {
+        for (k = 0; k < 4; k++) {
+            int v = i * 4 + k;
+            for (c = 0; c < 3; c++) {
+                box_pos[v][c] = 0.5f * (f[i][0][c] + cu[k] * f[i][1][c] + cv[k] * f[i][2][c]);
+                box_nrm[v][c] = f[i][0][c];
+            }
+            box_tc[v][0] = (cu[k] + 1) * 0.5f;
+            box_tc[v][1] = (cv[k] + 1) * 0.5f;
+        }
+    }
+}
+
+/*
+ * Client-array boxes: 48 vertices in one array.
+ *   0..23  small box (0.6 cube, base at y=0)   -> glDrawArrays(GL_QUADS, 0, 24)
+ *   24..47 tall box (0.8 x 2.0 x 0.8, base y=0) -> glDrawElements, 36 indices
+ * The index array references only 24..47, faces in a shuffled order and each
+ * triangle rotated, so indices are not sorted and max index (47) is far above
+ * count/2 (18).
+ */
+#define CB_VERTS 48
+#define CB_INDICES 36
+static GLfloat cb_pos[CB_VERTS][3], cb_nrm[CB_VERTS][3];
+static GLushort cb_idx[CB_INDICES];
+
+static void build_client_boxes(void)
+{
+    static const int face_order[6] = {4, 1, 5, 0, 3, 2};
+    int v, c, i, n = 0;
+    for (v = 0; v < 24; v++) {
+        for (c = 0; c < 3; c++) {
+            float small = box_pos[v][c] * 0.6f;
+            float tall = box_pos[v][c] * (c == 1 ? 2.0f : 0.8f);
+            cb_pos[v][c] = small + (c == 1 ? 0.3f : 0.0f);
+            cb_pos[24 + v][c] = tall + (c == 1 ? 1.0f : 0.0f);
+            cb_nrm[v][c] = cb_nrm[24 + v][c] = box_nrm[v][c];
+        }
+    }
+    for (i = 0; i < 6; i++) {
+        GLushort b = (GLushort)(24 + face_order[i] * 4);
+        /* (b+2, b+3, b+0) and (b+0, b+1, b+2): same winding as the quad */
+        cb_idx[n++] = (GLushort)(b + 2);
+        cb_idx[n++] = (GLushort)(b + 3);
+        cb_idx[n++] = b;
+        cb_idx[n++] = b;
+        cb_idx[n++] = (GLushort)(b + 1);
+        cb_idx[n++] = (GLushort)(b + 2);
+    }
+}
+
+/* Sphere for the floating occluder: glDrawRangeElements. */
+#define SP_STACKS 10
+#define SP_SLICES 16
+#define SP_VERTS ((SP_STACKS + 1) * (SP_SLICES + 1))
+#define SP_INDICES (SP_STACKS * SP_SLICES * 6)
+static GLfloat sp_pos[SP_VERTS][3], sp_nrm[SP_VERTS][3];
+static GLushort sp_idx[SP_INDICES];
+
+static void build_sphere(float r)
+{
+    int i, j, n = 0;
+    for (i = 0; i <= SP_STACKS; i++) {
+        float phi = APP_PI * (float)i / SP_STACKS; /* 0 at top */
+        for (j = 0; j <= SP_SLICES; j++) {
+            float th = 2.0f * APP_PI * (float)j / SP_SLICES;
+            int v = i * (SP_SLICES + 1) + j;
+            sp_nrm[v][0] = sinf(phi) * cosf(th);
+            sp_nrm[v][1] = cosf(phi);
+            sp_nrm[v][2] = -sinf(phi) * sinf(th);
+            sp_pos[v][0] = r * sp_nrm[v][0];
+            sp_pos[v][1] = r * sp_nrm[v][1];
+            sp_pos[v][2] = r * sp_nrm[v][2];
+        }
+    }
+    for (i = 0; i < SP_STACKS; i++) {
+        for (j = 0; j < SP_SLICES; j++) {
+            GLushort a = (GLushort)(i * (SP_SLICES + 1) + j);
+            GLushort b = (GLushort)(a + SP_SLICES + 1);
+            sp_idx[n++] = a;
+            sp_idx[n++] = b;
+            sp_idx[n++] = (GLushort)(b + 1);
+            sp_idx[n++] = a;
+            sp_idx[n++] = (GLushort)(b + 1);
+            sp_idx[n++] = (GLushort)(a + 1);
+        }
+    }
+}
+
+/* Waving flag: grid expanded to a triangle list, drawn with glDrawArrays.
+ * Positions and normals change every frame, colours never change. */
+#define FL_W 16
+#define FL_H 10
+#define FL_VERTS ((FL_W - 1) * (FL_H - 1) * 6)
+static GLfloat fl_pos[FL_VERTS][3], fl_nrm[FL_VERTS][3];
+static GLubyte fl_col[FL_VERTS][4];
+
+static void flag_point(float u, float v, int frame, float *p, float *nrm)
+{
+    const float A = 0.22f;
+    float ph = 6.0f * u - 0.15f * (float)frame;
+    float z = A * u * sinf(ph);
+    float dz = A * (sinf(ph) + 6.0f * u * cosf(ph)); /* d z / d u */
+    float nx = -1.2f * dz, nz = 2.4f, len = sqrtf(nx * nx + nz * nz);
+    p[0] = 2.0f * u;
+    p[1] = 1.2f * v;
+    p[2] = z;
+    nrm[0] = nx / len;
+    nrm[1] = 0.0f;
+    nrm[2] = nz / len;
+}
+
+static void build_flag(int frame, int with_colours)
+{
+    static const int corner[6][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 0}, {1, 1}, {0, 1}};
+    int i, j, k, n = 0;
+    for (j = 0; j < FL_H - 1; j++) {
+        for (i = 0; i < FL_W - 1; i++) {
+            for (k = 0; k < 6; k++) {
+                int gi = i + corner[k][0], gj = j + corner[k][1];
+                flag_point((float)gi / (FL_W - 1), (float)gj / (FL_H - 1), frame, fl_pos[n],
+                           fl_nrm[n]);
+                if (with_colours) {
+                    /* three horizontal stripes by the quad's row */
+                    int stripe = (j * 3) / (FL_H - 1);
+                    static const GLubyte cols[3][4] = {
+                        {200, 30, 40, 255}, {235, 235, 235, 255}, {30, 60, 190, 255}};
+                    memcpy(fl_col[n], cols[stripe], 4);
+                }
+                n++;
+            }
+        }
+    }
+}
+
+/* ---------------------------------------------------------------- textures */
+
+#define CHECK_SIZE 64
+static void make_checker(GLubyte *img, int size)
+{
+    int x, y;
+    for (y = 0; y < size; y++) {
+        for (x = 0; x < size; x++) {
+            int on = ((x * 8 / size) + (y * 8 / size)) & 1;
+            GLubyte *p = img + (y * size + x) * 3;
+            p[0] = on ? 205 : 95;
+            p[1] = on ? 205 : 120;
+            p[2] = on ? 195 : 85;
+        }
+    }
+}
+
+#define CRATE_SIZE 32
+static void make_crate(GLubyte *img)
+{
+    int x, y;
+    for (y = 0; y < CRATE_SIZE; y++) {
+        for (x = 0; x < CRATE_SIZE; x++) {
+            int border = x < 3 || y < 3 || x >= CRATE_SIZE - 3 || y >= CRATE_SIZE - 3;
+            int diag = abs(x - y) < 2 || abs(x + y - (CRATE_SIZE - 1)) < 2;
+            int grain = ((y * 7) / CRATE_SIZE) & 1;
+            GLubyte *p = img + (y * CRATE_SIZE + x) * 4;
+            if (border || diag) {
+                p[0] = 120; p[1] = 75; p[2] = 35;
+            } else {
+                p[0] = grain ? 210 : 190; p[1] = grain ? 160 : 145; p[2] = grain ? 95 : 85;
+            }
+            p[3] = 255;
+        }
+    }
+}
+
+/* Uploads a GL_RGB image and all of its mip levels (2x2 box filter). */
+static void upload_mipmapped_rgb(GLubyte *img, int size)
+{
+    GLubyte *buf = malloc((size_t)size * (size_t)size * 3u);
+    int level = 0, x, y, c;
+    memcpy(buf, img, (size_t)size * (size_t)size * 3u);
+    for (;;) {
+        glTexImage2D(GL_TEXTURE_2D, level, GL_RGB8, size, size, 0, GL_RGB, GL_UNSIGNED_BYTE, buf);
+        if (size == 1)
+            break;
+        for (y = 0; y < size / 2; y++)
+            for (x = 0; x < size / 2; x++)
+                for (c = 0; c < 3; c++) {
+                    int s = buf[((2 * y) * size + 2 * x) * 3 + c] +
+                            buf[((2 * y) * size + 2 * x + 1) * 3 + c] +
+                            buf[((2 * y + 1) * size + 2 * x) * 3 + c] +
+                            buf[((2 * y + 1) * size + 2 * x + 1) * 3 + c];
+                    buf[(y * (size / 2) + x) * 3 + c] = (GLubyte)((s + 2) / 4);
+                }
+        size /= 2;
+        level++;
+    }
+    free(buf);
+}
+
+/* ---------------------------------------------------------------- misc */
+
+static int has_extension(const char *list, const char *name)
+{
+    size_t n = strlen(name);
+    const char *p = list;
+    if (list == NULL)
+        return 0;
+    while ((p = strstr(p, name)) != NULL) {
+        if ((p == list || p[-1] == ' ') && (p[n] == ' ' || p[n] == '\0'))
+            return 1;
+        p += n;
+    }
+    return 0;
+}
+
+static void check_gl_errors(int frame)
+{
+    GLenum e;
+    int bad = 0;
+    while ((e = glGetError()) != GL_NO_ERROR) {
+        fprintf(stderr, "%s: GL error 0x%04x in frame %d\n", PROG, e, frame);
+        bad = 1;
+    }
+    if (bad)
+        exit(1);
+}
+
+static Bool wait_for_map(Display *d, XEvent *e, XPointer arg)
+{
+    (void)d;
+    return e->type == MapNotify && e->xmap.window == *(Window *)arg;
+}
+
+/* ---------------------------------------------------------------- drawing */
+
+static void draw_ground(void)
+{
+    const float half = 18.0f, step = 3.0f, tscale = 1.0f / 8.0f;
+    float x, z;
+    glBegin(GL_QUADS);
+    for (z = -half; z < half - 0.001f; z += step) {
+        for (x = -half; x < half - 0.001f; x += step) {
+            /* CCW seen from above (+y) */
+            glNormal3f(0, 1, 0); glTexCoord2f(x * tscale, (z + step) * tscale); glVertex3f(x, 0, z + step);
+            glNormal3f(0, 1, 0); glTexCoord2f((x + step) * tscale, (z + step) * tscale); glVertex3f(x + step, 0, z + step);
+            glNormal3f(0, 1, 0); glTexCoord2f((x + step) * tscale, z * tscale); glVertex3f(x + step, 0, z);
+            glNormal3f(0, 1, 0); glTexCoord2f(x * tscale, z * tscale); glVertex3f(x, 0, z);
+        }
+    }
+    glEnd();
+}
+
+static void draw_frame(int frame, int w, int h, GLuint tex_ground, GLuint tex_crate, GLuint box_list,
+                       PFNGLLOCKARRAYSEXTPROC lock, PFNGLUNLOCKARRAYSEXTPROC unlock)
+{
+    const GLfloat light_pos[4] = {5.0f, 10.0f, 4.0f, 1.0f};
+    const GLfloat no_spec[4] = {0, 0, 0, 1}, spec[4] = {0.6f, 0.6f, 0.6f, 1};
+    const float aspect = (float)w / (float)h, znear = 0.5f;
+    const float top = znear * tanf(22.5f * APP_PI / 180.0f);
+    const float orbit = 20.0f + 0.5f * (float)frame; /* degrees, frame-driven */
+
+    glViewport(0, 0, w, h);
+    glClearColor(0.53f, 0.75f, 0.95f, 1.0f);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+
+    glMatrixMode(GL_PROJECTION);
+    glLoadIdentity();
+    glFrustum(-top * aspect, top * aspect, -top, top, znear, 100.0f);
+
+    /* camera: 13 units from (0,1,0), pitched down 30 degrees, orbiting */
+    glMatrixMode(GL_MODELVIEW);
+    glLoadIdentity();
+    glTranslatef(0.0f, 0.0f, -13.0f);
+    glRotatef(30.0f, 1.0f, 0.0f, 0.0f);
+    glRotatef(-orbit, 0.0f, 1.0f, 0.0f);
+    glTranslatef(0.0f, -1.0f, 0.0f);
+
+    /* light position is transformed by the current modelview: world space */
+    glLightfv(GL_LIGHT0, GL_POSITION, light_pos);
+
+    glMaterialfv(GL_FRONT_AND_BACK, GL_SPECULAR, no_spec);
+
+    /* ground: immediate mode, checker texture modulated by lighting */
+    glEnable(GL_TEXTURE_2D);
+    glBindTexture(GL_TEXTURE_2D, tex_ground);
+    glColor3f(1.0f, 1.0f, 1.0f);
+    draw_ground();
+
+    /* crates: display list, textured */
+    glBindTexture(GL_TEXTURE_2D, tex_crate);
+    glPushMatrix();
+    glTranslatef(-2.5f, 0.75f, -1.5f);
+    glRotatef(20.0f, 0.0f, 1.0f, 0.0f);
+    glScalef(1.5f, 1.5f, 1.5f);
+    glCallList(box_list);
+    glPopMatrix();
+
+    glColor3f(0.85f, 0.9f, 1.0f);
+    glPushMatrix();
+    glTranslatef(2.5f, 0.5f, -0.5f);
+    glRotatef(-35.0f, 0.0f, 1.0f, 0.0f);
+    glScalef(2.0f, 1.0f, 1.2f);
+    glCallList(box_list);
+    glPopMatrix();
+    glDisable(GL_TEXTURE_2D);
+
+    /* flag pole: same display list, untextured */
+    glColor3f(0.55f, 0.55f, 0.6f);
+    glPushMatrix();
+    glTranslatef(-3.5f, 1.6f, 2.0f);
+    glScalef(0.1f, 3.2f, 0.1f);
+    glCallList(box_list);
+    glPopMatrix();
+
+    /* client-array boxes */
+    glEnableClientState(GL_VERTEX_ARRAY);
+    glEnableClientState(GL_NORMAL_ARRAY);
+    glVertexPointer(3, GL_FLOAT, 0, cb_pos);
+    glNormalPointer(GL_FLOAT, 0, cb_nrm);
+
+    glColor3f(0.95f, 0.55f, 0.15f);
+    glPushMatrix();
+    glTranslatef(1.0f, 0.0f, 2.5f);
+    glRotatef(10.0f, 0.0f, 1.0f, 0.0f);
+    if (lock != NULL)
+        lock(24, 24);
+    glDrawElements(GL_TRIANGLES, CB_INDICES, GL_UNSIGNED_SHORT, cb_idx);
+    if (unlock != NULL)
+        unlock();
+    glPopMatrix();
+
+    glColor3f(0.3f, 0.75f, 0.35f);
+    glPushMatrix();
+    glTranslatef(-0.8f, 0.0f, 3.2f);
+    glRotatef(45.0f, 0.0f, 1.0f, 0.0f);
+    glDrawArrays(GL_QUADS, 0, 24);
+    glPopMatrix();
+
+    /* floating occluder: sphere, clearly above everything */
+    glVertexPointer(3, GL_FLOAT, 0, sp_pos);
+    glNormalPointer(GL_FLOAT, 0, sp_nrm);
+    glMaterialfv(GL_FRONT_AND_BACK, GL_SPECULAR, spec);
+    glMaterialf(GL_FRONT_AND_BACK, GL_SHININESS, 32.0f);
+    glColor3f(0.8f, 0.2f, 0.6f);
+    glPushMatrix();
+    glTranslatef(-0.3f, 3.2f, 0.0f);
+    glDrawRangeElements(GL_TRIANGLES, 0, SP_VERTS - 1, SP_INDICES, GL_UNSIGNED_SHORT, sp_idx);
+    glPopMatrix();
+    glMaterialfv(GL_FRONT_AND_BACK, GL_SPECULAR, no_spec);
+
+    /* waving flag: positions/normals change every frame, colours do not */
+    build_flag(frame, 0);
+    glEnableClientState(GL_COLOR_ARRAY);
+    glVertexPointer(3, GL_FLOAT, 0, fl_pos);
+    glNormalPointer(GL_FLOAT, 0, fl_nrm);
+    glColorPointer(4, GL_UNSIGNED_BYTE, 0, fl_col);
+    glLightModeli(GL_LIGHT_MODEL_TWO_SIDE, GL_TRUE);
+    glPushMatrix();
+    glTranslatef(-3.45f, 1.9f, 2.0f);
+    glDrawArrays(GL_TRIANGLES, 0, FL_VERTS);
+    glPopMatrix();
+    glLightModeli(GL_LIGHT_MODEL_TWO_SIDE, GL_FALSE);
+    glDisableClientState(GL_COLOR_ARRAY);
+    glDisableClientState(GL_NORMAL_ARRAY);
+    glDisableClientState(GL_VERTEX_ARRAY);
+}
+
+/* ---------------------------------------------------------------- main */
+
+int main(int argc, char **argv)
+{
+    struct app_args args;
+    Display *dpy;
+    XVisualInfo *vi;
+    Colormap cmap;
+    XSetWindowAttributes swa;
+    Window win;
+    XEvent ev;
+    GLXContext ctx;
+    GLuint tex[2], box_list;
+    PFNGLLOCKARRAYSEXTPROC lock = NULL;
+    PFNGLUNLOCKARRAYSEXTPROC unlock = NULL;
+    unsigned char *shot = NULL;
+    int have_cva, frame;
+    int attribs[] = {GLX_RGBA, GLX_DOUBLEBUFFER, GLX_RED_SIZE, 8, GLX_GREEN_SIZE, 8,
+                     GLX_BLUE_SIZE, 8, GLX_DEPTH_SIZE, 24, None};
+
+    app_parse_args(PROG, argc, argv, &args);
+
+    dpy = XOpenDisplay(NULL);
+    if (dpy == NULL) {
+        fprintf(stderr, "%s: cannot open X display\n", PROG);
+        return 1;
+    }
+    vi = glXChooseVisual(dpy, DefaultScreen(dpy), attribs);
+    if (vi == NULL) {
+        fprintf(stderr, "%s: glXChooseVisual: no RGBA double-buffered visual with depth 24\n", PROG);
+        return 1;
+    }
+    cmap = XCreateColormap(dpy, RootWindow(dpy, vi->screen), vi->visual, AllocNone);
+    memset(&swa, 0, sizeof swa);
+    swa.colormap = cmap;
+    swa.event_mask = StructureNotifyMask | ExposureMask;
+    win = XCreateWindow(dpy, RootWindow(dpy, vi->screen), 0, 0, (unsigned)args.width,
+                        (unsigned)args.height, 0, vi->depth, InputOutput, vi->visual,
+                        CWColormap | CWEventMask, &swa);
+    XStoreName(dpy, win, "glcast ff_scene");
+    XMapWindow(dpy, win);
+    XIfEvent(dpy, &ev, wait_for_map, (XPointer)&win);
+
+    ctx = glXCreateContext(dpy, vi, NULL, True);
+    if (ctx == NULL) {
+        fprintf(stderr, "%s: glXCreateContext failed\n", PROG);
+        return 1;
+    }
+    if (!glXMakeCurrent(dpy, win, ctx)) {
+        fprintf(stderr, "%s: glXMakeCurrent failed\n", PROG);
+        return 1;
+    }
+
+    printf("%s: GL_RENDERER %s\n", PROG, (const char *)glGetString(GL_RENDERER));
+    printf("%s: GL_VERSION %s\n", PROG, (const char *)glGetString(GL_VERSION));
+    have_cva = has_extension((const char *)glGetString(GL_EXTENSIONS), "GL_EXT_compiled_vertex_array");
+    if (have_cva) {
+        lock = (PFNGLLOCKARRAYSEXTPROC)glXGetProcAddressARB((const GLubyte *)"glLockArraysEXT");
+        unlock = (PFNGLUNLOCKARRAYSEXTPROC)glXGetProcAddressARB((const GLubyte *)"glUnlockArraysEXT");
+        if (lock == NULL || unlock == NULL)
+            lock = NULL, unlock = NULL, have_cva = 0;
+    }
+    printf("%s: GL_EXT_compiled_vertex_array %s\n", PROG, have_cva ? "yes" : "no");
+
+    build_unit_box();
+    build_client_boxes();
+    build_sphere(0.75f);
+    build_flag(0, 1);
+
+    /* textures */
+    glGenTextures(2, tex);
+    app_print_names(PROG, "glGenTextures", tex, 2);
+    {
+        GLubyte checker[CHECK_SIZE * CHECK_SIZE * 3];
+        GLubyte crate[CRATE_SIZE * CRATE_SIZE * 4];
+        glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+        make_checker(checker, CHECK_SIZE);
+        glBindTexture(GL_TEXTURE_2D, tex[0]);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+        upload_mipmapped_rgb(checker, CHECK_SIZE);
+
+        make_crate(crate);
+        glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+        glBindTexture(GL_TEXTURE_2D, tex[1]);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, CRATE_SIZE, CRATE_SIZE, 0, GL_RGBA,
+                     GL_UNSIGNED_BYTE, crate);
+        glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_MODULATE);
+    }
+
+    /* display list: unit box with normals and texcoords */
+    box_list = glGenLists(1);
+    app_print_names(PROG, "glGenLists", &box_list, 1);
+    glNewList(box_list, GL_COMPILE);
+    {
+        int v;
+        glBegin(GL_QUADS);
+        for (v = 0; v < 24; v++) {
+            glNormal3fv(box_nrm[v]);
+            glTexCoord2fv(box_tc[v]);
+            glVertex3fv(box_pos[v]);
+        }
+        glEnd();
+    }
+    glEndList();
+
+    /* fixed state */
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glEnable(GL_LIGHTING);
+    glEnable(GL_LIGHT0);
+    glEnable(GL_NORMALIZE);
+    {
+        const GLfloat amb[4] = {0.25f, 0.25f, 0.28f, 1.0f};
+        const GLfloat dif[4] = {0.9f, 0.9f, 0.85f, 1.0f};
+        const GLfloat spc[4] = {0.7f, 0.7f, 0.7f, 1.0f};
+        const GLfloat global_amb[4] = {0.1f, 0.1f, 0.12f, 1.0f};
+        glLightfv(GL_LIGHT0, GL_AMBIENT, amb);
+        glLightfv(GL_LIGHT0, GL_DIFFUSE, dif);
+        glLightfv(GL_LIGHT0, GL_SPECULAR, spc);
+        glLightModelfv(GL_LIGHT_MODEL_AMBIENT, global_amb);
+    }
+    glColorMaterial(GL_FRONT_AND_BACK, GL_AMBIENT_AND_DIFFUSE);
+    glEnable(GL_COLOR_MATERIAL);
+    glShadeModel(GL_SMOOTH);
+    check_gl_errors(-1);
+
+    printf("%s: frames %d\n", PROG, args.frames);
+    fflush(stdout);
+
+    for (frame = 0; frame < args.frames; frame++) {
+        while (XPending(dpy) > 0)
+            XNextEvent(dpy, &ev);
+        draw_frame(frame, args.width, args.height, tex[0], tex[1], box_list, lock, unlock);
+        if (frame == args.frames - 1 && args.screenshot != NULL) {
+            shot = malloc((size_t)args.width * (size_t)args.height * 3u);
+            glReadBuffer(GL_BACK);
+            glPixelStorei(GL_PACK_ALIGNMENT, 1);
+            glReadPixels(0, 0, args.width, args.height, GL_RGB, GL_UNSIGNED_BYTE, shot);
+        }
+        check_gl_errors(frame);
+        glXSwapBuffers(dpy, win);
+    }
+
+    glDeleteLists(box_list, 1);
+    glDeleteTextures(2, tex);
+    check_gl_errors(args.frames);
+    glXMakeCurrent(dpy, None, NULL);
+    glXDestroyContext(dpy, ctx);
+    XDestroyWindow(dpy, win);
+    XFreeColormap(dpy, cmap);
+    XFree(vi);
+    XCloseDisplay(dpy);
+
+    if (shot != NULL) {
+        if (app_write_ppm(args.screenshot, args.width, args.height, shot) != 0) {
+            fprintf(stderr, "%s: cannot write screenshot '%s'\n", PROG, args.screenshot);
+            free(shot);
+            return 1;
+        }
+        free(shot);
+    }
+    return 0;
+}
