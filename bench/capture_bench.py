@@ -56,6 +56,9 @@ def main():
     rows = []
     with Xvfb():
         for name, cmd in programs(build, a.frames).items():
+            if not os.path.exists(cmd[0]) and "/" in cmd[0]:
+                print(f"{name}: {cmd[0]} not built, skipped", file=sys.stderr)
+                continue
             capture = os.path.join(tmp, "c.glcs")
             trace = os.path.join(tmp, "t.trace")
             configs = {

@@ -2,6 +2,7 @@
 // kSynthContext tuple after each creation call says which handle got which id, and a
 // kSynthDrawableSize tuple says how big the window is whenever that changes. A frame ends
 // at every swap, after the swap's own tuple.
+#include <chrono>
 #include <map>
 #include <mutex>
 
@@ -20,6 +21,17 @@ std::mutex g_mutex;
 std::map<const void*, uint32_t> g_context_ids;
 uint32_t g_next_id = 1;
 std::map<uint64_t, std::pair<int32_t, int32_t>> g_drawable_sizes;
+
+// Asking the window system for a drawable's size is a server round trip: at a swap it is
+// done at most every 100 ms per thread (a resize reaches the stream within that time), and
+// always at make-current.
+bool size_check_due(bool force) {
+    static thread_local std::chrono::steady_clock::time_point last;
+    const auto now = std::chrono::steady_clock::now();
+    if (!force && now - last < std::chrono::milliseconds(100)) return false;
+    last = now;
+    return true;
+}
 
 uint32_t id_of(const void* handle) {
     std::lock_guard lock(g_mutex);
@@ -61,8 +73,8 @@ void drawable_size(CallScope& scope, uint64_t drawable, int32_t w, int32_t h) {
     scope.commit_synthetic();
 }
 
-void glx_drawable_size(CallScope& scope, Display* dpy, GLXDrawable drawable) {
-    if (!dpy || !drawable) return;
+void glx_drawable_size(CallScope& scope, Display* dpy, GLXDrawable drawable, bool force) {
+    if (!dpy || !drawable || !size_check_due(force)) return;
     static const auto query = reinterpret_cast<PFNGLXQUERYDRAWABLEPROC>(real_proc(OP_glXQueryDrawable));
     unsigned w = 0, h = 0;
     if (query) {
@@ -72,8 +84,8 @@ void glx_drawable_size(CallScope& scope, Display* dpy, GLXDrawable drawable) {
     drawable_size(scope, drawable, int32_t(w), int32_t(h));
 }
 
-void egl_drawable_size(CallScope& scope, EGLDisplay dpy, EGLSurface surface) {
-    if (!dpy || !surface) return;
+void egl_drawable_size(CallScope& scope, EGLDisplay dpy, EGLSurface surface, bool force) {
+    if (!dpy || !surface || !size_check_due(force)) return;
     static const auto query = reinterpret_cast<PFNEGLQUERYSURFACEPROC>(real_proc(OP_eglQuerySurface));
     EGLint w = 0, h = 0;
     if (query) {
@@ -128,7 +140,7 @@ Bool special::glXMakeCurrent(glXMakeCurrent_fn real, CallScope& scope, Display* 
     if (ret) set_current_context(ctx ? id_of(ctx) : 0);
     if (!scope.recording()) return ret;
     record(scope, [&](Encoder& e, SizeQueries& sz) { encode_glXMakeCurrent(e, sz, dpy, drawable, ctx, ret); });
-    if (ret && ctx) glx_drawable_size(scope, dpy, drawable);
+    if (ret && ctx) glx_drawable_size(scope, dpy, drawable, true);
     return ret;
 }
 
@@ -138,7 +150,7 @@ Bool special::glXMakeContextCurrent(glXMakeContextCurrent_fn real, CallScope& sc
     if (ret) set_current_context(ctx ? id_of(ctx) : 0);
     if (!scope.recording()) return ret;
     record(scope, [&](Encoder& e, SizeQueries& sz) { encode_glXMakeContextCurrent(e, sz, dpy, draw, read, ctx, ret); });
-    if (ret && ctx) glx_drawable_size(scope, dpy, draw);
+    if (ret && ctx) glx_drawable_size(scope, dpy, draw, true);
     return ret;
 }
 
@@ -150,7 +162,7 @@ void special::glXDestroyContext(glXDestroyContext_fn real, CallScope& scope, Dis
 
 void special::glXSwapBuffers(glXSwapBuffers_fn real, CallScope& scope, Display* dpy, GLXDrawable drawable) {
     if (!scope.recording()) return real(dpy, drawable);
-    glx_drawable_size(scope, dpy, drawable);
+    glx_drawable_size(scope, dpy, drawable, false);
     real(dpy, drawable);
     scope.record([&](Encoder& e, SizeQueries& sz) { encode_glXSwapBuffers(e, sz, dpy, drawable); });
     on_frame_end();
@@ -175,7 +187,7 @@ EGLBoolean special::eglMakeCurrent(eglMakeCurrent_fn real, CallScope& scope, EGL
     if (ret) set_current_context(ctx ? id_of(ctx) : 0);
     if (!scope.recording()) return ret;
     record(scope, [&](Encoder& e, SizeQueries& sz) { encode_eglMakeCurrent(e, sz, dpy, draw, read, ctx, ret); });
-    if (ret && ctx) egl_drawable_size(scope, dpy, draw);
+    if (ret && ctx) egl_drawable_size(scope, dpy, draw, true);
     return ret;
 }
 
@@ -188,7 +200,7 @@ EGLBoolean special::eglDestroyContext(eglDestroyContext_fn real, CallScope& scop
 
 EGLBoolean special::eglSwapBuffers(eglSwapBuffers_fn real, CallScope& scope, EGLDisplay dpy, EGLSurface surface) {
     if (!scope.recording()) return real(dpy, surface);
-    egl_drawable_size(scope, dpy, surface);
+    egl_drawable_size(scope, dpy, surface, false);
     EGLBoolean ret = real(dpy, surface);
     scope.record([&](Encoder& e, SizeQueries& sz) { encode_eglSwapBuffers(e, sz, dpy, surface, ret); });
     on_frame_end();
