@@ -24,6 +24,7 @@ except ImportError as e:  # CMake turns this into a configure error
 
 import registry
 from classify import Classifier, WIRE_BYTES
+from slave_plan import SlavePlanner
 
 REGISTRY_DIR = os.environ.get("GLCAST_REGISTRY_DIR", "/usr/share/khronos-api")
 TEMPLATES = os.path.join(HERE, "templates")
@@ -37,6 +38,8 @@ OUTPUTS = {  # template -> generated file
     "entrypoints.cpp.j2": "glcast_entrypoints.cpp",
     "special.h.j2": "glcast_special.h",
     "roundtrip_test.cpp.j2": "glcast_roundtrip_test.cpp",
+    "slave_dispatch.h.j2": "glcast_slave_dispatch.h",
+    "slave_dispatch.cpp.j2": "glcast_slave_dispatch.cpp",
 }
 
 
@@ -62,6 +65,9 @@ class Model:
         classifier = Classifier(self.annotations, self.pnames, {**gl_enums, **glx_enums})
         self.plans = [classifier.plan(c, i, set(self.handwritten)) for i, c in enumerate(self.commands)]
         self.add_sample_pnames(classifier)
+        self.slave = SlavePlanner(self.annotations)
+        for p in self.plans:
+            self.slave.plan(p)
         self.check_annotations()
 
     def add_sample_pnames(self, classifier):
@@ -251,7 +257,7 @@ def main():
         ap.error("--out DIR is required")
     env = make_env()
     ctx = {"plans": model.plans, "enum_groups": model.enum_groups(), "table_hash": model.table_hash(),
-           "enum_names": model.enum_names(),
+           "enum_names": model.enum_names(), "namespaces": model.slave.namespace_table(),
            "pname_tables": model.pname_tables(), "opcode_count": len(model.plans)}
     os.makedirs(args.out, exist_ok=True)
     for template, name in OUTPUTS.items():

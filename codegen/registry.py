@@ -16,6 +16,7 @@ class Param:
     const: bool         # pointee is const (the call reads it)
     len: str | None     # gl.xml's len attribute
     group: str | None
+    name_class: str | None = None  # gl.xml's class: the object namespace of a name ("texture")
 
 
 @dataclass
@@ -27,6 +28,7 @@ class Command:
     origin: str = ""    # first feature (e.g. "GL_VERSION_1_0") or extension that requires it
     origins: list = field(default_factory=list)
     alias: str | None = None  # the command this one is an alias of (same semantics)
+    ret_class: str | None = None  # gl.xml's class of a returned name (glCreateProgram: "program")
 
     @property
     def is_core(self):
@@ -47,7 +49,7 @@ def _parse_decl(text, name):
 def _param(el):
     name = el.find("name").text
     ctype, base, stars, const = _parse_decl("".join(el.itertext()), name)
-    return Param(name, ctype, base, stars, const, el.get("len"), el.get("group"))
+    return Param(name, ctype, base, stars, const, el.get("len"), el.get("group"), el.get("class"))
 
 
 def _ret(proto, name):
@@ -64,7 +66,8 @@ def load(path, api):
         name = proto.find("name").text
         alias = el.find("alias")
         commands.append(Command(name, _ret(proto, name), [_param(p) for p in el.findall("param")], api,
-                                alias=alias.get("name") if alias is not None else None))
+                                alias=alias.get("name") if alias is not None else None,
+                                ret_class=proto.get("class")))
     by_name = {c.name: c for c in commands}
 
     def require(owner, node):

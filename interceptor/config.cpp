@@ -25,6 +25,7 @@ static ShimConfig load() {
     ShimConfig c;
     bool ok = true;
     if (const char* p = std::getenv("GLCAST_CAPTURE")) c.capture_path = p;
+    if (const char* p = std::getenv("GLCAST_SNAPSHOT_DIR")) c.snapshot_dir = p;
     uint64_t v = 0;
     ok &= read_uint("GLCAST_FRAMES", 0, UINT32_MAX, c.frames);
     v = 0;

@@ -13,6 +13,7 @@ struct ShimConfig {
     bool exit_after = false;    // GLCAST_EXIT_AFTER_FRAMES=1: end the program once they are written
     int zstd_level = 1;         // GLCAST_ZSTD_LEVEL: 0 stores messages uncompressed
     bool verbose = false;       // GLCAST_VERBOSE=1: summary on stderr at exit
+    std::string snapshot_dir;   // GLCAST_SNAPSHOT_DIR: the program's own frames as PNGs (tests)
     bool has_consumer() const { return !capture_path.empty(); }
 };
 

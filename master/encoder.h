@@ -25,13 +25,6 @@ using i64_t = int64_t;
 using f32_t = float;
 using f64_t = double;
 
-template <class W, class T>
-inline W to_wire(T v) {
-    if constexpr (std::is_pointer_v<T>)
-        return static_cast<W>(reinterpret_cast<uintptr_t>(v));
-    else
-        return static_cast<W>(v);
-}
 
 // Largest array the encoder will read from the application: anything bigger is treated as
 // an unknown size (forwarded and counted), never a giant read.

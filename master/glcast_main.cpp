@@ -9,6 +9,7 @@
 #include "master/launcher.h"
 #include "protocol/decoder.h"
 #include "protocol/dump.h"
+#include "slave/replay_main.h"
 
 using namespace glcast;
 
@@ -24,12 +25,16 @@ const char* kUsage =
     "  dump FILE [--frames A:B] [--summary]\n"
     "        print one call per line with arguments and replies, and a summary per frame;\n"
     "        --frames limits the output to frames A through B (either may be omitted)\n"
+    "%s"
     "  help  this text\n"
     "\n"
     "The shim reads GLCAST_* variables; see docs/environment.md.\n";
 
+void print_usage(FILE* f) { std::fprintf(f, kUsage, glcast::slave::kReplayUsage); }
+
 int usage_error(const std::string& msg) {
-    std::fprintf(stderr, "glcast: %s\n\n%s", msg.c_str(), kUsage);
+    std::fprintf(stderr, "glcast: %s\n\n", msg.c_str());
+    print_usage(stderr);
     return 2;
 }
 
@@ -112,8 +117,9 @@ int main(int argc, char** argv) {
     const std::vector<std::string> args(argv + 2, argv + argc);
     if (cmd == "capture") return cmd_capture(args);
     if (cmd == "dump") return cmd_dump(args);
+    if (cmd == "replay") return glcast::slave::replay_main(args);
     if (cmd == "help" || cmd == "--help" || cmd == "-h") {
-        std::fputs(kUsage, stdout);
+        print_usage(stdout);
         return 0;
     }
     return usage_error("unknown command '" + cmd + "'");

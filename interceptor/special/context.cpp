@@ -11,7 +11,9 @@
 #include "glcast_special.h"
 #include "interceptor/dl_hooks.h"
 #include "interceptor/shim.h"
+#include "interceptor/config.h"
 #include "interceptor/shim_internal.h"
+#include "interceptor/snapshot.h"
 #include "protocol/format.h"
 
 namespace glcast {
@@ -139,8 +141,8 @@ Bool special::glXMakeCurrent(glXMakeCurrent_fn real, CallScope& scope, Display* 
     Bool ret = real(dpy, drawable, ctx);
     if (ret) set_current_context(ctx ? id_of(ctx) : 0);
     if (!scope.recording()) return ret;
+    if (ret && ctx) glx_drawable_size(scope, dpy, drawable, true);  // the slave sizes its window first
     record(scope, [&](Encoder& e, SizeQueries& sz) { encode_glXMakeCurrent(e, sz, dpy, drawable, ctx, ret); });
-    if (ret && ctx) glx_drawable_size(scope, dpy, drawable, true);
     return ret;
 }
 
@@ -149,8 +151,8 @@ Bool special::glXMakeContextCurrent(glXMakeContextCurrent_fn real, CallScope& sc
     Bool ret = real(dpy, draw, read, ctx);
     if (ret) set_current_context(ctx ? id_of(ctx) : 0);
     if (!scope.recording()) return ret;
-    record(scope, [&](Encoder& e, SizeQueries& sz) { encode_glXMakeContextCurrent(e, sz, dpy, draw, read, ctx, ret); });
     if (ret && ctx) glx_drawable_size(scope, dpy, draw, true);
+    record(scope, [&](Encoder& e, SizeQueries& sz) { encode_glXMakeContextCurrent(e, sz, dpy, draw, read, ctx, ret); });
     return ret;
 }
 
@@ -161,6 +163,13 @@ void special::glXDestroyContext(glXDestroyContext_fn real, CallScope& scope, Dis
 }
 
 void special::glXSwapBuffers(glXSwapBuffers_fn real, CallScope& scope, Display* dpy, GLXDrawable drawable) {
+    if (!shim_config().snapshot_dir.empty() && thread_state().depth == 1) {
+        static const auto query = reinterpret_cast<PFNGLXQUERYDRAWABLEPROC>(real_proc(OP_glXQueryDrawable));
+        unsigned w = 0, h = 0;
+        query(dpy, drawable, GLX_WIDTH, &w);
+        query(dpy, drawable, GLX_HEIGHT, &h);
+        snapshot_back_buffer(int(w), int(h));
+    }
     if (!scope.recording()) return real(dpy, drawable);
     glx_drawable_size(scope, dpy, drawable, false);
     real(dpy, drawable);
@@ -186,8 +195,8 @@ EGLBoolean special::eglMakeCurrent(eglMakeCurrent_fn real, CallScope& scope, EGL
     EGLBoolean ret = real(dpy, draw, read, ctx);
     if (ret) set_current_context(ctx ? id_of(ctx) : 0);
     if (!scope.recording()) return ret;
-    record(scope, [&](Encoder& e, SizeQueries& sz) { encode_eglMakeCurrent(e, sz, dpy, draw, read, ctx, ret); });
     if (ret && ctx) egl_drawable_size(scope, dpy, draw, true);
+    record(scope, [&](Encoder& e, SizeQueries& sz) { encode_eglMakeCurrent(e, sz, dpy, draw, read, ctx, ret); });
     return ret;
 }
 
@@ -199,6 +208,13 @@ EGLBoolean special::eglDestroyContext(eglDestroyContext_fn real, CallScope& scop
 }
 
 EGLBoolean special::eglSwapBuffers(eglSwapBuffers_fn real, CallScope& scope, EGLDisplay dpy, EGLSurface surface) {
+    if (!shim_config().snapshot_dir.empty() && thread_state().depth == 1) {
+        static const auto query = reinterpret_cast<PFNEGLQUERYSURFACEPROC>(real_proc(OP_eglQuerySurface));
+        EGLint w = 0, h = 0;
+        query(dpy, surface, EGL_WIDTH, &w);
+        query(dpy, surface, EGL_HEIGHT, &h);
+        snapshot_back_buffer(w, h);
+    }
     if (!scope.recording()) return real(dpy, surface);
     egl_drawable_size(scope, dpy, surface, false);
     EGLBoolean ret = real(dpy, surface);

@@ -1,0 +1,74 @@
+"""How the slave replays each command: which parameters are object names (and of which
+namespace), which calls generate or delete names, and which are not repeated at all.
+
+Object names come from gl.xml's `class` attributes, completed by commands.yaml `slave:`.
+"""
+import fnmatch
+import re
+
+NOT_REPLAYED = {"reply_only": 1, "skip": 2, "window_system": 3, "unserializable": 5}
+
+
+def ns_id(name):
+    return re.sub(r"\W+", "_", name)
+
+
+class SlavePlanner:
+    def __init__(self, annotations):
+        s = annotations["slave"]
+        self.name_classes = s.get("name_classes") or {}
+        self.namespaces = s["namespaces"]
+        self.uniform_patterns = s.get("uniform_locations") or []
+        self.handwritten = set(s.get("handwritten") or [])
+        self.skip = s.get("skip") or []
+
+    def namespace(self, cls):
+        """gl.xml class -> the name map it lives in (shader names share the program map)."""
+        if cls is None:
+            return None
+        spec = self.namespaces.get(cls)
+        if spec is None:
+            raise ValueError(f"gl.xml class '{cls}' has no namespace in commands.yaml slave.namespaces")
+        return ns_id((spec or {}).get("same_as", cls))
+
+    def namespace_table(self):
+        return [(ns_id(n), bool((spec or {}).get("per_context"))) for n, spec in self.namespaces.items()
+                if not (spec or {}).get("same_as")]
+
+    def plan(self, p):
+        """Adds p.replay (how, or None when not replayed) and p.replay_params."""
+        cmd = p.cmd
+        p.replay = "generated"
+        if not p.serializable:
+            p.replay = "unserializable"
+        elif cmd.api != "gl":
+            p.replay = "window_system"
+        elif cmd.name in self.handwritten:
+            p.replay = "handwritten"
+        elif any(fnmatch.fnmatchcase(cmd.name, pat) for pat in self.skip):
+            p.replay = "skip"
+        elif p.reply_only:
+            p.replay = "reply_only"
+        p.replay_params = []
+        p.replay_ret = None
+        if p.replay not in ("generated",):
+            return
+        deleting = cmd.name.startswith("glDelete")
+        uniform = any(fnmatch.fnmatchcase(cmd.name, pat) for pat in self.uniform_patterns)
+        for q, w in zip(cmd.params, p.params):
+            cls = self.name_classes.get(f"{cmd.name}.{q.name}", q.name_class)
+            ns = self.namespace(cls)
+            role = w.kind
+            if uniform and q.name == "location" and w.kind == "value":
+                role = "uniform_location"
+            elif ns and w.kind == "value":
+                role = "name_delete" if deleting else "name"
+            elif ns and w.kind == "in":
+                role = "names_delete" if deleting else "names_in"
+            elif ns and w.kind == "out":
+                role = "gen_out"
+            p.replay_params.append({"role": role, "ns": ns, "ctype": q.ctype, "name": q.name, "base": q.base})
+        if p.ret and cmd.ret_class:
+            p.replay_ret = self.namespace(self.name_classes.get(f"{cmd.name}.return", cmd.ret_class))
+        has_program = "program" in [q.name for q in cmd.params]
+        p.uniform_program = "program" if (uniform and has_program) else None

@@ -1,0 +1,25 @@
+// Pieces the backends share with the factory; not part of the slave's interface.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "slave/backend.h"
+
+namespace glcast::slave {
+
+std::unique_ptr<Backend> make_egl_backend(std::string& error);
+std::unique_ptr<Backend> make_osmesa_backend(std::string& error);
+std::unique_ptr<Backend> make_window_backend(std::string& error);
+
+// "3.3 core", "4.6 core forward-compatible debug", "compatibility (highest)": for messages.
+inline std::string describe(const ContextRequest& r) {
+    std::string s = r.major == 0 ? std::string("compatibility, highest version")
+                                 : std::to_string(r.major) + "." + std::to_string(r.minor) +
+                                       (r.core ? " core" : " compatibility");
+    if (r.forward_compatible) s += " forward-compatible";
+    if (r.debug) s += " debug";
+    return s;
+}
+
+}  // namespace glcast::slave

@@ -1,0 +1,208 @@
+// Window backend: one GLFW window per context; the window's own default framebuffer is the
+// program's window framebuffer (8-bit RGB, 24-bit depth, 8-bit stencil, double-buffered, like
+// the program's GLX visual), and present() swaps it. Windows start hidden and a window is shown
+// at its first present(), so a context that only shares objects (a loader thread's context)
+// never shows an empty window.
+//
+// GLFW's rules apply: the backend must be created, and create_context/make_current/present
+// called, on the process's main thread (window creation, resizing, showing and event polling
+// are main-thread-only in GLFW). GLFW loads libGL itself; we link only libglfw.
+
+#define GLFW_INCLUDE_NONE
+#define GL_GLEXT_PROTOTYPES
+#include <GL/gl.h>
+#include <GL/glext.h>
+#include <GLFW/glfw3.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <mutex>
+#include <unordered_map>
+
+#include "slave/backends/backends_internal.h"
+
+namespace glcast::slave {
+namespace {
+
+// glfwInit/glfwTerminate are process-wide; count the backends that use them.
+std::mutex g_glfw_mutex;
+int g_glfw_users = 0;
+
+std::string glfw_error() {
+    const char* description = nullptr;
+    const int code = glfwGetError(&description);
+    if (code == GLFW_NO_ERROR) return "no GLFW error reported";
+    return description ? description : "GLFW error " + std::to_string(code);
+}
+
+struct Context {
+    uint32_t id = 0;
+    GLFWwindow* window = nullptr;
+    int width = 0, height = 0;  // the size last asked of the window
+    bool shown = false;
+};
+
+class WindowBackend final : public Backend {
+public:
+    ~WindowBackend() override {
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            for (auto& [id, c] : contexts_) destroy_window(c->window);
+            contexts_.clear();
+        }
+        if (!glfw_counted_) return;
+        std::lock_guard<std::mutex> lock(g_glfw_mutex);
+        if (--g_glfw_users == 0) glfwTerminate();
+    }
+
+    const char* name() const override { return "window"; }
+
+    bool init(std::string& error) {
+        std::lock_guard<std::mutex> lock(g_glfw_mutex);
+        if (!glfwInit()) {
+            error = "window: glfwInit failed: " + glfw_error();
+            return false;
+        }
+        ++g_glfw_users;
+        glfw_counted_ = true;
+        return true;
+    }
+
+    bool create_context(uint32_t id, uint32_t share_id, const ContextRequest& request,
+                        std::string& error) override {
+        if (id == 0) return fail(error, "context id 0 is reserved");
+        GLFWwindow* share = nullptr;
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            if (contexts_.count(id)) return fail(error, "context " + std::to_string(id) + " already exists");
+            if (share_id) {
+                auto it = contexts_.find(share_id);
+                if (it == contexts_.end())
+                    return fail(error, "share context " + std::to_string(share_id) + " does not exist");
+                share = it->second->window;
+            }
+        }
+        glfwDefaultWindowHints();
+        glfwWindowHint(GLFW_CLIENT_API, GLFW_OPENGL_API);
+        glfwWindowHint(GLFW_CONTEXT_CREATION_API, GLFW_NATIVE_CONTEXT_API);
+        glfwWindowHint(GLFW_VISIBLE, GLFW_FALSE);
+        glfwWindowHint(GLFW_DOUBLEBUFFER, GLFW_TRUE);
+        glfwWindowHint(GLFW_RED_BITS, 8);
+        glfwWindowHint(GLFW_GREEN_BITS, 8);
+        glfwWindowHint(GLFW_BLUE_BITS, 8);
+        glfwWindowHint(GLFW_ALPHA_BITS, 0);
+        glfwWindowHint(GLFW_DEPTH_BITS, 24);
+        glfwWindowHint(GLFW_STENCIL_BITS, 8);
+        if (request.major > 0) {
+            glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, request.major);
+            glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, request.minor);
+            const bool has_profile = request.major > 3 || (request.major == 3 && request.minor >= 2);
+            glfwWindowHint(GLFW_OPENGL_PROFILE, !has_profile ? GLFW_OPENGL_ANY_PROFILE
+                                                : request.core ? GLFW_OPENGL_CORE_PROFILE
+                                                               : GLFW_OPENGL_COMPAT_PROFILE);
+            glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT,
+                           request.forward_compatible && request.major >= 3 ? GLFW_TRUE : GLFW_FALSE);
+        }
+        // major 0: GLFW's default 1.0 with any profile, which GLX answers with the highest
+        // compatibility context.
+        glfwWindowHint(GLFW_OPENGL_DEBUG_CONTEXT, request.debug ? GLFW_TRUE : GLFW_FALSE);
+
+        glfwGetError(nullptr);
+        const bool first = !share_id;
+        GLFWwindow* window = glfwCreateWindow(first ? 640 : 1, first ? 480 : 1, "glcast slave", nullptr, share);
+        if (!window)
+            return fail(error, "glfwCreateWindow(" + describe(request) + ") failed: " + glfw_error());
+        auto c = std::make_unique<Context>();
+        c->id = id;
+        c->window = window;
+        glfwSetWindowUserPointer(window, c.get());
+        std::lock_guard<std::mutex> lock(mutex_);
+        contexts_[id] = std::move(c);
+        return true;
+    }
+
+    bool make_current(uint32_t id, int width, int height, std::string& error) override {
+        if (id == 0) {
+            glfwMakeContextCurrent(nullptr);
+            return true;
+        }
+        Context* c;
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            auto it = contexts_.find(id);
+            if (it == contexts_.end()) return fail(error, "make_current: no context " + std::to_string(id));
+            c = it->second.get();
+        }
+        if (width > 0 && height > 0 && (width != c->width || height != c->height)) {
+            glfwSetWindowSize(c->window, width, height);
+            c->width = width;
+            c->height = height;
+            // The X server resizes asynchronously: wait (briefly) until the framebuffer has the size.
+            for (int i = 0; i < 200; ++i) {
+                int fw = 0, fh = 0;
+                glfwGetFramebufferSize(c->window, &fw, &fh);
+                if (fw == width && fh == height) break;
+                glfwWaitEventsTimeout(0.005);
+            }
+        }
+        glfwGetError(nullptr);
+        glfwMakeContextCurrent(c->window);
+        if (glfwGetCurrentContext() != c->window)
+            return fail(error, "glfwMakeContextCurrent(context " + std::to_string(id) + ") failed: " + glfw_error());
+        return true;
+    }
+
+    void destroy_context(uint32_t id) override {
+        std::unique_ptr<Context> c;
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            auto it = contexts_.find(id);
+            if (it == contexts_.end()) return;
+            c = std::move(it->second);
+            contexts_.erase(it);
+        }
+        destroy_window(c->window);
+    }
+
+    void* proc_address(const char* name) override {
+        return reinterpret_cast<void*>(glfwGetProcAddress(name));
+    }
+
+    void present() override {
+        GLFWwindow* window = glfwGetCurrentContext();
+        if (!window) return;
+        auto* c = static_cast<Context*>(glfwGetWindowUserPointer(window));
+        if (!c) return;  // a window that is not ours
+        if (!c->shown) {
+            glfwShowWindow(window);
+            c->shown = true;
+        }
+        glfwSwapBuffers(window);
+        glfwPollEvents();
+    }
+
+private:
+    static void destroy_window(GLFWwindow* window) {
+        if (glfwGetCurrentContext() == window) glfwMakeContextCurrent(nullptr);
+        glfwDestroyWindow(window);
+    }
+
+    static bool fail(std::string& error, const std::string& what) {
+        error = "window: " + what;
+        return false;
+    }
+
+    bool glfw_counted_ = false;
+    std::mutex mutex_;
+    std::unordered_map<uint32_t, std::unique_ptr<Context>> contexts_;
+};
+
+}  // namespace
+
+std::unique_ptr<Backend> make_window_backend(std::string& error) {
+    auto backend = std::make_unique<WindowBackend>();
+    if (!backend->init(error)) return nullptr;
+    return backend;
+}
+
+}  // namespace glcast::slave

@@ -1,0 +1,42 @@
+// RGBA8 images for the slave and its tests: PNG files (libpng), pixel comparison, and the
+// mosaic of a wall's tiles.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace glcast::slave {
+
+// Rows top to bottom, 4 bytes per pixel (R, G, B, A); rgba.size() == width * height * 4.
+struct Image {
+    int width = 0, height = 0;
+    std::vector<uint8_t> rgba;
+};
+
+// Writes an 8-bit RGBA PNG. False with `error` set (naming the file) on any failure.
+bool write_png(const std::string& path, const Image& image, std::string& error);
+
+// Reads an 8-bit gray, gray+alpha, RGB or RGBA PNG (interlaced or not) and converts it to RGBA
+// (alpha 255 where the file has none, or from a tRNS chunk). Palette and 1/2/4/16-bit files are
+// refused with an error saying so; corrupt or truncated files give an error, never a crash.
+bool read_png(const std::string& path, Image& image, std::string& error);
+
+struct ImageDiff {
+    int64_t differing_pixels = 0;  // pixels where any channel differs
+    int max_channel_diff = 0;      // largest |a - b| over all channels of all pixels
+    bool size_mismatch = false;    // then differing_pixels is the larger pixel count and
+                                   // max_channel_diff 255, so "== 0" checks still fail
+};
+ImageDiff compare(const Image& a, const Image& b);
+
+// Tiles in a grid: rows[r][c] is the tile at row r (top first), column c (left first). Column c
+// is as wide as its widest tile, row r as tall as its tallest; a tile sits at its cell's
+// top-left corner, and uncovered pixels (nullptr tiles, smaller tiles, short rows) are opaque
+// black.
+Image mosaic(const std::vector<std::vector<const Image*>>& rows);
+
+// The same image upside down: glReadPixels returns rows bottom to top.
+Image flip_rows(const Image& image);
+
+}  // namespace glcast::slave

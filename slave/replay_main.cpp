@@ -1,0 +1,134 @@
+// `glcast replay`: a capture back to pixels, one PNG per swapped frame, optionally compared
+// with reference PNGs (the program's own frames from GLCAST_SNAPSHOT_DIR, or goldens).
+#include "slave/replay_main.h"
+
+#include <sys/stat.h>
+
+#include <cinttypes>
+#include <cstdio>
+#include <cstdlib>
+
+#include "protocol/decoder.h"
+#include "slave/image.h"
+#include "slave/replayer.h"
+
+namespace glcast::slave {
+
+const char* kReplayUsage =
+    "  replay FILE [--frames A:B] [--backend egl|osmesa|window] [--out DIR] [--compare DIR]\n"
+    "         [--size WxH]\n"
+    "        replay a capture on the slave engine; --out writes frame-NNNNNN.png per swap,\n"
+    "        --compare checks each frame against DIR/frame-NNNNNN.png (exit 1 on a mismatch)\n";
+
+namespace {
+
+int usage(const std::string& msg) {
+    std::fprintf(stderr, "glcast replay: %s\nusage: glcast\n%s", msg.c_str(), kReplayUsage);
+    return 2;
+}
+
+bool parse_u64(const std::string& s, uint64_t& out) {
+    if (s.empty() || s.size() > 19 || s.find_first_not_of("0123456789") != std::string::npos) return false;
+    out = std::strtoull(s.c_str(), nullptr, 10);
+    return true;
+}
+
+std::string frame_file(const std::string& dir, uint64_t frame) {
+    char name[32];
+    std::snprintf(name, sizeof name, "/frame-%06" PRIu64 ".png", frame);
+    return dir + name;
+}
+
+}  // namespace
+
+int replay_main(const std::vector<std::string>& args) {
+    std::string path, backend_kind = "egl", out_dir, compare_dir;
+    ReplayOptions opt;
+    for (size_t i = 0; i < args.size(); ++i) {
+        const std::string& a = args[i];
+        const bool has_value = i + 1 < args.size();
+        if (a == "--frames" && has_value) {
+            const std::string r = args[++i];
+            const size_t colon = r.find(':');
+            const std::string lo = colon == std::string::npos ? r : r.substr(0, colon);
+            const std::string hi = colon == std::string::npos ? r : r.substr(colon + 1);
+            if ((!lo.empty() && !parse_u64(lo, opt.first_frame)) || (!hi.empty() && !parse_u64(hi, opt.last_frame)) ||
+                opt.first_frame > opt.last_frame)
+                return usage("--frames takes A:B with A <= B, got '" + r + "'");
+        } else if (a == "--backend" && has_value) {
+            backend_kind = args[++i];
+        } else if (a == "--out" && has_value) {
+            out_dir = args[++i];
+        } else if (a == "--compare" && has_value) {
+            compare_dir = args[++i];
+        } else if (a == "--size" && has_value) {
+            if (std::sscanf(args[++i].c_str(), "%dx%d", &opt.width, &opt.height) != 2 || opt.width <= 0 ||
+                opt.height <= 0 || opt.width > 16384 || opt.height > 16384)
+                return usage("--size takes WxH (1..16384), got '" + args[i] + "'");
+        } else if (!a.empty() && a[0] == '-') {
+            return usage("unknown option '" + a + "'");
+        } else if (path.empty()) {
+            path = a;
+        } else {
+            return usage("one capture at a time");
+        }
+    }
+    if (path.empty()) return usage("which capture?");
+    if (!out_dir.empty() && mkdir(out_dir.c_str(), 0755) != 0 && errno != EEXIST) {
+        std::fprintf(stderr, "glcast replay: cannot create %s: %s\n", out_dir.c_str(), std::strerror(errno));
+        return 1;
+    }
+    std::string error;
+    std::unique_ptr<Backend> backend = make_backend(backend_kind, error);
+    if (!backend) {
+        std::fprintf(stderr, "glcast replay: %s\n", error.c_str());
+        return 1;
+    }
+
+    uint64_t mismatched = 0, compared = 0, missing = 0;
+    Replayer replayer(std::move(backend), opt);
+    replayer.on_frame = [&](uint64_t frame, int w, int h, const std::vector<uint8_t>& rgba) {
+        Image image{w, h, rgba};
+        std::string err;
+        if (!out_dir.empty() && !write_png(frame_file(out_dir, frame), image, err))
+            std::fprintf(stderr, "glcast replay: %s\n", err.c_str());
+        if (compare_dir.empty()) return;
+        Image reference;
+        if (!read_png(frame_file(compare_dir, frame), reference, err)) {
+            std::fprintf(stderr, "glcast replay: frame %" PRIu64 ": no reference: %s\n", frame, err.c_str());
+            missing++;
+            return;
+        }
+        compared++;
+        const ImageDiff d = compare(image, reference);
+        if (d.size_mismatch || d.differing_pixels) {
+            mismatched++;
+            if (d.size_mismatch)
+                std::printf("frame %" PRIu64 ": size %dx%d, reference %dx%d\n", frame, w, h, reference.width,
+                            reference.height);
+            else
+                std::printf("frame %" PRIu64 ": %" PRId64 " pixels differ, max channel difference %d\n", frame,
+                            d.differing_pixels, d.max_channel_diff);
+        }
+    };
+    try {
+        CaptureReader reader(open_file_source(path));
+        replayer.replay(reader);
+    } catch (const DecodeError& e) {
+        std::fprintf(stderr, "glcast replay: %s: %s\n", path.c_str(), e.what());
+        return 1;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "glcast replay: %s\n", e.what());
+        return 1;
+    }
+    const ReplayStats& s = replayer.stats();
+    std::printf("replayed %" PRIu64 " frames, %" PRIu64 " calls (%" PRIu64 " executed, %" PRIu64
+                " answered by the master's replies), %" PRIu64 " errors, %" PRIu64 " unserialized on the master\n",
+                s.frames, s.calls, s.replayed, s.reply_only, s.errors, s.unserialized);
+    if (!compare_dir.empty())
+        std::printf("compared %" PRIu64 " frames: %" PRIu64 " differ, %" PRIu64 " without reference\n", compared,
+                    mismatched, missing);
+    return (mismatched || missing || s.errors) ? 1 : 0;
+}
+
+}  // namespace glcast::slave

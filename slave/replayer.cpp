@@ -1,0 +1,264 @@
+#include "slave/replayer.h"
+
+#include <algorithm>
+#include <cinttypes>
+#include <cstdio>
+
+#include "master/gl_headers.h"
+
+namespace glcast::slave {
+
+Replayer::Replayer(std::unique_ptr<Backend> backend, ReplayOptions options)
+    : backend_(std::move(backend)), options_(options), procs_(kOpcodeCount, nullptr) {}
+
+Replayer::~Replayer() {
+    std::string ignored;
+    if (current_) backend_->make_current(0, 0, 0, ignored);
+    for (auto& [id, ctx] : contexts_) backend_->destroy_context(id);
+}
+
+void* Replayer::proc(uint32_t opcode) {
+    void* p = procs_[opcode];
+    if (!p) {
+        p = backend_->proc_address(command_info(opcode)->name);
+        if (!p) throw ReplayError(std::string("the slave's driver has no ") + command_info(opcode)->name);
+        procs_[opcode] = p;
+    }
+    return p;
+}
+
+void Replayer::report(const std::string& what) {
+    stats_.errors++;
+    std::fprintf(stderr, "glcast replay: frame %" PRIu64 ", call %" PRIu64 ": %s\n", frame_, call_index_, what.c_str());
+}
+
+SlaveContext& Replayer::current() {
+    if (!current_) throw ReplayError("no context is current");
+    return *current_;
+}
+
+// --- argument helpers ----------------------------------------------------------------
+
+void* Replayer::arena(size_t bytes) {
+    if (arena_used_ == arena_.size()) arena_.emplace_back();
+    std::vector<uint64_t>& block = arena_[arena_used_++];
+    block.assign(bytes / 8 + 2, 0);
+    return block.data();
+}
+
+static size_t element_bytes(const Call& c, int i) { return wire_bytes(c.info->params[i].wire); }
+
+const void* Replayer::in(const Call& c, int i) {
+    const PtrRecord& r = c.args[size_t(i)].ptr;
+    switch (r.tag) {
+    case PtrTag::Data: {
+        const size_t bytes = r.count * element_bytes(c, i);
+        void* p = arena(bytes + 1);  // + NUL: text arrays are used as C strings by some calls
+        std::memcpy(p, r.data, bytes);
+        return p;
+    }
+    case PtrTag::Offset: return reinterpret_cast<const void*>(uintptr_t(r.value));
+    default: return nullptr;
+    }
+}
+
+void* Replayer::out(const Call& c, int i) {
+    const Arg& a = c.args[size_t(i)];
+    switch (a.ptr.tag) {
+    case PtrTag::Reply: {
+        const ArgKind kind = c.info->params[i].kind;
+        const size_t bytes = a.reply.count * (kind == ArgKind::OutString ? 1 : element_bytes(c, i));
+        return arena(bytes + 4096);  // outputs the master sized by its own state: some slack
+    }
+    case PtrTag::Offset: return reinterpret_cast<void*>(uintptr_t(a.ptr.value));
+    default: return nullptr;
+    }
+}
+
+const char* Replayer::string(const Call& c, int i) {
+    const PtrRecord& r = c.args[size_t(i)].ptr;
+    if (r.tag != PtrTag::Data) return nullptr;
+    char* p = static_cast<char*>(arena(r.count + 1));
+    std::memcpy(p, r.data, r.count);
+    p[r.count] = 0;
+    return p;
+}
+
+const char* const* Replayer::strings(const Call& c, int i) {
+    const auto& list = c.args[size_t(i)].strings;
+    auto out = static_cast<const char**>(arena(sizeof(char*) * (list.size() + 1)));
+    for (size_t k = 0; k < list.size(); ++k) {
+        if (list[k].tag != PtrTag::Data) continue;
+        char* p = static_cast<char*>(arena(list[k].count + 1));
+        std::memcpy(p, list[k].data, list[k].count);
+        out[k] = p;
+    }
+    return out;
+}
+
+const void* const* Replayer::index_arrays(const Call& c, int i) {
+    const auto& list = c.args[size_t(i)].strings;
+    auto out = static_cast<const void**>(arena(sizeof(void*) * (list.size() + 1)));
+    for (size_t k = 0; k < list.size(); ++k) {
+        if (list[k].tag == PtrTag::Offset) {
+            out[k] = reinterpret_cast<const void*>(uintptr_t(list[k].value));
+        } else if (list[k].tag == PtrTag::Data) {
+            void* p = arena(list[k].count);
+            std::memcpy(p, list[k].data, list[k].count);
+            out[k] = p;
+        }
+    }
+    return out;
+}
+
+const void* Replayer::deferred(const Call& c, int i) {
+    const PtrRecord& r = c.args[size_t(i)].ptr;
+    // Client memory is set up by the glcast.client_arrays tuple before each draw.
+    return r.tag == PtrTag::Offset ? reinterpret_cast<const void*>(uintptr_t(r.value)) : nullptr;
+}
+
+// --- names ---------------------------------------------------------------------------
+
+static bool starts_with(const char* s, const char* prefix) { return std::strncmp(s, prefix, std::strlen(prefix)) == 0; }
+
+uint32_t Replayer::auto_create(Ns ns) {
+    GLuint n = 0;
+    switch (ns) {
+    case Ns::texture: gl<decltype(&::glGenTextures)>(OP_glGenTextures)(1, &n); break;
+    case Ns::buffer: gl<decltype(&::glGenBuffers)>(OP_glGenBuffers)(1, &n); break;
+    case Ns::framebuffer: gl<decltype(&::glGenFramebuffers)>(OP_glGenFramebuffers)(1, &n); break;
+    case Ns::renderbuffer: gl<decltype(&::glGenRenderbuffers)>(OP_glGenRenderbuffers)(1, &n); break;
+    case Ns::display_list: n = gl<decltype(&::glGenLists)>(OP_glGenLists)(1); break;
+    default: break;
+    }
+    return n;
+}
+
+uint64_t Replayer::map_name(Ns ns, uint64_t master, const Call& c) {
+    SlaveContext& ctx = current();
+    if (master == 0) return 0;  // the window framebuffer and default objects are 0 on the slave too
+    uint64_t slave = 0;
+    NameMap& map = ctx.names.map(ns);
+    if (map.find(master, slave)) return slave;
+    // Compatibility GL creates textures, buffers, framebuffers and renderbuffers at their
+    // first bind and display lists at glNewList, without a glGen* call.
+    const char* name = c.info ? c.info->name : "";
+    const bool creates = (starts_with(name, "glBind") && (ns == Ns::texture || ns == Ns::buffer ||
+                                                          ns == Ns::framebuffer || ns == Ns::renderbuffer)) ||
+                         (ns == Ns::display_list && starts_with(name, "glNewList"));
+    if (creates && (slave = auto_create(ns)) != 0) {
+        map.set(master, slave);
+        return slave;
+    }
+    throw ReplayError(std::string(name) + ": " + kNamespaces[int(ns)].name + " " + std::to_string(master) +
+                      " was never generated");
+}
+
+const void* Replayer::names_in(Ns ns, const Call& c, int i) {
+    const PtrRecord& r = c.args[size_t(i)].ptr;
+    if (r.tag != PtrTag::Data) return nullptr;
+    auto out = static_cast<GLuint*>(arena(r.count * sizeof(GLuint)));
+    const bool deleting = starts_with(c.info->name, "glDelete");
+    NameMap& map = current().names.map(ns);
+    for (uint32_t k = 0; k < r.count; ++k) {
+        uint32_t master;
+        std::memcpy(&master, r.data + 4 * k, 4);
+        uint64_t slave = 0;
+        if (master && !map.find(master, slave)) {
+            if (deleting) continue;  // deleting an unknown name is a no-op in GL too
+            slave = map_name(ns, master, c);
+        }
+        out[k] = GLuint(slave);
+    }
+    return out;
+}
+
+void Replayer::map_generated(Ns ns, const Call& c, int i, const void* slave_names) {
+    const Arg& a = c.args[size_t(i)];
+    if (a.ptr.tag != PtrTag::Reply || !slave_names) return;
+    NameMap& map = current().names.map(ns);
+    for (uint32_t k = 0; k < a.reply.count; ++k) {
+        uint32_t master, slave;
+        std::memcpy(&master, a.reply.data + 4 * k, 4);
+        std::memcpy(&slave, static_cast<const uint8_t*>(slave_names) + 4 * k, 4);
+        map.set(master, slave);
+    }
+}
+
+void Replayer::map_created(Ns ns, uint64_t master, uint64_t slave) {
+    if (master) current().names.map(ns).set(master, slave);
+}
+
+void Replayer::forget(Ns ns, uint64_t master) { current().names.map(ns).erase(master); }
+
+void Replayer::forget_names(Ns ns, const Call& c, int i) {
+    const PtrRecord& r = c.args[size_t(i)].ptr;
+    if (r.tag != PtrTag::Data) return;
+    NameMap& map = current().names.map(ns);
+    for (uint32_t k = 0; k < r.count; ++k) {
+        uint32_t master;
+        std::memcpy(&master, r.data + 4 * k, 4);
+        map.erase(master);
+    }
+}
+
+int32_t Replayer::uniform_location(const Call& c, int i, uint64_t master_program) {
+    const int32_t loc = value<int32_t>(c, i);
+    if (loc < 0) return loc;
+    SlaveContext& ctx = current();
+    const uint64_t program = master_program ? master_program : ctx.current_program;
+    auto& programs = ctx.names.shared->uniform_locations;
+    auto p = programs.find(program);
+    if (p == programs.end()) return loc;  // explicit locations: the program never asked
+    auto l = p->second.find(loc);
+    return l == p->second.end() ? loc : l->second;
+}
+
+void Replayer::set_uniform_location(uint64_t master_program, int32_t master, int32_t slave) {
+    current().names.shared->uniform_locations[master_program][master] = slave;
+}
+
+// --- the loop ------------------------------------------------------------------------
+
+void Replayer::replay(CaptureReader& reader) {
+    Message m;
+    Call c;
+    while (frame_ <= options_.last_frame && reader.next(m)) {
+        ByteReader r(m.payload.data(), m.payload.size(), 0);
+        while (r.remaining() && frame_ <= options_.last_frame) {
+            try {
+                decode_tuple(r, c);
+            } catch (const DecodeError& e) {
+                throw DecodeError(m.offset, "message " + std::to_string(m.header.sequence) + ", payload byte " +
+                                                std::to_string(e.offset()) + ": " + e.what());
+            }
+            arena_used_ = 0;
+            try {
+                if (c.opcode >= kSynthBase) synthetic(c);
+                else dispatch(c);
+            } catch (const ReplayError& e) {
+                report(e.what());
+            }
+            call_index_++;
+            stats_.calls++;
+        }
+    }
+}
+
+void Replayer::dispatch(const Call& c) {
+    switch (kReplayKind[c.opcode]) {
+    case ReplayKind::Generated:
+    case ReplayKind::Handwritten:
+        current();  // a GL call needs a current context
+        kReplay[c.opcode](*this, c);
+        stats_.replayed++;
+        if (c.opcode == OP_glUseProgram || c.opcode == OP_glUseProgramObjectARB) current().current_program = c.args[0].bits;
+        break;
+    case ReplayKind::ReplyOnly: stats_.reply_only++; break;
+    case ReplayKind::WindowSystem: window_system(c); break;
+    case ReplayKind::Skip:
+    case ReplayKind::Unserializable: break;
+    }
+}
+
+}  // namespace glcast::slave

@@ -1,0 +1,65 @@
+// Buffer names of the window framebuffer (GL_BACK, ...) as the slave's window has them.
+#include "master/gl_headers.h"
+#include "slave/replayer.h"
+
+namespace glcast::slave::replay_special {
+namespace {
+
+// The slave's window framebuffer may be single-buffered (pbuffer, OSMesa buffer) where the
+// program's was double-buffered: its back buffer is then the slave's front buffer.
+GLenum window_buffer(Replayer& r, GLenum buf) {
+    if (r.current().double_buffered) return buf;
+    switch (buf) {
+    case GL_BACK: return GL_FRONT;
+    case GL_BACK_LEFT: return GL_FRONT_LEFT;
+    case GL_BACK_RIGHT: return GL_FRONT_RIGHT;
+    default: return buf;
+    }
+}
+
+bool window_bound(Replayer& r, GLenum binding) {
+    GLint fb = 0;
+    r.gl<decltype(&::glGetIntegerv)>(OP_glGetIntegerv)(binding, &fb);
+    return fb == 0;
+}
+
+}  // namespace
+
+void glDrawBuffer(Replayer& r, const Call& c) {
+    GLenum buf = r.value<GLenum>(c, 0);
+    if (window_bound(r, GL_DRAW_FRAMEBUFFER_BINDING)) buf = window_buffer(r, buf);
+    r.gl<decltype(&::glDrawBuffer)>(OP_glDrawBuffer)(buf);
+}
+
+void glReadBuffer(Replayer& r, const Call& c) {
+    GLenum buf = r.value<GLenum>(c, 0);
+    if (window_bound(r, GL_READ_FRAMEBUFFER_BINDING)) buf = window_buffer(r, buf);
+    r.gl<decltype(&::glReadBuffer)>(OP_glReadBuffer)(buf);
+}
+
+void glDrawBuffers(Replayer& r, const Call& c) {
+    const GLsizei n = r.value<GLsizei>(c, 0);
+    const auto* bufs = static_cast<const GLenum*>(r.in(c, 1));
+    std::vector<GLenum> mapped(bufs ? bufs : nullptr, bufs ? bufs + std::max(n, 0) : nullptr);
+    if (window_bound(r, GL_DRAW_FRAMEBUFFER_BINDING))
+        for (GLenum& b : mapped) b = window_buffer(r, b);
+    r.gl<decltype(&::glDrawBuffers)>(OP_glDrawBuffers)(n, mapped.data());
+}
+
+void glNamedFramebufferDrawBuffer(Replayer& r, const Call& c) {
+    const bool window = c.args[0].bits == 0;
+    const GLuint fb = r.name<GLuint>(Ns::framebuffer, c, 0);
+    GLenum buf = r.value<GLenum>(c, 1);
+    if (window) buf = window_buffer(r, buf);
+    r.gl<decltype(&::glNamedFramebufferDrawBuffer)>(OP_glNamedFramebufferDrawBuffer)(fb, buf);
+}
+
+void glNamedFramebufferReadBuffer(Replayer& r, const Call& c) {
+    const bool window = c.args[0].bits == 0;
+    const GLuint fb = r.name<GLuint>(Ns::framebuffer, c, 0);
+    GLenum buf = r.value<GLenum>(c, 1);
+    if (window) buf = window_buffer(r, buf);
+    r.gl<decltype(&::glNamedFramebufferReadBuffer)>(OP_glNamedFramebufferReadBuffer)(fb, buf);
+}
+
+}  // namespace glcast::slave::replay_special

@@ -1,0 +1,67 @@
+// Display lists: glGenLists hands out a range, and glCallLists adds glListBase to every
+// entry, so names are mapped entry by entry here rather than by the generated code.
+#include "master/gl_headers.h"
+#include "slave/replayer.h"
+
+namespace glcast::slave::replay_special {
+
+void glGenLists(Replayer& r, const Call& c) {
+    const GLsizei range = r.value<GLsizei>(c, 0);
+    const GLuint slave = r.gl<decltype(&::glGenLists)>(OP_glGenLists)(range);
+    const uint64_t master = c.ret.bits;
+    if (!master || !slave) return;
+    for (GLsizei i = 0; i < range; ++i) r.map_created(Ns::display_list, master + uint64_t(i), slave + GLuint(i));
+}
+
+void glDeleteLists(Replayer& r, const Call& c) {
+    const uint64_t master = c.args[0].bits;
+    const GLsizei range = r.value<GLsizei>(c, 1);
+    NameMap& map = r.current().names.map(Ns::display_list);
+    const auto del = r.gl<decltype(&::glDeleteLists)>(OP_glDeleteLists);
+    for (GLsizei i = 0; i < range; ++i) {
+        uint64_t slave = 0;
+        if (map.find(master + uint64_t(i), slave)) {
+            del(GLuint(slave), 1);
+            map.erase(master + uint64_t(i));
+        }
+    }
+}
+
+void glListBase(Replayer& r, const Call& c) { r.current().list_base = r.value<GLuint>(c, 0); }
+
+void glCallLists(Replayer& r, const Call& c) {
+    const GLsizei n = r.value<GLsizei>(c, 0);
+    const GLenum type = r.value<GLenum>(c, 1);
+    const PtrRecord& lists = c.args[2].ptr;
+    if (n <= 0 || lists.tag != PtrTag::Data) return;
+    SlaveContext& ctx = r.current();
+    NameMap& map = ctx.names.map(Ns::display_list);
+    std::vector<GLuint> names(static_cast<size_t>(n));
+    const uint8_t* p = lists.data;
+    const size_t bytes = lists.count;
+    for (GLsizei i = 0; i < n; ++i) {
+        int64_t v = 0;
+        auto take = [&](size_t k) { return size_t(i) * k + k <= bytes; };
+        switch (type) {
+        case GL_BYTE: if (take(1)) v = int8_t(p[i]); break;
+        case GL_UNSIGNED_BYTE: if (take(1)) v = p[i]; break;
+        case GL_SHORT: if (take(2)) { int16_t s; std::memcpy(&s, p + 2 * i, 2); v = s; } break;
+        case GL_UNSIGNED_SHORT: if (take(2)) { uint16_t s; std::memcpy(&s, p + 2 * i, 2); v = s; } break;
+        case GL_INT: if (take(4)) { int32_t s; std::memcpy(&s, p + 4 * i, 4); v = s; } break;
+        case GL_UNSIGNED_INT: if (take(4)) { uint32_t s; std::memcpy(&s, p + 4 * i, 4); v = s; } break;
+        case GL_FLOAT: if (take(4)) { float s; std::memcpy(&s, p + 4 * i, 4); v = int64_t(s); } break;
+        case GL_2_BYTES: if (take(2)) v = p[2 * i] * 256 + p[2 * i + 1]; break;
+        case GL_3_BYTES: if (take(3)) v = (p[3 * i] << 16) + (p[3 * i + 1] << 8) + p[3 * i + 2]; break;
+        case GL_4_BYTES: if (take(4)) v = (int64_t(p[4 * i]) << 24) + (p[4 * i + 1] << 16) + (p[4 * i + 2] << 8) + p[4 * i + 3]; break;
+        default: return;
+        }
+        uint64_t slave = 0;
+        // An undefined list is ignored by GL; 0 is never a list, so the slave ignores it too.
+        names[size_t(i)] = map.find(uint64_t(int64_t(ctx.list_base) + v), slave) ? GLuint(slave) : 0;
+    }
+    const auto base = r.gl<decltype(&::glListBase)>(OP_glListBase);
+    base(0);
+    r.gl<decltype(&::glCallLists)>(OP_glCallLists)(n, GL_UNSIGNED_INT, names.data());
+}
+
+}  // namespace glcast::slave::replay_special
