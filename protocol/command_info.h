@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <type_traits>
 
 namespace glcast {
 
@@ -72,6 +73,15 @@ struct CommandInfo {
     const char* origin;  // GL_VERSION_x_y or the extension that introduced it
     const char* reason;  // why it is not serializable, or ""
 };
+
+// A value as its wire type: handles and other pointers by address, numbers by conversion.
+template <class W, class T>
+inline W to_wire(T v) {
+    if constexpr (std::is_pointer_v<T>)
+        return static_cast<W>(reinterpret_cast<uintptr_t>(v));
+    else
+        return static_cast<W>(v);
+}
 
 const CommandInfo* command_info(uint32_t opcode);  // nullptr for an unknown opcode
 const char* enum_name(uint32_t value);             // nullptr when the registry has none

@@ -16,9 +16,11 @@ namespace glcast::slave {
 
 const char* kReplayUsage =
     "  replay FILE [--frames A:B] [--backend egl|osmesa|window] [--out DIR] [--compare DIR]\n"
-    "         [--size WxH]\n"
+    "         [--size WxH] [--offset-names N]\n"
     "        replay a capture on the slave engine; --out writes frame-NNNNNN.png per swap,\n"
-    "        --compare checks each frame against DIR/frame-NNNNNN.png (exit 1 on a mismatch)\n";
+    "        --compare checks each frame against DIR/frame-NNNNNN.png (exit 1 on a mismatch);\n"
+    "        --offset-names makes the slave keep N objects of each kind of its own first, so its\n"
+    "        names differ from the master's (a test of the name maps)\n";
 
 namespace {
 
@@ -43,6 +45,7 @@ std::string frame_file(const std::string& dir, uint64_t frame) {
 
 int replay_main(const std::vector<std::string>& args) {
     std::string path, backend_kind = "egl", out_dir, compare_dir;
+    uint64_t offset_names = 0;
     ReplayOptions opt;
     for (size_t i = 0; i < args.size(); ++i) {
         const std::string& a = args[i];
@@ -59,6 +62,9 @@ int replay_main(const std::vector<std::string>& args) {
             backend_kind = args[++i];
         } else if (a == "--out" && has_value) {
             out_dir = args[++i];
+        } else if (a == "--offset-names" && has_value) {
+            if (!parse_u64(args[++i], offset_names) || offset_names > 10000)
+                return usage("--offset-names takes 0..10000, got '" + args[i] + "'");
         } else if (a == "--compare" && has_value) {
             compare_dir = args[++i];
         } else if (a == "--size" && has_value) {
@@ -87,6 +93,7 @@ int replay_main(const std::vector<std::string>& args) {
 
     uint64_t mismatched = 0, compared = 0, missing = 0;
     Replayer replayer(std::move(backend), opt);
+    if (offset_names) replayer.on_first_context = [&](Replayer& r) { r.keep_own_objects(int(offset_names)); };
     replayer.on_frame = [&](uint64_t frame, int w, int h, const std::vector<uint8_t>& rgba) {
         Image image{w, h, rgba};
         std::string err;

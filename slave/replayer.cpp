@@ -218,6 +218,26 @@ void Replayer::set_uniform_location(uint64_t master_program, int32_t master, int
     current().names.shared->uniform_locations[master_program][master] = slave;
 }
 
+void Replayer::keep_own_objects(int n) {
+    std::vector<GLuint> names(static_cast<size_t>(n));
+    gl<decltype(&::glGenTextures)>(OP_glGenTextures)(n, names.data());
+    gl<decltype(&::glGenBuffers)>(OP_glGenBuffers)(n, names.data());
+    gl<decltype(&::glGenRenderbuffers)>(OP_glGenRenderbuffers)(n, names.data());
+    gl<decltype(&::glGenFramebuffers)>(OP_glGenFramebuffers)(n, names.data());
+    gl<decltype(&::glGenVertexArrays)>(OP_glGenVertexArrays)(n, names.data());
+    gl<decltype(&::glGenQueries)>(OP_glGenQueries)(n, names.data());
+    gl<decltype(&::glGenSamplers)>(OP_glGenSamplers)(n, names.data());
+    gl<decltype(&::glGenLists)>(OP_glGenLists)(n);
+    for (int i = 0; i < n; ++i) gl<decltype(&::glCreateProgram)>(OP_glCreateProgram)();
+    // Bound once, so the names are taken whatever the profile says about unbound names.
+    for (int i = 0; i < n; ++i) {
+        gl<decltype(&::glBindTexture)>(OP_glBindTexture)(GL_TEXTURE_2D, names[size_t(i)]);
+        gl<decltype(&::glBindBuffer)>(OP_glBindBuffer)(GL_ARRAY_BUFFER, names[size_t(i)]);
+    }
+    gl<decltype(&::glBindTexture)>(OP_glBindTexture)(GL_TEXTURE_2D, 0);
+    gl<decltype(&::glBindBuffer)>(OP_glBindBuffer)(GL_ARRAY_BUFFER, 0);
+}
+
 // --- the loop ------------------------------------------------------------------------
 
 void Replayer::replay(CaptureReader& reader) {
@@ -234,7 +254,10 @@ void Replayer::replay(CaptureReader& reader) {
             }
             arena_used_ = 0;
             try {
-                if (c.opcode >= kSynthBase) synthetic(c);
+                if (c.opcode >= kSynthBase) {
+                    if (c.opcode != kSynthContext) follow_context(c);
+                    synthetic(c);
+                }
                 else dispatch(c);
             } catch (const ReplayError& e) {
                 report(e.what());
@@ -245,7 +268,19 @@ void Replayer::replay(CaptureReader& reader) {
     }
 }
 
+// Tuples name the context their call was made in: the master's threads each have their own
+// current context, the slave's one thread switches to it.
+void Replayer::follow_context(const Call& c) {
+    if (c.context && (!current_ || current_->id != c.context) && contexts_.count(c.context)) {
+        SlaveContext& ctx = *contexts_[c.context];
+        if (ctx.made_current) make_current(ctx.id, ctx.drawable);
+    }
+}
+
 void Replayer::dispatch(const Call& c) {
+    if (kReplayKind[c.opcode] != ReplayKind::WindowSystem || c.opcode == OP_glXSwapBuffers ||
+        c.opcode == OP_eglSwapBuffers)
+        follow_context(c);
     switch (kReplayKind[c.opcode]) {
     case ReplayKind::Generated:
     case ReplayKind::Handwritten:

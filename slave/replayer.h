@@ -107,6 +107,9 @@ public:
     const void* deferred(const Call& c, int i);
 
     SlaveContext& current();        // throws ReplayError when no context is current
+    // Creates n objects of every namespace in the current context and keeps them, so that the
+    // slave's names differ from the master's from then on (tests of the name maps).
+    void keep_own_objects(int n);
     SlaveContext* current_or_null() { return current_; }
     uint64_t frame() const { return frame_; }
     uint64_t call_index() const { return call_index_; }
@@ -119,6 +122,7 @@ private:
     }
     void* arena(size_t bytes);
     void dispatch(const Call& c);
+    void follow_context(const Call& c);
     void window_system(const Call& c);
     void synthetic(const Call& c);
     void client_arrays(const Call& c);

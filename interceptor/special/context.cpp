@@ -162,7 +162,16 @@ void special::glXDestroyContext(glXDestroyContext_fn real, CallScope& scope, Dis
     destroyed(ctx);
 }
 
+// In snapshot mode, swaps of several threads are serialized so that the snapshots are numbered
+// in the order the swaps enter the stream (the replay numbers frames that way).
+std::mutex g_snapshot_swap_mutex;
+std::unique_lock<std::mutex> snapshot_lock() {
+    return shim_config().snapshot_dir.empty() ? std::unique_lock<std::mutex>()
+                                              : std::unique_lock<std::mutex>(g_snapshot_swap_mutex);
+}
+
 void special::glXSwapBuffers(glXSwapBuffers_fn real, CallScope& scope, Display* dpy, GLXDrawable drawable) {
+    const auto serialized = snapshot_lock();
     if (!shim_config().snapshot_dir.empty() && thread_state().depth == 1) {
         static const auto query = reinterpret_cast<PFNGLXQUERYDRAWABLEPROC>(real_proc(OP_glXQueryDrawable));
         unsigned w = 0, h = 0;
@@ -208,6 +217,7 @@ EGLBoolean special::eglDestroyContext(eglDestroyContext_fn real, CallScope& scop
 }
 
 EGLBoolean special::eglSwapBuffers(eglSwapBuffers_fn real, CallScope& scope, EGLDisplay dpy, EGLSurface surface) {
+    const auto serialized = snapshot_lock();
     if (!shim_config().snapshot_dir.empty() && thread_state().depth == 1) {
         static const auto query = reinterpret_cast<PFNEGLQUERYSURFACEPROC>(real_proc(OP_eglQuerySurface));
         EGLint w = 0, h = 0;
