@@ -1,0 +1,118 @@
+// Bad streams on the slave: a name never generated, a draw with a client array never sent,
+// a context that does not exist. Each is reported for its call, counted, and the replay goes
+// on: the frame after them is still rendered. Runs headless on the EGL backend.
+#include <gtest/gtest.h>  // before the X11 headers, whose None and Bool macros it cannot take
+#include <zlib.h>
+
+#include <GL/gl.h>
+#include <GL/glx.h>
+
+#include <cstring>
+
+#include "glcast_commands.h"
+#include "glcast_encode.h"
+#include "master/encoder.h"
+#include "master/stream.h"
+#include "protocol/decoder.h"
+#include "protocol/format.h"
+#include "slave/replayer.h"
+#include "tests/roundtrip_support.h"
+
+using namespace glcast;
+
+namespace {
+
+struct StreamBuilder {
+    std::vector<uint8_t> payload;
+    Encoder e{payload};
+    roundtrip::FakeSizes sz;
+
+    void context(uint32_t id) { e.set_context(id); }
+    template <class F>
+    void synthetic(uint32_t op, F&& body) {
+        e.begin(op);
+        body(e);
+        e.end();
+    }
+    std::vector<uint8_t> file() const {
+        const FileHeader fh = make_file_header();
+        std::vector<uint8_t> f(reinterpret_cast<const uint8_t*>(&fh), reinterpret_cast<const uint8_t*>(&fh) + sizeof fh);
+        MessageHeader h{};
+        h.magic = kMessageMagic;
+        h.flags = kMsgFrameEnd;
+        h.stored_bytes = h.raw_bytes = uint32_t(payload.size());
+        h.crc32 = uint32_t(crc32(0, payload.data(), uInt(payload.size())));
+        f.insert(f.end(), reinterpret_cast<const uint8_t*>(&h), reinterpret_cast<const uint8_t*>(&h) + sizeof h);
+        f.insert(f.end(), payload.begin(), payload.end());
+        return f;
+    }
+};
+
+}  // namespace
+
+TEST(ReplayErrors, ReportedCountedAndSkipped) {
+    std::string error;
+    auto backend = slave::make_backend("egl", error);
+    if (!backend) GTEST_SKIP() << "no EGL backend here: " << error;
+
+    StreamBuilder s;
+    auto* handle = reinterpret_cast<GLXContext>(uintptr_t(0xc0de));
+    s.context(0);
+    encode_glXCreateContext(s.e, s.sz, nullptr, nullptr, nullptr, True, handle);
+    s.synthetic(kSynthContext, [&](Encoder& e) {
+        e.value<uint32_t>(1);
+        e.address(handle);
+        e.value<uint32_t>(0);
+        e.value<uint8_t>(0);
+    });
+    s.context(1);
+    s.synthetic(kSynthDrawableSize, [&](Encoder& e) {
+        e.value<uint64_t>(7);
+        e.value<int32_t>(32);
+        e.value<int32_t>(16);
+    });
+    encode_glXMakeCurrent(s.e, s.sz, nullptr, 7, handle, True);
+    encode_glUseProgram(s.e, s.sz, 77);  // never created: error 1
+    s.synthetic(kSynthClientArrays, [&](Encoder& e) {  // a cached array never sent: error 2
+        e.value<uint32_t>(1);
+        e.value<uint8_t>(uint8_t(ClientSlot::Vertex));
+        e.value<uint32_t>(0);
+        e.value<int32_t>(3);
+        e.value<uint32_t>(GL_FLOAT);
+        e.value<int32_t>(12);
+        e.value<uint8_t>(0);
+        e.value<uint8_t>(0);
+        e.value<uint32_t>(42);
+        e.value<uint32_t>(0);
+        e.value<uint8_t>(1);
+    });
+    s.context(5);
+    encode_glXMakeCurrent(s.e, s.sz, nullptr, 7, reinterpret_cast<GLXContext>(uintptr_t(0xbad)), True);  // error 3
+    s.context(1);
+    encode_glBindTexture(s.e, s.sz, GL_TEXTURE_2D, 9);  // created at first bind: legal, no error
+    encode_glClearColor(s.e, s.sz, 1.0f, 0.0f, 0.0f, 1.0f);
+    encode_glClear(s.e, s.sz, GL_COLOR_BUFFER_BIT);
+    encode_glXSwapBuffers(s.e, s.sz, nullptr, 7);
+
+    const std::vector<uint8_t> file = s.file();
+    slave::Replayer replayer(std::move(backend), slave::ReplayOptions{});
+    int frames = 0;
+    uint8_t red = 0;
+    replayer.on_frame = [&](uint64_t, int w, int h, const std::vector<uint8_t>& rgba) {
+        frames++;
+        EXPECT_EQ(w, 32);
+        EXPECT_EQ(h, 16);
+        red = rgba[0];
+    };
+    CaptureReader reader(memory_source(file.data(), file.size()));
+    testing::internal::CaptureStderr();
+    replayer.replay(reader);
+    const std::string log = testing::internal::GetCapturedStderr();
+    EXPECT_EQ(replayer.stats().errors, 3u) << log;
+    EXPECT_NE(log.find("program 77 was never generated"), std::string::npos) << log;
+    EXPECT_NE(log.find("never sent"), std::string::npos) << log;
+    EXPECT_NE(log.find("context 5, which does not exist"), std::string::npos) << log;
+    EXPECT_NE(log.find("frame 0, call"), std::string::npos) << log;
+    EXPECT_EQ(frames, 1);
+    EXPECT_EQ(red, 255);  // the calls after the errors still ran
+}
