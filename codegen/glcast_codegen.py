@@ -147,8 +147,8 @@ class Model:
         """value -> preferred name: core names before extension suffixes, first seen wins."""
         best = {}
         for name, value in list(self.enums.items()):
-            if value > 0xFFFFFFFF or name in ("GL_TRUE", "GL_FALSE", "GL_NONE", "GL_ZERO", "GL_ONE",
-                                              "GL_NO_ERROR", "GL_POINTS"):
+            # 0 and 1 have dozens of names (GL_NONE, GL_ZERO, GL_POINTS, ...): only a group can say which
+            if value > 0xFFFFFFFF or value in (0, 1):
                 continue
             rank = (self.is_extension_name(name), len(name))
             if value not in best or rank < best[value][0]:

@@ -51,7 +51,7 @@ class SlavePlanner:
             p.replay = "reply_only"
         p.replay_params = []
         p.replay_ret = None
-        if p.replay not in ("generated",):
+        if p.replay not in ("generated", "reply_only"):
             return
         deleting = cmd.name.startswith("glDelete")
         uniform = any(fnmatch.fnmatchcase(cmd.name, pat) for pat in self.uniform_patterns)

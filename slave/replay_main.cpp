@@ -16,9 +16,11 @@ namespace glcast::slave {
 
 const char* kReplayUsage =
     "  replay FILE [--frames A:B] [--backend egl|osmesa|window] [--out DIR] [--compare DIR]\n"
-    "         [--size WxH] [--offset-names N]\n"
+    "         [--size WxH] [--offset-names N] [--verify]\n"
     "        replay a capture on the slave engine; --out writes frame-NNNNNN.png per swap,\n"
     "        --compare checks each frame against DIR/frame-NNNNNN.png (exit 1 on a mismatch);\n"
+    "        --verify also executes the calls that only answered the program (glGet*, glReadPixels,\n"
+    "        glGetError, ...) and reports where the slave's answer differs from the master's;\n"
     "        --offset-names makes the slave keep N objects of each kind of its own first, so its\n"
     "        names differ from the master's (a test of the name maps)\n";
 
@@ -62,6 +64,8 @@ int replay_main(const std::vector<std::string>& args) {
             backend_kind = args[++i];
         } else if (a == "--out" && has_value) {
             out_dir = args[++i];
+        } else if (a == "--verify") {
+            opt.verify = true;
         } else if (a == "--offset-names" && has_value) {
             if (!parse_u64(args[++i], offset_names) || offset_names > 10000)
                 return usage("--offset-names takes 0..10000, got '" + args[i] + "'");
@@ -132,10 +136,12 @@ int replay_main(const std::vector<std::string>& args) {
     std::printf("replayed %" PRIu64 " frames, %" PRIu64 " calls (%" PRIu64 " executed, %" PRIu64
                 " answered by the master's replies), %" PRIu64 " errors, %" PRIu64 " unserialized on the master\n",
                 s.frames, s.calls, s.replayed, s.reply_only, s.errors, s.unserialized);
+    if (opt.verify)
+        std::printf("verified %" PRIu64 " replies: %" PRIu64 " differ\n", s.verified, s.mismatches);
     if (!compare_dir.empty())
         std::printf("compared %" PRIu64 " frames: %" PRIu64 " differ, %" PRIu64 " without reference\n", compared,
                     mismatched, missing);
-    return (mismatched || missing || s.errors) ? 1 : 0;
+    return (mismatched || missing || s.errors || s.mismatches) ? 1 : 0;
 }
 
 }  // namespace glcast::slave

@@ -48,10 +48,12 @@ struct ReplayOptions {
     uint64_t first_frame = 0, last_frame = UINT64_MAX;
     int width = 0, height = 0;      // window framebuffer size override (0: the master's)
     bool verbose = false;
+    bool verify = false;            // execute reply-only calls too and compare with the replies
 };
 
 struct ReplayStats {
     uint64_t frames = 0, calls = 0, replayed = 0, reply_only = 0, errors = 0, unserialized = 0;
+    uint64_t verified = 0, mismatches = 0;
 };
 
 class Replayer {
@@ -106,6 +108,11 @@ public:
     const void* const* index_arrays(const Call& c, int i);
     const void* deferred(const Call& c, int i);
 
+    // --verify: compare what the slave's call produced with the master's reply.
+    void check_reply(const Call& c, int i, const void* slave_output);
+    void check_return(const Call& c, uint64_t slave_value);
+    void check_return_string(const Call& c, const char* slave_value);
+
     SlaveContext& current();        // throws ReplayError when no context is current
     // Creates n objects of every namespace in the current context and keeps them, so that the
     // slave's names differ from the master's from then on (tests of the name maps).
@@ -132,6 +139,8 @@ private:
     void end_frame();
     uint32_t auto_create(Ns ns);
     void report(const std::string& what);
+    void mismatch(const Call& c, const std::string& what);
+    bool checking_ = false;
 
     std::unique_ptr<Backend> backend_;
     ReplayOptions options_;

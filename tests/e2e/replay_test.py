@@ -2,7 +2,8 @@
 """Pixel-exact replay: a program is captured under Xvfb with GLCAST_SNAPSHOT_DIR (its own frames,
 read before each swap), then replayed headless on EGL and on OSMesa; every frame must be
 identical to the program's. A third replay keeps objects of its own first (--offset-names), so
-its names differ from the master's: the name maps must make up for it.
+its names differ from the master's: the name maps must make up for it. A fourth runs --verify:
+the calls that only answered the program are executed too and must answer the same.
 
     replay_test.py CASE     with GLCAST, APPS_DIR, OUT_DIR in the environment
 """
@@ -50,12 +51,14 @@ def main(case):
         raise AssertionError(f"only {n} reference frames")
     # headless from here on: no DISPLAY
     env = {k: v for k, v in os.environ.items() if k != "DISPLAY"}
-    for backend, extra in (("egl", []), ("osmesa", []), ("egl", ["--offset-names", "5"])):
+    for backend, extra in (("egl", []), ("osmesa", []), ("egl", ["--offset-names", "5"]), ("osmesa", ["--verify"])):
         r = run([GLCAST, "replay", capture, "--backend", backend, "--compare", reference,
                  "--out", os.path.join(out, backend + "".join(extra))] + extra, env=env)
         print(f"{backend} {' '.join(extra)}: {r.stdout.strip()}")
         if r.returncode != 0:
             raise AssertionError(f"replay on {backend} {extra} differs from the program:\n{r.stdout[-3000:]}\n{r.stderr[-2000:]}")
+        if "--verify" in extra and not re.search(r"verified \d+ replies: 0 differ", r.stdout):
+            raise AssertionError(f"--verify found differences: {r.stdout}")
         m = re.search(r"compared (\d+) frames: 0 differ, 0 without reference", r.stdout)
         if not m or int(m.group(1)) != n:
             raise AssertionError(f"not every frame compared: {r.stdout}")
