@@ -98,7 +98,7 @@ int replay_main(const std::vector<std::string>& args) {
     uint64_t mismatched = 0, compared = 0, missing = 0;
     Replayer replayer(std::move(backend), opt);
     if (offset_names) replayer.on_first_context = [&](Replayer& r) { r.keep_own_objects(int(offset_names)); };
-    replayer.on_frame = [&](uint64_t frame, int w, int h, const std::vector<uint8_t>& rgba) {
+    if (!out_dir.empty() || !compare_dir.empty()) replayer.on_frame = [&](uint64_t frame, int w, int h, const std::vector<uint8_t>& rgba) {
         Image image{w, h, rgba};
         std::string err;
         if (!out_dir.empty() && !write_png(frame_file(out_dir, frame), image, err))
