@@ -49,7 +49,9 @@ class MemorySource : public Source {
 public:
     MemorySource(const uint8_t* data, size_t size) : data_(data), size_(size) {}
     uint64_t size() const override { return size_; }
-    void read(uint64_t offset, void* dst, size_t n) override { std::memcpy(dst, data_ + offset, n); }
+    void read(uint64_t offset, void* dst, size_t n) override {
+        if (n) std::memcpy(dst, data_ + offset, n);
+    }
 
 private:
     const uint8_t* data_;
@@ -124,8 +126,10 @@ bool CaptureReader::next(Message& m) {
         throw DecodeError(offset_ + 20, "uncompressed message with different stored and raw lengths");
     std::vector<uint8_t> stored(h.stored_bytes);
     source_->read(payload_at, stored.data(), stored.size());
+#ifndef GLCAST_FUZZING  // the fuzzer could not get past a checksum to the decoder behind it
     if (uint32_t(crc32(0, stored.data(), uInt(stored.size()))) != h.crc32)
         throw DecodeError(payload_at, "message checksum mismatch (corrupted stream)");
+#endif
     if (h.flags & kMsgCompressed) {
         m.payload.resize(h.raw_bytes);
         const size_t n = ZSTD_decompress(m.payload.data(), m.payload.size(), stored.data(), stored.size());
