@@ -193,3 +193,10 @@ TEST(RoundTrip, EverySerializableOpcode) {
     EXPECT_GT(h.encoded, 2600);
     EXPECT_LT(h.size_unknown, 20);
 }
+
+TEST(Commands, EveryNameIsFoundByName) {
+    // The by-name index must be sorted exactly as strcmp compares (GetProcAddress and dlsym use it).
+    for (uint32_t op = 0; op < opcode_count(); ++op)
+        ASSERT_EQ(opcode_by_name(command_info(op)->name), int(op)) << command_info(op)->name;
+    EXPECT_EQ(opcode_by_name("glNoSuchFunction"), -1);
+}
