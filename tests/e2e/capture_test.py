@@ -86,7 +86,8 @@ def case_ff_scene():
     check(all(int(f[2]) > 0 for f in s[1:]), "the array the program changes every frame was not resent")
     # the indexed draw ships the range up to the max index, not the index count
     m = re.search(r"glcast.client_arrays\(vertex\[0\] 3xGL_FLOAT stride 12 from byte (\d+) (\d+) bytes.*\n\d+ "
-                  r"glDrawElements\(mode = \w+, count = (\d+), type = GL_UNSIGNED_SHORT, indices = \{", text)
+                  r"glDraw(?:Range)?Elements\(mode = \w+, (?:start = \d+, end = \d+, )?count = (\d+), "
+                  r"type = GL_UNSIGNED_SHORT, indices = (?:blob|\{)", text)
     check(m, "no client-array draw with client indices")
     vertices = (int(m.group(1)) + int(m.group(2))) // 12
     check(vertices > int(m.group(3)) // 2, f"range {vertices} vertices looks like the index count")
