@@ -11,6 +11,8 @@ static constexpr size_t kBufferBytes = 1 << 20;
 Harness::Harness() : pattern_(kBufferBytes), zeros_(kBufferBytes) {
     for (size_t i = 0; i < pattern_.size(); ++i) pattern_[i] = uint8_t(i * 7 + 1);
     pointers_[0] = pointers_[1] = pattern_.data();
+    attribs_.assign(kBufferBytes / 8, 0);
+    attribs_[0] = 0x3038;
     visual_.visualid = 0x21;
     visual_.depth = 24;
 }
@@ -38,8 +40,10 @@ void* Harness::buffer(const char* name) {
     // Arrays whose values are themselves lengths or counts must not send the encoder past
     // the end of these buffers: they get zeros.
     const std::string n = name;
+    // Attribute lists: as 32-bit keys/values {0x3038 (EGL_NONE), 0, 0}: GLX's list ends at key 0,
+    // EGL's at EGL_NONE; as 64-bit EGLAttribs {0x3038}: EGL_NONE at once.
+    if (n.find("attrib") != std::string::npos) return attribs_.data();
     if (n.find("length") != std::string::npos || n.find("count") != std::string::npos || n == "first" ||
-        n.find("attrib") != std::string::npos ||
         n == "nelements" || n == "num_config")
         return zeros_.data();
     return pattern_.data();

@@ -75,6 +75,7 @@ private:
     std::map<int, uint64_t> values_;
     uint64_t ret_ = 0;
     std::vector<uint8_t> pattern_, zeros_;
+    std::vector<int64_t> attribs_;
     const char* texts_[2] = {"abc", "de"};
     const void* pointers_[2];
     XVisualInfo visual_{};
