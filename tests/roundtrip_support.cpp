@@ -78,7 +78,8 @@ void Harness::check() {
             if (rec.tag == PtrTag::Data && rec.count && p.kind != ArgKind::String && p.kind != ArgKind::OutString &&
                 p.kind != ArgKind::VisualInfo) {
                 const size_t bytes = rec.count * wire_bytes(p.wire);
-                if (std::memcmp(rec.data, pattern_.data(), bytes) != 0 && std::memcmp(rec.data, zeros_.data(), bytes) != 0)
+                if (std::memcmp(rec.data, pattern_.data(), bytes) != 0 && std::memcmp(rec.data, zeros_.data(), bytes) != 0 &&
+                    std::memcmp(rec.data, attribs_.data(), bytes) != 0)
                     return fail(std::string("array ") + p.name + " differs from what was passed");
             }
             if (p.kind == ArgKind::String && (rec.tag != PtrTag::Data || rec.count != 3 || std::memcmp(rec.data, "abc", 3)))
