@@ -62,6 +62,11 @@ def main(case):
         m = re.search(r"compared (\d+) frames: 0 differ, 0 without reference", r.stdout)
         if not m or int(m.group(1)) != n:
             raise AssertionError(f"not every frame compared: {r.stdout}")
+    with Xvfb():  # the window backend shows the frames in a GLFW window
+        r = run([GLCAST, "replay", capture, "--backend", "window", "--compare", reference])
+    print(f"window: {r.stdout.strip()}")
+    if r.returncode != 0 or not re.search(rf"compared {n} frames: 0 differ", r.stdout):
+        raise AssertionError(f"replay in a window differs:\n{r.stdout[-3000:]}\n{r.stderr[-2000:]}")
     print("PASS")
 
 
