@@ -9,6 +9,7 @@
 #include "master/launcher.h"
 #include "protocol/decoder.h"
 #include "protocol/dump.h"
+#include "slave/image_main.h"
 #include "slave/replay_main.h"
 
 using namespace glcast;
@@ -26,11 +27,12 @@ const char* kUsage =
     "        print one call per line with arguments and replies, and a summary per frame;\n"
     "        --frames limits the output to frames A through B (either may be omitted)\n"
     "%s"
+    "%s"
     "  help  this text\n"
     "\n"
     "The shim reads GLCAST_* variables; see docs/environment.md.\n";
 
-void print_usage(FILE* f) { std::fprintf(f, kUsage, glcast::slave::kReplayUsage); }
+void print_usage(FILE* f) { std::fprintf(f, kUsage, glcast::slave::kReplayUsage, glcast::slave::kImageUsage); }
 
 int usage_error(const std::string& msg) {
     std::fprintf(stderr, "glcast: %s\n\n", msg.c_str());
@@ -118,6 +120,7 @@ int main(int argc, char** argv) {
     if (cmd == "capture") return cmd_capture(args);
     if (cmd == "dump") return cmd_dump(args);
     if (cmd == "replay") return glcast::slave::replay_main(args);
+    if (cmd == "image") return glcast::slave::image_main(args);
     if (cmd == "help" || cmd == "--help" || cmd == "-h") {
         print_usage(stdout);
         return 0;

@@ -16,9 +16,11 @@ namespace glcast::slave {
 
 const char* kReplayUsage =
     "  replay FILE [--frames A:B] [--backend egl|osmesa|window] [--out DIR] [--compare DIR]\n"
-    "         [--size WxH] [--offset-names N] [--verify]\n"
+    "         [--size WxH] [--offset-names N] [--verify] [--canvas WxH --tile-rect X,Y,W,H]\n"
     "        replay a capture on the slave engine; --out writes frame-NNNNNN.png per swap,\n"
     "        --compare checks each frame against DIR/frame-NNNNNN.png (exit 1 on a mismatch);\n"
+    "        --canvas/--tile-rect stretch the program's window over a canvas and show one rectangle\n"
+    "        of it (from the top left), as one tile of a wall does;\n"
     "        --verify also executes the calls that only answered the program (glGet*, glReadPixels,\n"
     "        glGetError, ...) and reports where the slave's answer differs from the master's;\n"
     "        --offset-names makes the slave keep N objects of each kind of its own first, so its\n"
@@ -64,6 +66,21 @@ int replay_main(const std::vector<std::string>& args) {
             backend_kind = args[++i];
         } else if (a == "--out" && has_value) {
             out_dir = args[++i];
+        } else if (a == "--canvas" && has_value) {
+            if (std::sscanf(args[++i].c_str(), "%dx%d", &opt.tile.canvas_width, &opt.tile.canvas_height) != 2 ||
+                opt.tile.canvas_width <= 0 || opt.tile.canvas_height <= 0 || opt.tile.canvas_width > 65536 ||
+                opt.tile.canvas_height > 65536)
+                return usage("--canvas takes WxH, got '" + args[i] + "'");
+        } else if (a == "--tile-rect" && has_value) {
+            int x, y, w, h;
+            if (std::sscanf(args[++i].c_str(), "%d,%d,%d,%d", &x, &y, &w, &h) != 4 || w <= 0 || h <= 0 || w > 16384 ||
+                h > 16384)
+                return usage("--tile-rect takes X,Y,W,H (canvas pixels from the top left), got '" + args[i] + "'");
+            opt.tile.enabled = true;
+            opt.tile.x = x;
+            opt.tile.width = w;
+            opt.tile.height = h;
+            opt.tile.y = y;  // converted to GL's bottom-left origin once the canvas is known
         } else if (a == "--verify") {
             opt.verify = true;
         } else if (a == "--offset-names" && has_value) {
@@ -84,6 +101,13 @@ int replay_main(const std::vector<std::string>& args) {
         }
     }
     if (path.empty()) return usage("which capture?");
+    if (opt.tile.enabled) {
+        if (!opt.tile.canvas_width) return usage("--tile-rect needs --canvas");
+        if (opt.tile.x < 0 || opt.tile.y < 0 || opt.tile.x + opt.tile.width > opt.tile.canvas_width ||
+            opt.tile.y + opt.tile.height > opt.tile.canvas_height)
+            return usage("--tile-rect lies outside the canvas");
+        opt.tile.y = opt.tile.canvas_height - opt.tile.y - opt.tile.height;
+    }
     if (!out_dir.empty() && mkdir(out_dir.c_str(), 0755) != 0 && errno != EEXIST) {
         std::fprintf(stderr, "glcast replay: cannot create %s: %s\n", out_dir.c_str(), std::strerror(errno));
         return 1;

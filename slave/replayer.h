@@ -22,6 +22,7 @@
 #include "protocol/decoder.h"
 #include "slave/backend.h"
 #include "slave/name_map.h"
+#include "slave/tile_mapping.h"
 
 namespace glcast::slave {
 
@@ -42,6 +43,11 @@ struct SlaveContext {
     uint32_t list_base = 0;         // glListBase, applied to glCallLists on the slave side
     std::map<uint32_t, std::vector<uint8_t>> client_arrays;  // by cache handle
     std::vector<uint8_t> select_buffer, feedback_buffer;
+    // The program's own viewport and scissor box (window coordinates of the master), applied
+    // mapped while the window framebuffer is the draw framebuffer and as they are otherwise.
+    int32_t viewport[4] = {0, 0, 0, 0}, scissor[4] = {0, 0, 0, 0};
+    int master_width = 0, master_height = 0;  // the master's drawable
+    bool drawing_to_window = true;
 };
 
 struct ReplayOptions {
@@ -49,6 +55,7 @@ struct ReplayOptions {
     int width = 0, height = 0;      // window framebuffer size override (0: the master's)
     bool verbose = false;
     bool verify = false;            // execute reply-only calls too and compare with the replies
+    TileMapping tile;               // show one tile of a wall instead of the whole window
 };
 
 struct ReplayStats {
@@ -112,6 +119,10 @@ public:
     void check_reply(const Call& c, int i, const void* slave_output);
     void check_return(const Call& c, uint64_t slave_value);
     void check_return_string(const Call& c, const char* slave_value);
+
+    const TileMapping& tile() const { return options_.tile; }
+    // Re-issues the program's viewport and scissor box for the current draw framebuffer.
+    void apply_window_rects();
 
     SlaveContext& current();        // throws ReplayError when no context is current
     // Creates n objects of every namespace in the current context and keeps them, so that the

@@ -91,9 +91,33 @@ void Replayer::window_system(const Call& c) {
 }
 
 void Replayer::window_size(uint64_t drawable, int& width, int& height) const {
+    if (options_.tile.enabled) {  // a tile of the wall, whatever the master's window
+        width = options_.tile.width;
+        height = options_.tile.height;
+        return;
+    }
     auto it = drawable_sizes_.find(drawable);
     width = options_.width ? options_.width : it != drawable_sizes_.end() ? it->second.first : 0;
     height = options_.height ? options_.height : it != drawable_sizes_.end() ? it->second.second : 0;
+}
+
+void Replayer::apply_window_rects() {
+    SlaveContext& ctx = current();
+    const TileMapping& t = options_.tile;
+    const int32_t* v = ctx.viewport;
+    const int32_t* s = ctx.scissor;
+    const auto viewport = gl<decltype(&::glViewport)>(OP_glViewport);
+    const auto scissor = gl<decltype(&::glScissor)>(OP_glScissor);
+    if (!t.enabled || !ctx.drawing_to_window) {
+        viewport(v[0], v[1], v[2], v[3]);
+        scissor(s[0], s[1], s[2], s[3]);
+        return;
+    }
+    const int W = ctx.master_width, H = ctx.master_height;
+    viewport(GLint(t.map_x(v[0], W)), GLint(t.map_y(v[1], H)), GLsizei(t.map_w(v[0], v[2], W)),
+             GLsizei(t.map_h(v[1], v[3], H)));
+    scissor(GLint(t.map_x(s[0], W)), GLint(t.map_y(s[1], H)), GLsizei(t.map_w(s[0], s[2], W)),
+            GLsizei(t.map_h(s[1], s[3], H)));
 }
 
 void Replayer::make_current(uint32_t id, uint64_t drawable) {
@@ -113,6 +137,11 @@ void Replayer::make_current(uint32_t id, uint64_t drawable) {
     current_ = &ctx;
     ctx.width = w;
     ctx.height = h;
+    auto size = drawable_sizes_.find(drawable);
+    if (size != drawable_sizes_.end()) {
+        ctx.master_width = size->second.first;
+        ctx.master_height = size->second.second;
+    }
     if (!ctx.made_current) {
         // GLX starts a context with viewport and scissor box covering the window it is first
         // made current to; backends differ (a 1x1 buffer, a window created at another size).
@@ -120,9 +149,12 @@ void Replayer::make_current(uint32_t id, uint64_t drawable) {
         GLboolean db = GL_TRUE;
         gl<decltype(&::glGetBooleanv)>(OP_glGetBooleanv)(GL_DOUBLEBUFFER, &db);
         ctx.double_buffered = db;
-        if (w > 0 && h > 0) {
-            gl<decltype(&::glViewport)>(OP_glViewport)(0, 0, w, h);
-            gl<decltype(&::glScissor)>(OP_glScissor)(0, 0, w, h);
+        const int mw = ctx.master_width ? ctx.master_width : w, mh = ctx.master_height ? ctx.master_height : h;
+        if (mw > 0 && mh > 0) {
+            const int32_t window[4] = {0, 0, mw, mh};
+            std::memcpy(ctx.viewport, window, sizeof window);
+            std::memcpy(ctx.scissor, window, sizeof window);
+            apply_window_rects();
         }
     }
     if (!first_context_done_) {
@@ -176,7 +208,10 @@ void Replayer::end_frame() {
     // A resize the master announced before this swap applies from the next frame on.
     int w = 0, h = 0;
     window_size(ctx.drawable, w, h);
-    if ((w != ctx.width || h != ctx.height) && w > 0 && h > 0) make_current(ctx.id, ctx.drawable);
+    auto size = drawable_sizes_.find(ctx.drawable);
+    const bool master_resized = size != drawable_sizes_.end() &&
+                                (size->second.first != ctx.master_width || size->second.second != ctx.master_height);
+    if (((w != ctx.width || h != ctx.height) && w > 0 && h > 0) || master_resized) make_current(ctx.id, ctx.drawable);
 }
 
 // --- synthetic tuples ------------------------------------------------------------------
