@@ -26,6 +26,10 @@ static ShimConfig load() {
     bool ok = true;
     if (const char* p = std::getenv("GLCAST_CAPTURE")) c.capture_path = p;
     if (const char* p = std::getenv("GLCAST_SNAPSHOT_DIR")) c.snapshot_dir = p;
+    if (const char* p = std::getenv("GLCAST_PUBLISH")) c.publish = p;
+    if (const char* p = std::getenv("GLCAST_JOURNAL_ENDPOINT")) c.journal_endpoint = p;
+    ok &= read_uint("GLCAST_JOURNAL_MB", 0, 1 << 20, c.journal_mb);
+    ok &= read_uint("GLCAST_TEST_DROP_EVERY", 0, UINT32_MAX, c.drop_every);
     uint64_t v = 0;
     ok &= read_uint("GLCAST_FRAMES", 0, UINT32_MAX, c.frames);
     v = 0;
@@ -37,7 +41,10 @@ static ShimConfig load() {
     v = 0;
     ok &= read_uint("GLCAST_VERBOSE", 0, 1, v);
     c.verbose = v;
-    if (!ok) c.capture_path.clear();
+    if (!ok) {
+        c.capture_path.clear();
+        c.publish.clear();
+    }
     return c;
 }
 

@@ -14,7 +14,11 @@ struct ShimConfig {
     int zstd_level = 1;         // GLCAST_ZSTD_LEVEL: 0 stores messages uncompressed
     bool verbose = false;       // GLCAST_VERBOSE=1: summary on stderr at exit
     std::string snapshot_dir;   // GLCAST_SNAPSHOT_DIR: the program's own frames as PNGs (tests)
-    bool has_consumer() const { return !capture_path.empty(); }
+    std::string publish;        // GLCAST_PUBLISH: ZeroMQ endpoint the stream is published on
+    std::string journal_endpoint;  // GLCAST_JOURNAL_ENDPOINT: ROUTER serving late joiners
+    uint64_t journal_mb = 1024;    // GLCAST_JOURNAL_MB: journal limit; past it, no late join
+    uint64_t drop_every = 0;       // GLCAST_TEST_DROP_EVERY: lose every Nth message (tests)
+    bool has_consumer() const { return !capture_path.empty() || !publish.empty(); }
 };
 
 // Parsed on first use; an invalid value is reported and the shim stays passive.

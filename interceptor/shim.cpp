@@ -14,6 +14,7 @@
 #include "interceptor/shim_internal.h"
 #include "master/client_arrays.h"
 #include "master/driver_size_queries.h"
+#include "master/publisher.h"
 #include "master/stream.h"
 #include "protocol/format.h"
 
@@ -37,6 +38,14 @@ Stream* stream() {
         std::vector<std::unique_ptr<MessageSink>> sinks;
         try {
             if (!c.capture_path.empty()) sinks.push_back(std::make_unique<CaptureFileSink>(c.capture_path));
+            if (!c.publish.empty()) {
+                PublisherOptions p;
+                p.endpoint = c.publish;
+                p.snapshot_endpoint = c.journal_endpoint;
+                p.journal_limit_bytes = size_t(c.journal_mb) << 20;
+                p.drop_every = c.drop_every;
+                sinks.push_back(std::make_unique<PublisherSink>(p));
+            }
         } catch (const std::exception& e) {
             std::fprintf(stderr, "glcast: %s; capture disabled\n", e.what());
             g_recording = false;

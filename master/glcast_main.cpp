@@ -11,6 +11,7 @@
 #include "protocol/dump.h"
 #include "slave/image_main.h"
 #include "slave/replay_main.h"
+#include "slave/slave_main.h"
 
 using namespace glcast;
 
@@ -28,11 +29,14 @@ const char* kUsage =
     "        --frames limits the output to frames A through B (either may be omitted)\n"
     "%s"
     "%s"
+    "%s"
     "  help  this text\n"
     "\n"
     "The shim reads GLCAST_* variables; see docs/environment.md.\n";
 
-void print_usage(FILE* f) { std::fprintf(f, kUsage, glcast::slave::kReplayUsage, glcast::slave::kImageUsage); }
+void print_usage(FILE* f) {
+    std::fprintf(f, kUsage, glcast::slave::kReplayUsage, glcast::slave::kSlaveUsage, glcast::slave::kImageUsage);
+}
 
 int usage_error(const std::string& msg) {
     std::fprintf(stderr, "glcast: %s\n\n", msg.c_str());
@@ -121,6 +125,7 @@ int main(int argc, char** argv) {
     if (cmd == "dump") return cmd_dump(args);
     if (cmd == "replay") return glcast::slave::replay_main(args);
     if (cmd == "image") return glcast::slave::image_main(args);
+    if (cmd == "slave") return glcast::slave::slave_main(args);
     if (cmd == "help" || cmd == "--help" || cmd == "-h") {
         print_usage(stdout);
         return 0;

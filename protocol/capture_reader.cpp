@@ -97,17 +97,54 @@ CaptureReader::CaptureReader(std::unique_ptr<Source> source) : source_(std::move
     offset_ = header_.header_bytes;
 }
 
+// The checks every message gets, wherever it came from.
+static void check_and_unpack(const MessageHeader& h, const uint8_t* stored_data, uint64_t offset, Message& m) {
+    const uint64_t payload_at = offset + sizeof(MessageHeader);
+    if (h.magic != kMessageMagic) throw DecodeError(offset, "bad message magic (corrupted stream)");
+    if (h.flags & ~uint32_t(kMsgCompressed | kMsgFrameEnd | kMsgStreamEnd))
+        throw DecodeError(offset + 4, "unknown message flags " + std::to_string(h.flags));
+    if (h.raw_bytes > kMaxMessageBytes || h.stored_bytes > kMaxMessageBytes)
+        throw DecodeError(offset + 20, "absurd message length (" + std::to_string(h.stored_bytes) + " stored, " +
+                                           std::to_string(h.raw_bytes) + " raw; limit " +
+                                           std::to_string(kMaxMessageBytes) + ")");
+    if (!(h.flags & kMsgCompressed) && h.stored_bytes != h.raw_bytes)
+        throw DecodeError(offset + 20, "uncompressed message with different stored and raw lengths");
+#ifndef GLCAST_FUZZING  // the fuzzer could not get past a checksum to the decoder behind it
+    if (uint32_t(crc32(0, stored_data, uInt(h.stored_bytes))) != h.crc32)
+        throw DecodeError(payload_at, "message checksum mismatch (corrupted stream)");
+#endif
+    m.header = h;
+    m.offset = offset;
+    if (h.flags & kMsgCompressed) {
+        m.payload.resize(h.raw_bytes);
+        const size_t n = ZSTD_decompress(m.payload.data(), m.payload.size(), stored_data, h.stored_bytes);
+        if (ZSTD_isError(n) || n != h.raw_bytes)
+            throw DecodeError(payload_at, std::string("bad zstd payload: ") +
+                                              (ZSTD_isError(n) ? ZSTD_getErrorName(n) : "length differs from header"));
+    } else {
+        m.payload.assign(stored_data, stored_data + h.stored_bytes);
+    }
+}
+
+void decode_message(const uint8_t* data, size_t size, uint64_t offset, Message& m) {
+    if (size < sizeof(MessageHeader))
+        throw DecodeError(offset, "truncated message header (" + std::to_string(size) + " bytes)");
+    MessageHeader h;
+    std::memcpy(&h, data, sizeof h);
+    if (h.magic == kMessageMagic && h.stored_bytes != size - sizeof h)
+        throw DecodeError(offset + 20, "message announces " + std::to_string(h.stored_bytes) + " bytes, carries " +
+                                           std::to_string(size - sizeof h));
+    check_and_unpack(h, data + sizeof h, offset, m);
+}
+
 bool CaptureReader::next(Message& m) {
     const uint64_t size = source_->size();
     if (offset_ == size) return false;
     if (size - offset_ < sizeof(MessageHeader))
         throw DecodeError(offset_, "truncated message header (" + std::to_string(size - offset_) + " bytes left)");
-    m.offset = offset_;
-    source_->read(offset_, &m.header, sizeof m.header);
-    const MessageHeader& h = m.header;
+    MessageHeader h;
+    source_->read(offset_, &h, sizeof h);
     if (h.magic != kMessageMagic) throw DecodeError(offset_, "bad message magic (corrupted stream)");
-    if (h.flags & ~uint32_t(kMsgCompressed | kMsgFrameEnd))
-        throw DecodeError(offset_ + 4, "unknown message flags " + std::to_string(h.flags));
     if (h.sequence != expected_sequence_)
         throw DecodeError(offset_ + 8, "message sequence " + std::to_string(h.sequence) + ", expected " +
                                            std::to_string(expected_sequence_));
@@ -122,23 +159,9 @@ bool CaptureReader::next(Message& m) {
     if (h.stored_bytes > size - payload_at)
         throw DecodeError(payload_at, "truncated message: " + std::to_string(h.stored_bytes) + " bytes announced, " +
                                           std::to_string(size - payload_at) + " left");
-    if (!(h.flags & kMsgCompressed) && h.stored_bytes != h.raw_bytes)
-        throw DecodeError(offset_ + 20, "uncompressed message with different stored and raw lengths");
     std::vector<uint8_t> stored(h.stored_bytes);
     source_->read(payload_at, stored.data(), stored.size());
-#ifndef GLCAST_FUZZING  // the fuzzer could not get past a checksum to the decoder behind it
-    if (uint32_t(crc32(0, stored.data(), uInt(stored.size()))) != h.crc32)
-        throw DecodeError(payload_at, "message checksum mismatch (corrupted stream)");
-#endif
-    if (h.flags & kMsgCompressed) {
-        m.payload.resize(h.raw_bytes);
-        const size_t n = ZSTD_decompress(m.payload.data(), m.payload.size(), stored.data(), stored.size());
-        if (ZSTD_isError(n) || n != h.raw_bytes)
-            throw DecodeError(payload_at, std::string("bad zstd payload: ") +
-                                              (ZSTD_isError(n) ? ZSTD_getErrorName(n) : "length differs from header"));
-    } else {
-        m.payload = std::move(stored);
-    }
+    check_and_unpack(h, stored.data(), offset_, m);
     offset_ = payload_at + h.stored_bytes;
     expected_sequence_++;
     if (h.flags & kMsgFrameEnd) expected_frame_++;

@@ -99,11 +99,22 @@ public:
 std::unique_ptr<Source> open_file_source(const std::string& path);  // throws std::runtime_error
 std::unique_ptr<Source> memory_source(const uint8_t* data, size_t size);
 
-class CaptureReader {
+// Where messages come from: a capture file, or a slave's subscription to a live master.
+class MessageSource {
+public:
+    virtual ~MessageSource() = default;
+    virtual bool next(Message& m) = 0;  // false at the end of the stream; throws DecodeError
+};
+
+// Checks and unpacks one framed message held in memory (header and stored payload, exactly
+// `size` bytes); `offset` is where it starts, for errors. Throws DecodeError.
+void decode_message(const uint8_t* data, size_t size, uint64_t offset, Message& m);
+
+class CaptureReader : public MessageSource {
 public:
     explicit CaptureReader(std::unique_ptr<Source> source);  // reads and checks the header
     const FileHeader& header() const { return header_; }
-    bool next(Message& m);  // false at a clean end of file; throws DecodeError
+    bool next(Message& m) override;  // false at a clean end of file; throws DecodeError
 
 private:
     std::unique_ptr<Source> source_;

@@ -33,6 +33,7 @@ inline constexpr uint32_t kMessageMagic = 0x4d434c47;  // "GLCM"
 enum MessageFlags : uint32_t {
     kMsgCompressed = 1,  // payload is one zstd frame
     kMsgFrameEnd = 2,    // the last tuple of the payload ends a frame (a swap)
+    kMsgStreamEnd = 4,   // the program has ended: nothing follows (live streams)
 };
 struct MessageHeader {
     uint32_t magic;

@@ -11,7 +11,7 @@ packages=(
   khronos-api libgl-dev libegl-dev libgl1-mesa-dri libglx-mesa0 libegl-mesa0
   libosmesa6-dev libglfw3-dev libglm-dev libx11-dev
   # stream
-  libzstd-dev zlib1g-dev libpng-dev libzmq3-dev cppzmq-dev
+  libzstd-dev zlib1g-dev libpng-dev libzmq3-dev cppzmq-dev nlohmann-json3-dev
   # tests: X server, real third-party GL programs
   xvfb xauth mesa-utils xscreensaver-gl googletest libgtest-dev
   # benchmarks

@@ -285,7 +285,21 @@ void Replayer::check_return_string(const Call& c, const char* slave_value) {
 
 // --- the loop ------------------------------------------------------------------------
 
-void Replayer::replay(CaptureReader& reader) {
+void Replayer::reset() {
+    std::string ignored;
+    if (current_) backend_->make_current(0, 0, 0, ignored);
+    current_ = nullptr;
+    for (auto& [id, ctx] : contexts_) backend_->destroy_context(id);
+    contexts_.clear();
+    pending_.clear();
+    ids_by_handle_.clear();
+    drawable_sizes_.clear();
+    std::fill(procs_.begin(), procs_.end(), nullptr);
+    frame_ = 0;
+    call_index_ = 0;
+}
+
+void Replayer::replay(MessageSource& reader) {
     Message m;
     Call c;
     while (frame_ <= options_.last_frame && reader.next(m)) {

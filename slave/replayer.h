@@ -73,7 +73,10 @@ public:
     // Called once before the first call, with the slave current: lets tests allocate names.
     std::function<void(Replayer&)> on_first_context;
 
-    void replay(CaptureReader& reader);  // throws DecodeError on a bad stream
+    void replay(MessageSource& source);  // throws DecodeError on a bad stream
+    // Forgets every context and name: the state of a slave that has seen nothing yet (a slave
+    // that lost messages starts over from the master's snapshot).
+    void reset();
     const ReplayStats& stats() const { return stats_; }
     Backend& backend() { return *backend_; }
 

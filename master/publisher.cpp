@@ -1,0 +1,110 @@
+#include "master/publisher.h"
+
+#include <zmq.hpp>
+
+#include <cstdio>
+#include <cstring>
+
+#include "protocol/format.h"
+
+namespace glcast {
+
+PublisherSink::PublisherSink(PublisherOptions options)
+    : options_(std::move(options)), context_(std::make_unique<zmq::context_t>(1)) {
+    try {
+        pub_ = std::make_unique<zmq::socket_t>(*context_, zmq::socket_type::pub);
+        pub_->set(zmq::sockopt::sndhwm, options_.send_hwm);
+        pub_->set(zmq::sockopt::linger, 1000);
+        pub_->bind(options_.endpoint);
+    } catch (const zmq::error_t& e) {
+        throw std::runtime_error("cannot publish on " + options_.endpoint + ": " + e.what());
+    }
+    if (!options_.snapshot_endpoint.empty()) snapshot_thread_ = std::thread([this] { serve_snapshots(); });
+}
+
+PublisherSink::~PublisherSink() { close(); }
+
+void PublisherSink::write(const std::vector<uint8_t>& message) {
+    {
+        std::lock_guard lock(journal_mutex_);
+        if (journal_complete_ && !options_.snapshot_endpoint.empty()) {
+            if (journal_bytes_ + message.size() > options_.journal_limit_bytes) {
+                journal_complete_ = false;
+                journal_.clear();
+                journal_.shrink_to_fit();
+                std::fprintf(stderr, "glcast: the stream passed GLCAST_JOURNAL_MB; slaves can no longer join late\n");
+            } else {
+                journal_.push_back(message);
+                journal_bytes_ += message.size();
+            }
+        }
+    }
+    if (options_.drop_every && ++sent_ % options_.drop_every == 0) {
+        dropped_++;  // the test hook: lost on the way
+        return;
+    }
+    // Never wait for a subscriber: a full queue loses the message, the slave sees the gap.
+    if (!pub_->send(zmq::buffer(message), zmq::send_flags::dontwait)) dropped_++;
+}
+
+// ROUTER side channel. A request is one frame "SNAPSHOT"; the answer is every journaled
+// message, one frame each, then "END". A journal that passed its limit answers "GONE".
+void PublisherSink::serve_snapshots() {
+    zmq::socket_t router(*context_, zmq::socket_type::router);
+    router.set(zmq::sockopt::sndhwm, 0);
+    router.set(zmq::sockopt::linger, 0);
+    try {
+        router.bind(options_.snapshot_endpoint);
+    } catch (const zmq::error_t& e) {
+        std::fprintf(stderr, "glcast: cannot serve snapshots on %s: %s\n", options_.snapshot_endpoint.c_str(), e.what());
+        return;
+    }
+    while (!stopping_) {
+        zmq::pollitem_t item{router.handle(), 0, ZMQ_POLLIN, 0};
+        zmq::poll(&item, 1, std::chrono::milliseconds(100));
+        if (!(item.revents & ZMQ_POLLIN)) continue;
+        std::vector<zmq::message_t> request;
+        zmq::message_t part;
+        do {
+            if (!router.recv(part)) break;
+            request.push_back(std::move(part));
+        } while (router.get(zmq::sockopt::rcvmore));
+        if (request.size() < 2) continue;
+        const std::string identity = request.front().to_string();
+        if (request.back().to_string() != "SNAPSHOT") continue;
+        std::vector<std::vector<uint8_t>> copy;
+        bool complete;
+        {
+            std::lock_guard lock(journal_mutex_);
+            copy = journal_;
+            complete = journal_complete_;
+        }
+        if (complete)
+            for (const auto& message : copy) {
+                router.send(zmq::buffer(identity), zmq::send_flags::sndmore);
+                router.send(zmq::buffer(message), zmq::send_flags::none);
+            }
+        router.send(zmq::buffer(identity), zmq::send_flags::sndmore);
+        const std::string answer = complete ? "END" : "GONE";
+        router.send(zmq::buffer(answer), zmq::send_flags::none);
+    }
+}
+
+void PublisherSink::close() {
+    if (closed_) return;
+    closed_ = true;
+    // Tell the slaves the program has ended.
+    MessageHeader h{};
+    h.magic = kMessageMagic;
+    h.flags = kMsgStreamEnd;
+    h.sequence = UINT64_MAX;
+    std::vector<uint8_t> end(sizeof h);
+    std::memcpy(end.data(), &h, sizeof h);
+    if (pub_) pub_->send(zmq::buffer(end), zmq::send_flags::dontwait);
+    stopping_ = true;
+    if (snapshot_thread_.joinable()) snapshot_thread_.join();
+    pub_.reset();
+    context_.reset();
+}
+
+}  // namespace glcast

@@ -1,0 +1,127 @@
+// `glcast slave`: one tile of a wall on this machine, fed by the master over ZeroMQ.
+#include "slave/slave_main.h"
+
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cinttypes>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+
+#include "slave/image.h"
+#include "slave/network_source.h"
+#include "slave/replayer.h"
+#include "slave/tile_options.h"
+
+namespace glcast::slave {
+
+const char* kSlaveUsage =
+    "  slave --connect ENDPOINT [--journal ENDPOINT] [--config FILE --tile NAME]\n"
+    "        [--backend egl|osmesa|window] [--out DIR] [--frames A:B] [--wait SECONDS] [--quiet]\n"
+    "        one tile of a wall: subscribe to a master (glcast run prints its endpoints), join\n"
+    "        through its journal, replay; --out writes the tile's frames as PNGs\n";
+
+namespace {
+
+int usage(const std::string& msg) {
+    std::fprintf(stderr, "glcast slave: %s\nusage: glcast\n%s", msg.c_str(), kSlaveUsage);
+    return 2;
+}
+
+}  // namespace
+
+int slave_main(const std::vector<std::string>& args) {
+    std::string endpoint, journal, backend_kind = "egl", out_dir, config_path, tile_name;
+    ReplayOptions opt;
+    int wait_seconds = 60;
+    bool quiet = false;
+    for (size_t i = 0; i < args.size(); ++i) {
+        const std::string& a = args[i];
+        const bool v = i + 1 < args.size();
+        if (a == "--connect" && v) endpoint = args[++i];
+        else if (a == "--journal" && v) journal = args[++i];
+        else if (a == "--config" && v) config_path = args[++i];
+        else if (a == "--tile" && v) tile_name = args[++i];
+        else if (a == "--backend" && v) backend_kind = args[++i];
+        else if (a == "--out" && v) out_dir = args[++i];
+        else if (a == "--quiet") quiet = true;
+        else if (a == "--wait" && v) {
+            wait_seconds = std::atoi(args[++i].c_str());
+            if (wait_seconds <= 0 || wait_seconds > 86400) return usage("--wait takes 1..86400 seconds");
+        } else if (a == "--frames" && v) {
+            unsigned long long lo = 0, hi = UINT64_MAX;
+            if (std::sscanf(args[++i].c_str(), "%llu:%llu", &lo, &hi) < 1 || lo > hi) return usage("--frames takes A:B");
+            opt.first_frame = lo;
+            opt.last_frame = hi;
+        } else {
+            return usage("unknown option '" + a + "'");
+        }
+    }
+    if (endpoint.empty()) return usage("--connect ENDPOINT is required");
+    std::string error;
+    if (!config_path.empty() || !tile_name.empty()) {
+        if (config_path.empty() || tile_name.empty()) return usage("--config and --tile go together");
+        if (!tile_options(config_path, tile_name, opt, error)) {
+            std::fprintf(stderr, "glcast slave: %s\n", error.c_str());
+            return 1;
+        }
+    }
+    if (!out_dir.empty() && mkdir(out_dir.c_str(), 0755) != 0 && errno != EEXIST) {
+        std::fprintf(stderr, "glcast slave: cannot create %s: %s\n", out_dir.c_str(), std::strerror(errno));
+        return 1;
+    }
+    std::unique_ptr<Backend> backend = make_backend(backend_kind, error);
+    if (!backend) {
+        std::fprintf(stderr, "glcast slave: %s\n", error.c_str());
+        return 1;
+    }
+    const std::string label = tile_name.empty() ? std::string("slave") : tile_name;
+    try {
+        NetworkSource source(endpoint, journal, wait_seconds);
+        Replayer replayer(std::move(backend), opt);
+        source.on_restart = [&] {
+            std::fprintf(stderr, "glcast slave %s: messages lost (%s); starting over from the master's journal\n",
+                         label.c_str(), source.gap().c_str());
+            replayer.reset();
+        };
+        auto last = std::chrono::steady_clock::now();
+        uint64_t frames_at_last = 0, bytes_at_last = 0;
+        replayer.on_frame = [&](uint64_t frame, int w, int h, const std::vector<uint8_t>& rgba) {
+            // Frames replayed while catching up from the journal are written too: they are the
+            // same frames, only late.
+            if (!out_dir.empty()) {
+                char name[48];
+                std::snprintf(name, sizeof name, "/frame-%06" PRIu64 ".png", frame);
+                std::string err;
+                if (!write_png(out_dir + name, Image{w, h, rgba}, err)) std::fprintf(stderr, "glcast slave: %s\n", err.c_str());
+            }
+            const auto now = std::chrono::steady_clock::now();
+            const double dt = std::chrono::duration<double>(now - last).count();
+            if (!quiet && dt >= 1.0) {
+                std::fprintf(stderr, "\rglcast slave %s: frame %" PRIu64 ", %.1f fps, %.2f MB/s, lag %" PRId64
+                                     " frames, %" PRIu64 " recoveries   ",
+                             label.c_str(), frame, (replayer.stats().frames - frames_at_last) / dt,
+                             (source.bytes() - bytes_at_last) / dt / 1e6, int64_t(source.master_frame()) - int64_t(frame),
+                             source.recoveries());
+                last = now;
+                frames_at_last = replayer.stats().frames;
+                bytes_at_last = source.bytes();
+            }
+        };
+        // Frames are read back only when written; without --out the status line still needs the
+        // swap callback, which costs a readback: acceptable for a wall tile's status.
+        replayer.replay(source);
+        const ReplayStats& s = replayer.stats();
+        std::fprintf(stderr, "\nglcast slave %s: the program ended; %" PRIu64 " frames, %" PRIu64 " errors, %" PRIu64
+                             " recoveries\n",
+                     label.c_str(), s.frames, s.errors, source.recoveries());
+        return s.errors ? 1 : 0;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "glcast slave %s: %s\n", label.c_str(), e.what());
+        return 1;
+    }
+}
+
+}  // namespace glcast::slave
