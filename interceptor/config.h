@@ -18,6 +18,7 @@ struct ShimConfig {
     std::string journal_endpoint;  // GLCAST_JOURNAL_ENDPOINT: ROUTER serving late joiners
     uint64_t journal_mb = 1024;    // GLCAST_JOURNAL_MB: journal limit; past it, no late join
     uint64_t drop_every = 0;       // GLCAST_TEST_DROP_EVERY: lose every Nth message (tests)
+    uint64_t wait_subscribers = 0; // GLCAST_WAIT_SUBSCRIBERS: slaves to wait for at start
     bool has_consumer() const { return !capture_path.empty() || !publish.empty(); }
 };
 

@@ -44,6 +44,7 @@ Stream* stream() {
                 p.snapshot_endpoint = c.journal_endpoint;
                 p.journal_limit_bytes = size_t(c.journal_mb) << 20;
                 p.drop_every = c.drop_every;
+                p.wait_subscribers = int(c.wait_subscribers);
                 sinks.push_back(std::make_unique<PublisherSink>(p));
             }
         } catch (const std::exception& e) {

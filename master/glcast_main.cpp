@@ -15,12 +15,18 @@
 
 using namespace glcast;
 
+namespace glcast {
+int run_main(const std::vector<std::string>& args);
+extern const char* kRunUsage;
+}  // namespace glcast
+
 namespace {
 
 const char* kUsage =
     "usage: glcast <command> [options]\n"
     "\n"
     "commands:\n"
+    "%s"
     "  capture -o FILE [--frames N] -- PROGRAM [ARGS...]\n"
     "        run PROGRAM with the shim and write its GL stream to FILE; with --frames the\n"
     "        program is ended once N frames are written\n"
@@ -35,7 +41,8 @@ const char* kUsage =
     "The shim reads GLCAST_* variables; see docs/environment.md.\n";
 
 void print_usage(FILE* f) {
-    std::fprintf(f, kUsage, glcast::slave::kReplayUsage, glcast::slave::kSlaveUsage, glcast::slave::kImageUsage);
+    std::fprintf(f, kUsage, glcast::kRunUsage, glcast::slave::kReplayUsage, glcast::slave::kSlaveUsage,
+                 glcast::slave::kImageUsage);
 }
 
 int usage_error(const std::string& msg) {
@@ -126,6 +133,7 @@ int main(int argc, char** argv) {
     if (cmd == "replay") return glcast::slave::replay_main(args);
     if (cmd == "image") return glcast::slave::image_main(args);
     if (cmd == "slave") return glcast::slave::slave_main(args);
+    if (cmd == "run") return glcast::run_main(args);
     if (cmd == "help" || cmd == "--help" || cmd == "-h") {
         print_usage(stdout);
         return 0;

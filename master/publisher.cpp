@@ -2,6 +2,7 @@
 
 #include <zmq.hpp>
 
+#include <chrono>
 #include <cstdio>
 #include <cstring>
 
@@ -12,12 +13,29 @@ namespace glcast {
 PublisherSink::PublisherSink(PublisherOptions options)
     : options_(std::move(options)), context_(std::make_unique<zmq::context_t>(1)) {
     try {
-        pub_ = std::make_unique<zmq::socket_t>(*context_, zmq::socket_type::pub);
+        // XPUB: a PUB socket that also reports subscriptions, for the start-up wait below.
+        pub_ = std::make_unique<zmq::socket_t>(*context_, zmq::socket_type::xpub);
         pub_->set(zmq::sockopt::sndhwm, options_.send_hwm);
         pub_->set(zmq::sockopt::linger, 1000);
         pub_->bind(options_.endpoint);
     } catch (const zmq::error_t& e) {
         throw std::runtime_error("cannot publish on " + options_.endpoint + ": " + e.what());
+    }
+    // `glcast run` starts its local slaves first and asks the program to wait for them, so that
+    // a short program is not over before they listen. Only here, once: never during the run.
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    for (int subscribed = 0; subscribed < options_.wait_subscribers;) {
+        zmq::pollitem_t item{pub_->handle(), 0, ZMQ_POLLIN, 0};
+        zmq::poll(&item, 1, std::chrono::milliseconds(100));
+        if (item.revents & ZMQ_POLLIN) {
+            zmq::message_t event;
+            if (pub_->recv(event, zmq::recv_flags::dontwait) && event.size() && event.data<uint8_t>()[0] == 1)
+                subscribed++;
+        } else if (std::chrono::steady_clock::now() > deadline) {
+            std::fprintf(stderr, "glcast: %d of %d slaves subscribed within 60 s; going on without the rest\n",
+                         subscribed, options_.wait_subscribers);
+            break;
+        }
     }
     if (!options_.snapshot_endpoint.empty()) snapshot_thread_ = std::thread([this] { serve_snapshots(); });
 }

@@ -31,6 +31,7 @@ struct PublisherOptions {
     size_t journal_limit_bytes = size_t(1) << 30;
     uint64_t drop_every = 0;        // test hook: do not send every Nth message (it stays in the journal)
     int send_hwm = 1000;            // messages queued per subscriber before they are dropped
+    int wait_subscribers = 0;       // at start, wait (up to 60 s) until this many slaves subscribed
 };
 
 class PublisherSink : public MessageSink {
