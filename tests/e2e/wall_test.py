@@ -1,0 +1,216 @@
+#!/usr/bin/env python3
+"""The wall, end to end on loopback: `glcast run` with a display config, real ZeroMQ sockets,
+one slave process per tile, headless PNG output.
+
+    wall_test.py CASE      with GLCAST, APPS_DIR, OUT_DIR in the environment
+
+mosaic_*: the tiles of wall-2x2.json, stitched, equal one replay of the same stream at the
+  canvas size, within the tolerance below.
+bezel: every tile of wall-3x2-bezel.json equals its rectangle of the canvas (the bezel strips
+  between them are not shown by any tile).
+late_join: a slave started after the program has run 100 frames, and the same slave killed
+  with SIGKILL and started again, show the frames of a slave that ran from the start.
+loss: with every 7th message dropped on purpose, the slave notices, starts over from the
+  journal, and its frames still equal the program's own.
+sigstop: a slave stopped with SIGSTOP does not hold the program back.
+
+Tolerance of the mosaic: llvmpipe evaluates interpolants relative to the framebuffer's
+origin, so a tile (whose viewport is the canvas viewport moved by the tile's offset) rounds a
+few interpolated colours one step differently, and an edge pixel can change coverage. Measured
+on the test programs: at most 0.002% of the canvas pixels differ; the test allows 0.01%.
+"""
+import glob
+import os
+import re
+import shutil
+import signal
+import subprocess
+import sys
+import time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from xvfb import Xvfb  # noqa: E402
+
+GLCAST = os.environ["GLCAST"]
+APPS = os.environ.get("APPS_DIR", "")
+ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
+CONFIGS = os.path.join(ROOT, "display_configs")
+OUT = os.path.join(os.environ.get("OUT_DIR", "/tmp/glcast-e2e"), "wall")
+TOLERANCE = 1e-4
+
+
+def check(cond, msg):
+    if not cond:
+        raise AssertionError(msg)
+
+
+def run(cmd, env=None, timeout=600):
+    return subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=env)
+
+
+def compare(a, b, crop=None):
+    r = run([GLCAST, "image", "compare", a, b] + (["--crop", crop] if crop else []))
+    m = re.search(r"(\d+) pixels differ, max channel difference (\d+)", r.stdout)
+    check(m, f"compare {a} {b}: {r.stdout} {r.stderr}")
+    return int(m.group(1)), int(m.group(2))
+
+
+def wall_run(name, config, program, frames, extra_env=None):
+    out = os.path.join(OUT, name)
+    shutil.rmtree(out, ignore_errors=True)
+    os.makedirs(out)
+    capture = os.path.join(out, "capture.glcs")
+    env = dict(os.environ, GLCAST_CAPTURE=capture, **(extra_env or {}))
+    r = run([GLCAST, "run", "--config", os.path.join(CONFIGS, config), "--backend", "egl", "--out", out,
+             "--frames", str(frames), "--"] + program, env=env)
+    check(r.returncode == 0, f"glcast run failed ({r.returncode}): {r.stderr[-3000:]}")
+    return out, capture
+
+
+def canvas_replay(capture, out, canvas, frame):
+    ref = os.path.join(out, "canvas")
+    w, h = canvas
+    r = run([GLCAST, "replay", capture, "--canvas", f"{w}x{h}", "--tile-rect", f"0,0,{w},{h}",
+             "--frames", f"{frame}:{frame}", "--out", ref], env={k: v for k, v in os.environ.items() if k != "DISPLAY"})
+    check(r.returncode == 0, f"canvas replay failed: {r.stdout} {r.stderr}")
+    return os.path.join(ref, f"frame-{frame:06d}.png")
+
+
+def mosaic(program):
+    frames = 6
+    out, capture = wall_run("mosaic_" + os.path.basename(program[0]), "wall-2x2.json", program, frames)
+    last = f"frame-{frames - 1:06d}.png"
+    tiles = [os.path.join(out, t, last) for t in ("top-left", "top-right", "bottom-left", "bottom-right")]
+    for t in tiles:
+        check(os.path.exists(t), f"missing tile frame {t}")
+    stitched = os.path.join(out, "mosaic.png")
+    r = run([GLCAST, "image", "mosaic", "2x2", stitched] + tiles)
+    check(r.returncode == 0, r.stderr)
+    differing, max_diff = compare(stitched, canvas_replay(capture, out, (1280, 960), frames - 1))
+    print(f"{program[0]}: mosaic vs canvas: {differing} of {1280 * 960} pixels differ, max channel difference {max_diff}")
+    check(differing <= TOLERANCE * 1280 * 960, f"mosaic differs from the canvas in {differing} pixels")
+
+
+def case_mosaic_ff_scene():
+    mosaic([os.path.join(APPS, "ff_scene"), "--frames", "100"])
+
+
+def case_mosaic_core_scene():
+    mosaic([os.path.join(APPS, "core_scene"), "--frames", "100"])
+
+
+def case_mosaic_glfw_dynamic():
+    mosaic([os.path.join(APPS, "glfw_dynamic"), "--frames", "100"])
+
+
+def case_mosaic_glxgears():
+    mosaic(["glxgears"])
+
+
+def case_bezel():
+    frames = 4
+    out, capture = wall_run("bezel", "wall-3x2-bezel.json", [os.path.join(APPS, "ff_scene"), "--frames", "100"], frames)
+    canvas = canvas_replay(capture, out, (2000, 1000), frames - 1)
+    worst = 0
+    for name, x, y in (("top-left", 0, 0), ("top-middle", 680, 0), ("top-right", 1360, 0),
+                       ("bottom-left", 0, 520), ("bottom-middle", 680, 520), ("bottom-right", 1360, 520)):
+        tile = os.path.join(out, name, f"frame-{frames - 1:06d}.png")
+        check(os.path.exists(tile), f"missing {tile} (tiles: {os.listdir(out)})")
+        differing, _ = compare(canvas, tile, f"{x},{y},640,480")
+        worst = max(worst, differing)
+    print(f"bezel: worst tile differs from its canvas rectangle in {worst} of {640 * 480} pixels")
+    check(worst <= TOLERANCE * 640 * 480 * 6, f"a tile differs from its canvas rectangle in {worst} pixels")
+
+
+def start_program(out, frames, extra_env=None):
+    """xscreensaver's gears (EGL, about 30 frames per second: slaves keep up while it runs)
+    publishing on its own endpoints, with its own frames as the reference."""
+    stream = f"ipc://{out}/stream"
+    env = dict(os.environ, GLCAST_PUBLISH=stream, GLCAST_JOURNAL_ENDPOINT=stream + "-journal",
+               GLCAST_SNAPSHOT_DIR=os.path.join(out, "program"), GLCAST_FRAMES=str(frames),
+               GLCAST_EXIT_AFTER_FRAMES="1", LD_PRELOAD=os.environ["GLCAST_SHIM"], **(extra_env or {}))
+    hack = ["/usr/libexec/xscreensaver/gears", "-window", "-geometry", "320x240"]
+    return subprocess.Popen(hack, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True), stream
+
+
+def start_slave(stream, out_dir):
+    return subprocess.Popen([GLCAST, "slave", "--connect", stream, "--journal", stream + "-journal", "--backend", "egl",
+                             "--out", out_dir, "--wait", "120", "--quiet"], stderr=subprocess.PIPE, text=True)
+
+
+def wait_for(path, timeout=120):
+    end = time.monotonic() + timeout
+    while not os.path.exists(path):
+        check(time.monotonic() < end, f"{path} did not appear")
+        time.sleep(0.05)
+
+
+def same_frames(a_dir, b_dir):
+    frames = sorted(os.listdir(b_dir))
+    check(frames, f"{b_dir} is empty")
+    for f in frames:
+        differing, _ = compare(os.path.join(a_dir, f), os.path.join(b_dir, f))
+        check(differing == 0, f"{b_dir}/{f} differs from {a_dir}/{f} in {differing} pixels")
+    return len(frames)
+
+
+def case_late_join():
+    out = os.path.join(OUT, "late_join")
+    shutil.rmtree(out, ignore_errors=True)
+    os.makedirs(out)
+    program, stream = start_program(out, 300)
+    first = start_slave(stream, os.path.join(out, "first"))
+    wait_for(os.path.join(out, "program", "frame-000100.png"))
+    late = start_slave(stream, os.path.join(out, "late"))
+    wait_for(os.path.join(out, "late", "frame-000140.png"))
+    late.send_signal(signal.SIGKILL)
+    late.wait()
+    again = start_slave(stream, os.path.join(out, "again"))
+    program.wait(timeout=300)
+    for p in (first, again):
+        check(p.wait(timeout=300) == 0, f"slave failed: {p.stderr.read()[-2000:]}")
+    n_first = same_frames(os.path.join(out, "program"), os.path.join(out, "first"))
+    n_late = same_frames(os.path.join(out, "first"), os.path.join(out, "late"))
+    n_again = same_frames(os.path.join(out, "first"), os.path.join(out, "again"))
+    print(f"late join: {n_first} frames from the start, {n_late} from the late slave, {n_again} after SIGKILL and restart")
+
+
+def case_loss():
+    out = os.path.join(OUT, "loss")
+    shutil.rmtree(out, ignore_errors=True)
+    os.makedirs(out)
+    program, stream = start_program(out, 120, {"GLCAST_TEST_DROP_EVERY": "29", "GLCAST_WAIT_SUBSCRIBERS": "1"})
+    slave = start_slave(stream, os.path.join(out, "slave"))
+    program.wait(timeout=300)
+    rc = slave.wait(timeout=300)
+    log = slave.stderr.read()
+    check(rc == 0, f"slave failed: {log[-2000:]}")
+    check("messages lost" in log, f"the slave did not notice the loss: {log[-2000:]}")
+    n = same_frames(os.path.join(out, "program"), os.path.join(out, "slave"))
+    print(f"loss: {log.count('messages lost')} recoveries, {n} frames equal to the program's")
+
+
+def case_sigstop():
+    out = os.path.join(OUT, "sigstop")
+    shutil.rmtree(out, ignore_errors=True)
+    os.makedirs(out)
+    stream = f"ipc://{out}/stream"
+    slave = start_slave(stream, os.path.join(out, "slave"))
+    time.sleep(0.5)
+    os.kill(slave.pid, signal.SIGSTOP)
+    env = dict(os.environ, GLCAST_PUBLISH=stream, GLCAST_JOURNAL_ENDPOINT=stream + "-journal", GLCAST_FRAMES="3000",
+               GLCAST_EXIT_AFTER_FRAMES="1", LD_PRELOAD=os.environ["GLCAST_SHIM"])
+    t0 = time.monotonic()
+    # Blocked by the stopped slave, the program would never finish its 3000 frames.
+    r = subprocess.run(["glxgears"], env=env, capture_output=True, text=True, timeout=240)
+    elapsed = time.monotonic() - t0
+    os.kill(slave.pid, signal.SIGKILL)
+    slave.wait()
+    check(r.returncode == 0, f"glxgears failed: {r.stderr[-2000:]}")
+    print(f"sigstop: the program ran 3000 frames in {elapsed:.1f} s with its only slave stopped")
+
+
+if __name__ == "__main__":
+    with Xvfb():
+        globals()["case_" + sys.argv[1]]()
+    print("PASS")
