@@ -16,6 +16,7 @@ PublisherSink::PublisherSink(PublisherOptions options)
         // XPUB: a PUB socket that also reports subscriptions, for the start-up wait below.
         pub_ = std::make_unique<zmq::socket_t>(*context_, zmq::socket_type::xpub);
         pub_->set(zmq::sockopt::sndhwm, options_.send_hwm);
+        pub_->set(zmq::sockopt::xpub_verbose, 1);  // every subscription, not only the first of a topic
         pub_->set(zmq::sockopt::linger, 1000);
         pub_->bind(options_.endpoint);
     } catch (const zmq::error_t& e) {

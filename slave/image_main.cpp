@@ -11,7 +11,8 @@ namespace glcast::slave {
 const char* kImageUsage =
     "  image mosaic COLSxROWS OUT.png TILE.png...   tiles (row by row, from the top left) side by side\n"
     "  image compare A.png B.png [--crop X,Y,W,H]     differing pixels and the largest channel difference;\n"
-    "        exit 1 if they differ (--crop compares a rectangle of A, from the top left, with all of B)\n";
+    "        exit 1 if they differ (--crop compares a rectangle of A, from the top left, with all of B)\n"
+    "  image pixel IMAGE.png X,Y                     the colour at X,Y (from the top left)\n";
 
 static int fail(const std::string& msg) {
     std::fprintf(stderr, "glcast image: %s\n", msg.c_str());
@@ -62,6 +63,16 @@ int image_main(const std::vector<std::string>& args) {
         }
         std::printf("%" PRId64 " pixels differ, max channel difference %d\n", d.differing_pixels, d.max_channel_diff);
         return d.differing_pixels ? 1 : 0;
+    }
+    if (args.size() == 3 && args[0] == "pixel") {
+        Image a;
+        int x, y;
+        if (!read_png(args[1], a, error)) return fail(error);
+        if (std::sscanf(args[2].c_str(), "%d,%d", &x, &y) != 2 || x < 0 || y < 0 || x >= a.width || y >= a.height)
+            return fail("pixel takes X,Y inside the image, got '" + args[2] + "'");
+        const uint8_t* p = &a.rgba[(size_t(y) * a.width + x) * 4];
+        std::printf("%d %d %d\n", p[0], p[1], p[2]);
+        return 0;
     }
     return fail("usage:\n" + std::string(kImageUsage));
 }

@@ -29,6 +29,13 @@ NetworkSource::NetworkSource(std::string endpoint, std::string journal_endpoint,
 void NetworkSource::synchronize() {
     first_live_.clear();
     if (!journal_endpoint_.empty() && !receive_live(first_live_)) return;
+    MessageHeader h{};
+    if (first_live_.size() >= sizeof h) std::memcpy(&h, first_live_.data(), sizeof h);
+    if (h.magic == kMessageMagic && (h.sequence == 0 || (h.flags & kMsgStreamEnd))) {
+        snapshot_.clear();  // there from the first message (or the very end): nothing to catch up
+        expected_ = 0;
+        return;
+    }
     fetch_snapshot();
 }
 

@@ -11,14 +11,17 @@
 #include "protocol/decoder.h"
 #include "slave/image.h"
 #include "slave/replayer.h"
+#include "slave/tile_options.h"
 
 namespace glcast::slave {
 
 const char* kReplayUsage =
     "  replay FILE [--frames A:B] [--backend egl|osmesa|window] [--out DIR] [--compare DIR]\n"
-    "         [--size WxH] [--offset-names N] [--verify] [--canvas WxH --tile-rect X,Y,W,H]\n"
+    "         [--size WxH] [--offset-names N] [--verify] [--config FILE --tile NAME]\n"
+    "         [--canvas WxH --tile-rect X,Y,W,H]\n"
     "        replay a capture on the slave engine; --out writes frame-NNNNNN.png per swap,\n"
     "        --compare checks each frame against DIR/frame-NNNNNN.png (exit 1 on a mismatch);\n"
+    "        --config/--tile show one tile of a display config, as `glcast slave` does;\n"
     "        --canvas/--tile-rect stretch the program's window over a canvas and show one rectangle\n"
     "        of it (from the top left), as one tile of a wall does;\n"
     "        --verify also executes the calls that only answered the program (glGet*, glReadPixels,\n"
@@ -50,6 +53,7 @@ std::string frame_file(const std::string& dir, uint64_t frame) {
 int replay_main(const std::vector<std::string>& args) {
     std::string path, backend_kind = "egl", out_dir, compare_dir;
     uint64_t offset_names = 0;
+    std::string config_path, tile_name;
     ReplayOptions opt;
     for (size_t i = 0; i < args.size(); ++i) {
         const std::string& a = args[i];
@@ -81,6 +85,10 @@ int replay_main(const std::vector<std::string>& args) {
             opt.tile.width = w;
             opt.tile.height = h;
             opt.tile.y = y;  // converted to GL's bottom-left origin once the canvas is known
+        } else if (a == "--config" && has_value) {
+            config_path = args[++i];
+        } else if (a == "--tile" && has_value) {
+            tile_name = args[++i];
         } else if (a == "--verify") {
             opt.verify = true;
         } else if (a == "--offset-names" && has_value) {
@@ -101,6 +109,14 @@ int replay_main(const std::vector<std::string>& args) {
         }
     }
     if (path.empty()) return usage("which capture?");
+    if (!config_path.empty() || !tile_name.empty()) {
+        std::string error;
+        if (config_path.empty() || tile_name.empty()) return usage("--config and --tile go together");
+        if (!tile_options(config_path, tile_name, opt, error)) {
+            std::fprintf(stderr, "glcast replay: %s\n", error.c_str());
+            return 1;
+        }
+    }
     if (opt.tile.enabled) {
         if (!opt.tile.canvas_width) return usage("--tile-rect needs --canvas");
         if (opt.tile.x < 0 || opt.tile.y < 0 || opt.tile.x + opt.tile.width > opt.tile.canvas_width ||

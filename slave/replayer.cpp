@@ -283,6 +283,60 @@ void Replayer::check_return_string(const Call& c, const char* slave_value) {
         mismatch(c, "returned \"" + std::string(slave_value ? slave_value : "") + "\", the master got \"" + master + "\"");
 }
 
+// --- rotated tiles: the projection correction (slave/view_correction.h) ----------------
+
+void Replayer::track_matrix_call(const Call& c) {
+    SlaveContext& ctx = current();
+    switch (c.opcode) {
+    case OP_glMatrixMode: ctx.matrix_mode = uint32_t(c.args[0].bits); return;
+    case OP_glPushMatrix:
+        if (ctx.matrix_mode == GL_PROJECTION) ctx.projection.push_back(ctx.projection.back());
+        return;
+    case OP_glPopMatrix:
+        if (ctx.matrix_mode == GL_PROJECTION && ctx.projection.size() > 1) ctx.projection.pop_back();
+        return;
+    default: break;
+    }
+    if (ctx.matrix_mode != GL_PROJECTION) return;
+    auto& top = ctx.projection.back();
+    switch (c.opcode) {
+    case OP_glLoadIdentity: case OP_glLoadMatrixf: case OP_glLoadMatrixd: case OP_glLoadTransposeMatrixf:
+    case OP_glLoadTransposeMatrixd:
+        top = SlaveContext::Projection{};  // the program's own matrix again
+        break;
+    case OP_glMultMatrixf: case OP_glMultMatrixd: case OP_glMultTransposeMatrixf: case OP_glMultTransposeMatrixd:
+    case OP_glFrustum: case OP_glOrtho: case OP_glRotatef: case OP_glRotated: case OP_glTranslatef:
+    case OP_glTranslated: case OP_glScalef: case OP_glScaled:
+        top.dirty = top.corrected;  // M * P_app * X: M must be redone for P_app * X
+        break;
+    default: break;
+    }
+}
+
+// Before a draw on the window of a fixed-function program: make GL_PROJECTION hold
+// M * P_app for the program's current P_app.
+void Replayer::correct_projection() {
+    SlaveContext& ctx = current();
+    GLint program = 0;
+    gl<decltype(&::glGetIntegerv)>(OP_glGetIntegerv)(GL_CURRENT_PROGRAM, &program);
+    if (program || !ctx.drawing_to_window) return;  // shader programs and the program's FBOs: untouched
+    auto& top = ctx.projection.back();
+    if (top.corrected && !top.dirty) return;
+    GLdouble current[16];
+    gl<decltype(&::glGetDoublev)>(OP_glGetDoublev)(GL_PROJECTION_MATRIX, current);
+    glm::dmat4 p;
+    std::memcpy(&p[0][0], current, sizeof current);
+    const glm::dmat4 app = top.corrected ? glm::inverse(top.m) * p : p;
+    const glm::dmat4 m = options_.view.correction(app);
+    const glm::dmat4 corrected = m * app;
+    GLint mode = GL_MODELVIEW;
+    gl<decltype(&::glGetIntegerv)>(OP_glGetIntegerv)(GL_MATRIX_MODE, &mode);
+    gl<decltype(&::glMatrixMode)>(OP_glMatrixMode)(GL_PROJECTION);
+    gl<decltype(&::glLoadMatrixd)>(OP_glLoadMatrixd)(&corrected[0][0]);
+    gl<decltype(&::glMatrixMode)>(OP_glMatrixMode)(GLenum(mode));
+    top = SlaveContext::Projection{true, false, m};
+}
+
 // --- the loop ------------------------------------------------------------------------
 
 void Replayer::reset() {
@@ -344,7 +398,13 @@ void Replayer::dispatch(const Call& c) {
     case ReplayKind::Generated:
     case ReplayKind::Handwritten:
         current();  // a GL call needs a current context
+        if (options_.view.enabled) {
+            if ((c.info->flags & kDraw) || c.opcode == OP_glBegin || c.opcode == OP_glCallList ||
+                c.opcode == OP_glCallLists)
+                correct_projection();
+        }
         kReplay[c.opcode](*this, c);
+        if (options_.view.enabled) track_matrix_call(c);
         stats_.replayed++;
         if (c.opcode == OP_glUseProgram || c.opcode == OP_glUseProgramObjectARB) current().current_program = c.args[0].bits;
         break;

@@ -23,6 +23,7 @@
 #include "slave/backend.h"
 #include "slave/name_map.h"
 #include "slave/tile_mapping.h"
+#include "slave/view_correction.h"
 
 namespace glcast::slave {
 
@@ -48,6 +49,15 @@ struct SlaveContext {
     int32_t viewport[4] = {0, 0, 0, 0}, scissor[4] = {0, 0, 0, 0};
     int master_width = 0, master_height = 0;  // the master's drawable
     bool drawing_to_window = true;
+    // Projection correction of rotated tiles, one entry per GL_PROJECTION stack level: whether
+    // the level holds M * P_app, whether the program changed it since (relative to M * P_app),
+    // and the M it holds.
+    struct Projection {
+        bool corrected = false, dirty = false;
+        glm::dmat4 m{1.0};
+    };
+    std::vector<Projection> projection = std::vector<Projection>(1);
+    uint32_t matrix_mode = 0x1700;  // GL_MODELVIEW
 };
 
 struct ReplayOptions {
@@ -56,6 +66,7 @@ struct ReplayOptions {
     bool verbose = false;
     bool verify = false;            // execute reply-only calls too and compare with the replies
     TileMapping tile;               // show one tile of a wall instead of the whole window
+    ViewCorrection view;            // a rotated or asymmetric tile (fixed-function programs)
 };
 
 struct ReplayStats {
@@ -144,6 +155,8 @@ private:
     void* arena(size_t bytes);
     void dispatch(const Call& c);
     void follow_context(const Call& c);
+    void track_matrix_call(const Call& c);
+    void correct_projection();
     void window_system(const Call& c);
     void synthetic(const Call& c);
     void client_arrays(const Call& c);

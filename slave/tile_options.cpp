@@ -14,11 +14,17 @@ bool tile_options(const std::string& path, const std::string& name, ReplayOption
         error += ")";
         return false;
     }
-    if (tile->view.enabled) {
-        error = path + ": tile \"" + name + "\" has a rotated view; this slave shows planar tiles only so far";
-        return false;
-    }
     TileMapping& m = options.tile;
+    if (tile->view.enabled) {
+        // The program's whole window on the tile, seen through the tile's own camera.
+        const TileView& v = tile->view;
+        options.view = ViewCorrection{true, v.yaw_deg, v.pitch_deg, v.roll_deg, v.left_deg, v.right_deg, v.bottom_deg, v.top_deg};
+        m.enabled = true;
+        m.canvas_width = m.width = tile->width;
+        m.canvas_height = m.height = tile->height;
+        m.x = m.y = 0;
+        return true;
+    }
     m.enabled = true;
     m.canvas_width = config.canvas_width;
     m.canvas_height = config.canvas_height;

@@ -122,6 +122,40 @@ def case_bezel():
     check(worst <= TOLERANCE * 640 * 480 * 6, f"a tile differs from its canvas rectangle in {worst} pixels")
 
 
+def pixel(image, x, y):
+    r = run([GLCAST, "image", "pixel", image, f"{x},{y}"])
+    check(r.returncode == 0, r.stderr)
+    return tuple(int(v) for v in r.stdout.split())
+
+
+def pillar_colour(k):  # tests/apps_extra/pillars.c
+    return (40 + 16 * k, 200 - 12 * k, 255 - 20 * k)
+
+
+def case_cylinder():
+    # A ring of pillars every 30 degrees around the viewer; six tiles every 60 degrees, each
+    # from -30 to +30: pillar 2i stands at the centre of tile i, pillar 2i+1 on the seam
+    # between tile i and tile i+1, and must show on both sides of it.
+    out = os.path.join(OUT, "cylinder")
+    shutil.rmtree(out, ignore_errors=True)
+    r = run([GLCAST, "run", "--config", os.path.join(CONFIGS, "cylinder-360.json"), "--backend", "egl", "--out", out,
+             "--frames", "1", "--", os.path.join(APPS, "pillars"), "--size", "400x300", "--frames", "5"])
+    check(r.returncode == 0, f"glcast run failed: {r.stderr[-3000:]}")
+    tiles = [f"yaw{60 * i:03d}" for i in range(6)]
+    frame = "frame-000000.png"
+    y = 1200 * 30 // 50 - 100  # a little above the horizon (top +30, bottom -20 degrees)
+    for i, tile in enumerate(tiles):
+        image = os.path.join(out, tile, frame)
+        centre = pixel(image, 800, y)
+        check(centre == pillar_colour(2 * i), f"{tile} centre shows {centre}, pillar {2 * i} is {pillar_colour(2 * i)}")
+        right = pixel(image, 1599, y)
+        left_of_next = pixel(os.path.join(out, tiles[(i + 1) % 6], frame), 0, y)
+        seam = pillar_colour((2 * i + 1) % 12)
+        check(right == seam and left_of_next == seam,
+              f"seam {tile}|{tiles[(i + 1) % 6]} shows {right}|{left_of_next}, pillar {(2 * i + 1) % 12} is {seam}")
+    print("cylinder: every tile faces its pillar, every seam shows the pillar standing on it on both sides")
+
+
 def start_program(out, frames, extra_env=None):
     """xscreensaver's gears (EGL, about 30 frames per second: slaves keep up while it runs)
     publishing on its own endpoints, with its own frames as the reference."""

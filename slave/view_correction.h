@@ -1,0 +1,25 @@
+// Rotated and asymmetric tiles (cylinders, CAVEs; design.md 5): the tile shows what a camera
+// turned by the tile's yaw/pitch/roll sees through its own asymmetric frustum. Applied after
+// the program's own transform as a clip-space correction
+//
+//     M = P_tile * R_tile^T * P_app^-1
+//
+// premultiplied into GL_PROJECTION for fixed-function programs. Lighting stays in the
+// program's eye space, so it agrees on every tile. Near and far come from the program's
+// projection, so depth keeps its range.
+#pragma once
+
+#include <glm/glm.hpp>
+
+namespace glcast::slave {
+
+struct ViewCorrection {
+    bool enabled = false;
+    double yaw_deg = 0, pitch_deg = 0, roll_deg = 0;
+    double left_deg = -30, right_deg = 30, bottom_deg = -20, top_deg = 30;
+
+    // The correction for a program projection `app` (column-major, as GL stores it).
+    glm::dmat4 correction(const glm::dmat4& app) const;
+};
+
+}  // namespace glcast::slave

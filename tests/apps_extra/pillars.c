@@ -1,0 +1,70 @@
+/*
+ * pillars.c - a viewer in the middle of a ring of coloured pillars, for the rotated-view
+ * tests (cylinder and CAVE walls). Fixed function, GLX. The camera sits at the origin looking
+ * down -Z with a 60-degree horizontal field of view; pillar k stands at yaw k*30 degrees
+ * (positive to the right), 6 units away, in a colour that encodes k: red = 40 + 16 k, green =
+ * 200 - 12 k, blue = 255 - 20 k, unlit, so a tile that faces yaw k*30 shows that colour at its
+ * centre. A grey floor below the horizon.
+ *
+ *   pillars [--frames N] [--size WxH]
+ */
+#include <GL/gl.h>
+#include <GL/glx.h>
+#include <math.h>
+#include <stdio.h>
+
+#include "../apps/app_common.h"
+
+int main(int argc, char **argv)
+{
+    struct app_args a;
+    app_parse_args("pillars", argc, argv, &a);
+    Display *dpy = XOpenDisplay(NULL);
+    if (!dpy) {
+        fprintf(stderr, "pillars: cannot open display\n");
+        return 1;
+    }
+    int attribs[] = {GLX_RGBA, GLX_DOUBLEBUFFER, GLX_RED_SIZE, 8, GLX_GREEN_SIZE, 8, GLX_BLUE_SIZE, 8, GLX_DEPTH_SIZE, 24, None};
+    XVisualInfo *vi = glXChooseVisual(dpy, DefaultScreen(dpy), attribs);
+    XSetWindowAttributes swa;
+    swa.colormap = XCreateColormap(dpy, RootWindow(dpy, vi->screen), vi->visual, AllocNone);
+    Window win = XCreateWindow(dpy, RootWindow(dpy, vi->screen), 0, 0, a.width, a.height, 0, vi->depth, InputOutput,
+                               vi->visual, CWColormap, &swa);
+    XMapWindow(dpy, win);
+    GLXContext ctx = glXCreateContext(dpy, vi, NULL, True);
+    glXMakeCurrent(dpy, win, ctx);
+    for (int f = 0; f < a.frames; f++) {
+        glViewport(0, 0, a.width, a.height);
+        glClearColor(0, 0, 0, 1);
+        glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+        glEnable(GL_DEPTH_TEST);
+        glMatrixMode(GL_PROJECTION);
+        glLoadIdentity();
+        const double n = 0.5, half = n * tan(30.0 * M_PI / 180.0);
+        glFrustum(-half, half, -half * a.height / a.width, half * a.height / a.width, n, 100.0);
+        glMatrixMode(GL_MODELVIEW);
+        glLoadIdentity();
+        glBegin(GL_QUADS);  /* the floor */
+        glColor3ub(90, 90, 90);
+        glVertex3f(-50, -2, -50); glVertex3f(50, -2, -50); glVertex3f(50, -2, 50); glVertex3f(-50, -2, 50);
+        glEnd();
+        for (int k = 0; k < 12; k++) {
+            const double yaw = k * 30.0 * M_PI / 180.0, x = 6 * sin(yaw), z = -6 * cos(yaw), w = 0.6;
+            const double tx = cos(yaw) * w, tz = sin(yaw) * w;  /* across the line of sight */
+            glColor3ub((GLubyte)(40 + 16 * k), (GLubyte)(200 - 12 * k), (GLubyte)(255 - 20 * k));
+            glBegin(GL_QUADS);
+            glVertex3d(x - tx, -2, z - tz); glVertex3d(x + tx, -2, z + tz);
+            glVertex3d(x + tx, 6, z + tz); glVertex3d(x - tx, 6, z - tz);
+            glEnd();
+        }
+        glXSwapBuffers(dpy, win);
+        if (glGetError() != GL_NO_ERROR) {
+            fprintf(stderr, "pillars: GL error\n");
+            return 1;
+        }
+    }
+    glXMakeCurrent(dpy, None, NULL);
+    glXDestroyContext(dpy, ctx);
+    XCloseDisplay(dpy);
+    return 0;
+}
