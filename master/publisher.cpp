@@ -4,7 +4,9 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <map>
 
 #include "protocol/format.h"
 
@@ -90,7 +92,8 @@ void PublisherSink::serve_snapshots() {
         } while (router.get(zmq::sockopt::rcvmore));
         if (request.size() < 2) continue;
         const std::string identity = request.front().to_string();
-        if (request.back().to_string() != "SNAPSHOT") continue;
+        const std::string what = request.back().to_string();
+        if (what != "SNAPSHOT") continue;
         std::vector<std::vector<uint8_t>> copy;
         bool complete;
         {

@@ -12,11 +12,13 @@
 #include <cstdlib>
 #include <cstring>
 #include <map>
+#include <memory>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "master/launcher.h"
+#include "master/swap_barrier.h"
 #include "slave/display_config.h"
 
 namespace glcast {
@@ -89,6 +91,7 @@ int run_main(const std::vector<std::string>& args) {
     const std::vector<std::string> program(args.begin() + long(i) + 1, args.end());
 
     std::vector<std::string> tiles;
+    bool swap_barrier = false;
     if (!config_path.empty()) {
         slave::DisplayConfig config;
         std::string error;
@@ -97,6 +100,7 @@ int run_main(const std::vector<std::string>& args) {
             return 1;
         }
         for (const auto& t : config.tiles) tiles.push_back(t.name);
+        swap_barrier = config.swap_barrier;
     }
     char dir[] = "/tmp/glcast-run-XXXXXX";
     if (!mkdtemp(dir)) {
@@ -108,6 +112,14 @@ int run_main(const std::vector<std::string>& args) {
     std::fprintf(stderr, "glcast run: stream on %s, journal on %s\n", endpoint.c_str(), journal.c_str());
     if (!out_dir.empty()) ::mkdir(out_dir.c_str(), 0755);
 
+    // The swap barrier outlives the program: slaves may present its last frames after it ended.
+    const std::string barrier_endpoint = std::string("ipc://") + dir + "/barrier";
+    std::unique_ptr<SwapBarrier> barrier;
+    if (swap_barrier) {
+        barrier = std::make_unique<SwapBarrier>(barrier_endpoint, int(tiles.size()));
+        std::fprintf(stderr, "glcast run: swap barrier on %s for %zu tiles\n", barrier_endpoint.c_str(), tiles.size());
+    }
+
     // Slaves first: they join through the journal whenever the program starts publishing.
     std::map<pid_t, std::string> slaves;
     const std::string exe = self_exe();
@@ -117,6 +129,9 @@ int run_main(const std::vector<std::string>& args) {
                                          connectable(journal), "--backend", backend, "--wait", "120"};
         if (!tile.empty()) argv.insert(argv.end(), {"--config", config_path, "--tile", tile});
         if (!out_dir.empty()) argv.insert(argv.end(), {"--out", out_dir + "/" + (tile.empty() ? "window" : tile)});
+        if (swap_barrier) argv.insert(argv.end(), {"--swap-barrier", barrier_endpoint});
+        if (const char* log = std::getenv("GLCAST_TEST_PRESENT_LOG_DIR"))
+            setenv("GLCAST_TEST_PRESENT_LOG", (std::string(log) + "/" + (tile.empty() ? "window" : tile)).c_str(), 1);
         slaves[spawn(argv)] = tile.empty() ? "window" : tile;
     }
     std::map<std::string, std::string> env{{"GLCAST_PUBLISH", endpoint},
@@ -153,7 +168,8 @@ int run_main(const std::vector<std::string>& args) {
         std::this_thread::sleep_for(std::chrono::milliseconds(50));
     }
     std::string cleanup = std::string(dir);
-    for (const char* f : {"/stream", "/stream-journal"}) ::unlink((cleanup + f).c_str());
+    barrier.reset();
+    for (const char* f : {"/stream", "/stream-journal", "/barrier"}) ::unlink((cleanup + f).c_str());
     ::rmdir(dir);
     if (status != 0) return status < 0 ? 1 : status;
     return failed ? 1 : 0;

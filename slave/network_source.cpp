@@ -39,7 +39,27 @@ void NetworkSource::synchronize() {
     fetch_snapshot();
 }
 
+bool NetworkSource::barrier(const std::string& endpoint, uint64_t frame, int timeout_ms) {
+    if (!barrier_) {
+        barrier_ = std::make_unique<zmq::socket_t>(*context_, zmq::socket_type::dealer);
+        barrier_->set(zmq::sockopt::linger, 0);
+        barrier_->connect(endpoint);
+    }
+    const std::string ready = "READY " + std::to_string(frame), go = "GO " + std::to_string(frame);
+    barrier_->send(zmq::buffer(ready), zmq::send_flags::none);
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
+    while (std::chrono::steady_clock::now() < deadline) {
+        zmq::pollitem_t item{barrier_->handle(), 0, ZMQ_POLLIN, 0};
+        zmq::poll(&item, 1, std::chrono::milliseconds(50));
+        if (!(item.revents & ZMQ_POLLIN)) continue;
+        zmq::message_t answer;
+        if (barrier_->recv(answer) && answer.to_string() == go) return true;  // older GOs are skipped
+    }
+    return false;
+}
+
 NetworkSource::~NetworkSource() {
+    barrier_.reset();
     sub_.reset();
     context_->shutdown();
 }

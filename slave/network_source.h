@@ -31,6 +31,9 @@ public:
     std::function<void()> on_restart;
 
     bool live() const { return live_; }              // the last message came from the live stream
+    // Swap barrier: tells the master this tile has frame `frame` and waits (at most `timeout_ms`)
+    // until every tile has it. False on a timeout.
+    bool barrier(const std::string& endpoint, uint64_t frame, int timeout_ms);
     uint64_t recoveries() const { return recoveries_; }
     uint64_t bytes() const { return bytes_; }
     uint64_t master_frame() const { return master_frame_; }  // the newest frame the master sent
@@ -51,6 +54,7 @@ private:
     bool live_ = false;
     uint64_t recoveries_ = 0, bytes_ = 0, master_frame_ = 0;
     std::string gap_;
+    std::unique_ptr<zmq::socket_t> barrier_;
 };
 
 }  // namespace glcast::slave

@@ -83,6 +83,8 @@ public:
     std::function<void(uint64_t frame, int width, int height, const std::vector<uint8_t>& rgba)> on_frame;
     // Called once before the first call, with the slave current: lets tests allocate names.
     std::function<void(Replayer&)> on_first_context;
+    // Called just before each frame is presented (the swap barrier waits here).
+    std::function<void(uint64_t frame)> before_present;
 
     void replay(MessageSource& source);  // throws DecodeError on a bad stream
     // Forgets every context and name: the state of a slave that has seen nothing yet (a slave

@@ -20,8 +20,10 @@ namespace glcast::slave {
 const char* kSlaveUsage =
     "  slave --connect ENDPOINT [--journal ENDPOINT] [--config FILE --tile NAME]\n"
     "        [--backend egl|osmesa|window] [--out DIR] [--frames A:B] [--wait SECONDS] [--quiet]\n"
+    "        [--swap-barrier ENDPOINT]\n"
     "        one tile of a wall: subscribe to a master (glcast run prints its endpoints), join\n"
-    "        through its journal, replay; --out writes the tile's frames as PNGs\n";
+    "        through its journal, replay; --out writes the tile's frames as PNGs; --swap-barrier\n"
+    "        presents each frame only when every tile of the wall has it (glcast run prints the endpoint)\n";
 
 namespace {
 
@@ -37,6 +39,7 @@ int slave_main(const std::vector<std::string>& args) {
     ReplayOptions opt;
     int wait_seconds = 60;
     bool quiet = false;
+    std::string barrier_endpoint;
     for (size_t i = 0; i < args.size(); ++i) {
         const std::string& a = args[i];
         const bool v = i + 1 < args.size();
@@ -47,6 +50,7 @@ int slave_main(const std::vector<std::string>& args) {
         else if (a == "--backend" && v) backend_kind = args[++i];
         else if (a == "--out" && v) out_dir = args[++i];
         else if (a == "--quiet") quiet = true;
+        else if (a == "--swap-barrier" && v) barrier_endpoint = args[++i];
         else if (a == "--wait" && v) {
             wait_seconds = std::atoi(args[++i].c_str());
             if (wait_seconds <= 0 || wait_seconds > 86400) return usage("--wait takes 1..86400 seconds");
@@ -86,6 +90,16 @@ int slave_main(const std::vector<std::string>& args) {
                          label.c_str(), source.gap().c_str());
             replayer.reset();
         };
+        // Test hook: the time each frame is presented, one "frame seconds" line per present.
+        FILE* present_log = std::getenv("GLCAST_TEST_PRESENT_LOG") ? std::fopen(std::getenv("GLCAST_TEST_PRESENT_LOG"), "w") : nullptr;
+        replayer.before_present = [&](uint64_t frame) {
+            if (!barrier_endpoint.empty() && source.live() && !source.barrier(barrier_endpoint, frame, 5000))
+                std::fprintf(stderr, "glcast slave %s: swap barrier: frame %" PRIu64 " went alone after 5 s\n",
+                             label.c_str(), frame);
+            if (present_log)
+                std::fprintf(present_log, "%" PRIu64 " %.6f\n", frame,
+                             std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count());
+        };
         auto last = std::chrono::steady_clock::now();
         uint64_t frames_at_last = 0, bytes_at_last = 0;
         replayer.on_frame = [&](uint64_t frame, int w, int h, const std::vector<uint8_t>& rgba) {
@@ -113,6 +127,7 @@ int slave_main(const std::vector<std::string>& args) {
         // Frames are read back only when written; without --out the status line still needs the
         // swap callback, which costs a readback: acceptable for a wall tile's status.
         replayer.replay(source);
+        if (present_log) std::fclose(present_log);
         const ReplayStats& s = replayer.stats();
         std::fprintf(stderr, "\nglcast slave %s: the program ended; %" PRIu64 " frames, %" PRIu64 " errors, %" PRIu64
                              " recoveries\n",

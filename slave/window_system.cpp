@@ -202,6 +202,7 @@ void Replayer::end_frame() {
         bind_fb(GL_READ_FRAMEBUFFER, GLuint(read_fb));
         on_frame(frame_, w, h, rgba);
     }
+    if (before_present) before_present(frame_);
     backend_->present();
     frame_++;
     stats_.frames++;

@@ -156,6 +156,31 @@ def case_cylinder():
     print("cylinder: every tile faces its pillar, every seam shows the pillar standing on it on both sides")
 
 
+def case_swap_barrier():
+    # With the barrier, no tile presents frame N+1 before every tile presented frame N.
+    out = os.path.join(OUT, "swap_barrier")
+    shutil.rmtree(out, ignore_errors=True)
+    logs = os.path.join(out, "presents")
+    os.makedirs(logs)
+    config = os.path.join(ROOT, "tests", "configs", "wall-2x2-barrier.json")
+    r = run([GLCAST, "run", "--config", config, "--backend", "egl", "--frames", "60", "--", "glxgears"],
+            env=dict(os.environ, GLCAST_TEST_PRESENT_LOG_DIR=logs))
+    check(r.returncode == 0, f"glcast run failed: {r.stderr[-3000:]}")
+    check("went alone" not in r.stderr, f"a barrier timed out: {r.stderr[-2000:]}")
+    times = {}
+    for tile in os.listdir(logs):
+        for line in open(os.path.join(logs, tile)):
+            frame, t = line.split()
+            times.setdefault(int(frame), []).append(float(t))
+    frames = sorted(f for f, ts in times.items() if len(ts) == 4)
+    check(len(frames) >= 50, f"only {len(frames)} frames presented by all four tiles")
+    for a, b in zip(frames, frames[1:]):
+        check(max(times[a]) < min(times[b]), f"a tile presented frame {b} before every tile had presented frame {a}")
+    spread = max(max(times[f]) - min(times[f]) for f in frames)
+    print(f"swap barrier: {len(frames)} frames, every tile presented frame N before any presented N+1; "
+          f"widest spread within a frame {spread * 1000:.1f} ms")
+
+
 def start_program(out, frames, extra_env=None):
     """xscreensaver's gears (EGL, about 30 frames per second: slaves keep up while it runs)
     publishing on its own endpoints, with its own frames as the reference."""
