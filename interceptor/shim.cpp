@@ -1,7 +1,10 @@
 // Per-thread recursion guard, tuple recording and the stream's lifetime inside the host program.
 #include "interceptor/shim.h"
 
+#include <time.h>
 #include <unistd.h>
+
+#include <cstdlib>
 
 #include <atomic>
 #include <cstdio>
@@ -143,6 +146,14 @@ void on_frame_end() {
     Stream* s = stream();
     if (!s) return;
     s->end_frame();
+    // Benchmark hook: when each frame left the program (CLOCK_MONOTONIC), for wall latencies.
+    static FILE* swap_log = std::getenv("GLCAST_TEST_SWAP_LOG") ? std::fopen(std::getenv("GLCAST_TEST_SWAP_LOG"), "w") : nullptr;
+    if (swap_log) {
+        timespec ts;
+        clock_gettime(CLOCK_MONOTONIC, &ts);
+        std::fprintf(swap_log, "%llu %.6f\n", (unsigned long long)(s->frame() - 1), ts.tv_sec + ts.tv_nsec * 1e-9);
+        std::fflush(swap_log);
+    }
     const ShimConfig& c = shim_config();
     if (c.frames && s->frame() >= c.frames) {
         g_recording = false;

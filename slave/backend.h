@@ -45,7 +45,8 @@ public:
 };
 
 // kind: "egl" (EGL surfaceless: headless, also the path for GPUs), "osmesa" (software),
-// "window" (GLFW window; needs a display). nullptr with `error` set when unavailable.
+// "window" (GLFW window; needs a display), "null" (no driver: distribution benchmarks).
+// nullptr with `error` set when unavailable.
 std::unique_ptr<Backend> make_backend(const std::string& kind, std::string& error);
 
 }  // namespace glcast::slave

@@ -11,6 +11,7 @@ namespace glcast::slave {
 std::unique_ptr<Backend> make_egl_backend(std::string& error);
 std::unique_ptr<Backend> make_osmesa_backend(std::string& error);
 std::unique_ptr<Backend> make_window_backend(std::string& error);
+std::unique_ptr<Backend> make_null_backend(std::string& error);
 
 // "3.3 core", "4.6 core forward-compatible debug", "compatibility (highest)": for messages.
 inline std::string describe(const ContextRequest& r) {
