@@ -19,6 +19,9 @@ PublisherSink::PublisherSink(PublisherOptions options)
         pub_ = std::make_unique<zmq::socket_t>(*context_, zmq::socket_type::xpub);
         pub_->set(zmq::sockopt::sndhwm, options_.send_hwm);
         pub_->set(zmq::sockopt::xpub_verbose, 1);  // every subscription, not only the first of a topic
+        // PGM multicast sends at most ZMQ_RATE kbit/s (default 100): a GL stream needs more.
+        if (options_.endpoint.rfind("epgm://", 0) == 0 || options_.endpoint.rfind("pgm://", 0) == 0)
+            pub_->set(zmq::sockopt::rate, 1000000);
         pub_->set(zmq::sockopt::linger, 1000);
         pub_->bind(options_.endpoint);
     } catch (const zmq::error_t& e) {

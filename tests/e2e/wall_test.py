@@ -181,6 +181,49 @@ def case_swap_barrier():
           f"widest spread within a frame {spread * 1000:.1f} ms")
 
 
+def case_multicast():
+    # epgm:// (PGM over UDP) from one network namespace to another over a veth pair, made here.
+    if os.geteuid() != 0 or not shutil.which("ip"):
+        print("SKIP: multicast needs root and iproute2 to make two network namespaces")
+        return
+    out = os.path.join(OUT, "multicast")
+    shutil.rmtree(out, ignore_errors=True)
+    os.makedirs(out)
+    a, b = f"glcast-m{os.getpid()}", f"glcast-s{os.getpid()}"
+    va, vb = f"gcm{os.getpid() % 100000}", f"gcs{os.getpid() % 100000}"
+    setup = [["ip", "netns", "add", a], ["ip", "netns", "add", b],
+             ["ip", "link", "add", va, "type", "veth", "peer", "name", vb],
+             ["ip", "link", "set", va, "netns", a], ["ip", "link", "set", vb, "netns", b],
+             ["ip", "netns", "exec", a, "ip", "addr", "add", "10.213.0.1/24", "dev", va],
+             ["ip", "netns", "exec", b, "ip", "addr", "add", "10.213.0.2/24", "dev", vb]]
+    for ns, dev in ((a, va), (b, vb)):
+        setup += [["ip", "netns", "exec", ns, "ip", "link", "set", dev, "up"],
+                  ["ip", "netns", "exec", ns, "ip", "link", "set", "lo", "up"],
+                  ["ip", "netns", "exec", ns, "ip", "route", "add", "224.0.0.0/4", "dev", dev]]
+    try:
+        for cmd in setup:
+            r = run(cmd)
+            if r.returncode != 0:
+                print(f"SKIP: cannot make network namespaces here ({' '.join(cmd)}: {r.stderr.strip()})")
+                return
+        group = "239.192.7.7:5555"
+        slave = subprocess.Popen(["ip", "netns", "exec", b, GLCAST, "slave", "--connect", f"epgm://10.213.0.2;{group}",
+                                  "--journal", "tcp://10.213.0.1:5556", "--backend", "egl", "--out",
+                                  os.path.join(out, "slave"), "--wait", "60", "--quiet"], stderr=subprocess.PIPE, text=True)
+        time.sleep(1)
+        env = dict(os.environ, GLCAST_PUBLISH=f"epgm://10.213.0.1;{group}", GLCAST_JOURNAL_ENDPOINT="tcp://10.213.0.1:5556",
+                   GLCAST_SNAPSHOT_DIR=os.path.join(out, "program"), GLCAST_FRAMES="60", GLCAST_EXIT_AFTER_FRAMES="1",
+                   LD_PRELOAD=os.environ["GLCAST_SHIM"])
+        r = run(["ip", "netns", "exec", a, "glxgears"], env=env, timeout=120)
+        check(r.returncode == 0, f"glxgears failed: {r.stderr[-2000:]}")
+        check(slave.wait(timeout=120) == 0, f"slave failed: {slave.stderr.read()[-2000:]}")
+        n = same_frames(os.path.join(out, "program"), os.path.join(out, "slave"))
+        print(f"multicast: {n} frames over epgm:// between two network namespaces equal the program's")
+    finally:
+        run(["ip", "netns", "del", a])
+        run(["ip", "netns", "del", b])
+
+
 def start_program(out, frames, extra_env=None):
     """xscreensaver's gears (EGL, about 30 frames per second: slaves keep up while it runs)
     publishing on its own endpoints, with its own frames as the reference."""
