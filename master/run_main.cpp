@@ -56,9 +56,15 @@ pid_t spawn(const std::vector<std::string>& argv) {
     return pid;
 }
 
-// The journal's endpoint beside the stream's: the next TCP port, or a sibling IPC path.
+// The journal's endpoint beside the stream's: the next TCP port (on the multicast interface's
+// address for epgm://ADDRESS;GROUP:PORT), or a sibling IPC path.
 std::string journal_endpoint(const std::string& stream) {
     const size_t colon = stream.rfind(':');
+    const size_t semicolon = stream.find(';');
+    if (stream.rfind("epgm://", 0) == 0 && semicolon != std::string::npos && colon != std::string::npos) {
+        const int port = std::atoi(stream.c_str() + colon + 1);
+        return "tcp://" + stream.substr(7, semicolon - 7) + ":" + std::to_string(port + 1);
+    }
     if (stream.rfind("tcp://", 0) == 0 && colon != std::string::npos && colon > 6) {
         const int port = std::atoi(stream.c_str() + colon + 1);
         if (port > 0 && port < 65535) return stream.substr(0, colon + 1) + std::to_string(port + 1);
