@@ -112,8 +112,10 @@ bool write_png(const std::string& path, const Image& image, std::string& error) 
                 std::to_string(image.height) + ", " + std::to_string(image.rgba.size()) + " bytes)";
         return false;
     }
+    // Written beside and renamed into place: a reader (or a killed writer) never meets half a file.
+    const std::string part = path + ".part";
     File file;
-    file.f = std::fopen(path.c_str(), "wb");
+    file.f = std::fopen(part.c_str(), "wb");
     if (!file.f) {
         error = "write_png " + path + ": " + std::strerror(errno);
         return false;
@@ -135,11 +137,13 @@ bool write_png(const std::string& path, const Image& image, std::string& error) 
     const bool closed = std::fclose(file.f) == 0;
     file.f = nullptr;
     if (!ok) {
+        std::remove(part.c_str());
         error = "write_png " + path + ": libpng: " + errors.message;
         return false;
     }
-    if (!closed) {
+    if (!closed || std::rename(part.c_str(), path.c_str()) != 0) {
         error = "write_png " + path + ": " + std::strerror(errno);
+        std::remove(part.c_str());
         return false;
     }
     return true;

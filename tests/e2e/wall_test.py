@@ -248,7 +248,7 @@ def wait_for(path, timeout=120):
 
 
 def same_frames(a_dir, b_dir):
-    frames = sorted(os.listdir(b_dir))
+    frames = sorted(f for f in os.listdir(b_dir) if f.endswith(".png"))
     check(frames, f"{b_dir} is empty")
     for f in frames:
         differing, _ = compare(os.path.join(a_dir, f), os.path.join(b_dir, f))
