@@ -42,6 +42,10 @@ public:
 
     // Shows the finished frame of the current context (a swap). Headless backends do nothing.
     virtual void present() = 0;
+
+    // Where on the screen the window backend puts its windows (a tile's place on the canvas, so
+    // that the tiles of a wall on one screen form its image). Others ignore it.
+    virtual void set_position(int x, int y) { (void)x, (void)y; }
 };
 
 // kind: "egl" (EGL surfaceless: headless, also the path for GPUs), "osmesa" (software),

@@ -82,6 +82,8 @@ int slave_main(const std::vector<std::string>& args) {
         return 1;
     }
     const std::string label = tile_name.empty() ? std::string("slave") : tile_name;
+    if (opt.tile.enabled && !opt.view.enabled)  // a window at its tile's place on the canvas
+        backend->set_position(opt.tile.x, opt.tile.canvas_height - opt.tile.y - opt.tile.height);
     try {
         NetworkSource source(endpoint, journal, wait_seconds);
         Replayer replayer(std::move(backend), opt);

@@ -168,12 +168,19 @@ public:
         return reinterpret_cast<void*>(glfwGetProcAddress(name));
     }
 
+    void set_position(int x, int y) override {
+        position_x_ = x;
+        position_y_ = y;
+        has_position_ = true;
+    }
+
     void present() override {
         GLFWwindow* window = glfwGetCurrentContext();
         if (!window) return;
         auto* c = static_cast<Context*>(glfwGetWindowUserPointer(window));
         if (!c) return;  // a window that is not ours
         if (!c->shown) {
+            if (has_position_) glfwSetWindowPos(window, position_x_, position_y_);
             glfwShowWindow(window);
             c->shown = true;
         }
@@ -193,6 +200,8 @@ private:
     }
 
     bool glfw_counted_ = false;
+    bool has_position_ = false;
+    int position_x_ = 0, position_y_ = 0;
     std::mutex mutex_;
     std::unordered_map<uint32_t, std::unique_ptr<Context>> contexts_;
 };
