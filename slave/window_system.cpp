@@ -7,6 +7,7 @@
 
 #include "master/gl_headers.h"
 #include "slave/replayer.h"
+#include "slave/window_readback.h"
 
 namespace glcast::slave {
 namespace {
@@ -166,40 +167,15 @@ void Replayer::make_current(uint32_t id, uint64_t drawable) {
 void Replayer::end_frame() {
     SlaveContext& ctx = current();
     if (frame_ >= options_.first_frame && frame_ <= options_.last_frame && on_frame && ctx.width > 0 && ctx.height > 0) {
-        const auto geti = gl<decltype(&::glGetIntegerv)>(OP_glGetIntegerv);
-        const auto pstore = gl<decltype(&::glPixelStorei)>(OP_glPixelStorei);
-        GLint read_fb = 0, pack_buffer = 0, read_buffer = 0, align = 4, row = 0, skip_rows = 0, skip_pixels = 0;
-        geti(GL_READ_FRAMEBUFFER_BINDING, &read_fb);
-        geti(GL_PIXEL_PACK_BUFFER_BINDING, &pack_buffer);
-        geti(GL_PACK_ALIGNMENT, &align);
-        geti(GL_PACK_ROW_LENGTH, &row);
-        geti(GL_PACK_SKIP_ROWS, &skip_rows);
-        geti(GL_PACK_SKIP_PIXELS, &skip_pixels);
-        const auto bind_fb = gl<decltype(&::glBindFramebuffer)>(OP_glBindFramebuffer);
-        const auto bind_buffer = gl<decltype(&::glBindBuffer)>(OP_glBindBuffer);
-        const auto read_buf = gl<decltype(&::glReadBuffer)>(OP_glReadBuffer);
-        bind_fb(GL_READ_FRAMEBUFFER, 0);
-        geti(GL_READ_BUFFER, &read_buffer);
-        read_buf(ctx.double_buffered ? GL_BACK : GL_FRONT);
-        bind_buffer(GL_PIXEL_PACK_BUFFER, 0);
-        pstore(GL_PACK_ALIGNMENT, 1);
-        pstore(GL_PACK_ROW_LENGTH, 0);
-        pstore(GL_PACK_SKIP_ROWS, 0);
-        pstore(GL_PACK_SKIP_PIXELS, 0);
+        ReadbackGl readback;
+        readback.GetIntegerv = gl<decltype(readback.GetIntegerv)>(OP_glGetIntegerv);
+        readback.BindFramebuffer = gl<decltype(readback.BindFramebuffer)>(OP_glBindFramebuffer);
+        readback.BindBuffer = gl<decltype(readback.BindBuffer)>(OP_glBindBuffer);
+        readback.ReadBuffer = gl<decltype(readback.ReadBuffer)>(OP_glReadBuffer);
+        readback.PixelStorei = gl<decltype(readback.PixelStorei)>(OP_glPixelStorei);
+        readback.ReadPixels = gl<decltype(readback.ReadPixels)>(OP_glReadPixels);
         const int w = ctx.width, h = ctx.height;
-        std::vector<uint8_t> bottom_up(size_t(w) * h * 4), rgba(bottom_up.size());
-        gl<decltype(&::glReadPixels)>(OP_glReadPixels)(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, bottom_up.data());
-        const size_t row_bytes = size_t(w) * 4;
-        for (int y = 0; y < h; ++y)
-            std::memcpy(rgba.data() + size_t(y) * row_bytes, bottom_up.data() + size_t(h - 1 - y) * row_bytes, row_bytes);
-        for (size_t i = 3; i < rgba.size(); i += 4) rgba[i] = 255;  // a window shows no alpha
-        read_buf(GLenum(read_buffer));
-        pstore(GL_PACK_ALIGNMENT, align);
-        pstore(GL_PACK_ROW_LENGTH, row);
-        pstore(GL_PACK_SKIP_ROWS, skip_rows);
-        pstore(GL_PACK_SKIP_PIXELS, skip_pixels);
-        bind_buffer(GL_PIXEL_PACK_BUFFER, GLuint(pack_buffer));
-        bind_fb(GL_READ_FRAMEBUFFER, GLuint(read_fb));
+        const std::vector<uint8_t> rgba = read_window(readback, ctx.double_buffered ? GL_BACK : GL_FRONT, w, h);
         on_frame(frame_, w, h, rgba);
     }
     if (before_present) before_present(frame_);
