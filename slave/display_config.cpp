@@ -262,7 +262,9 @@ private:
 
 // ---- validation -------------------------------------------------------------------------
 
-const char* const kRootKeys[] = {"name", "description", "canvas", "tiles", "swap_barrier", "effects"};
+const char* const kRootKeys[] = {"name", "description", "canvas", "tiles", "swap_barrier", "effects",
+                                 "program_projection"};
+const char* const kProjectionKeys[] = {"fov_y", "near", "far"};
 const char* const kCanvasKeys[] = {"width", "height"};
 const char* const kTileKeys[] = {"name", "x", "y", "width", "height", "view"};
 const char* const kViewKeys[] = {"yaw", "pitch", "roll", "left", "right", "bottom", "top"};
@@ -481,6 +483,19 @@ bool parse_config(Validator& check, const json& root, DisplayConfig& config) {
                                                           " + " + std::to_string(t.height) + " = " +
                                                           std::to_string(int64_t{t.y} + t.height) + " > " +
                                                           std::to_string(config.canvas_height));
+    }
+
+    if (auto it = root.find("program_projection"); it != root.end()) {
+        ProgramProjection& p = config.program_projection;
+        if (!it->is_object()) return check.fail("program_projection", "must be an object, got " + describe(*it));
+        if (!check.check_keys(*it, "program_projection", kProjectionKeys) ||
+            !check.number_field(*it, "program_projection", "fov_y", p.fov_y_deg) ||
+            !check.number_field(*it, "program_projection", "near", p.near) ||
+            !check.number_field(*it, "program_projection", "far", p.far))
+            return false;
+        if (!(p.fov_y_deg > 0 && p.fov_y_deg < 179)) return check.fail("program_projection.fov_y", "must be in (0, 179) degrees");
+        if (!(p.near > 0 && p.far > p.near)) return check.fail("program_projection", "needs 0 < near < far");
+        p.given = true;
     }
 
     if (auto it = root.find("swap_barrier"); it != root.end()) {

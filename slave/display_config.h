@@ -30,12 +30,21 @@ struct Tile {
     TileView view;
 };
 
+// The projection of a program whose projection the stream does not show (shader programs), for
+// rotated tiles: a symmetric perspective of this vertical field of view, at the aspect of the
+// program's window.
+struct ProgramProjection {
+    bool given = false;
+    double fov_y_deg = 60, near = 0.1, far = 1000;
+};
+
 struct DisplayConfig {
     std::string name, description;
     int canvas_width = 0, canvas_height = 0;  // planar walls: the whole image incl. hidden bezel pixels
     std::vector<Tile> tiles;
     bool swap_barrier = false;
     std::vector<std::string> effects;          // e.g. "snow", "shadows" (names only; validated against a list)
+    ProgramProjection program_projection;
     const Tile* find(const std::string& name) const;   // nullptr if absent
 };
 

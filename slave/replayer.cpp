@@ -319,7 +319,11 @@ void Replayer::correct_projection() {
     SlaveContext& ctx = current();
     GLint program = 0;
     gl<decltype(&::glGetIntegerv)>(OP_glGetIntegerv)(GL_CURRENT_PROGRAM, &program);
-    if (program || !ctx.drawing_to_window) return;  // shader programs and the program's FBOs: untouched
+    if (program) {  // a shader program: its patched vertex shader multiplies by glcast_clip
+        correct_shader_program(GLuint(program));
+        return;
+    }
+    if (!ctx.drawing_to_window) return;  // the program's own FBOs: untouched
     auto& top = ctx.projection.back();
     if (top.corrected && !top.dirty) return;
     GLdouble current[16];
@@ -335,6 +339,28 @@ void Replayer::correct_projection() {
     gl<decltype(&::glLoadMatrixd)>(OP_glLoadMatrixd)(&corrected[0][0]);
     gl<decltype(&::glMatrixMode)>(OP_glMatrixMode)(GLenum(mode));
     top = SlaveContext::Projection{true, false, m};
+}
+
+// Shader programs on rotated tiles: glcast_clip holds M (for the config's program_projection)
+// while the window is drawn to, the identity while one of the program's FBOs is.
+void Replayer::correct_shader_program(uint32_t program) {
+    SlaveContext& ctx = current();
+    if (!options_.view.program_fov_y_deg) return;
+    auto& cache = ctx.names.shared->clip_uniforms;
+    auto it = cache.find(program);
+    if (it == cache.end())
+        it = cache.emplace(program, std::make_pair(gl<decltype(&::glGetUniformLocation)>(OP_glGetUniformLocation)(
+                                                      program, "glcast_clip"), -1)).first;
+    const int32_t location = it->second.first;
+    const int want = ctx.drawing_to_window ? 1 : 0;
+    if (location < 0 || it->second.second == want) return;
+    glm::mat4 m(1.0f);
+    if (want) {
+        const double aspect = ctx.master_height ? double(ctx.master_width) / ctx.master_height : 1.0;
+        m = glm::mat4(options_.view.correction(options_.view.program_projection(aspect)));
+    }
+    gl<decltype(&::glUniformMatrix4fv)>(OP_glUniformMatrix4fv)(location, 1, GL_FALSE, &m[0][0]);
+    it->second.second = want;
 }
 
 // --- the loop ------------------------------------------------------------------------
@@ -405,6 +431,8 @@ void Replayer::dispatch(const Call& c) {
         }
         kReplay[c.opcode](*this, c);
         if (options_.view.enabled) track_matrix_call(c);
+        if (c.opcode == OP_glCreateShader) current().names.shared->shader_types[c.ret.bits] = uint32_t(c.args[0].bits);
+        if (c.opcode == OP_glLinkProgram) current().names.shared->clip_uniforms.clear();  // linking resets uniforms
         stats_.replayed++;
         if (c.opcode == OP_glUseProgram || c.opcode == OP_glUseProgramObjectARB) current().current_program = c.args[0].bits;
         break;

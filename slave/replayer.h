@@ -137,6 +137,7 @@ public:
     void check_return_string(const Call& c, const char* slave_value);
 
     const TileMapping& tile() const { return options_.tile; }
+    const ViewCorrection& view() const { return options_.view; }
     // Re-issues the program's viewport and scissor box for the current draw framebuffer.
     void apply_window_rects();
 
@@ -159,6 +160,7 @@ private:
     void follow_context(const Call& c);
     void track_matrix_call(const Call& c);
     void correct_projection();
+    void correct_shader_program(uint32_t program);
     void window_system(const Call& c);
     void synthetic(const Call& c);
     void client_arrays(const Call& c);

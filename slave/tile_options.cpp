@@ -19,6 +19,11 @@ bool tile_options(const std::string& path, const std::string& name, ReplayOption
         // The program's whole window on the tile, seen through the tile's own camera.
         const TileView& v = tile->view;
         options.view = ViewCorrection{true, v.yaw_deg, v.pitch_deg, v.roll_deg, v.left_deg, v.right_deg, v.bottom_deg, v.top_deg};
+        if (config.program_projection.given) {
+            options.view.program_fov_y_deg = config.program_projection.fov_y_deg;
+            options.view.program_near = config.program_projection.near;
+            options.view.program_far = config.program_projection.far;
+        }
         m.enabled = true;
         m.canvas_width = m.width = tile->width;
         m.canvas_height = m.height = tile->height;

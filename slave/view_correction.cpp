@@ -45,4 +45,15 @@ glm::dmat4 ViewCorrection::correction(const glm::dmat4& app) const {
     return tile * glm::transpose(orientation) * glm::inverse(app);
 }
 
+glm::dmat4 ViewCorrection::program_projection(double aspect) const {
+    const double t = program_near * std::tan(radians(program_fov_y_deg) / 2), r = t * aspect;
+    glm::dmat4 p(0.0);
+    p[0][0] = program_near / r;
+    p[1][1] = program_near / t;
+    p[2][2] = -(program_far + program_near) / (program_far - program_near);
+    p[2][3] = -1;
+    p[3][2] = -2 * program_far * program_near / (program_far - program_near);
+    return p;
+}
+
 }  // namespace glcast::slave

@@ -1,5 +1,8 @@
 // Uniform locations: the master's reply of glGetUniformLocation is mapped to the slave's own
 // answer, per program, so glUniform* calls address the same variable on both.
+#include <regex>
+#include <string>
+
 #include "master/gl_headers.h"
 #include "slave/replayer.h"
 
@@ -11,6 +14,35 @@ void glGetUniformLocation(Replayer& r, const Call& c) {
     const GLint slave = r.gl<decltype(&::glGetUniformLocation)>(OP_glGetUniformLocation)(program, name);
     const auto master = int32_t(uint32_t(c.ret.bits));
     if (master >= 0 && slave >= 0) r.set_uniform_location(c.args[0].bits, master, slave);
+}
+
+// Rotated tiles with a program projection from the display config (docs/wall.md): vertex
+// shaders get a last step, gl_Position = glcast_clip * gl_Position, the program's main renamed.
+// glcast_clip is set before draws (Replayer::correct_shader_program).
+void glShaderSource(Replayer& r, const Call& c) {
+    const GLuint shader = r.name<GLuint>(Ns::program, c, 0);
+    const GLsizei count = r.value<GLsizei>(c, 1);
+    const char* const* strings = r.strings(c, 2);
+    const auto* lengths = static_cast<const GLint*>(r.in(c, 3));
+    const auto source = r.gl<decltype(&::glShaderSource)>(OP_glShaderSource);
+    const auto& types = r.current().names.shared->shader_types;
+    const auto type = types.find(c.args[0].bits);
+    if (!r.view().enabled || !r.view().program_fov_y_deg || type == types.end() || type->second != GL_VERTEX_SHADER) {
+        source(shader, count, strings, lengths);
+        return;
+    }
+    std::string text;
+    for (GLsizei i = 0; i < count; ++i)
+        if (strings[i]) text += lengths && lengths[i] >= 0 ? std::string(strings[i], size_t(lengths[i])) : std::string(strings[i]);
+    static const std::regex main_function(R"(\bvoid\s+main\s*\()");
+    if (!std::regex_search(text, main_function)) {
+        source(shader, count, strings, lengths);
+        return;
+    }
+    text = std::regex_replace(text, main_function, "void glcast_program_main(", std::regex_constants::format_first_only);
+    text += "\nuniform mat4 glcast_clip;\nvoid main() { glcast_program_main(); gl_Position = glcast_clip * gl_Position; }\n";
+    const char* patched = text.c_str();
+    source(shader, 1, &patched, nullptr);
 }
 
 // Attribute locations index the context's vertex-array state, which every program shares, so

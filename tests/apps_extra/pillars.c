@@ -6,18 +6,31 @@
  * 200 - 12 k, blue = 255 - 20 k, unlit, so a tile that faces yaw k*30 shows that colour at its
  * centre. A grey floor below the horizon.
  *
- *   pillars [--frames N] [--size WxH]
+ * With --shader (a first argument) the same picture comes from a GLSL 1.20 program whose
+ * projection is a uniform: the stream then does not show it, and a rotated wall needs the
+ * display config's program_projection (vertical field of view 2 atan(tan 30 deg * h / w)).
+ *
+ *   pillars [--shader] [--frames N] [--size WxH]
  */
+#define GL_GLEXT_PROTOTYPES 1
 #include <GL/gl.h>
+#include <GL/glext.h>
 #include <GL/glx.h>
 #include <math.h>
 #include <stdio.h>
+#include <string.h>
 
 #include "../apps/app_common.h"
 
 int main(int argc, char **argv)
 {
     struct app_args a;
+    const int shader = argc > 1 && strcmp(argv[1], "--shader") == 0;
+    if (shader) {
+        argv[1] = argv[0];
+        argv++;
+        argc--;
+    }
     app_parse_args("pillars", argc, argv, &a);
     Display *dpy = XOpenDisplay(NULL);
     if (!dpy) {
@@ -33,6 +46,29 @@ int main(int argc, char **argv)
     XMapWindow(dpy, win);
     GLXContext ctx = glXCreateContext(dpy, vi, NULL, True);
     glXMakeCurrent(dpy, win, ctx);
+    GLuint program = 0;
+    GLint proj_location = -1;
+    if (shader) {
+        const char *vs = "#version 120\nuniform mat4 proj;\n"
+                         "void main() { gl_FrontColor = gl_Color; gl_Position = proj * gl_Vertex; }\n";
+        const char *fs = "#version 120\nvoid main() { gl_FragColor = gl_Color; }\n";
+        GLuint v = glCreateShader(GL_VERTEX_SHADER), fr = glCreateShader(GL_FRAGMENT_SHADER);
+        glShaderSource(v, 1, &vs, NULL);
+        glShaderSource(fr, 1, &fs, NULL);
+        glCompileShader(v);
+        glCompileShader(fr);
+        program = glCreateProgram();
+        glAttachShader(program, v);
+        glAttachShader(program, fr);
+        glLinkProgram(program);
+        GLint linked = 0;
+        glGetProgramiv(program, GL_LINK_STATUS, &linked);
+        if (!linked) {
+            fprintf(stderr, "pillars: shader program does not link\n");
+            return 1;
+        }
+        proj_location = glGetUniformLocation(program, "proj");
+    }
     for (int f = 0; f < a.frames; f++) {
         glViewport(0, 0, a.width, a.height);
         glClearColor(0, 0, 0, 1);
@@ -41,7 +77,15 @@ int main(int argc, char **argv)
         glMatrixMode(GL_PROJECTION);
         glLoadIdentity();
         const double n = 0.5, half = n * tan(30.0 * M_PI / 180.0);
-        glFrustum(-half, half, -half * a.height / a.width, half * a.height / a.width, n, 100.0);
+        const double top = half * a.height / a.width;
+        glFrustum(-half, half, -top, top, n, 100.0);
+        if (shader) {  /* the same matrix, column-major, as a uniform */
+            const double fa = 100.0;
+            const GLfloat m[16] = {(GLfloat)(n / half), 0, 0, 0, 0, (GLfloat)(n / top), 0, 0, 0, 0,
+                                   (GLfloat)(-(fa + n) / (fa - n)), -1, 0, 0, (GLfloat)(-2 * fa * n / (fa - n)), 0};
+            glUseProgram(program);
+            glUniformMatrix4fv(proj_location, 1, GL_FALSE, m);
+        }
         glMatrixMode(GL_MODELVIEW);
         glLoadIdentity();
         glBegin(GL_QUADS);  /* the floor */

@@ -133,13 +133,22 @@ def pillar_colour(k):  # tests/apps_extra/pillars.c
 
 
 def case_cylinder():
+    cylinder("cylinder", os.path.join(CONFIGS, "cylinder-360.json"), [])
+
+
+def case_cylinder_shader():
+    # The same wall for a shader program: the projection comes from the config.
+    cylinder("cylinder_shader", os.path.join(ROOT, "tests", "configs", "cylinder-360-shader.json"), ["--shader"])
+
+
+def cylinder(name, config, flags):
     # A ring of pillars every 30 degrees around the viewer; six tiles every 60 degrees, each
     # from -30 to +30: pillar 2i stands at the centre of tile i, pillar 2i+1 on the seam
     # between tile i and tile i+1, and must show on both sides of it.
-    out = os.path.join(OUT, "cylinder")
+    out = os.path.join(OUT, name)
     shutil.rmtree(out, ignore_errors=True)
-    r = run([GLCAST, "run", "--config", os.path.join(CONFIGS, "cylinder-360.json"), "--backend", "egl", "--out", out,
-             "--frames", "1", "--", os.path.join(APPS, "pillars"), "--size", "400x300", "--frames", "5"])
+    r = run([GLCAST, "run", "--config", config, "--backend", "egl", "--out", out,
+             "--frames", "1", "--", os.path.join(APPS, "pillars")] + flags + ["--size", "400x300", "--frames", "5"])
     check(r.returncode == 0, f"glcast run failed: {r.stderr[-3000:]}")
     tiles = [f"yaw{60 * i:03d}" for i in range(6)]
     frame = "frame-000000.png"
@@ -153,7 +162,7 @@ def case_cylinder():
         seam = pillar_colour((2 * i + 1) % 12)
         check(right == seam and left_of_next == seam,
               f"seam {tile}|{tiles[(i + 1) % 6]} shows {right}|{left_of_next}, pillar {(2 * i + 1) % 12} is {seam}")
-    print("cylinder: every tile faces its pillar, every seam shows the pillar standing on it on both sides")
+    print(f"{name}: every tile faces its pillar, every seam shows the pillar standing on it on both sides")
 
 
 def case_swap_barrier():
