@@ -31,6 +31,7 @@ static ShimConfig load() {
     ok &= read_uint("GLCAST_JOURNAL_MB", 0, 1 << 20, c.journal_mb);
     ok &= read_uint("GLCAST_TEST_DROP_EVERY", 0, UINT32_MAX, c.drop_every);
     ok &= read_uint("GLCAST_WAIT_SUBSCRIBERS", 0, 1024, c.wait_subscribers);
+    ok &= read_uint("GLCAST_LOCKSTEP", 0, 1024, c.lockstep);
     uint64_t v = 0;
     ok &= read_uint("GLCAST_FRAMES", 0, UINT32_MAX, c.frames);
     v = 0;

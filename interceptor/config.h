@@ -19,6 +19,7 @@ struct ShimConfig {
     uint64_t journal_mb = 1024;    // GLCAST_JOURNAL_MB: journal limit; past it, no late join
     uint64_t drop_every = 0;       // GLCAST_TEST_DROP_EVERY: lose every Nth message (tests)
     uint64_t wait_subscribers = 0; // GLCAST_WAIT_SUBSCRIBERS: slaves to wait for at start
+    uint64_t lockstep = 0;         // GLCAST_LOCKSTEP: slaves that must replay each frame before the next
     bool has_consumer() const { return !capture_path.empty() || !publish.empty(); }
 };
 

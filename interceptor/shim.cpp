@@ -48,6 +48,7 @@ Stream* stream() {
                 p.journal_limit_bytes = size_t(c.journal_mb) << 20;
                 p.drop_every = c.drop_every;
                 p.wait_subscribers = int(c.wait_subscribers);
+                p.lockstep = int(c.lockstep);
                 sinks.push_back(std::make_unique<PublisherSink>(p));
             }
         } catch (const std::exception& e) {
@@ -155,6 +156,7 @@ void on_frame_end() {
         std::fflush(swap_log);
     }
     const ShimConfig& c = shim_config();
+    if (c.lockstep) s->flush();  // lockstep: back to the program only when the slaves replayed the frame
     if (c.frames && s->frame() >= c.frames) {
         g_recording = false;
         finish_stream();

@@ -69,6 +69,16 @@ void PublisherSink::write(const std::vector<uint8_t>& message) {
     }
     // Never wait for a subscriber: a full queue loses the message, the slave sees the gap.
     if (!pub_->send(zmq::buffer(message), zmq::send_flags::dontwait)) dropped_++;
+    // Lockstep (asked for): the frame this message ends must be replayed by every slave first.
+    MessageHeader h;
+    std::memcpy(&h, message.data(), sizeof h);
+    if (options_.lockstep > 0 && (h.flags & kMsgFrameEnd)) {
+        std::unique_lock lock(done_mutex_);
+        if (!done_changed_.wait_for(lock, std::chrono::seconds(10), [&] { return done_[h.frame] >= options_.lockstep; }))
+            std::fprintf(stderr, "glcast: lockstep: frame %u not replayed by %d slaves within 10 s; going on\n", h.frame,
+                         options_.lockstep);
+        done_.erase(done_.begin(), done_.upper_bound(h.frame));
+    }
 }
 
 // ROUTER side channel. A request is one frame "SNAPSHOT"; the answer is every journaled
@@ -96,6 +106,12 @@ void PublisherSink::serve_snapshots() {
         if (request.size() < 2) continue;
         const std::string identity = request.front().to_string();
         const std::string what = request.back().to_string();
+        if (what.rfind("DONE ", 0) == 0) {  // lockstep: a slave has replayed a frame
+            std::lock_guard lock(done_mutex_);
+            done_[std::strtoull(what.c_str() + 5, nullptr, 10)]++;
+            done_changed_.notify_all();
+            continue;
+        }
         if (what != "SNAPSHOT") continue;
         std::vector<std::vector<uint8_t>> copy;
         bool complete;

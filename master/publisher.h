@@ -9,6 +9,8 @@
 #pragma once
 
 #include <atomic>
+#include <condition_variable>
+#include <map>
 #include <cstdint>
 #include <memory>
 #include <mutex>
@@ -32,6 +34,7 @@ struct PublisherOptions {
     uint64_t drop_every = 0;        // test hook: do not send every Nth message (it stays in the journal)
     int send_hwm = 1000;            // messages queued per subscriber before they are dropped
     int wait_subscribers = 0;       // at start, wait (up to 60 s) until this many slaves subscribed
+    int lockstep = 0;               // after each frame, wait (up to 10 s) until this many slaves replayed it
 };
 
 class PublisherSink : public MessageSink {
@@ -57,6 +60,9 @@ private:
     std::atomic<uint64_t> dropped_{0};
     std::atomic<bool> stopping_{false};
     std::thread snapshot_thread_;
+    std::mutex done_mutex_;
+    std::condition_variable done_changed_;
+    std::map<uint64_t, int> done_;  // lockstep: frame -> slaves that replayed it
     bool closed_ = false;
 };
 

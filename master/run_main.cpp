@@ -25,10 +25,12 @@ namespace glcast {
 
 const char* kRunUsage =
     "  run [--config FILE] [--backend egl|osmesa|window] [--out DIR] [--frames N] [--endpoint tcp://*:PORT]\n"
+    "      [--lockstep]\n"
     "      -- PROGRAM [ARGS...]\n"
     "        run PROGRAM on a wall: one local slave per tile of FILE (default: one slave showing the\n"
     "        whole window); --out DIR writes each tile's frames to DIR/TILE/; --frames ends the\n"
-    "        program after N frames; --endpoint publishes on TCP for slaves on other machines\n";
+    "        program after N frames; --endpoint publishes on TCP for slaves on other machines;\n"
+    "        --lockstep holds the program at each swap until every slave has replayed the frame\n";
 
 namespace {
 
@@ -82,6 +84,7 @@ std::string connectable(const std::string& bound) {  // tcp://*:5555 -> tcp://12
 int run_main(const std::vector<std::string>& args) {
     std::string config_path, backend = std::getenv("DISPLAY") ? "window" : "egl", out_dir, endpoint;
     uint64_t frames = 0;
+    bool lockstep = false;
     size_t i = 0;
     for (; i < args.size() && args[i] != "--"; ++i) {
         const bool v = i + 1 < args.size();
@@ -89,6 +92,7 @@ int run_main(const std::vector<std::string>& args) {
         else if (args[i] == "--backend" && v) backend = args[++i];
         else if (args[i] == "--out" && v) out_dir = args[++i];
         else if (args[i] == "--endpoint" && v) endpoint = args[++i];
+        else if (args[i] == "--lockstep") lockstep = true;
         else if (args[i] == "--frames" && v) frames = std::strtoull(args[++i].c_str(), nullptr, 10);
         else if (args[i] == "--effects" && v) return usage("--effects: the injected passes are not built yet");
         else return usage("unknown option '" + args[i] + "'");
@@ -136,13 +140,15 @@ int run_main(const std::vector<std::string>& args) {
         if (!tile.empty()) argv.insert(argv.end(), {"--config", config_path, "--tile", tile});
         if (!out_dir.empty()) argv.insert(argv.end(), {"--out", out_dir + "/" + (tile.empty() ? "window" : tile)});
         if (swap_barrier) argv.insert(argv.end(), {"--swap-barrier", barrier_endpoint});
+        if (lockstep) argv.push_back("--lockstep");
         if (const char* log = std::getenv("GLCAST_TEST_PRESENT_LOG_DIR"))
             setenv("GLCAST_TEST_PRESENT_LOG", (std::string(log) + "/" + (tile.empty() ? "window" : tile)).c_str(), 1);
         slaves[spawn(argv)] = tile.empty() ? "window" : tile;
     }
     std::map<std::string, std::string> env{{"GLCAST_PUBLISH", endpoint},
                                            {"GLCAST_JOURNAL_ENDPOINT", journal},
-                                           {"GLCAST_WAIT_SUBSCRIBERS", std::to_string(slaves.size())}};
+                                           {"GLCAST_WAIT_SUBSCRIBERS", std::to_string(slaves.size())},
+                                           {"GLCAST_LOCKSTEP", lockstep ? std::to_string(slaves.size()) : "0"}};
     if (frames) {
         env["GLCAST_FRAMES"] = std::to_string(frames);
         env["GLCAST_EXIT_AFTER_FRAMES"] = "1";

@@ -58,7 +58,19 @@ bool NetworkSource::barrier(const std::string& endpoint, uint64_t frame, int tim
     return false;
 }
 
+void NetworkSource::done(uint64_t frame) {
+    if (journal_endpoint_.empty()) return;
+    if (!done_) {
+        done_ = std::make_unique<zmq::socket_t>(*context_, zmq::socket_type::dealer);
+        done_->set(zmq::sockopt::linger, 0);
+        done_->connect(journal_endpoint_);
+    }
+    const std::string text = "DONE " + std::to_string(frame);
+    done_->send(zmq::buffer(text), zmq::send_flags::dontwait);
+}
+
 NetworkSource::~NetworkSource() {
+    done_.reset();
     barrier_.reset();
     sub_.reset();
     context_->shutdown();

@@ -34,6 +34,8 @@ public:
     // Swap barrier: tells the master this tile has frame `frame` and waits (at most `timeout_ms`)
     // until every tile has it. False on a timeout.
     bool barrier(const std::string& endpoint, uint64_t frame, int timeout_ms);
+    // Lockstep: tells the master this slave has replayed frame `frame`.
+    void done(uint64_t frame);
     uint64_t recoveries() const { return recoveries_; }
     uint64_t bytes() const { return bytes_; }
     uint64_t master_frame() const { return master_frame_; }  // the newest frame the master sent
@@ -54,7 +56,7 @@ private:
     bool live_ = false;
     uint64_t recoveries_ = 0, bytes_ = 0, master_frame_ = 0;
     std::string gap_;
-    std::unique_ptr<zmq::socket_t> barrier_;
+    std::unique_ptr<zmq::socket_t> barrier_, done_;
 };
 
 }  // namespace glcast::slave

@@ -20,10 +20,11 @@ namespace glcast::slave {
 const char* kSlaveUsage =
     "  slave --connect ENDPOINT [--journal ENDPOINT] [--config FILE --tile NAME]\n"
     "        [--backend egl|osmesa|window] [--out DIR] [--frames A:B] [--wait SECONDS] [--quiet]\n"
-    "        [--swap-barrier ENDPOINT]\n"
+    "        [--swap-barrier ENDPOINT] [--lockstep]\n"
     "        one tile of a wall: subscribe to a master (glcast run prints its endpoints), join\n"
     "        through its journal, replay; --out writes the tile's frames as PNGs; --swap-barrier\n"
-    "        presents each frame only when every tile of the wall has it (glcast run prints the endpoint)\n";
+    "        presents each frame only when every tile of the wall has it (glcast run prints the endpoint);\n"
+    "        --lockstep reports each replayed frame to a master that waits for its slaves\n";
 
 namespace {
 
@@ -38,7 +39,7 @@ int slave_main(const std::vector<std::string>& args) {
     std::string endpoint, journal, backend_kind = "egl", out_dir, config_path, tile_name;
     ReplayOptions opt;
     int wait_seconds = 60;
-    bool quiet = false;
+    bool quiet = false, lockstep = false;
     std::string barrier_endpoint;
     for (size_t i = 0; i < args.size(); ++i) {
         const std::string& a = args[i];
@@ -51,6 +52,7 @@ int slave_main(const std::vector<std::string>& args) {
         else if (a == "--out" && v) out_dir = args[++i];
         else if (a == "--quiet") quiet = true;
         else if (a == "--swap-barrier" && v) barrier_endpoint = args[++i];
+        else if (a == "--lockstep") lockstep = true;
         else if (a == "--wait" && v) {
             wait_seconds = std::atoi(args[++i].c_str());
             if (wait_seconds <= 0 || wait_seconds > 86400) return usage("--wait takes 1..86400 seconds");
@@ -101,6 +103,7 @@ int slave_main(const std::vector<std::string>& args) {
             if (present_log)
                 std::fprintf(present_log, "%" PRIu64 " %.6f\n", frame,
                              std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count());
+            if (lockstep && source.live()) source.done(frame);
         };
         auto last = std::chrono::steady_clock::now();
         uint64_t frames_at_last = 0, bytes_at_last = 0;

@@ -233,6 +233,33 @@ def case_multicast():
         run(["ip", "netns", "del", b])
 
 
+def case_lockstep():
+    # Asked for, lockstep holds the program at each swap until every slave replayed the frame.
+    out = os.path.join(OUT, "lockstep")
+    shutil.rmtree(out, ignore_errors=True)
+    logs = os.path.join(out, "presents")
+    os.makedirs(logs)
+    swaps = os.path.join(out, "swaps")
+    r = run([GLCAST, "run", "--config", os.path.join(CONFIGS, "wall-2x2.json"), "--backend", "egl", "--lockstep",
+             "--frames", "40", "--", "glxgears"], env=dict(os.environ, GLCAST_TEST_PRESENT_LOG_DIR=logs,
+                                                          GLCAST_TEST_SWAP_LOG=swaps))
+    check(r.returncode == 0, f"glcast run failed: {r.stderr[-3000:]}")
+    check("lockstep" not in r.stderr, f"lockstep timed out: {r.stderr[-2000:]}")
+    swap = {int(f): float(t) for f, t in (line.split() for line in open(swaps))}
+    replayed = {}
+    for tile in os.listdir(logs):
+        for line in open(os.path.join(logs, tile)):
+            f, t = line.split()
+            replayed.setdefault(int(f), []).append(float(t))
+    checked = 0
+    for n in sorted(replayed):
+        if n + 1 in swap and len(replayed[n]) == 4:
+            check(swap[n + 1] >= max(replayed[n]), f"the program swapped frame {n + 1} before every slave replayed {n}")
+            checked += 1
+    check(checked >= 35, f"only {checked} frames checked")
+    print(f"lockstep: for {checked} frames the program swapped frame N+1 only after all four slaves replayed N")
+
+
 def start_program(out, frames, extra_env=None):
     """xscreensaver's gears (EGL, about 30 frames per second: slaves keep up while it runs)
     publishing on its own endpoints, with its own frames as the reference."""
