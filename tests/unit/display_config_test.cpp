@@ -580,3 +580,18 @@ TEST(DisplayConfigRobustness, MutatedConfigs) {
     // The mutations must not be so wild that nothing parses: some survive and get checked.
     EXPECT_GT(accepted, 50);
 }
+
+TEST(DisplayConfigProgramProjection, ReadAndChecked) {
+    glcast::slave::DisplayConfig c;
+    std::string error;
+    ASSERT_TRUE(glcast::slave::load_display_config(std::string(GLCAST_SOURCE_DIR) + "/tests/configs/cylinder-360-shader.json",
+                                                   c, error)) << error;
+    EXPECT_TRUE(c.program_projection.given);
+    EXPECT_NEAR(c.program_projection.fov_y_deg, 46.826, 0.001);
+    EXPECT_DOUBLE_EQ(c.program_projection.near, 0.5);
+    const std::string bad = R"({"name": "x", "canvas": {"width": 10, "height": 10},
+        "tiles": [{"name": "a", "x": 0, "y": 0, "width": 10, "height": 10}],
+        "program_projection": {"fov_y": 200, "near": 1, "far": 2}})";
+    EXPECT_FALSE(glcast::slave::parse_display_config(bad, "p.json", c, error));
+    EXPECT_NE(error.find("p.json: program_projection.fov_y: must be in (0, 179) degrees"), std::string::npos) << error;
+}
