@@ -12,6 +12,7 @@ packages=(
   libosmesa6-dev libglfw3-dev libglm-dev libx11-dev
   # stream
   libzstd-dev zlib1g-dev libpng-dev libzmq3-dev cppzmq-dev nlohmann-json3-dev
+  libfftw3-dev                          # spectral snow synthesis (slave/effects)
   # tests: X server, real third-party GL programs
   xvfb xauth mesa-utils xscreensaver-gl googletest libgtest-dev
   # benchmarks
