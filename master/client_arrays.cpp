@@ -6,6 +6,7 @@
 #include "master/client_arrays.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cstring>
 #include <map>
 #include <tuple>
@@ -78,6 +79,8 @@ Shadow& shadow_for(ContextArrays& c, const ShadowKey& key, bool& fresh) {
 
 std::mutex g_mutex;
 std::map<uint32_t, ContextArrays> g_contexts;
+// Set once any context points an array at client memory: until then a draw takes no lock.
+std::atomic<bool> g_client_arrays_seen{false};
 
 ContextArrays& arrays_of_current() {
     return g_contexts[current_context_id()];
@@ -262,6 +265,7 @@ DrawRange DrawRange::multi_elements(const void* const* indices, uint32_t type, c
 }
 
 void note_client_pointer(uint32_t opcode) {
+    g_client_arrays_seen.store(true, std::memory_order_relaxed);
     std::lock_guard lock(g_mutex);
     arrays_of_current().kinds_used |= kinds_for(opcode);
 }
@@ -341,6 +345,7 @@ static bool vertex_range(const DrawRange& r, int64_t& lo, int64_t& hi) {
 
 void CallScope::ship_client_arrays(const DrawRange& range) {
     ship_mapped_writes(*this);
+    if (!g_client_arrays_seen.load(std::memory_order_relaxed)) return;
     uint32_t kinds;
     bool locked;
     int64_t lock_first, lock_count;

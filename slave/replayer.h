@@ -63,7 +63,6 @@ struct SlaveContext {
 struct ReplayOptions {
     uint64_t first_frame = 0, last_frame = UINT64_MAX;
     int width = 0, height = 0;      // window framebuffer size override (0: the master's)
-    bool verbose = false;
     bool verify = false;            // execute reply-only calls too and compare with the replies
     TileMapping tile;               // show one tile of a wall instead of the whole window
     ViewCorrection view;            // a rotated or asymmetric tile (fixed-function programs)
@@ -186,7 +185,6 @@ private:
     std::map<uint64_t, std::pair<int, int>> drawable_sizes_;
     uint64_t frame_ = 0, call_index_ = 0;
     bool first_context_done_ = false;
-    bool in_window_ = false;
     std::map<uint32_t, uint64_t> unserialized_seen_;
 };
 

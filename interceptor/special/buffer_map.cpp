@@ -12,6 +12,7 @@
 //    for large idle maps (apitrace's glmemshadow) and is left for when a program needs it.
 // Read-only maps change nothing and are only recorded.
 #include <algorithm>
+#include <atomic>
 #include <cstring>
 #include <map>
 #include <mutex>
@@ -36,6 +37,7 @@ struct Mapping {
 
 std::mutex g_mutex;
 std::map<std::pair<uint32_t, GLuint>, Mapping> g_maps;  // (context id, buffer name)
+std::atomic<int> g_persistent_maps{0};  // draws take the lock only while some exist
 
 GLenum binding_of(GLenum target) {
     switch (target) {
@@ -93,7 +95,9 @@ void mapped(CallScope& scope, GLuint buffer, void* pointer, int64_t offset, int6
         m.shadow.assign(m.pointer, m.pointer + length);
     (void)scope;
     std::lock_guard lock(g_mutex);
-    g_maps[{current_context_id(), buffer}] = std::move(m);
+    Mapping& slot = g_maps[{current_context_id(), buffer}];
+    g_persistent_maps += int(!m.shadow.empty()) - int(!slot.shadow.empty());
+    slot = std::move(m);
 }
 
 // Ships what the program wrote into a mapping; for persistent maps only the changed span.
@@ -128,7 +132,11 @@ GLboolean unmap(CallScope& scope, GLuint buffer, Unmap&& real_unmap, Encode&& en
     const GLboolean ret = real_unmap();
     {
         std::lock_guard lock(g_mutex);
-        g_maps.erase({current_context_id(), buffer});
+        auto it = g_maps.find({current_context_id(), buffer});
+        if (it != g_maps.end()) {
+            g_persistent_maps -= int(!it->second.shadow.empty());
+            g_maps.erase(it);
+        }
     }
     if (scope.recording()) scope.record([&](Encoder& e, SizeQueries& sz) { encode(e, sz, ret); });
     return ret;
@@ -144,8 +152,8 @@ void flushed(CallScope& scope, GLuint buffer, int64_t offset, int64_t length) {
 
 // Called before every draw: persistent mappings may have been written since the last one.
 void ship_mapped_writes(CallScope& scope) {
+    if (g_persistent_maps.load(std::memory_order_relaxed) == 0) return;
     std::lock_guard lock(g_mutex);
-    if (g_maps.empty()) return;
     const uint32_t ctx = current_context_id();
     for (auto& [key, m] : g_maps)
         if (key.first == ctx && !m.shadow.empty()) ship_changes(scope, key.second, m, 0, m.length);
