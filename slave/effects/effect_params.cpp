@@ -1,0 +1,99 @@
+#include "slave/effects/effect_params.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <stdexcept>
+
+#include "slave/display_config.h"
+#include "slave/effects/pipeline.h"
+
+namespace glcast::slave::effects {
+
+const std::vector<ParamSpec>& all_param_specs() {
+    static const std::vector<ParamSpec> specs = [] {
+        std::vector<ParamSpec> all;
+        for (auto part : {precipitation_param_specs(), winter_surfaces_param_specs(), shadow_param_specs()})
+            all.insert(all.end(), part.begin(), part.end());
+        return all;
+    }();
+    return specs;
+}
+
+static const ParamSpec* find_spec(const std::string& name) {
+    for (const ParamSpec& s : all_param_specs())
+        if (s.name == name) return &s;
+    return nullptr;
+}
+
+bool EffectParams::set(const std::string& name, const std::string& value, std::string& error) {
+    const ParamSpec* spec = find_spec(name);
+    if (!spec) {
+        error = "unknown effect parameter \"" + name + "\" (docs/effects.md lists them; e.g.";
+        for (size_t i = 0; i < all_param_specs().size() && i < 6; ++i) error += " " + all_param_specs()[i].name;
+        error += " ...)";
+        return false;
+    }
+    if (!spec->text) {
+        char* end = nullptr;
+        const double v = std::strtod(value.c_str(), &end);
+        if (value.empty() || *end || !std::isfinite(v)) {
+            error = "effect parameter " + name + ": expected a number, got \"" + value + "\"";
+            return false;
+        }
+        if (v < spec->min || v > spec->max) {
+            error = "effect parameter " + name + " = " + value + " is out of range [" + std::to_string(spec->min) +
+                    ", " + std::to_string(spec->max) + "]";
+            return false;
+        }
+    }
+    values_[name] = value;
+    return true;
+}
+
+bool EffectParams::set_assignment(const std::string& assignment, std::string& error) {
+    const size_t eq = assignment.find('=');
+    if (eq == std::string::npos || eq == 0) {
+        error = "--effect-param takes NAME=VALUE, got \"" + assignment + "\"";
+        return false;
+    }
+    return set(assignment.substr(0, eq), assignment.substr(eq + 1), error);
+}
+
+double EffectParams::number(const std::string& name) const {
+    const ParamSpec* spec = find_spec(name);
+    if (!spec || spec->text) throw std::logic_error("undeclared numeric effect parameter " + name);
+    auto it = values_.find(name);
+    return it == values_.end() ? spec->value : std::strtod(it->second.c_str(), nullptr);
+}
+
+std::string EffectParams::text(const std::string& name) const {
+    const ParamSpec* spec = find_spec(name);
+    if (!spec || !spec->text) throw std::logic_error("undeclared text effect parameter " + name);
+    auto it = values_.find(name);
+    return it == values_.end() ? std::string() : it->second;
+}
+
+bool EffectsSettings::enable(const std::string& list, std::string& error) {
+    size_t start = 0;
+    while (start <= list.size()) {
+        size_t comma = list.find(',', start);
+        if (comma == std::string::npos) comma = list.size();
+        const std::string name = list.substr(start, comma - start);
+        if (name == "snow") snow = true;
+        else if (name == "rain") rain = true;
+        else if (name == "cover") cover = true;
+        else if (name == "icicles") icicles = true;
+        else if (name == "shadows") shadows = true;
+        else {
+            error = "unknown effect \"" + name + "\" (known:";
+            for (const std::string& k : known_display_effects()) error += " " + k;
+            error += ")";
+            return false;
+        }
+        start = comma + 1;
+    }
+    return true;
+}
+
+}  // namespace glcast::slave::effects

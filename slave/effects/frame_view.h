@@ -1,0 +1,70 @@
+// What an injected pass knows about the frame it decorates (design.md 6). Filled by the
+// replayer at the end of each frame, before present, with the program's window framebuffer
+// bound as the draw framebuffer and the viewport covering the whole tile.
+//
+// Coordinates. The program draws into its window; the wall stretches that window over the
+// canvas and each slave shows one tile of it. Three spaces matter to a pass:
+//   - tile pixels: gl_FragCoord in the window framebuffer of this slave (width x height);
+//   - canvas pixels: tile pixels + (canvas_x, canvas_y) (GL convention, origin bottom left).
+//     Every random choice is indexed by canvas pixels and the master's frame number, so the
+//     tiles of a wall join without seams and a rerun is identical;
+//   - the program's eye space (the "main view": the projection and modelview of the frame's
+//     first draw to the window with a perspective projection).
+// tile_clip_from_eye maps eye space to this tile's clip space (projection, the wall's
+// stretch or the rotated tile's correction included); eye_from_tile_clip is its inverse.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+
+#include <glm/glm.hpp>
+
+#include "master/gl_headers.h"
+
+namespace glcast::slave::effects {
+
+struct SceneLight {
+    bool known = false;        // false: the program has no enabled fixed-function light
+    glm::dvec4 eye_position{0, 0, 1, 0};  // GL's GL_POSITION in eye space (w = 0: directional)
+};
+
+struct FrameView {
+    uint64_t frame = 0;           // the master's frame number (swap count of this context)
+    double time = 0;              // frame * frame_time: seconds of stream time, deterministic
+    double frame_time = 1.0 / 60;  // nominal display interval
+    int width = 0, height = 0;    // the tile's framebuffer
+    int canvas_x = 0, canvas_y = 0, canvas_width = 0, canvas_height = 0;
+
+    bool view_known = false;      // false: no perspective draw this frame; the matrices below are identities
+    glm::dmat4 projection{1.0};   // P_app of the main view
+    glm::dmat4 modelview{1.0};    // the modelview of the main view's first draw
+    glm::dmat4 tile_clip_from_app_clip{1.0};  // T: the wall's stretch of this tile, or a rotated tile's M
+    glm::dmat4 tile_clip_from_eye{1.0};       // T * P_app
+    glm::dmat4 eye_from_tile_clip{1.0};
+    SceneLight light;
+
+    // Copies of the window framebuffer as it was before the passes (made on first call, then
+    // cached for this frame): RGBA8 color and DEPTH24_STENCIL8 depth, texel (x, y) = tile pixel.
+    std::function<GLuint()> color_texture;
+    std::function<GLuint()> depth_texture;
+
+    // Re-renders the frame's draws of the main view (those made to the window with the main
+    // view's projection) into whatever framebuffer, viewport and program are bound, with
+    //     clip = correction * P_app * modelview * vertex
+    // and the program's own fragment state, except: color, depth and stencil state, blending,
+    // culling, polygon offset, scissor and the bound framebuffer are the caller's. Empty when
+    // the stream cannot be re-rendered (shader programs, core contexts).
+    std::function<void(const glm::dmat4& correction)> redraw;
+
+    // The correction that makes redraw() render this tile plus `guard` pixels on every side
+    // into a (width + 2 guard) x (height + 2 guard) framebuffer: screen-space steps that read
+    // neighbouring pixels see, at the tile's border, what the neighbouring tile sees.
+    glm::dmat4 guard_band(int guard) const {
+        glm::dmat4 s(1.0);
+        s[0][0] = double(width) / (width + 2 * guard);
+        s[1][1] = double(height) / (height + 2 * guard);
+        return s * tile_clip_from_app_clip;
+    }
+};
+
+}  // namespace glcast::slave::effects
