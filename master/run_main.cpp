@@ -20,17 +20,19 @@
 #include "master/launcher.h"
 #include "master/swap_barrier.h"
 #include "slave/display_config.h"
+#include "slave/effects/effect_params.h"
 
 namespace glcast {
 
 const char* kRunUsage =
     "  run [--config FILE] [--backend egl|osmesa|window] [--out DIR] [--frames N] [--endpoint tcp://*:PORT]\n"
-    "      [--lockstep]\n"
+    "      [--lockstep] [--effects LIST] [--effect-param NAME=VALUE]...\n"
     "      -- PROGRAM [ARGS...]\n"
     "        run PROGRAM on a wall: one local slave per tile of FILE (default: one slave showing the\n"
     "        whole window); --out DIR writes each tile's frames to DIR/TILE/; --frames ends the\n"
     "        program after N frames; --endpoint publishes on TCP for slaves on other machines;\n"
-    "        --lockstep holds the program at each swap until every slave has replayed the frame\n";
+    "        --lockstep holds the program at each swap until every slave has replayed the frame;\n"
+    "        --effects/--effect-param are passed to every slave (injected passes, docs/effects.md)\n";
 
 namespace {
 
@@ -85,6 +87,8 @@ int run_main(const std::vector<std::string>& args) {
     std::string config_path, backend = std::getenv("DISPLAY") ? "window" : "egl", out_dir, endpoint;
     uint64_t frames = 0;
     bool lockstep = false;
+    slave::effects::EffectsSettings effects;
+    std::vector<std::string> effect_args;
     size_t i = 0;
     for (; i < args.size() && args[i] != "--"; ++i) {
         const bool v = i + 1 < args.size();
@@ -94,7 +98,14 @@ int run_main(const std::vector<std::string>& args) {
         else if (args[i] == "--endpoint" && v) endpoint = args[++i];
         else if (args[i] == "--lockstep") lockstep = true;
         else if (args[i] == "--frames" && v) frames = std::strtoull(args[++i].c_str(), nullptr, 10);
-        else if (args[i] == "--effects" && v) return usage("--effects: the injected passes are not built yet");
+        else if ((args[i] == "--effects" || args[i] == "--effect-param") && v) {
+            std::string error;  // checked here, so that a typo fails before any slave starts
+            const bool ok = args[i] == "--effects" ? effects.enable(args[i + 1], error)
+                                                   : effects.params.set_assignment(args[i + 1], error);
+            if (!ok) return usage(args[i] + ": " + error);
+            effect_args.push_back(args[i]);
+            effect_args.push_back(args[++i]);
+        }
         else return usage("unknown option '" + args[i] + "'");
     }
     if (i + 1 >= args.size()) return usage("the program to run follows '--'");
@@ -141,6 +152,7 @@ int run_main(const std::vector<std::string>& args) {
         if (!out_dir.empty()) argv.insert(argv.end(), {"--out", out_dir + "/" + (tile.empty() ? "window" : tile)});
         if (swap_barrier) argv.insert(argv.end(), {"--swap-barrier", barrier_endpoint});
         if (lockstep) argv.push_back("--lockstep");
+        argv.insert(argv.end(), effect_args.begin(), effect_args.end());
         if (const char* log = std::getenv("GLCAST_TEST_PRESENT_LOG_DIR"))
             setenv("GLCAST_TEST_PRESENT_LOG", (std::string(log) + "/" + (tile.empty() ? "window" : tile)).c_str(), 1);
         slaves[spawn(argv)] = tile.empty() ? "window" : tile;

@@ -9,6 +9,8 @@
 // never reach a terminal raw.
 #include "slave/display_config.h"
 
+#include "slave/effects/effect_params.h"
+
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -263,7 +265,7 @@ private:
 // ---- validation -------------------------------------------------------------------------
 
 const char* const kRootKeys[] = {"name", "description", "canvas", "tiles", "swap_barrier", "effects",
-                                 "program_projection"};
+                                 "effect_params", "program_projection"};
 const char* const kProjectionKeys[] = {"fov_y", "near", "far"};
 const char* const kCanvasKeys[] = {"width", "height"};
 const char* const kTileKeys[] = {"name", "x", "y", "width", "height", "view"};
@@ -518,6 +520,23 @@ bool parse_config(Validator& check, const json& root, DisplayConfig& config) {
             if (std::find(config.effects.begin(), config.effects.end(), name) != config.effects.end())
                 return check.fail(path, quote(name) + " is listed twice");
             config.effects.push_back(name);
+        }
+    }
+
+    if (auto it = root.find("effect_params"); it != root.end()) {
+        if (!it->is_object())
+            return check.fail("effect_params", "must be an object of parameter names and values, got " + describe(*it));
+        effects::EffectParams checked;
+        for (auto p = it->begin(); p != it->end(); ++p) {
+            const std::string path = "effect_params." + p.key();
+            std::string value;
+            if (p->is_number()) value = p->dump();
+            else if (p->is_string()) value = p->get<std::string>();
+            else if (p->is_boolean()) value = p->get<bool>() ? "1" : "0";
+            else return check.fail(path, "must be a number, a string or true/false, got " + describe(*p));
+            std::string why;
+            if (!checked.set(p.key(), value, why)) return check.fail(path, why);
+            config.effect_params.emplace_back(p.key(), value);
         }
     }
     return true;

@@ -44,6 +44,7 @@ struct DisplayConfig {
     std::vector<Tile> tiles;
     bool swap_barrier = false;
     std::vector<std::string> effects;          // e.g. "snow", "shadows" (names only; validated against a list)
+    std::vector<std::pair<std::string, std::string>> effect_params;  // name, value (checked: slave/effects/effect_params.h)
     ProgramProjection program_projection;
     const Tile* find(const std::string& name) const;   // nullptr if absent
 };

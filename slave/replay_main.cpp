@@ -18,7 +18,7 @@ namespace glcast::slave {
 const char* kReplayUsage =
     "  replay FILE [--frames A:B] [--backend egl|osmesa|window] [--out DIR] [--compare DIR]\n"
     "         [--size WxH] [--offset-names N] [--verify] [--config FILE --tile NAME]\n"
-    "         [--canvas WxH --tile-rect X,Y,W,H]\n"
+    "         [--canvas WxH --tile-rect X,Y,W,H] [--effects LIST] [--effect-param NAME=VALUE]...\n"
     "        replay a capture on the slave engine; --out writes frame-NNNNNN.png per swap,\n"
     "        --compare checks each frame against DIR/frame-NNNNNN.png (exit 1 on a mismatch);\n"
     "        --config/--tile show one tile of a display config, as `glcast slave` does;\n"
@@ -27,7 +27,9 @@ const char* kReplayUsage =
     "        --verify also executes the calls that only answered the program (glGet*, glReadPixels,\n"
     "        glGetError, ...) and reports where the slave's answer differs from the master's;\n"
     "        --offset-names makes the slave keep N objects of each kind of its own first, so its\n"
-    "        names differ from the master's (a test of the name maps)\n";
+    "        names differ from the master's (a test of the name maps);\n"
+    "        --effects runs injected passes before each present: a comma-separated list of snow,\n"
+    "        rain, cover, icicles, shadows; --effect-param sets one of their parameters (docs/effects.md)\n";
 
 namespace {
 
@@ -89,6 +91,12 @@ int replay_main(const std::vector<std::string>& args) {
             config_path = args[++i];
         } else if (a == "--tile" && has_value) {
             tile_name = args[++i];
+        } else if (a == "--effects" && has_value) {
+            std::string error;
+            if (!opt.effects.enable(args[++i], error)) return usage("--effects: " + error);
+        } else if (a == "--effect-param" && has_value) {
+            std::string error;
+            if (!opt.effects.params.set_assignment(args[++i], error)) return usage(error);
         } else if (a == "--verify") {
             opt.verify = true;
         } else if (a == "--offset-names" && has_value) {
@@ -123,6 +131,8 @@ int replay_main(const std::vector<std::string>& args) {
             opt.tile.y + opt.tile.height > opt.tile.canvas_height)
             return usage("--tile-rect lies outside the canvas");
         opt.tile.y = opt.tile.canvas_height - opt.tile.y - opt.tile.height;
+        opt.tile.place_x = opt.tile.x, opt.tile.place_y = opt.tile.y;
+        opt.tile.place_canvas_width = opt.tile.canvas_width, opt.tile.place_canvas_height = opt.tile.canvas_height;
     }
     if (!out_dir.empty() && mkdir(out_dir.c_str(), 0755) != 0 && errno != EEXIST) {
         std::fprintf(stderr, "glcast replay: cannot create %s: %s\n", out_dir.c_str(), std::strerror(errno));

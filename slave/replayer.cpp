@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "master/gl_headers.h"
+#include "slave/effects_frame.h"
 
 namespace glcast::slave {
 
@@ -317,6 +318,15 @@ void Replayer::track_matrix_call(const Call& c) {
 // M * P_app for the program's current P_app.
 void Replayer::correct_projection() {
     SlaveContext& ctx = current();
+    if (redrawing_) {  // an injected pass re-renders the main view: its correction, always
+        const glm::dmat4 app = program_projection_now();
+        const glm::dmat4 corrected = redraw_correction_ * app;
+        gl<decltype(&::glMatrixMode)>(OP_glMatrixMode)(GL_PROJECTION);
+        gl<decltype(&::glLoadMatrixd)>(OP_glLoadMatrixd)(&corrected[0][0]);
+        gl<decltype(&::glMatrixMode)>(OP_glMatrixMode)(GLenum(ctx.matrix_mode));
+        ctx.projection.back() = SlaveContext::Projection{true, false, redraw_correction_};
+        return;
+    }
     GLint program = 0;
     gl<decltype(&::glGetIntegerv)>(OP_glGetIntegerv)(GL_CURRENT_PROGRAM, &program);
     if (program) {  // a shader program: its patched vertex shader multiplies by glcast_clip
@@ -385,6 +395,7 @@ void Replayer::replay(MessageSource& reader) {
     while (frame_ <= options_.last_frame && reader.next(m)) {
         ByteReader r(m.payload.data(), m.payload.size(), 0);
         while (r.remaining() && frame_ <= options_.last_frame) {
+            const uint64_t tuple_start = r.offset();
             try {
                 decode_tuple(r, c);
             } catch (const DecodeError& e) {
@@ -398,6 +409,11 @@ void Replayer::replay(MessageSource& reader) {
                     synthetic(c);
                 }
                 else dispatch(c);
+                if (options_.effects.any() && current_) {
+                    tuple_size_ = size_t(r.offset() - tuple_start);
+                    tuple_bytes_ = m.payload.data() + tuple_start;
+                    record_for_effects(c);
+                }
             } catch (const ReplayError& e) {
                 report(e.what());
             }

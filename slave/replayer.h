@@ -21,11 +21,18 @@
 #include "glcast_slave_dispatch.h"
 #include "protocol/decoder.h"
 #include "slave/backend.h"
+#include "slave/effects/effect_params.h"
 #include "slave/name_map.h"
 #include "slave/tile_mapping.h"
 #include "slave/view_correction.h"
 
 namespace glcast::slave {
+
+struct EffectsState;  // slave/effects_frame.h
+namespace effects {
+struct GlApi;
+struct FrameView;
+}  // namespace effects
 
 class ReplayError : public std::runtime_error {
 public:
@@ -58,6 +65,9 @@ struct SlaveContext {
     };
     std::vector<Projection> projection = std::vector<Projection>(1);
     uint32_t matrix_mode = 0x1700;  // GL_MODELVIEW
+    std::unique_ptr<EffectsState> effects;  // with --effects: the passes and the frame's record
+    SlaveContext();
+    ~SlaveContext();  // where EffectsState is complete
 };
 
 struct ReplayOptions {
@@ -66,6 +76,7 @@ struct ReplayOptions {
     bool verify = false;            // execute reply-only calls too and compare with the replies
     TileMapping tile;               // show one tile of a wall instead of the whole window
     ViewCorrection view;            // a rotated or asymmetric tile (fixed-function programs)
+    effects::EffectsSettings effects;  // injected passes run before each present (design.md 6)
 };
 
 struct ReplayStats {
@@ -167,6 +178,13 @@ private:
     void make_current(uint32_t id, uint64_t drawable);
     void window_size(uint64_t drawable, int& width, int& height) const;
     void end_frame();
+    // Injected passes (slave/effects_frame.cpp).
+    void record_for_effects(const Call& c);
+    void run_effects();
+    void redraw_main_view(const glm::dmat4& correction);
+    void frame_view(SlaveContext& ctx, effects::FrameView& view);
+    unsigned window_copy(SlaveContext& ctx, bool depth);  // a GL texture name
+    glm::dmat4 program_projection_now();
     uint32_t auto_create(Ns ns);
     void report(const std::string& what);
     void mismatch(const Call& c, const std::string& what);
@@ -186,6 +204,11 @@ private:
     uint64_t frame_ = 0, call_index_ = 0;
     bool first_context_done_ = false;
     std::map<uint32_t, uint64_t> unserialized_seen_;
+    std::unique_ptr<effects::GlApi> effects_gl_;  // loaded at the first frame with effects
+    bool redrawing_ = false;
+    glm::dmat4 redraw_correction_{1.0};
+    const uint8_t* tuple_bytes_ = nullptr;  // the raw tuple being replayed, for the frame record
+    size_t tuple_size_ = 0;
 };
 
 }  // namespace glcast::slave

@@ -20,11 +20,12 @@ namespace glcast::slave {
 const char* kSlaveUsage =
     "  slave --connect ENDPOINT [--journal ENDPOINT] [--config FILE --tile NAME]\n"
     "        [--backend egl|osmesa|window] [--out DIR] [--frames A:B] [--wait SECONDS] [--quiet]\n"
-    "        [--swap-barrier ENDPOINT] [--lockstep]\n"
+    "        [--swap-barrier ENDPOINT] [--lockstep] [--effects LIST] [--effect-param NAME=VALUE]...\n"
     "        one tile of a wall: subscribe to a master (glcast run prints its endpoints), join\n"
     "        through its journal, replay; --out writes the tile's frames as PNGs; --swap-barrier\n"
     "        presents each frame only when every tile of the wall has it (glcast run prints the endpoint);\n"
-    "        --lockstep reports each replayed frame to a master that waits for its slaves\n";
+    "        --lockstep reports each replayed frame to a master that waits for its slaves;\n"
+    "        --effects/--effect-param as for replay (a display config's \"effects\" add to them)\n";
 
 namespace {
 
@@ -53,7 +54,13 @@ int slave_main(const std::vector<std::string>& args) {
         else if (a == "--quiet") quiet = true;
         else if (a == "--swap-barrier" && v) barrier_endpoint = args[++i];
         else if (a == "--lockstep") lockstep = true;
-        else if (a == "--wait" && v) {
+        else if (a == "--effects" && v) {
+            std::string error;
+            if (!opt.effects.enable(args[++i], error)) return usage("--effects: " + error);
+        } else if (a == "--effect-param" && v) {
+            std::string error;
+            if (!opt.effects.params.set_assignment(args[++i], error)) return usage(error);
+        } else if (a == "--wait" && v) {
             wait_seconds = std::atoi(args[++i].c_str());
             if (wait_seconds <= 0 || wait_seconds > 86400) return usage("--wait takes 1..86400 seconds");
         } else if (a == "--frames" && v) {

@@ -15,6 +15,10 @@ struct TileMapping {
     bool enabled = false;
     int canvas_width = 0, canvas_height = 0;
     int x = 0, y = 0, width = 0, height = 0;   // the tile on the canvas, GL convention: origin bottom-left
+    // Where canvas-indexed effects (slave/effects) place the tile: the tile's rectangle on the
+    // canvas for planar tiles; a rotated tile's rectangle in the display config (its x, y, w, h
+    // above describe its own window instead).
+    int place_x = 0, place_y = 0, place_canvas_width = 0, place_canvas_height = 0;
 
     // For a master window of window_width x window_height:
     double sx(int window_width) const { return window_width > 0 ? double(canvas_width) / window_width : 1; }

@@ -14,6 +14,11 @@ bool tile_options(const std::string& path, const std::string& name, ReplayOption
         error += ")";
         return false;
     }
+    // The config's effects join those of the command line, whose parameters win.
+    for (const std::string& effect : config.effects)
+        if (!options.effects.enable(effect, error)) return false;
+    for (const auto& [param, value] : config.effect_params)
+        if (!options.effects.params.has(param) && !options.effects.params.set(param, value, error)) return false;
     TileMapping& m = options.tile;
     if (tile->view.enabled) {
         // The program's whole window on the tile, seen through the tile's own camera.
@@ -28,6 +33,10 @@ bool tile_options(const std::string& path, const std::string& name, ReplayOption
         m.canvas_width = m.width = tile->width;
         m.canvas_height = m.height = tile->height;
         m.x = m.y = 0;
+        m.place_x = tile->x;
+        m.place_y = config.canvas_height - tile->y - tile->height;
+        m.place_canvas_width = config.canvas_width;
+        m.place_canvas_height = config.canvas_height;
         return true;
     }
     m.enabled = true;
@@ -37,6 +46,8 @@ bool tile_options(const std::string& path, const std::string& name, ReplayOption
     m.width = tile->width;
     m.height = tile->height;
     m.y = config.canvas_height - tile->y - tile->height;  // GL's origin is the bottom left
+    m.place_x = m.x, m.place_y = m.y;
+    m.place_canvas_width = m.canvas_width, m.place_canvas_height = m.canvas_height;
     return true;
 }
 

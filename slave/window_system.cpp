@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "master/gl_headers.h"
+#include "slave/effects_frame.h"
 #include "slave/replayer.h"
 #include "slave/window_readback.h"
 
@@ -166,6 +167,7 @@ void Replayer::make_current(uint32_t id, uint64_t drawable) {
 
 void Replayer::end_frame() {
     SlaveContext& ctx = current();
+    if (options_.effects.any()) run_effects();
     if (frame_ >= options_.first_frame && frame_ <= options_.last_frame && on_frame && ctx.width > 0 && ctx.height > 0) {
         ReadbackGl readback;
         readback.GetIntegerv = gl<decltype(readback.GetIntegerv)>(OP_glGetIntegerv);

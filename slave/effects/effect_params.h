@@ -31,6 +31,7 @@ public:
     double number(const std::string& name) const;
     bool flag(const std::string& name) const { return number(name) != 0; }
     std::string text(const std::string& name) const;
+    bool has(const std::string& name) const { return values_.count(name) != 0; }
 
 private:
     std::map<std::string, std::string> values_;

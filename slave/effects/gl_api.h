@@ -32,7 +32,8 @@ namespace glcast::slave::effects {
     X(glGetUniformLocation) X(glUniform1i) X(glUniform1f) X(glUniform2f) X(glUniform3f) X(glUniform4f)     \
     X(glUniform1fv) X(glUniform2fv) X(glUniform3fv) X(glUniform4fv) X(glUniformMatrix4fv)                  \
     X(glBindAttribLocation) X(glBindFragDataLocation) X(glGenQueries) X(glDeleteQueries)                   \
-    X(glQueryCounter) X(glGetQueryObjectui64v) X(glBeginQuery) X(glEndQuery)
+    X(glQueryCounter) X(glGetQueryObjectui64v) X(glBeginQuery) X(glEndQuery) X(glTexImage3D)                   \
+    X(glTexSubImage3D)
 
 // Compatibility-profile functions: null in core contexts (check before use).
 #define GLCAST_EFFECTS_GL_COMPAT(X)                                                                      \

@@ -1,0 +1,62 @@
+// The replayer's side of the injected passes (design.md 6): what a slave context records of
+// each frame so that passes can know the scene (the main view, the light) and re-render it.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <stdexcept>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "slave/effects/frame_view.h"
+#include "slave/effects/pipeline.h"
+
+namespace glcast::slave {
+
+// The frame's calls that re-render its geometry without side effects on objects: draws,
+// immediate-mode blocks, display-list calls, matrix and vertex-array state. Kept as raw
+// tuples, decoded again by redraw.
+struct FrameRecord {
+    struct Entry {
+        size_t begin = 0, size = 0;
+        bool draw = false;     // a draw or part of a glBegin/glEnd block
+        bool main = false;     // ... of the main view
+    };
+    std::vector<uint8_t> bytes;
+    std::vector<Entry> entries;
+    bool in_begin_end = false, begin_is_main = false;
+    bool compiling_list = false;  // between glNewList and glEndList: nothing is drawn
+    bool overflow = false;        // more than kMaxRecordBytes: this frame cannot be re-rendered
+    bool shader_draws = false;    // some draw to the window used a shader program
+    // The main view: the first draw to the window with a perspective projection.
+    bool main_known = false;
+    glm::dmat4 projection{1.0}, modelview{1.0};
+    int32_t viewport[4] = {0, 0, 0, 0};  // the program's, master window coordinates
+    effects::SceneLight light;
+    // The modelview the program pushed last (glPushMatrix on GL_MODELVIEW) before the main
+    // view's first draw: the view transform of programs that push per object.
+    bool pushed = false;
+    glm::dmat4 last_push{1.0};
+
+    void clear();
+};
+constexpr size_t kMaxRecordBytes = size_t(256) << 20;
+
+// Per slave context: its pipeline and the copies of its window framebuffer.
+struct EffectsState {
+    std::unique_ptr<effects::Pipeline> pipeline;
+    FrameRecord record;
+    GLuint color_texture = 0, depth_texture = 0, color_fb = 0, depth_fb = 0;
+    int copies_width = 0, copies_height = 0;
+    bool color_copied = false, depth_copied = false;
+};
+
+// The effects could not run (a shader that does not compile, a driver without GL 3.3): fatal
+// for the slave, with the reason.
+class EffectsError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+}  // namespace glcast::slave
