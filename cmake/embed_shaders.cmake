@@ -1,6 +1,7 @@
 # Writes OUT: a C++ file defining glcast::slave::effects::embedded_shaders(), a map from file
-# name to text of every shader file in SHADERS (a ;-list of paths). Run as cmake -P.
+# name to text of every shader file in SHADERS (paths separated by |). Run as cmake -P.
 set(body "")
+string(REPLACE "|" ";" SHADERS "${SHADERS}")
 foreach(path ${SHADERS})
   get_filename_component(name ${path} NAME)
   file(READ ${path} text)
