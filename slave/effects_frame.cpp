@@ -152,7 +152,7 @@ void Replayer::record_for_effects(const Call& c) {
         e.main = rec.begin_is_main;
         if (kind == RedrawKind::End) rec.in_begin_end = false;
     } else if (!rec.main_known && c.opcode == OP_glPushMatrix) {
-        GLint mode = 0;
+        GLint mode = 0;  // the value a push saves is the one on top before it
         get_ints(GL_MATRIX_MODE, &mode);
         if (mode == GL_MODELVIEW) {
             GLdouble mv[16];

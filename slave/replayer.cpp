@@ -404,16 +404,18 @@ void Replayer::replay(MessageSource& reader) {
             }
             arena_used_ = 0;
             try {
+                // Recorded before it runs: the scene queries of a draw must not fall inside the
+                // glBegin/glEnd block it may open.
+                if (options_.effects.any() && current_ && (c.context == current_->id || !c.context)) {
+                    tuple_size_ = size_t(r.offset() - tuple_start);
+                    tuple_bytes_ = m.payload.data() + tuple_start;
+                    record_for_effects(c);
+                }
                 if (c.opcode >= kSynthBase) {
                     if (c.opcode != kSynthContext) follow_context(c);
                     synthetic(c);
                 }
                 else dispatch(c);
-                if (options_.effects.any() && current_) {
-                    tuple_size_ = size_t(r.offset() - tuple_start);
-                    tuple_bytes_ = m.payload.data() + tuple_start;
-                    record_for_effects(c);
-                }
             } catch (const ReplayError& e) {
                 report(e.what());
             }

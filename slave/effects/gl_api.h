@@ -33,7 +33,7 @@ namespace glcast::slave::effects {
     X(glUniform1fv) X(glUniform2fv) X(glUniform3fv) X(glUniform4fv) X(glUniformMatrix4fv)                  \
     X(glBindAttribLocation) X(glBindFragDataLocation) X(glGenQueries) X(glDeleteQueries)                   \
     X(glQueryCounter) X(glGetQueryObjectui64v) X(glBeginQuery) X(glEndQuery) X(glTexImage3D)                   \
-    X(glTexSubImage3D)
+    X(glTexSubImage3D) X(glUniform1ui)
 
 // Compatibility-profile functions: null in core contexts (check before use).
 #define GLCAST_EFFECTS_GL_COMPAT(X)                                                                      \

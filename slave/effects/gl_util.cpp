@@ -136,6 +136,10 @@ const GLenum kPixelStore[] = {GL_PACK_ALIGNMENT, GL_PACK_ROW_LENGTH, GL_PACK_SKI
                               GL_UNPACK_ALIGNMENT, GL_UNPACK_ROW_LENGTH, GL_UNPACK_SKIP_ROWS,
                               GL_UNPACK_SKIP_PIXELS, GL_UNPACK_SWAP_BYTES, GL_UNPACK_LSB_FIRST,
                               GL_UNPACK_IMAGE_HEIGHT, GL_UNPACK_SKIP_IMAGES};
+const GLenum kCompatEnables[] = {GL_ALPHA_TEST, GL_POLYGON_STIPPLE, GL_LINE_STIPPLE, GL_CLIP_PLANE0, GL_CLIP_PLANE1,
+                                 GL_CLIP_PLANE2, GL_CLIP_PLANE3, GL_CLIP_PLANE4, GL_CLIP_PLANE5};
+const GLenum kTextureTargetEnables[] = {GL_TEXTURE_1D, GL_TEXTURE_2D, GL_TEXTURE_3D, GL_TEXTURE_CUBE_MAP,
+                                        GL_TEXTURE_RECTANGLE};
 }  // namespace
 
 StateGuard::StateGuard(const GlApi& gl) : gl_(gl) {
@@ -176,11 +180,21 @@ StateGuard::StateGuard(const GlApi& gl) : gl_(gl) {
         gl.glGetIntegerv(p, &v);
         pixel_store_.emplace_back(p, v);
     }
+    GLint profile = 0;
+    gl.glGetIntegerv(GL_CONTEXT_PROFILE_MASK, &profile);
+    compatibility_ = gl.glPushAttrib && !(profile & GL_CONTEXT_CORE_PROFILE_BIT);
+    if (compatibility_)
+        for (GLenum e : kCompatEnables) enables_.emplace_back(e, gl.glIsEnabled(e)), gl.glDisable(e);
     gl.glGetIntegerv(GL_ACTIVE_TEXTURE, &active_texture_);
     for (int i = 0; i < 8; ++i) {
         gl.glActiveTexture(GLenum(GL_TEXTURE0 + i));
         gl.glGetIntegerv(GL_TEXTURE_BINDING_2D, &textures_[i]);
         gl.glGetIntegerv(GL_SAMPLER_BINDING, &samplers_[i]);
+        if (!compatibility_) continue;
+        for (GLenum e : kTextureTargetEnables) {
+            unit_enables_[i].emplace_back(e, gl.glIsEnabled(e));
+            gl.glDisable(e);
+        }
     }
     gl.glActiveTexture(GLenum(active_texture_));
     // Defaults every pass may rely on.
@@ -214,6 +228,7 @@ StateGuard::~StateGuard() {
         gl.glActiveTexture(GLenum(GL_TEXTURE0 + i));
         gl.glBindTexture(GL_TEXTURE_2D, GLuint(textures_[i]));
         gl.glBindSampler(GLuint(i), GLuint(samplers_[i]));
+        for (auto [e, on] : unit_enables_[i]) (on ? gl.glEnable : gl.glDisable)(e);
     }
     gl.glActiveTexture(GLenum(active_texture_));
     for (auto [p, v] : pixel_store_) gl.glPixelStorei(p, v);

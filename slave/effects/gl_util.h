@@ -39,7 +39,11 @@ void draw_fullscreen(const GlApi& gl, GLuint empty_vao);
 // destruction: framebuffer bindings and draw/read buffers, viewport, scissor, the enables
 // passes use, blend/depth/stencil/color masks and functions, polygon mode and offset, point
 // size, line width, clear values, program, VAO, array and pixel buffers, pixel store, active
-// texture and the 2D texture and sampler of units 0..7.
+// texture and the 2D texture and sampler of units 0..7. In compatibility contexts it also turns
+// off, and later restores, the fixed-function state that still acts on a shader's output or
+// its sampling: texture-target enables of units 0..7 (Mesa samples nothing from a unit whose
+// enabled fixed-function target differs from the shader's sampler type), alpha test, user
+// clip planes, polygon and line stipple.
 class StateGuard {
 public:
     explicit StateGuard(const GlApi& gl);
@@ -58,6 +62,8 @@ private:
     GLint program_, vao_, array_buffer_, pack_buffer_, unpack_buffer_, active_texture_;
     std::vector<std::pair<GLenum, GLint>> pixel_store_;
     GLint textures_[8], samplers_[8];
+    bool compatibility_ = false;
+    std::vector<std::pair<GLenum, GLboolean>> unit_enables_[8];
 };
 
 }  // namespace glcast::slave::effects

@@ -7,6 +7,7 @@
 namespace glcast::slave::effects {
 
 Pipeline::Pipeline(const GlApi& gl, const EffectsSettings& settings) : gl_(gl) {
+    StateGuard guard(gl);  // passes create their objects with default pixel-store state, and bind them
     const EffectParams& p = settings.params;
     if (settings.shadows) passes_.push_back(make_shadow_pass(gl, p));
     if (settings.cover || settings.icicles)

@@ -1,0 +1,71 @@
+#include "slave/effects/snow_synthesis_worker.h"
+
+#include <algorithm>
+#include <chrono>
+
+namespace glcast::slave::effects {
+
+SnowSynthesisWorker::SnowSynthesisWorker(const SpectralSnowParams& params, int regions)
+    : size_(params.size), regions_(regions) {
+    for (int i = 0; i < regions * regions; ++i) snow_.emplace_back(params);
+    done_.assign(size_t(regions) * regions * size_t(size_) * size_, 0.0f);
+    thread_ = std::thread([this] { loop(); });
+}
+
+SnowSynthesisWorker::~SnowSynthesisWorker() {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        stop_ = true;
+    }
+    cv_.notify_all();
+    thread_.join();
+}
+
+void SnowSynthesisWorker::submit(double dt, std::vector<std::pair<double, double>> c_theta) {
+    result();  // the previous job must be finished before its buffers are reused
+    std::lock_guard<std::mutex> lock(mutex_);
+    job_ = std::move(c_theta);
+    job_dt_ = dt;
+    job_pending_ = true;
+    job_done_ = false;
+    cv_.notify_all();
+}
+
+const std::vector<float>& SnowSynthesisWorker::result() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    if (!job_done_) {
+        const auto start = std::chrono::steady_clock::now();
+        cv_.wait(lock, [this] { return job_done_; });
+        waited_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    }
+    return done_;
+}
+
+void SnowSynthesisWorker::loop() {
+    for (;;) {
+        std::vector<std::pair<double, double>> job;
+        double dt = 0;
+        {
+            std::unique_lock<std::mutex> lock(mutex_);
+            cv_.wait(lock, [this] { return job_pending_ || stop_; });
+            if (stop_) return;
+            job = job_;
+            dt = job_dt_;
+            job_pending_ = false;
+        }
+        // done_ is only read by result() after job_done_ is set, so it is written unlocked.
+        const size_t texels = size_t(size_) * size_;
+        for (size_t r = 0; r < snow_.size(); ++r) {
+            snow_[r].advance(dt, job[r].first, job[r].second);
+            const std::vector<float>& a = snow_[r].opacity();
+            std::copy(a.begin(), a.end(), done_.begin() + long(r * texels));
+        }
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            job_done_ = true;
+        }
+        cv_.notify_all();
+    }
+}
+
+}  // namespace glcast::slave::effects

@@ -1,0 +1,46 @@
+// Spectral snow synthesized off the render thread (issue 4: a frame never waits for the IFFT):
+// frame f's textures are computed while frame f - 1 is composited. One SpectralSnow per region
+// of the seed's section 7 grid (regions x regions over the canvas), all with the same seed, so
+// that regions with equal C and theta are identical and blend without a trace.
+#pragma once
+
+#include <condition_variable>
+#include <mutex>
+#include <thread>
+#include <utility>
+#include <vector>
+
+#include "slave/effects/spectral_snow.h"
+
+namespace glcast::slave::effects {
+
+class SnowSynthesisWorker {
+public:
+    SnowSynthesisWorker(const SpectralSnowParams& params, int regions);
+    ~SnowSynthesisWorker();
+
+    // Starts the next frame: every region advances by dt with its own (C, theta) (row-major,
+    // region (i, j) at index j * regions + i, j counting up the canvas). Returns at once.
+    void submit(double dt, std::vector<std::pair<double, double>> c_theta);
+    // The opacities of the frame last submitted: regions^2 textures of M x M floats, one after
+    // the other. Blocks only if that synthesis has not finished; the wait is added to waited_ms().
+    const std::vector<float>& result();
+    double waited_ms() const { return waited_ms_; }
+    int size() const { return size_; }
+    int regions() const { return regions_; }
+
+private:
+    void loop();
+
+    int size_, regions_;
+    std::vector<SpectralSnow> snow_;
+    std::vector<float> done_;
+    std::mutex mutex_;
+    std::condition_variable cv_;
+    bool job_pending_ = false, job_done_ = true, stop_ = false;
+    double job_dt_ = 0, waited_ms_ = 0;
+    std::vector<std::pair<double, double>> job_;
+    std::thread thread_;
+};
+
+}  // namespace glcast::slave::effects
