@@ -329,6 +329,7 @@ void Replayer::run_effects() {
         effects::FrameView view;
         frame_view(ctx, view);
         st.pipeline->run(view);
+        if (after_effects) after_effects(view);
     } catch (const std::runtime_error& e) {
         throw EffectsError(std::string("effects: ") + e.what());
     }

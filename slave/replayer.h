@@ -95,6 +95,8 @@ public:
     std::function<void(Replayer&)> on_first_context;
     // Called just before each frame is presented (the swap barrier waits here).
     std::function<void(uint64_t frame)> before_present;
+    // Called after the injected passes of each frame, with the frame's view (tests of redraw).
+    std::function<void(const effects::FrameView& view)> after_effects;
 
     void replay(MessageSource& source);  // throws DecodeError on a bad stream
     // Forgets every context and name: the state of a slave that has seen nothing yet (a slave
