@@ -28,7 +28,7 @@ struct Kind {
         scale, sway, streak;
 };
 const Kind kSnow{"snow", 2000, 1.0, 12, 0.04, 0.9, 0.45, 0, 256, 3, 2.0, 0.15, 0.5};
-const Kind kRain{"rain", 3000, 12.0, 12, 0.008, 0.5, 0.30, 160, 256, 1, 2.0, 0.0, 1.0};
+const Kind kRain{"rain", 3000, 12.0, 12, 0.008, 0.5, 0.30, 900, 256, 1, 2.0, 0.0, 1.0};
 
 std::vector<ParamSpec> kind_specs(const Kind& k) {
     const std::string p = std::string(k.prefix) + ".";
@@ -95,7 +95,7 @@ public:
             composite_ = build_program(gl, "fullscreen.vert", "snow_composite.frag");
             gl.glGenTextures(1, &texture_);
             gl.glBindTexture(GL_TEXTURE_2D_ARRAY, texture_);
-            gl.glTexImage3D(GL_TEXTURE_2D_ARRAY, 0, GL_R32F, size, size, regions_ * regions_, 0, GL_RED, GL_FLOAT, nullptr);
+            gl.glTexImage3D(GL_TEXTURE_2D_ARRAY, 0, GL_R8, size, size, regions_ * regions_, 0, GL_RED, GL_UNSIGNED_BYTE, nullptr);
             gl.glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
             gl.glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
             gl.glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_REPEAT);
@@ -182,15 +182,18 @@ private:
         const double cw = view.canvas_width, ch = view.canvas_height;
         // This frame's texture was submitted last frame; the first frame computes its own.
         if (!submitted_) submit(view, relative_eye, unit, 0.0);
-        const std::vector<float>& opacity = worker_->result();
+        const std::vector<uint8_t>& opacity = worker_->result();
         gl.glActiveTexture(GL_TEXTURE0);
         gl.glBindTexture(GL_TEXTURE_2D_ARRAY, texture_);
-        gl.glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, 0, m, m, regions_ * regions_, GL_RED, GL_FLOAT, opacity.data());
+        gl.glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+        gl.glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, 0, m, m, regions_ * regions_, GL_RED, GL_UNSIGNED_BYTE,
+                           opacity.data());
         submit(view, relative_eye, unit, frame_time_);  // the next frame's, while this one is drawn
 
         gl.glUseProgram(composite_);
         gl.glUniform1i(uniform(gl, composite_, "opacity_layers"), 0);
         gl.glUniform1i(uniform(gl, composite_, "regions"), regions_);
+        gl.glUniform1i(uniform(gl, composite_, "uniform_motion"), uniform_motion_[0] ? 1 : 0);
         gl.glUniform2f(uniform(gl, composite_, "canvas_offset"), float(view.canvas_x), float(view.canvas_y));
         gl.glUniform2f(uniform(gl, composite_, "canvas_size"), float(cw), float(ch));
         gl.glUniform1f(uniform(gl, composite_, "texels_per_pixel"), float(1.0 / (scale_ * m)));
@@ -216,6 +219,11 @@ private:
                 if (speed_c_ > 0) c = speed_c_;
                 c_theta.emplace_back(c, theta);
             }
+        // Regions that move alike hold identical textures (one seed): the composite then reads one.
+        bool alike = true;
+        for (const auto& ct : c_theta) alike &= ct == c_theta.front();
+        uniform_motion_[0] = uniform_motion_[1];
+        uniform_motion_[1] = uniform_motion_[1] && alike;  // phases remember every frame
         worker_->submit(dt, std::move(c_theta));
         submitted_ = true;
     }
@@ -224,6 +232,9 @@ private:
     const Kind& kind_;
     int particles_ = 0, regions_ = 1;
     bool spectral_ = true, camera_motion_ = true, submitted_ = false, has_previous_ = false;
+    // Whether every region had the same C and theta for all frames up to the one being shown
+    // ([0]) and the one being synthesized ([1]).
+    bool uniform_motion_[2] = {true, true};
     double fall_speed_, box_, flake_size_, sway_, streak_, particle_opacity_, spectral_opacity_, brightness_;
     double scale_, speed_c_, spectral_depth_, frame_time_, min_frequency_fraction_ = 1.0 / 32;
     glm::dvec2 wind_;

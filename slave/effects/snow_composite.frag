@@ -4,6 +4,7 @@
 // wall reads the same canvas.
 uniform sampler2DArray opacity_layers;  // regions^2 layers, M x M, wrapping (toroidal)
 uniform int regions;
+uniform int uniform_motion;   // every region has moved alike so far: their textures are identical
 uniform vec2 canvas_offset;   // this tile's origin on the canvas
 uniform vec2 canvas_size;
 uniform float texels_per_pixel;  // 1 / (scale * M): texture repeats per canvas pixel
@@ -16,6 +17,10 @@ float layer(ivec2 r, vec2 tc) { return texture(opacity_layers, vec3(tc, float(r.
 void main() {
     vec2 canvas = gl_FragCoord.xy + canvas_offset;
     vec2 tc = canvas * texels_per_pixel;
+    if (uniform_motion != 0) {
+        out_color = vec4(vec3(brightness), layer(ivec2(0), tc) * strength);
+        return;
+    }
     vec2 g = clamp(canvas / canvas_size * float(regions) - 0.5, vec2(0.0), vec2(float(regions - 1)));
     ivec2 r0 = ivec2(floor(g));
     ivec2 r1 = min(r0 + 1, ivec2(regions - 1));

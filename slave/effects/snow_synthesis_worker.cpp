@@ -8,7 +8,7 @@ namespace glcast::slave::effects {
 SnowSynthesisWorker::SnowSynthesisWorker(const SpectralSnowParams& params, int regions)
     : size_(params.size), regions_(regions) {
     for (int i = 0; i < regions * regions; ++i) snow_.emplace_back(params);
-    done_.assign(size_t(regions) * regions * size_t(size_) * size_, 0.0f);
+    done_.assign(size_t(regions) * regions * size_t(size_) * size_, 0);
     thread_ = std::thread([this] { loop(); });
 }
 
@@ -31,7 +31,7 @@ void SnowSynthesisWorker::submit(double dt, std::vector<std::pair<double, double
     cv_.notify_all();
 }
 
-const std::vector<float>& SnowSynthesisWorker::result() {
+const std::vector<uint8_t>& SnowSynthesisWorker::result() {
     std::unique_lock<std::mutex> lock(mutex_);
     if (!job_done_) {
         const auto start = std::chrono::steady_clock::now();
@@ -58,7 +58,8 @@ void SnowSynthesisWorker::loop() {
         for (size_t r = 0; r < snow_.size(); ++r) {
             snow_[r].advance(dt, job[r].first, job[r].second);
             const std::vector<float>& a = snow_[r].opacity();
-            std::copy(a.begin(), a.end(), done_.begin() + long(r * texels));
+            uint8_t* out = done_.data() + r * texels;
+            for (size_t i = 0; i < texels; ++i) out[i] = uint8_t(a[i] * 255.0f + 0.5f);
         }
         {
             std::lock_guard<std::mutex> lock(mutex_);

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <condition_variable>
+#include <cstdint>
 #include <mutex>
 #include <thread>
 #include <utility>
@@ -22,9 +23,10 @@ public:
     // Starts the next frame: every region advances by dt with its own (C, theta) (row-major,
     // region (i, j) at index j * regions + i, j counting up the canvas). Returns at once.
     void submit(double dt, std::vector<std::pair<double, double>> c_theta);
-    // The opacities of the frame last submitted: regions^2 textures of M x M floats, one after
-    // the other. Blocks only if that synthesis has not finished; the wait is added to waited_ms().
-    const std::vector<float>& result();
+    // The opacities of the frame last submitted, quantized to bytes (0..255 for 0..1; what the
+    // GPU samples): regions^2 textures of M x M, one after the other. Blocks only if that
+    // synthesis has not finished; the wait is added to waited_ms().
+    const std::vector<uint8_t>& result();
     double waited_ms() const { return waited_ms_; }
     int size() const { return size_; }
     int regions() const { return regions_; }
@@ -34,7 +36,7 @@ private:
 
     int size_, regions_;
     std::vector<SpectralSnow> snow_;
-    std::vector<float> done_;
+    std::vector<uint8_t> done_;
     std::mutex mutex_;
     std::condition_variable cv_;
     bool job_pending_ = false, job_done_ = true, stop_ = false;
