@@ -25,10 +25,10 @@ namespace {
 struct Kind {
     const char* prefix;
     double particles, fall_speed, box, flake_size, particle_opacity, spectral_opacity, speed_c, size, regions,
-        scale, sway, streak;
+        scale, sway, streak, sharpness;
 };
-const Kind kSnow{"snow", 2000, 1.0, 12, 0.04, 0.9, 0.45, 0, 256, 3, 2.0, 0.15, 0.5};
-const Kind kRain{"rain", 3000, 12.0, 12, 0.008, 0.5, 0.30, 900, 256, 1, 2.0, 0.0, 1.0};
+const Kind kSnow{"snow", 2000, 1.0, 12, 0.04, 0.9, 0.9, 0, 256, 3, 2.5, 0.15, 0.5, 2.5};
+const Kind kRain{"rain", 3000, 12.0, 12, 0.008, 0.5, 0.30, 900, 256, 1, 2.0, 0.0, 1.0, 1.0};
 
 std::vector<ParamSpec> kind_specs(const Kind& k) {
     const std::string p = std::string(k.prefix) + ".";
@@ -45,6 +45,7 @@ std::vector<ParamSpec> kind_specs(const Kind& k) {
         {p + "particle_opacity", k.particle_opacity, 0, 1, "opacity of a particle's centre"},
         {p + "spectral_opacity", k.spectral_opacity, 0, 1, "opacity scale of the spectral layer"},
         {p + "brightness", 0.95, 0, 1, "grey level of the snow (or rain) colour"},
+        {p + "sharpness", k.sharpness, 0.25, 8, "spectral opacity is raised to this power before compositing (1: the seed's mapping as is)"},
         {p + "size", k.size, 8, 2048, "spectral texture size M (even), texels"},
         {p + "regions", k.regions, 1, 8, "regions per canvas side, each with its own C and theta (seed sec. 7)"},
         {p + "scale", k.scale, 0.25, 16, "canvas pixels per spectral texel"},
@@ -74,6 +75,7 @@ public:
         streak_ = number("streak");
         particle_opacity_ = number("particle_opacity");
         spectral_opacity_ = number("spectral_opacity");
+        sharpness_ = number("sharpness");
         brightness_ = number("brightness");
         scale_ = number("scale");
         speed_c_ = number("speed_c");
@@ -198,6 +200,7 @@ private:
         gl.glUniform2f(uniform(gl, composite_, "canvas_size"), float(cw), float(ch));
         gl.glUniform1f(uniform(gl, composite_, "texels_per_pixel"), float(1.0 / (scale_ * m)));
         gl.glUniform1f(uniform(gl, composite_, "strength"), float(spectral_opacity_));
+        gl.glUniform1f(uniform(gl, composite_, "sharpness"), float(sharpness_));
         gl.glUniform1f(uniform(gl, composite_, "brightness"), float(brightness_));
         gl.glDisable(GL_DEPTH_TEST);
         gl.glEnable(GL_BLEND);
@@ -235,7 +238,7 @@ private:
     // Whether every region had the same C and theta for all frames up to the one being shown
     // ([0]) and the one being synthesized ([1]).
     bool uniform_motion_[2] = {true, true};
-    double fall_speed_, box_, flake_size_, sway_, streak_, particle_opacity_, spectral_opacity_, brightness_;
+    double fall_speed_, box_, flake_size_, sway_, streak_, particle_opacity_, spectral_opacity_, brightness_, sharpness_;
     double scale_, speed_c_, spectral_depth_, frame_time_, min_frequency_fraction_ = 1.0 / 32;
     glm::dvec2 wind_;
     glm::dvec3 camera_velocity_;
