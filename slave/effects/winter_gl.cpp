@@ -1,0 +1,87 @@
+#include "slave/effects/winter_gl.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include "slave/effects/gl_util.h"
+
+namespace glcast::slave::effects {
+
+WinterFrame winter_frame(const FrameView& view, const WinterSettings& settings, bool icicles) {
+    WinterFrame f;
+    f.canvas_width = view.canvas_width > 0 ? view.canvas_width : view.width;
+    f.canvas_height = view.canvas_height > 0 ? view.canvas_height : view.height;
+
+    const CoverSettings& c = settings.cover;
+    if (c.up_in_world && view.view_known) {
+        f.up_eye = glm::normalize(glm::dmat3(view.modelview) * c.up);
+        f.world_from_eye = glm::inverse(view.modelview);
+    } else {
+        f.up_eye = c.up;
+    }
+    if (view.light.known) {
+        f.light_eye = view.light.eye_position;
+    } else {
+        // Light from above and a little towards the camera, so that lit snow reads as snow.
+        f.light_eye = glm::dvec4(glm::normalize(f.up_eye + glm::dvec3(0.25, 0.0, 0.6)), 0.0);
+    }
+    f.cover_fraction = c.build_frames > 0 ? std::clamp(double(view.frame) / c.build_frames, 0.0, 1.0) : 1.0;
+
+    const IcicleSettings& i = settings.icicles;
+    const double h = f.canvas_height;
+    f.spacing_px = std::max(1.0, i.spacing * h);
+    f.radius_min_px = i.radius_min * h;
+    f.radius_max_px = i.radius_max * h;
+    f.length_max_px = i.length_max * h;
+    f.guard = 1;
+    if (icicles) {
+        const double reach = std::max(f.length_max_px, 2.0 * f.radius_max_px + f.spacing_px);
+        f.guard = int(std::ceil(reach)) + 2;
+    }
+    f.buffer_width = view.width + 2 * f.guard;
+    f.buffer_height = view.height + 2 * f.guard;
+    return f;
+}
+
+GLuint build_winter_program(const GlApi& gl, const std::string& vertex_file, const std::string& fragment_file,
+                            const std::string& library) {
+    std::string prefix = shader_source("winter_noise.glsl") + "\n";
+    if (!library.empty()) prefix += shader_source(library) + "\n";
+    return build_program(gl, vertex_file, fragment_file, prefix);
+}
+
+void set_uniform(const GlApi& gl, GLuint program, const char* name, int value) {
+    gl.glUniform1i(uniform(gl, program, name), value);
+}
+void set_uniform(const GlApi& gl, GLuint program, const char* name, double value) {
+    gl.glUniform1f(uniform(gl, program, name), float(value));
+}
+void set_uniform(const GlApi& gl, GLuint program, const char* name, const glm::dvec2& value) {
+    gl.glUniform2f(uniform(gl, program, name), float(value.x), float(value.y));
+}
+void set_uniform(const GlApi& gl, GLuint program, const char* name, const glm::dvec3& value) {
+    gl.glUniform3f(uniform(gl, program, name), float(value.x), float(value.y), float(value.z));
+}
+void set_uniform(const GlApi& gl, GLuint program, const char* name, const glm::dvec4& value) {
+    gl.glUniform4f(uniform(gl, program, name), float(value.x), float(value.y), float(value.z), float(value.w));
+}
+void set_uniform(const GlApi& gl, GLuint program, const char* name, const glm::dmat4& value) {
+    const glm::mat4 m(value);
+    gl.glUniformMatrix4fv(uniform(gl, program, name), 1, GL_FALSE, glm::value_ptr(m));
+}
+void set_seed_uniform(const GlApi& gl, GLuint program, const char* name, unsigned value) {
+    int bits = 0;
+    static_assert(sizeof bits == sizeof value);
+    std::memcpy(&bits, &value, sizeof bits);
+    gl.glUniform1i(uniform(gl, program, name), bits);
+}
+void bind_sampler(const GlApi& gl, GLuint program, const char* name, int unit, GLuint texture) {
+    gl.glActiveTexture(GLenum(GL_TEXTURE0 + unit));
+    gl.glBindTexture(GL_TEXTURE_2D, texture);
+    gl.glUniform1i(uniform(gl, program, name), unit);
+}
+
+}  // namespace glcast::slave::effects

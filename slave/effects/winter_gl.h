@@ -1,0 +1,48 @@
+// Shared pieces of the snow cover and icicle pass (docs/winter.md): what each frame's stages
+// agree on (the guard band, "up" and the light in eye space, the canvas), and small GL helpers.
+#pragma once
+
+#include <string>
+
+#include <glm/glm.hpp>
+
+#include "slave/effects/frame_view.h"
+#include "slave/effects/gl_api.h"
+#include "slave/effects/winter_settings.h"
+
+namespace glcast::slave::effects {
+
+struct WinterFrame {
+    int guard = 1;                   // pixels of re-rendered border around the tile
+    int buffer_width = 0, buffer_height = 0;  // the tile plus the guard band
+    int canvas_width = 0, canvas_height = 0;  // the tile's own size when it is the whole canvas
+    glm::dvec3 up_eye{0, 1, 0};      // the direction opposite to the snowfall, main view's eye space
+    glm::dmat4 world_from_eye{1.0};  // where the snow patches are anchored (identity: eye space)
+    glm::dvec4 light_eye{0, 1, 0, 0};  // the program's light, or a light from above and in front
+    double cover_fraction = 1;       // cover.density scale from the build-up over frames
+    // Icicle sizes in canvas pixels.
+    double spacing_px = 0, radius_min_px = 0, radius_max_px = 0, length_max_px = 0;
+};
+
+// The guard band holds every pixel a screen-space step reads: the longest icicle above the
+// tile (icicles hang from edges up to length_max above a pixel) plus the root test's row.
+WinterFrame winter_frame(const FrameView& view, const WinterSettings& settings, bool icicles);
+
+// build_program with winter_noise.glsl (and the GLSL file `library`, if named) prepended to
+// both shaders.
+GLuint build_winter_program(const GlApi& gl, const std::string& vertex_file, const std::string& fragment_file,
+                            const std::string& library = "");
+
+// Uniform setters by name (a name the driver optimized away is skipped, as GL does for -1).
+void set_uniform(const GlApi& gl, GLuint program, const char* name, int value);
+void set_uniform(const GlApi& gl, GLuint program, const char* name, double value);
+void set_uniform(const GlApi& gl, GLuint program, const char* name, const glm::dvec2& value);
+void set_uniform(const GlApi& gl, GLuint program, const char* name, const glm::dvec3& value);
+void set_uniform(const GlApi& gl, GLuint program, const char* name, const glm::dvec4& value);
+void set_uniform(const GlApi& gl, GLuint program, const char* name, const glm::dmat4& value);
+// A seed: the unsigned bits through glUniform1i, read in GLSL as uint(int).
+void set_seed_uniform(const GlApi& gl, GLuint program, const char* name, unsigned value);
+// Binds `texture` to unit `unit` and points sampler `name` at it.
+void bind_sampler(const GlApi& gl, GLuint program, const char* name, int unit, GLuint texture);
+
+}  // namespace glcast::slave::effects

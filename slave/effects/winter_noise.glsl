@@ -1,0 +1,59 @@
+// Seeded hashes and value noise of the winter passes (docs/winter.md), prepended to their
+// shaders by winter_gl.cpp. Everything here is a pure function of integer lattice points (canvas
+// pixels, world cells) and a seed, so a rerun, or the neighbouring tile, computes the same value.
+
+// lowbias32 (C. Wellons): a full-avalanche 32-bit integer hash.
+uint winter_hash(uint x) {
+    x ^= x >> 16;
+    x *= 0x7feb352du;
+    x ^= x >> 15;
+    x *= 0x846ca68bu;
+    x ^= x >> 16;
+    return x;
+}
+
+uint winter_hash(ivec3 v, uint seed) {
+    uvec3 u = uvec3(v);  // two's complement bits: negative cells hash like any other
+    return winter_hash(u.x ^ winter_hash(u.y ^ winter_hash(u.z ^ winter_hash(seed))));
+}
+
+// Uniform in [0, 1) from the top 24 bits.
+float winter_unit(uint h) { return float(h >> 8) * (1.0 / 16777216.0); }
+
+float winter_random(ivec3 cell, uint seed) { return winter_unit(winter_hash(cell, seed)); }
+
+// Value noise in [0, 1): random values on the integer lattice, quintic interpolation between.
+float winter_value_noise(vec3 p, uint seed) {
+    vec3 cell = floor(p);
+    ivec3 i = ivec3(cell);
+    vec3 f = p - cell;
+    vec3 u = f * f * f * (f * (f * 6.0 - 15.0) + 10.0);
+    float c000 = winter_random(i, seed), c100 = winter_random(i + ivec3(1, 0, 0), seed);
+    float c010 = winter_random(i + ivec3(0, 1, 0), seed), c110 = winter_random(i + ivec3(1, 1, 0), seed);
+    float c001 = winter_random(i + ivec3(0, 0, 1), seed), c101 = winter_random(i + ivec3(1, 0, 1), seed);
+    float c011 = winter_random(i + ivec3(0, 1, 1), seed), c111 = winter_random(i + ivec3(1, 1, 1), seed);
+    return mix(mix(mix(c000, c100, u.x), mix(c010, c110, u.x), u.y),
+               mix(mix(c001, c101, u.x), mix(c011, c111, u.x), u.y), u.z);
+}
+
+// Four octaves of value noise, mean 0.5. The sum of octaves is close to normally distributed
+// with standard deviation WINTER_FBM_SIGMA (measured: docs/winter.md); winter_uniform_fbm maps
+// it through that normal's CDF, so that P(winter_uniform_fbm < d) is close to d and a snow
+// density d covers about the fraction d of a surface.
+const float WINTER_FBM_SIGMA = 0.121;
+
+float winter_fbm(vec3 p, uint seed) {
+    float sum = 0.0, amplitude = 0.5;
+    for (int octave = 0; octave < 4; ++octave) {
+        sum += amplitude * winter_value_noise(p + vec3(17.13, 31.71, 5.37) * float(octave), seed + uint(octave));
+        p *= 2.0;
+        amplitude *= 0.5;
+    }
+    return sum / 0.9375;
+}
+
+float winter_uniform_fbm(vec3 p, uint seed) {
+    float x = (winter_fbm(p, seed) - 0.5) / WINTER_FBM_SIGMA;
+    // Normal CDF, tanh approximation (error below 2e-4).
+    return 0.5 * (1.0 + tanh(0.7978845608 * (x + 0.044715 * x * x * x)));
+}

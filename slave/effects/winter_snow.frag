@@ -1,0 +1,53 @@
+// Snow shading over the window (tile pixels), blended by the cover amount: a bright, slightly
+// blue-white diffuse surface lit by the scene's light (wrap lighting for the light that snow
+// scatters under its surface), a blue sky fill, a fine bump of world-space noise and sparse
+// glints, as seed 003's snow shader (section 7: lighting plus anti-aliased noise for the
+// specular and the bump).
+uniform sampler2D cover;         // winter_cover.frag, guard-band pixels
+uniform sampler2D normals;
+uniform sampler2D positions;
+uniform int guard;
+uniform vec2 canvas_offset;      // canvas pixel of tile pixel (0, 0)
+uniform mat4 world_from_eye;
+uniform vec3 up_eye;
+uniform vec4 light_eye;          // eye space; w = 0: directional
+uniform float noise_scale;       // world size of the snow patches: the bump is 1/40 of it
+uniform float brightness;
+uniform int seed_bits;      // the seed's unsigned bits (glUniform1i)
+
+out vec4 out_color;
+
+void main() {
+    uint seed = uint(seed_bits);
+    ivec2 q = ivec2(gl_FragCoord.xy) + guard;
+    float amount = texelFetch(cover, q, 0).r;
+    if (amount <= 1.0 / 512.0) discard;
+    vec3 n = texelFetch(normals, q, 0).xyz;
+    vec3 p = texelFetch(positions, q, 0).xyz;
+    vec3 world = (world_from_eye * vec4(p, 1.0)).xyz;
+
+    // Bump: the gradient of fine noise tilts the normal a little.
+    vec3 b = world / (noise_scale / 40.0);
+    float b0 = winter_value_noise(b, seed + 101u);
+    vec3 gradient = vec3(winter_value_noise(b + vec3(0.35, 0.0, 0.0), seed + 101u),
+                         winter_value_noise(b + vec3(0.0, 0.35, 0.0), seed + 101u),
+                         winter_value_noise(b + vec3(0.0, 0.0, 0.35), seed + 101u)) - b0;
+    // The gradient is a world-space vector; v * M is transpose(M) * v, the inverse rotation.
+    vec3 bumped = normalize(n - 0.35 * (gradient * mat3(world_from_eye)));
+
+    vec3 l = normalize(light_eye.xyz - p * light_eye.w);
+    vec3 v = normalize(-p);
+    float wrap = clamp((dot(bumped, l) + 0.3) / 1.3, 0.0, 1.0);
+    float sky = 0.5 + 0.5 * dot(bumped, up_eye);
+    vec3 color = vec3(0.93, 0.95, 1.0) * (0.62 * wrap * vec3(1.0, 0.98, 0.95) + 0.42 * sky * vec3(0.80, 0.88, 1.0));
+
+    // Glints: a few pixels hold an ice crystal that mirrors the light. Chosen by canvas pixel,
+    // not by world position: a crystal is far smaller than a pixel, and a world lattice that
+    // fine would pick different crystals for the same pixel on two tiles (their re-renders
+    // interpolate positions a rounding step apart).
+    float crystal = winter_random(ivec3(ivec2(canvas_offset + gl_FragCoord.xy), 7), seed + 202u);
+    float mirror = pow(max(dot(reflect(-l, n), v), 0.0), 6.0);
+    color += step(0.985, crystal) * mirror * 0.9;
+
+    out_color = vec4(min(color * brightness, vec3(1.0)), amount);
+}
