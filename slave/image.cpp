@@ -257,4 +257,32 @@ Image flip_rows(const Image& image) {
     return out;
 }
 
+static double grey(const Image& im, int x, int y) {
+    const uint8_t* p = &im.rgba[(size_t(y) * im.width + x) * 4];
+    return (p[0] + p[1] + p[2]) / 3.0;
+}
+
+Shift estimate_shift(const Image& a, const Image& b, int x0, int y0, int w, int h, int radius) {
+    double best = 1e300;
+    Shift shift;
+    for (int dy = -radius; dy <= radius; ++dy)
+        for (int dx = -radius; dx <= radius; ++dx) {
+            double ssd = 0;
+            for (int y = y0; y < y0 + h; ++y)
+                for (int x = x0; x < x0 + w; ++x) {
+                    const double d = grey(b, x + dx, y + dy) - grey(a, x, y);
+                    ssd += d * d;
+                }
+            if (ssd < best) best = ssd, shift = Shift{dx, dy};
+        }
+    return shift;
+}
+
+Image difference(const Image& a, const Image& a0) {
+    Image out{a.width, a.height, a.rgba};
+    for (size_t i = 0; i < out.rgba.size(); ++i)
+        out.rgba[i] = (i % 4 == 3) ? 255 : uint8_t(std::abs(int(a.rgba[i]) - int(a0.rgba[i])));
+    return out;
+}
+
 }  // namespace glcast::slave

@@ -30,6 +30,16 @@ struct ImageDiff {
 };
 ImageDiff compare(const Image& a, const Image& b);
 
+// The integer shift (dx, dy), |dx|, |dy| <= radius, x right and y down, that best carries the
+// rectangle (x, y, w, h) of `a` onto `b` (least squares over grey levels): the motion of the
+// content between two frames. The rectangle moved by any shift must lie inside `b`.
+struct Shift {
+    int dx = 0, dy = 0;
+};
+Shift estimate_shift(const Image& a, const Image& b, int x, int y, int w, int h, int radius);
+// |a - a0| per channel: what a pass added to a frame, given the frame without it.
+Image difference(const Image& a, const Image& a0);
+
 // Tiles in a grid: rows[r][c] is the tile at row r (top first), column c (left first). Column c
 // is as wide as its widest tile, row r as tall as its tallest; a tile sits at its cell's
 // top-left corner, and uncovered pixels (nullptr tiles, smaller tiles, short rows) are opaque

@@ -2,6 +2,7 @@
 
 #include <cinttypes>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 
 #include "slave/image.h"
@@ -12,7 +13,10 @@ const char* kImageUsage =
     "  image mosaic COLSxROWS OUT.png TILE.png...   tiles (row by row, from the top left) side by side\n"
     "  image compare A.png B.png [--crop X,Y,W,H]     differing pixels and the largest channel difference;\n"
     "        exit 1 if they differ (--crop compares a rectangle of A, from the top left, with all of B)\n"
-    "  image pixel IMAGE.png X,Y                     the colour at X,Y (from the top left)\n";
+    "  image pixel IMAGE.png X,Y                     the colour at X,Y (from the top left)\n"
+    "  image motion A.png B.png [--crop X,Y,W,H] [--radius R] [--without A0.png B0.png]\n"
+    "        the shift DX DY (x right, y down) that best carries A (or its rectangle) onto B;\n"
+    "        --without first subtracts the frames without an overlay, to measure the overlay's motion\n";
 
 static int fail(const std::string& msg) {
     std::fprintf(stderr, "glcast image: %s\n", msg.c_str());
@@ -72,6 +76,35 @@ int image_main(const std::vector<std::string>& args) {
             return fail("pixel takes X,Y inside the image, got '" + args[2] + "'");
         const uint8_t* p = &a.rgba[(size_t(y) * a.width + x) * 4];
         std::printf("%d %d %d\n", p[0], p[1], p[2]);
+        return 0;
+    }
+    if (args.size() >= 3 && args[0] == "motion") {
+        Image a, b;
+        if (!read_png(args[1], a, error) || !read_png(args[2], b, error)) return fail(error);
+        if (a.width != b.width || a.height != b.height) return fail("motion needs images of one size");
+        int x = 0, y = 0, w = a.width, h = a.height, radius = 8;
+        for (size_t i = 3; i < args.size(); ++i) {
+            if (args[i] == "--crop" && i + 1 < args.size()) {
+                if (std::sscanf(args[++i].c_str(), "%d,%d,%d,%d", &x, &y, &w, &h) != 4)
+                    return fail("--crop takes X,Y,W,H, got '" + args[i] + "'");
+            } else if (args[i] == "--radius" && i + 1 < args.size()) {
+                radius = std::atoi(args[++i].c_str());
+                if (radius < 1 || radius > 64) return fail("--radius takes 1..64");
+            } else if (args[i] == "--without" && i + 2 < args.size()) {
+                Image a0, b0;
+                if (!read_png(args[i + 1], a0, error) || !read_png(args[i + 2], b0, error)) return fail(error);
+                if (a0.width != a.width || a0.height != a.height || b0.width != a.width || b0.height != a.height)
+                    return fail("--without needs images of the same size");
+                a = difference(a, a0), b = difference(b, b0);
+                i += 2;
+            } else {
+                return fail("motion: unknown argument '" + args[i] + "'");
+            }
+        }
+        if (x - radius < 0 || y - radius < 0 || w <= 0 || h <= 0 || x + w + radius > a.width || y + h + radius > a.height)
+            return fail("motion: the rectangle moved by the radius must lie inside the images");
+        const Shift s = estimate_shift(a, b, x, y, w, h, radius);
+        std::printf("%d %d\n", s.dx, s.dy);
         return 0;
     }
     return fail("usage:\n" + std::string(kImageUsage));

@@ -125,7 +125,7 @@ int replay_main(const std::vector<std::string>& args) {
             return 1;
         }
     }
-    if (opt.tile.enabled) {
+    if (opt.tile.enabled && config_path.empty()) {  // --canvas/--tile-rect (tile_options did a config's tile)
         if (!opt.tile.canvas_width) return usage("--tile-rect needs --canvas");
         if (opt.tile.x < 0 || opt.tile.y < 0 || opt.tile.x + opt.tile.width > opt.tile.canvas_width ||
             opt.tile.y + opt.tile.height > opt.tile.canvas_height)

@@ -26,15 +26,17 @@ struct app_args {
     int width;
     int height;
     const char *screenshot;
+    int dolly; /* --camera dolly: the camera moves straight forward (apps that have a camera) */
 };
 
 static void app_usage(FILE *f, const char *prog)
 {
     fprintf(f,
-            "usage: %s [--frames N] [--size WxH] [--screenshot PATH.ppm]\n"
+            "usage: %s [--frames N] [--size WxH] [--screenshot PATH.ppm] [--camera orbit|dolly]\n"
             "  --frames N         frames to render, each ending in a swap (default 120)\n"
             "  --size WxH         window size in pixels (default 320x240)\n"
-            "  --screenshot PATH  write the last frame (back buffer, before the swap) as PPM\n",
+            "  --screenshot PATH  write the last frame (back buffer, before the swap) as PPM\n"
+            "  --camera MODE      orbit (default) or dolly: straight forward (scenes with a camera)\n",
             prog);
 }
 
@@ -62,6 +64,7 @@ static void app_parse_args(const char *prog, int argc, char **argv, struct app_a
     a->width = 320;
     a->height = 240;
     a->screenshot = NULL;
+    a->dolly = 0;
     for (i = 1; i < argc; i++) {
         const char *arg = argv[i];
         if (strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0) {
@@ -100,6 +103,9 @@ static void app_parse_args(const char *prog, int argc, char **argv, struct app_a
                 }
                 a->screenshot = val;
             }
+        } else if (strcmp(arg, "--camera") == 0 && i + 1 < argc &&
+                   (strcmp(argv[i + 1], "orbit") == 0 || strcmp(argv[i + 1], "dolly") == 0)) {
+            a->dolly = strcmp(argv[++i], "dolly") == 0;
         } else {
             fprintf(stderr, "%s: unknown argument '%s'\n", prog, arg);
             app_usage(stderr, prog);

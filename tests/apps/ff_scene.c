@@ -5,7 +5,8 @@
  * standing on it (display list, client vertex arrays), a sphere floating above
  * the ground (glDrawRangeElements), and a waving flag whose client arrays
  * change every frame (glDrawArrays with GL_COLOR_ARRAY). The camera orbits
- * slowly, driven by the frame index only, so every frame is reproducible.
+ * slowly (or, with --camera dolly, moves straight forward), driven by the frame index only,
+ * so every frame is reproducible.
  *
  * Exercised on purpose (for the capture side):
  *  - glGenTextures / glTexImage2D (all mip levels) / glTexParameteri, GL_MODULATE
@@ -301,7 +302,7 @@ static void draw_ground(void)
     glEnd();
 }
 
-static void draw_frame(int frame, int w, int h, GLuint tex_ground, GLuint tex_crate, GLuint box_list,
+static void draw_frame(int frame, int dolly, int w, int h, GLuint tex_ground, GLuint tex_crate, GLuint box_list,
                        PFNGLLOCKARRAYSEXTPROC lock, PFNGLUNLOCKARRAYSEXTPROC unlock)
 {
     const GLfloat light_pos[4] = {5.0f, 10.0f, 4.0f, 1.0f};
@@ -318,13 +319,19 @@ static void draw_frame(int frame, int w, int h, GLuint tex_ground, GLuint tex_cr
     glLoadIdentity();
     glFrustum(-top * aspect, top * aspect, -top, top, znear, 100.0f);
 
-    /* camera: 13 units from (0,1,0), pitched down 30 degrees, orbiting */
     glMatrixMode(GL_MODELVIEW);
     glLoadIdentity();
-    glTranslatef(0.0f, 0.0f, -13.0f);
-    glRotatef(30.0f, 1.0f, 0.0f, 0.0f);
-    glRotatef(-orbit, 0.0f, 1.0f, 0.0f);
-    glTranslatef(0.0f, -1.0f, 0.0f);
+    if (dolly) {
+        /* camera: 1.5 units above the ground, 16 units in front of the origin, moving straight
+         * forward (-z) by 0.2 units a frame */
+        glTranslatef(0.0f, -1.5f, -16.0f + 0.2f * (float)frame);
+    } else {
+        /* camera: 13 units from (0,1,0), pitched down 30 degrees, orbiting */
+        glTranslatef(0.0f, 0.0f, -13.0f);
+        glRotatef(30.0f, 1.0f, 0.0f, 0.0f);
+        glRotatef(-orbit, 0.0f, 1.0f, 0.0f);
+        glTranslatef(0.0f, -1.0f, 0.0f);
+    }
 
     /* light position is transformed by the current modelview: world space */
     glLightfv(GL_LIGHT0, GL_POSITION, light_pos);
@@ -555,7 +562,7 @@ int main(int argc, char **argv)
     for (frame = 0; frame < args.frames; frame++) {
         while (XPending(dpy) > 0)
             XNextEvent(dpy, &ev);
-        draw_frame(frame, args.width, args.height, tex[0], tex[1], box_list, lock, unlock);
+        draw_frame(frame, args.dolly, args.width, args.height, tex[0], tex[1], box_list, lock, unlock);
         if (frame == args.frames - 1 && args.screenshot != NULL) {
             shot = malloc((size_t)args.width * (size_t)args.height * 3u);
             glReadBuffer(GL_BACK);

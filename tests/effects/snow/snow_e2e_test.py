@@ -9,7 +9,13 @@ mosaic: `glcast run --effects snow --config wall-2x2.json` on ff_scene; the stit
   a replay of the same stream over the whole canvas with snow, within TOLERANCE: flakes are drawn
   in each tile with the tile's own transform, so llvmpipe rounds a few edge pixels of the quads
   differently at tile offsets, as it does for the program's own geometry (tests/e2e/wall_test.py).
+  Tiles replayed with `glcast replay --config --tile` equal the slaves' tiles exactly.
+foe: ff_scene with its camera moving straight forward (--camera dolly), replayed on the four
+  tiles of wall-2x2.json with spectral snow only: in every tile the snow (each frame minus the
+  same frame without snow) moves away from the focus of expansion, measured with
+  `glcast image motion` between consecutive frames.
 """
+import math
 import os
 import re
 import shutil
@@ -89,6 +95,14 @@ def case_mosaic():
     r = run([GLCAST, "replay", capture, "--canvas", "1280x960", "--tile-rect", "0,0,1280,960", "--frames",
              f"{frames - 1}:{frames - 1}", "--out", plain])
     check(r.returncode == 0, f"plain replay failed: {r.stdout} {r.stderr}")
+    # A tile replayed from the capture (glcast replay --config --tile) is the slave's tile.
+    for t in ("top-left", "bottom-right"):
+        again = os.path.join(out, "again-" + t)
+        r = run([GLCAST, "replay", capture, "--config", os.path.join(ROOT, "display_configs", "wall-2x2.json"),
+                 "--tile", t, "--frames", f"{frames - 1}:{frames - 1}", "--out", again, "--effects", "snow"])
+        check(r.returncode == 0, f"tile replay failed: {r.stdout} {r.stderr}")
+        same, _ = compare(os.path.join(again, last), os.path.join(out, t, last))
+        check(same == 0, f"{t}: glcast replay --tile differs from the slave's tile in {same} pixels")
     differing, max_diff = compare(stitched, os.path.join(canvas, last))
     with_snow, _ = compare(os.path.join(canvas, last), os.path.join(plain, last))
     total = 1280 * 960
@@ -96,6 +110,49 @@ def case_mosaic():
           f"({100.0 * differing / total:.3f}%), max channel difference {max_diff}; snow changed {with_snow} pixels")
     check(with_snow > total // 4, "no snow on the canvas")
     check(differing <= TOLERANCE * total, f"mosaic differs from the canvas in {differing} pixels")
+
+
+def case_foe():
+    out = os.path.join(OUT, "foe")
+    shutil.rmtree(out, ignore_errors=True)
+    os.makedirs(out)
+    capture = os.path.join(out, "dolly.glcs")
+    frames = 14
+    with Xvfb():
+        r = run([GLCAST, "capture", "-o", capture, "--frames", str(frames), "--",
+                 os.path.join(APPS, "ff_scene"), "--size", "640x480", "--frames", str(frames), "--camera", "dolly"])
+    check(r.returncode == 0, f"capture failed: {r.stdout} {r.stderr}")
+    config = os.path.join(ROOT, "display_configs", "wall-2x2.json")
+    tiles = {"top-left": (0, 0), "top-right": (640, 0), "bottom-left": (0, 480), "bottom-right": (640, 480)}
+    # The camera moves 0.2 units a frame (12 units/s) towards -z; snow falls 1 near-plane distance
+    # (0.5 units) a second: flakes approach with u = (0, -0.5, 12) in eye space. The FOE is the
+    # projection of -u's direction: a = -u_xy / u_z, canvas y (down) = H/2 (1 - P11 a_y).
+    p11 = 1 / math.tan(math.radians(22.5))
+    foe = (640.0, 480.0 * (1 - p11 * (0.5 / 12)))
+    print(f"focus of expansion at ({foe[0]:.0f}, {foe[1]:.0f}) on the 1280x960 canvas (y down)")
+    for tile, (tx, ty) in tiles.items():
+        snow, plain = os.path.join(out, tile, "snow"), os.path.join(out, tile, "plain")
+        os.makedirs(os.path.join(out, tile))
+        for d, extra in ((snow, ["--effects", "snow", "--effect-param", "snow.particles=0"]), (plain, [])):
+            r = run([GLCAST, "replay", capture, "--config", config, "--tile", tile, "--out", d] + extra)
+            check(r.returncode == 0, f"replay of {tile} failed: {r.stdout} {r.stderr}")
+        total = [0, 0]
+        for f in range(8, frames - 1):
+            a, b = f"frame-{f:06d}.png", f"frame-{f + 1:06d}.png"
+            r = run([GLCAST, "image", "motion", os.path.join(snow, a), os.path.join(snow, b), "--crop",
+                     "40,40,560,400", "--radius", "24", "--without", os.path.join(plain, a), os.path.join(plain, b)])
+            check(r.returncode == 0, r.stderr)
+            dx, dy = map(int, r.stdout.split())
+            total[0] += dx
+            total[1] += dy
+        centre = (tx + 320, ty + 240)
+        away = (centre[0] - foe[0], centre[1] - foe[1])
+        length = math.hypot(*total)
+        check(length > 0, f"{tile}: the snow does not move")
+        angle = math.degrees(math.acos((away[0] * total[0] + away[1] * total[1]) / (math.hypot(*away) * length)))
+        print(f"{tile}: snow moved ({total[0]}, {total[1]}) px over {frames - 9} frames, "
+              f"{angle:.1f} degrees from the direction away from the FOE")
+        check(angle < 30, f"{tile}: the snow moves {angle:.0f} degrees off the direction away from the FOE")
 
 
 if __name__ == "__main__":

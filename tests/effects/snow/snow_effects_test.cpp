@@ -191,30 +191,15 @@ TEST(Precipitation, ParticlesNeverCoverANearerSurface) {
     EXPECT_GT(visible, 200);  // the test can see flakes over that half
 }
 
-// Grey levels of the window, row-major from the bottom.
-std::vector<float> grey(TestContext& t) {
+// The window as an image (rows from the top).
+Image window_image(TestContext& t) {
     const std::vector<uint8_t> rgb = t.read_rgb();
-    std::vector<float> g(size_t(t.width) * t.height);
-    for (size_t i = 0; i < g.size(); ++i) g[i] = (rgb[3 * i] + rgb[3 * i + 1] + rgb[3 * i + 2]) / 3.0f;
-    return g;
-}
-
-// The shift (dx, dy) in [-r, r]^2 that best maps the rectangle of `a` onto `b` (least squares).
-glm::ivec2 best_shift(const std::vector<float>& a, const std::vector<float>& b, int width, int x0, int y0, int w,
-                      int h, int r) {
-    double best = 1e300;
-    glm::ivec2 shift(0);
-    for (int dy = -r; dy <= r; ++dy)
-        for (int dx = -r; dx <= r; ++dx) {
-            double ssd = 0;
-            for (int y = y0; y < y0 + h; ++y)
-                for (int x = x0; x < x0 + w; ++x) {
-                    const double d = b[size_t(y + dy) * width + x + dx] - a[size_t(y) * width + x];
-                    ssd += d * d;
-                }
-            if (ssd < best) best = ssd, shift = glm::ivec2(dx, dy);
-        }
-    return shift;
+    Image image{t.width, t.height, std::vector<uint8_t>(size_t(t.width) * t.height * 4, 255)};
+    for (int y = 0; y < t.height; ++y)
+        for (int x = 0; x < t.width; ++x)
+            for (int c = 0; c < 3; ++c)
+                image.rgba[(size_t(t.height - 1 - y) * t.width + x) * 4 + c] = rgb[(size_t(y) * t.width + x) * 3 + c];
+    return image;
 }
 
 // With the camera moving forward, the spectral snow of each quadrant moves away from the focus
@@ -231,21 +216,20 @@ TEST(Precipitation, SpectralSnowFlowsAwayFromTheFocusOfExpansion) {
     glm::dvec2 foe;
     ASSERT_TRUE(focus_of_expansion(p, t->width, t->height, glm::dvec3(0, -fall * 0.5, forward * 0.5), foe));
     std::printf("focus of expansion at (%.1f, %.1f)\n", foe.x, foe.y);
-    std::vector<float> previous;
+    Image previous;
     const int qw = t->width / 2, qh = t->height / 2, r = 8;
-    std::map<int, glm::dvec2> motion;
+    std::map<int, glm::dvec2> motion;  // canvas pixels, y up
     for (uint64_t frame = 0; frame < 12; ++frame) {
         const glm::dmat4 view = glm::translate(glm::dmat4(1.0), glm::dvec3(0, 0, forward * 0.5 * frame / 60.0));
         t->gl.glClearColor(0, 0, 0, 1);
         t->gl.glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
         run_pass(*t, *pass, synthetic_view(*t, p, frame, view));
-        std::vector<float> now = grey(*t);
+        Image now = window_image(*t);
         if (frame >= 4)
-            for (int q = 0; q < 4; ++q) {
-                const int x0 = (q % 2) * qw, y0 = (q / 2) * qh;
-                const glm::ivec2 s = best_shift(previous, now, t->width, x0 + r + 4, y0 + r + 4, qw - 2 * r - 8,
-                                                qh - 2 * r - 8, r);
-                motion[q] += glm::dvec2(s);
+            for (int q = 0; q < 4; ++q) {  // quadrant q: column q % 2, row q / 2 counted from the bottom
+                const int x0 = (q % 2) * qw, y0 = (1 - q / 2) * qh;
+                const Shift s = estimate_shift(previous, now, x0 + r + 4, y0 + r + 4, qw - 2 * r - 8, qh - 2 * r - 8, r);
+                motion[q] += glm::dvec2(s.dx, -s.dy);
             }
         previous = std::move(now);
     }
@@ -271,13 +255,13 @@ double streak_ratio(bool rain) {
     t->gl.glClearColor(0, 0, 0, 1);
     t->gl.glClear(GL_COLOR_BUFFER_BIT);
     run_pass(*t, *pass, synthetic_view(*t, p, 0, glm::dmat4(1.0)));
-    const std::vector<float> g = grey(*t);
+    const Image g = window_image(*t);
+    auto at = [&](int x, int y) { return double(g.rgba[(size_t(y) * g.width + x) * 4]); };
     double dx = 0, dy = 0;
     for (int y = 0; y + 1 < t->height; ++y)
         for (int x = 0; x + 1 < t->width; ++x) {
-            const float c = g[size_t(y) * t->width + x];
-            dx += std::pow(g[size_t(y) * t->width + x + 1] - c, 2.0);
-            dy += std::pow(g[size_t(y + 1) * t->width + x] - c, 2.0);
+            dx += std::pow(at(x + 1, y) - at(x, y), 2.0);
+            dy += std::pow(at(x, y + 1) - at(x, y), 2.0);
         }
     return dx / dy;
 }
