@@ -9,6 +9,7 @@
 #include "master/launcher.h"
 #include "protocol/decoder.h"
 #include "protocol/dump.h"
+#include "slave/effects/effect_params.h"
 #include "slave/image_main.h"
 #include "slave/replay_main.h"
 #include "slave/slave_main.h"
@@ -36,6 +37,7 @@ const char* kUsage =
     "%s"
     "%s"
     "%s"
+    "  effects  the injected passes' parameters (name, default, range, meaning) as a markdown table\n"
     "  help  this text\n"
     "\n"
     "The shim reads GLCAST_* variables; see docs/environment.md.\n";
@@ -122,6 +124,16 @@ int cmd_dump(const std::vector<std::string>& args) {
     return 0;
 }
 
+int cmd_effects(const std::vector<std::string>& args) {
+    if (!args.empty()) return usage_error("effects takes no arguments");
+    std::printf("| parameter | default | range | meaning |\n|---|---|---|---|\n");
+    for (const auto& p : glcast::slave::effects::all_param_specs()) {
+        if (p.text) std::printf("| `%s` | (none) | text | %s |\n", p.name.c_str(), p.help.c_str());
+        else std::printf("| `%s` | %g | %g .. %g | %s |\n", p.name.c_str(), p.value, p.min, p.max, p.help.c_str());
+    }
+    return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -134,6 +146,7 @@ int main(int argc, char** argv) {
     if (cmd == "image") return glcast::slave::image_main(args);
     if (cmd == "slave") return glcast::slave::slave_main(args);
     if (cmd == "run") return glcast::run_main(args);
+    if (cmd == "effects") return cmd_effects(args);
     if (cmd == "help" || cmd == "--help" || cmd == "-h") {
         print_usage(stdout);
         return 0;
