@@ -92,7 +92,7 @@ public:
             sp.size = size;
             sp.seed = seed_;
             sp.frame_time = frame_time_;
-            worker_ = std::make_unique<SnowSynthesisWorker>(sp, regions_);
+            worker_ = std::make_unique<SnowSynthesisWorker>(sp, regions_, sharpness_);
             min_frequency_fraction_ = sp.min_frequency_fraction;
             composite_ = build_program(gl, "fullscreen.vert", "snow_composite.frag");
             gl.glGenTextures(1, &texture_);
@@ -200,7 +200,6 @@ private:
         gl.glUniform2f(uniform(gl, composite_, "canvas_size"), float(cw), float(ch));
         gl.glUniform1f(uniform(gl, composite_, "texels_per_pixel"), float(1.0 / (scale_ * m)));
         gl.glUniform1f(uniform(gl, composite_, "strength"), float(spectral_opacity_));
-        gl.glUniform1f(uniform(gl, composite_, "sharpness"), float(sharpness_));
         gl.glUniform1f(uniform(gl, composite_, "brightness"), float(brightness_));
         gl.glDisable(GL_DEPTH_TEST);
         gl.glEnable(GL_BLEND);

@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 
 namespace glcast::slave::effects {
 
-SnowSynthesisWorker::SnowSynthesisWorker(const SpectralSnowParams& params, int regions)
+SnowSynthesisWorker::SnowSynthesisWorker(const SpectralSnowParams& params, int regions, double sharpness)
     : size_(params.size), regions_(regions) {
+    for (int i = 0; i <= 4096; ++i) quantized_[i] = uint8_t(std::lround(std::pow(i / 4096.0, sharpness) * 255));
     for (int i = 0; i < regions * regions; ++i) snow_.emplace_back(params);
     done_.assign(size_t(regions) * regions * size_t(size_) * size_, 0);
     thread_ = std::thread([this] { loop(); });
@@ -59,7 +61,7 @@ void SnowSynthesisWorker::loop() {
             snow_[r].advance(dt, job[r].first, job[r].second);
             const std::vector<float>& a = snow_[r].opacity();
             uint8_t* out = done_.data() + r * texels;
-            for (size_t i = 0; i < texels; ++i) out[i] = uint8_t(a[i] * 255.0f + 0.5f);
+            for (size_t i = 0; i < texels; ++i) out[i] = quantized_[int(a[i] * 4096.0f + 0.5f)];
         }
         {
             std::lock_guard<std::mutex> lock(mutex_);

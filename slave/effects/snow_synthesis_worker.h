@@ -17,7 +17,8 @@ namespace glcast::slave::effects {
 
 class SnowSynthesisWorker {
 public:
-    SnowSynthesisWorker(const SpectralSnowParams& params, int regions);
+    // `sharpness`: the opacity is raised to this power when quantized (1: as synthesized).
+    SnowSynthesisWorker(const SpectralSnowParams& params, int regions, double sharpness = 1.0);
     ~SnowSynthesisWorker();
 
     // Starts the next frame: every region advances by dt with its own (C, theta) (row-major,
@@ -35,6 +36,7 @@ private:
     void loop();
 
     int size_, regions_;
+    uint8_t quantized_[4097];  // opacity^sharpness * 255, indexed by opacity * 4096
     std::vector<SpectralSnow> snow_;
     std::vector<uint8_t> done_;
     std::mutex mutex_;
