@@ -205,7 +205,7 @@ FrameView Harness::frame_view(const Scene& scene, const Camera& camera, Tile til
     v.canvas_y = tile.y;
     v.canvas_width = canvas_width_;
     v.canvas_height = canvas_height_;
-    v.view_known = true;
+    v.view_known = options.view_known;
     v.projection = projection_of(camera, canvas_width_, canvas_height_);
     v.modelview = view_of(camera);
     v.tile_clip_from_app_clip = tile_stretch(tile, canvas_width_, canvas_height_);
