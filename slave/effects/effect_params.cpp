@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <stdexcept>
 
@@ -42,8 +43,9 @@ bool EffectParams::set(const std::string& name, const std::string& value, std::s
             return false;
         }
         if (v < spec->min || v > spec->max) {
-            error = "effect parameter " + name + " = " + value + " is out of range [" + std::to_string(spec->min) +
-                    ", " + std::to_string(spec->max) + "]";
+            char range[64];
+            std::snprintf(range, sizeof range, "[%g, %g]", spec->min, spec->max);
+            error = "effect parameter " + name + " = " + value + " is out of range " + range;
             return false;
         }
     }

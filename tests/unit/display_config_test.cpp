@@ -417,6 +417,29 @@ TEST(DisplayConfigErrors, EffectsFromTheList) {
     EXPECT_EQ(error_of(planar(tile, R"(, "effects": ["snow", "snow"])")), "wall.json: effects[1]: \"snow\" is listed twice");
 }
 
+TEST(DisplayConfig, EffectParamsAreReadAsText) {
+    const std::string tile = R"({"name": "b", "x": 640, "y": 0, "width": 640, "height": 480})";
+    DisplayConfig c;
+    std::string error;
+    ASSERT_TRUE(parse_display_config(planar(tile, R"(, "effect_params": {"snow.particles": 500, "snow.spectral": false})"),
+                                     "wall.json", c, error)) << error;
+    EXPECT_EQ(c.effect_params, (std::vector<std::pair<std::string, std::string>>{{"snow.particles", "500"},
+                                                                                 {"snow.spectral", "0"}}));
+}
+
+TEST(DisplayConfigErrors, EffectParamsAreChecked) {
+    const std::string tile = R"({"name": "b", "x": 640, "y": 0, "width": 640, "height": 480})";
+    EXPECT_EQ(error_of(planar(tile, R"(, "effect_params": [1])")),
+              "wall.json: effect_params: must be an object of parameter names and values, got an array");
+    EXPECT_EQ(error_of(planar(tile, R"(, "effect_params": {"snow.size": [2]})")),
+              "wall.json: effect_params.snow.size: must be a number, a string or true/false, got an array");
+    EXPECT_EQ(error_of(planar(tile, R"(, "effect_params": {"snow.particles": -1})")),
+              "wall.json: effect_params.snow.particles: effect parameter snow.particles = -1 is out of range [0, 1e+06]");
+    EXPECT_EQ(error_of(planar(tile, R"(, "effect_params": {"snow.particle": 1})")).rfind(
+                  "wall.json: effect_params.snow.particle: unknown effect parameter \"snow.particle\"", 0),
+              0u);
+}
+
 TEST(DisplayConfigErrors, PlanarTilesLieInsideTheCanvas) {
     EXPECT_EQ(error_of(planar(R"({"name": "b", "x": 700, "y": 0, "width": 640, "height": 480})")),
               "wall.json: tiles[1]: does not fit on the 1280x480 canvas: x + width = 700 + 640 = 1340 > 1280");
