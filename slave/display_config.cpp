@@ -101,21 +101,6 @@ std::string join_index(const std::string& path, size_t index) {
     return path + "[" + std::to_string(index) + "]";
 }
 
-// Edits (insert, delete, replace, swap two neighbours) that turn a into b: "widht" -> "width" is 1.
-size_t edit_distance(const std::string& a, const std::string& b) {
-    if (a.size() > 64 || b.size() > 64) return SIZE_MAX;
-    std::vector<std::vector<size_t>> d(a.size() + 1, std::vector<size_t>(b.size() + 1));
-    for (size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
-    for (size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
-    for (size_t i = 1; i <= a.size(); ++i) {
-        for (size_t j = 1; j <= b.size(); ++j) {
-            d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
-            if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
-        }
-    }
-    return d[a.size()][b.size()];
-}
-
 // "line L, column C" of byte offset `pos`, counted as nlohmann-json counts them (1-based line;
 // column = bytes read on the line so far, the offending one included), except that the end of
 // input on an empty line is column 1 rather than 0.
@@ -548,6 +533,20 @@ const Tile* DisplayConfig::find(const std::string& tile_name) const {
     for (const Tile& t : tiles)
         if (t.name == tile_name) return &t;
     return nullptr;
+}
+
+size_t edit_distance(const std::string& a, const std::string& b) {
+    if (a.size() > 64 || b.size() > 64) return SIZE_MAX;
+    std::vector<std::vector<size_t>> d(a.size() + 1, std::vector<size_t>(b.size() + 1));
+    for (size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+    for (size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+    for (size_t i = 1; i <= a.size(); ++i) {
+        for (size_t j = 1; j <= b.size(); ++j) {
+            d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+            if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+        }
+    }
+    return d[a.size()][b.size()];
 }
 
 const std::vector<std::string>& known_display_effects() {

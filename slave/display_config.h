@@ -64,6 +64,10 @@ constexpr int kMaxJsonDepth = 64;                    // nesting of arrays and ob
 // The effect names "effects" may list, in the order the documentation gives them.
 const std::vector<std::string>& known_display_effects();
 
+// Edits (insert, delete, replace, swap two neighbours) that turn a into b: "widht" -> "width" is
+// 1; SIZE_MAX for strings over 64 characters. For "did you mean" hints.
+size_t edit_distance(const std::string& a, const std::string& b);
+
 // True if `name` is a valid tile or config name: non-empty, only [A-Za-z0-9_.-].
 bool is_valid_display_name(const std::string& name);
 

@@ -30,9 +30,13 @@ static const ParamSpec* find_spec(const std::string& name) {
 bool EffectParams::set(const std::string& name, const std::string& value, std::string& error) {
     const ParamSpec* spec = find_spec(name);
     if (!spec) {
-        error = "unknown effect parameter \"" + name + "\" (docs/effects.md lists them; e.g.";
-        for (size_t i = 0; i < all_param_specs().size() && i < 6; ++i) error += " " + all_param_specs()[i].name;
-        error += " ...)";
+        std::string suggestion;
+        size_t best = 3;
+        for (const ParamSpec& s : all_param_specs())
+            if (size_t d = edit_distance(name, s.name); d < best) best = d, suggestion = s.name;
+        error = "unknown effect parameter \"" + name + "\" (" +
+                (suggestion.empty() ? "" : "did you mean \"" + suggestion + "\"? ") +
+                "`glcast effects` lists them all)";
         return false;
     }
     if (!spec->text) {

@@ -10,6 +10,8 @@ mosaic: `glcast run --effects snow --config wall-2x2.json` on ff_scene; the stit
   in each tile with the tile's own transform, so llvmpipe rounds a few edge pixels of the quads
   differently at tile offsets, as it does for the program's own geometry (tests/e2e/wall_test.py).
   Tiles replayed with `glcast replay --config --tile` equal the slaves' tiles exactly.
+bad_input: unknown effects and parameters, values that are not numbers or out of range are
+  refused with the name, exit 2 (an odd texture size when the pass is built, exit 1).
 foe: ff_scene with its camera moving straight forward (--camera dolly), replayed on the four
   tiles of wall-2x2.json with spectral snow only: in every tile the snow (each frame minus the
   same frame without snow) moves away from the focus of expansion, measured with
@@ -110,6 +112,24 @@ def case_mosaic():
           f"({100.0 * differing / total:.3f}%), max channel difference {max_diff}; snow changed {with_snow} pixels")
     check(with_snow > total // 4, "no snow on the canvas")
     check(differing <= TOLERANCE * total, f"mosaic differs from the canvas in {differing} pixels")
+
+
+def case_bad_input():
+    capture = os.path.join(DATA, "ff_scene.glcs")
+    for args, message in ((["--effects", "snow,fog"], 'unknown effect "fog"'),
+                          (["--effect-param", "snow.size=big"], 'snow.size: expected a number, got "big"'),
+                          (["--effect-param", "snow.size=9"], None),
+                          (["--effect-param", "snow.size=7"], "snow.size = 7 is out of range [8, 2048]"),
+                          (["--effect-param", "snow.sise=8"], 'unknown effect parameter "snow.sise" (did you mean "snow.size"?'),
+                          (["--effect-param", "snow.particles"], "--effect-param takes NAME=VALUE")):
+        r = run([GLCAST, "replay", capture, "--effects", "snow"] + args)
+        if message is None:  # valid syntax, refused when the pass is built: an odd texture size
+            check(r.returncode == 1 and "snow.size must be even" in r.stderr, f"{args}: {r.returncode} {r.stderr}")
+        else:
+            check(r.returncode == 2 and message in r.stderr, f"{args}: exit {r.returncode}, {r.stderr}")
+        print(f"{' '.join(args)}: exit {r.returncode}: {r.stderr.splitlines()[0]}")
+    r = run([GLCAST, "run", "--effects", "hail", "--", "true"])
+    check(r.returncode == 2 and 'unknown effect "hail"' in r.stderr, f"run: {r.returncode} {r.stderr}")
 
 
 def case_foe():
