@@ -316,7 +316,10 @@ void Replayer::run_effects() {
     SlaveContext& ctx = current();
     if (!ctx.effects) ctx.effects = std::make_unique<EffectsState>();
     EffectsState& st = *ctx.effects;
-    if (ctx.width <= 0 || ctx.height <= 0) return;
+    if (ctx.width <= 0 || ctx.height <= 0) {  // nothing shown: nothing to decorate
+        st.record.clear();
+        return;
+    }
     if (!effects_gl_) {
         auto gl = std::make_unique<effects::GlApi>();
         std::string error;
