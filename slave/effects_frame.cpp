@@ -104,8 +104,10 @@ void Replayer::record_for_effects(const Call& c) {
     if (!ctx.effects) ctx.effects = std::make_unique<EffectsState>();
     FrameRecord& rec = ctx.effects->record;
     const RedrawKind kind = c.opcode >= kSynthBase ? RedrawKind::State : redraw_kinds()[c.opcode];
-    if (kind == RedrawKind::NewList) rec.compiling_list = true;
-    if (kind == RedrawKind::EndList) rec.compiling_list = false;
+    if (kind == RedrawKind::NewList || kind == RedrawKind::EndList) {  // never re-executed
+        rec.compiling_list = kind == RedrawKind::NewList;
+        return;
+    }
     if (kind == RedrawKind::Ignored && !rec.in_begin_end) return;
     if (rec.compiling_list || !ctx.drawing_to_window || rec.overflow) return;
     if (c.opcode == OP_glBindBuffer || c.opcode == OP_glBindBufferARB) {
@@ -115,11 +117,11 @@ void Replayer::record_for_effects(const Call& c) {
     const auto get_doubles = gl<decltype(&::glGetDoublev)>(OP_glGetDoublev);
     const auto get_ints = gl<decltype(&::glGetIntegerv)>(OP_glGetIntegerv);
 
-    FrameRecord::Entry e{rec.bytes.size(), tuple_size_, false, false};
-    if (kind == RedrawKind::Draw || kind == RedrawKind::Begin) {
+    FrameRecord::Entry e{rec.bytes.size(), tuple_size_, false, false, false};
+    if ((kind == RedrawKind::Draw || kind == RedrawKind::Begin) && !rec.in_begin_end) {
         GLint program = 0;
         get_ints(GL_CURRENT_PROGRAM, &program);
-        e.draw = true;
+        e.draw = e.opens = true;
         if (program) {
             rec.shader_draws = true;
         } else {
@@ -212,7 +214,7 @@ void Replayer::redraw_main_view(const glm::dmat4& correction) {
                 continue;
             }
             track_matrix_call(c);
-            if (e.draw && c.opcode != OP_glEnd) correct_projection();
+            if (e.opens) correct_projection();  // never inside glBegin/glEnd, where GL refuses queries
             kReplay[c.opcode](*this, c);
         } catch (const ReplayError&) {
             // reported when the frame was replayed

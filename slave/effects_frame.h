@@ -21,6 +21,7 @@ struct FrameRecord {
     struct Entry {
         size_t begin = 0, size = 0;
         bool draw = false;     // a draw or part of a glBegin/glEnd block
+        bool opens = false;    // the draw call or the glBegin itself (its projection is corrected)
         bool main = false;     // ... of the main view
     };
     std::vector<uint8_t> bytes;

@@ -237,8 +237,12 @@ StateGuard::~StateGuard() {
     gl.glBindBuffer(GL_ARRAY_BUFFER, GLuint(array_buffer_));
     gl.glBindVertexArray(GLuint(vao_));
     gl.glUseProgram(GLuint(program_));
-    gl.glPolygonMode(GL_FRONT, GLenum(polygon_mode_[0]));
-    gl.glPolygonMode(GL_BACK, GLenum(polygon_mode_[1]));
+    if (compatibility_) {
+        gl.glPolygonMode(GL_FRONT, GLenum(polygon_mode_[0]));
+        gl.glPolygonMode(GL_BACK, GLenum(polygon_mode_[1]));
+    } else {
+        gl.glPolygonMode(GL_FRONT_AND_BACK, GLenum(polygon_mode_[0]));  // core has no separate faces
+    }
     gl.glCullFace(GLenum(cull_face_));
     gl.glFrontFace(GLenum(front_face_));
     gl.glStencilMask(GLuint(stencil_mask_));
