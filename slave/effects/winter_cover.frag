@@ -62,15 +62,18 @@ void main() {
         spread = clamp(spread * pow(max((r + random_shape.x) * random_shape.y, 0.0), random_shape.z), 0.0, 180.0);
     }
     float slope = 1.0 - smoothstep(spread - softness_deg, spread + softness_deg, angle);
-
+    float allowed = 1.0;
+    if (has_mask) {
+        vec4 m = textureLod(mask, (canvas_origin + vec2(q) + 0.5) / canvas_size, 0.0);
+        allowed = dot(m.rgb, vec3(0.2126, 0.7152, 0.0722)) * m.a;
+    }
+    if (slope * allowed <= 0.0) {  // walls, undersides, masked out: no need for the noise
+        out_color = vec4(0.0, distance, 0.0, 1.0);
+        return;
+    }
     // Covered where the uniformized noise is below the density; the band of width 2 edge is
     // moved so that density 0 covers nothing and density 1 everything.
     float level = density * (1.0 + 2.0 * edge) - edge;
     float patches = smoothstep(-edge, edge, level - winter_uniform_fbm(world / noise_scale, seed));
-
-    if (has_mask) {
-        vec4 m = texture(mask, (canvas_origin + vec2(q) + 0.5) / canvas_size);
-        patches *= dot(m.rgb, vec3(0.2126, 0.7152, 0.0722)) * m.a;
-    }
-    out_color = vec4(slope * patches, distance, 0.0, 1.0);
+    out_color = vec4(slope * allowed * patches, distance, 0.0, 1.0);
 }

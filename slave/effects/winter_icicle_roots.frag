@@ -1,18 +1,17 @@
-// For each candidate icicle column of the guard-band buffers (x: cell - first_cell) and each row
-// (y: buffer row), the icicle that hangs over that row: the nearest lower edge of snow above it,
-// within the longest icicle's length, whose icicle reaches down that far. A lower edge: a pixel
-// with snow whose neighbour below is background, a surface turned away by more than the edge
-// angle (the vertical face under a roof's rim), or a surface much farther away (a ledge), but
-// not a nearer one (that is an object in front).
+// The roots of the icicles: for each candidate icicle column of the guard-band buffers (x: cell -
+// first_cell) and each row (y: buffer row), the icicle hanging from that pixel if it is a lower
+// edge of snow and the seed puts one there. A lower edge: a pixel with snow whose neighbour
+// below is background, a surface turned away by more than the edge angle (the vertical face
+// under a roof's rim), or a surface much farther away (a ledge), but not a nearer one (that is
+// an object in front).
 uniform sampler2D cover;        // winter_cover.frag
 uniform sampler2D normals;
 uniform vec2 buffer_size;       // guard-band buffer, pixels
 uniform vec2 canvas_origin;     // canvas pixel of buffer pixel (0, 0)
 uniform int first_cell;
-uniform int max_reach;          // rows searched above: the longest icicle, rounded up
 uniform float edge_cos;         // cos(icicles.edge_angle)
 
-// x: root row (buffer); y: radius; z: length (0: none); w: eye distance of the root.
+// x: root row (buffer); y: radius; z: length (0: no icicle); w: eye distance of the root.
 out vec4 out_color;
 
 bool is_lower_edge(ivec2 q) {
@@ -23,7 +22,6 @@ bool is_lower_edge(ivec2 q) {
     vec4 below = texelFetch(cover, under, 0);
     if (below.a < 0.0) return false;  // unknown (outside a tile reconstructed from depth)
     if (below.a == 0.0) return true;
-    // A nearer surface below hides the rest of this one: an occluding contour, not an edge.
     if (below.g < here.g * 0.97) return false;
     if (below.g > here.g * 1.1) return true;
     return dot(texelFetch(normals, q, 0).xyz, texelFetch(normals, under, 0).xyz) < edge_cos;
@@ -32,17 +30,9 @@ bool is_lower_edge(ivec2 q) {
 void main() {
     ivec2 f = ivec2(gl_FragCoord.xy);
     int column = icicle_column(first_cell + f.x);
-    int x = column - int(canvas_origin.x);
+    ivec2 q = ivec2(column - int(canvas_origin.x), f.y);
     out_color = vec4(0.0);
-    if (x < 0 || x >= int(buffer_size.x)) return;
-    for (int step = 1; step <= max_reach; ++step) {
-        int y = f.y + step;
-        if (y >= int(buffer_size.y)) return;
-        if (!is_lower_edge(ivec2(x, y))) continue;
-        vec3 icicle = icicle_at(ivec2(column, y + int(canvas_origin.y)));
-        if (icicle.y > float(step) - 0.5) {  // row centre within the length
-            out_color = vec4(float(y), icicle.x, icicle.y, texelFetch(cover, ivec2(x, y), 0).g);
-            return;
-        }
-    }
+    if (q.x < 0 || q.x >= int(buffer_size.x) || !is_lower_edge(q)) return;
+    vec3 icicle = icicle_at(ivec2(column, f.y + int(canvas_origin.y)));
+    if (icicle.y > 0.0) out_color = vec4(float(f.y), icicle.x, icicle.y, texelFetch(cover, q, 0).g);
 }

@@ -8,7 +8,7 @@ namespace glcast::slave::effects {
 
 IcicleStage::IcicleStage(const GlApi& gl, const IcicleSettings& settings) : gl_(gl), settings_(settings) {
     roots_program_ = build_winter_program(gl, "fullscreen.vert", "winter_icicle_roots.frag", "winter_icicle_common.glsl");
-    icicles_program_ = build_winter_program(gl, "fullscreen.vert", "winter_icicles.frag", "winter_icicle_common.glsl");
+    icicles_program_ = build_winter_program(gl, "winter_icicles.vert", "winter_icicles.frag", "winter_icicle_common.glsl");
     gl.glGenVertexArrays(1, &empty_vao_);
 }
 
@@ -77,7 +77,6 @@ void IcicleStage::run(const FrameView& view, const WinterFrame& frame, const Sur
     set_uniform(gl, p, "buffer_size", glm::dvec2(frame.buffer_width, frame.buffer_height));
     set_uniform(gl, p, "canvas_origin", glm::dvec2(canvas_left, view.canvas_y - frame.guard));
     set_uniform(gl, p, "first_cell", first_cell);
-    set_uniform(gl, p, "max_reach", int(std::ceil(frame.length_max_px)) + 1);
     set_uniform(gl, p, "edge_cos", std::cos(glm::radians(settings_.edge_angle_deg)));
     draw_fullscreen(gl, empty_vao_);
 
@@ -101,7 +100,10 @@ void IcicleStage::run(const FrameView& view, const WinterFrame& frame, const Sur
     gl.glEnable(GL_BLEND);
     gl.glBlendEquationSeparate(GL_FUNC_ADD, GL_FUNC_ADD);
     gl.glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
-    draw_fullscreen(gl, empty_vao_);
+    // One quad per roots texel, in (row, cell) order: the same order on every tile, so where
+    // two icicles overlap the same one is drawn last everywhere.
+    gl.glBindVertexArray(empty_vao_);
+    gl.glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, cells * frame.buffer_height);
     gl.glDisable(GL_BLEND);
 }
 

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <stdexcept>
+#include <string>
 
 #include <glm/glm.hpp>
 
@@ -30,6 +31,8 @@ void print(const char* label, const std::map<int, Fraction>& f) {
     std::printf("\n");
 }
 
+// Default parameters (density 0.9), seeds 1 to 4: the noise patches are a few per box top, so
+// a top's fraction varies with the seed; the thresholds hold for each seed.
 TEST(Cover, UpFacingSurfacesHoldSnowVerticalAndUndersidesStayClear) {
     Harness& h = harness();
     ASSERT_TRUE(h.ok()) << h.error();
@@ -37,23 +40,24 @@ TEST(Cover, UpFacingSurfacesHoldSnowVerticalAndUndersidesStayClear) {
     for (const Camera& camera : {high_camera(), low_camera()}) {
         const bool high = camera.eye.y > 3;
         const Image before = h.render(scene, camera, {});
-        const Image after = h.render(scene, camera, {"cover"});
         const Image ids = h.classes(scene, camera);
         save(high ? "cover_high_before" : "cover_low_before", before);
-        save(high ? "cover_high_after" : "cover_low_after", after);
-        const auto f = snow_by_class(before, after, ids);
-        print(high ? "high camera" : "low camera", f);
-        EXPECT_GE(f.at(kGround).value(), 0.80);
-        EXPECT_LE(f.at(kSide).value(), 0.03);
-        if (high) {
-            EXPECT_GE(f.at(kTop).value(), 0.80);
-        } else {
-            ASSERT_GT(f.at(kUnder).total, 500) << "the low camera must see the raised box's underside";
-            EXPECT_LE(f.at(kUnder).value(), 0.01);
+        for (int seed = 1; seed <= 4; ++seed) {
+            const Image after = h.render(scene, camera, {"cover", {"cover.seed=" + std::to_string(seed)}});
+            if (seed == 1) save(high ? "cover_high_after" : "cover_low_after", after);
+            const auto f = snow_by_class(before, after, ids);
+            print((std::string(high ? "high camera" : "low camera") + ", seed " + std::to_string(seed)).c_str(), f);
+            EXPECT_GE(f.at(kGround).value(), 0.85);
+            EXPECT_LE(f.at(kSide).value(), 0.03);
+            if (high) {
+                EXPECT_GE(f.at(kTop).value(), 0.75);
+            } else {
+                ASSERT_GT(f.at(kUnder).total, 500) << "the low camera must see the raised box's underside";
+                EXPECT_LE(f.at(kUnder).value(), 0.01);
+            }
         }
     }
 }
-
 
 // Two panels on the ground tilted towards the camera, 5 degrees inside and outside the spread.
 Scene panel_scene(double spread) {
