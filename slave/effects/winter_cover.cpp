@@ -8,7 +8,7 @@ namespace glcast::slave::effects {
 
 CoverStage::CoverStage(const GlApi& gl, const CoverSettings& settings) : gl_(gl), settings_(settings) {
     classify_program_ = build_winter_program(gl, "fullscreen.vert", "winter_cover.frag");
-    snow_program_ = build_winter_program(gl, "fullscreen.vert", "winter_snow.frag");
+    snow_program_ = build_winter_program(gl, "fullscreen.vert", "winter_snow.frag", {"winter_edges.glsl"});
     gl.glGenVertexArrays(1, &empty_vao_);
     if (!settings.mask_path.empty()) {
         // PNG rows run top to bottom, GL's from the bottom: upload flipped, so that texture
@@ -96,6 +96,8 @@ void CoverStage::composite(const FrameView& view, const WinterFrame& frame, cons
     set_uniform(gl, p, "noise_scale", settings_.noise_scale);
     set_uniform(gl, p, "brightness", settings_.brightness);
     set_seed_uniform(gl, p, "seed_bits", settings_.seed);
+    set_edge_uniforms(gl, p, frame);
+    set_uniform(gl, p, "lip_rows", frame.lip_rows);
     gl.glDisable(GL_DEPTH_TEST);
     gl.glEnable(GL_BLEND);
     // The window's alpha (if it has any) stays the program's.

@@ -28,29 +28,37 @@ WinterFrame winter_frame(const FrameView& view, const WinterSettings& settings, 
         // Light from above and a little towards the camera, so that lit snow reads as snow.
         f.light_eye = glm::dvec4(glm::normalize(f.up_eye + glm::dvec3(0.25, 0.0, 0.6)), 0.0);
     }
+    const double h = f.canvas_height;
     f.cover_fraction = c.build_frames > 0 ? std::clamp(double(view.frame) / c.build_frames, 0.0, 1.0) : 1.0;
 
     const IcicleSettings& i = settings.icicles;
-    const double h = f.canvas_height;
     f.spacing_px = std::max(1.0, i.spacing * h);
     f.radius_min_px = i.radius_min * h;
     f.radius_max_px = i.radius_max * h;
     f.length_max_px = i.length_max * h;
-    f.guard = 1;
-    if (icicles) {
-        const double reach = std::max(f.length_max_px, 2.0 * f.radius_max_px + f.spacing_px);
-        f.guard = int(std::ceil(reach)) + 2;
-    }
+    f.edge_cos = std::cos(glm::radians(c.edge_angle_deg));
+    f.lip_px = c.lip * h;
+    f.lip_rows = int(std::ceil(1.5 * f.lip_px));
+    f.lip_seed = c.seed;
+    double reach = f.lip_rows;
+    if (icicles) reach += std::max(f.length_max_px, 2.0 * f.radius_max_px + f.spacing_px);
+    f.guard = int(std::ceil(reach)) + 2;
     f.buffer_width = view.width + 2 * f.guard;
     f.buffer_height = view.height + 2 * f.guard;
     return f;
 }
 
 GLuint build_winter_program(const GlApi& gl, const std::string& vertex_file, const std::string& fragment_file,
-                            const std::string& library) {
+                            const std::vector<std::string>& libraries) {
     std::string prefix = shader_source("winter_noise.glsl") + "\n";
-    if (!library.empty()) prefix += shader_source(library) + "\n";
+    for (const std::string& library : libraries) prefix += shader_source(library) + "\n";
     return build_program(gl, vertex_file, fragment_file, prefix);
+}
+
+void set_edge_uniforms(const GlApi& gl, GLuint program, const WinterFrame& frame) {
+    set_uniform(gl, program, "edge_cos", frame.edge_cos);
+    set_uniform(gl, program, "lip_px", frame.lip_px);
+    set_seed_uniform(gl, program, "lip_seed_bits", frame.lip_seed);
 }
 
 void set_uniform(const GlApi& gl, GLuint program, const char* name, int value) {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include <glm/glm.hpp>
 
@@ -20,18 +21,24 @@ struct WinterFrame {
     glm::dmat4 world_from_eye{1.0};  // where the snow patches are anchored (identity: eye space)
     glm::dvec4 light_eye{0, 1, 0, 0};  // the program's light, or a light from above and in front
     double cover_fraction = 1;       // cover.density scale from the build-up over frames
+    double edge_cos = 0;             // cos(cover.edge_angle)
+    double lip_px = 0;               // mean lip thickness, canvas pixels
+    int lip_rows = 0;                // the thickest lip, rounded up
+    unsigned lip_seed = 1;
     // Icicle sizes in canvas pixels.
     double spacing_px = 0, radius_min_px = 0, radius_max_px = 0, length_max_px = 0;
 };
 
-// The guard band holds every pixel a screen-space step reads: the longest icicle above the
-// tile (icicles hang from edges up to length_max above a pixel) plus the root test's row.
+// The guard band holds every pixel a screen-space step reads: the thickest lip and the longest
+// icicle below it above the tile (they hang from edges that far above a pixel), plus the row
+// the edge test reads.
 WinterFrame winter_frame(const FrameView& view, const WinterSettings& settings, bool icicles);
 
-// build_program with winter_noise.glsl (and the GLSL file `library`, if named) prepended to
-// both shaders.
+// build_program with winter_noise.glsl and the GLSL files `libraries` prepended to both shaders.
 GLuint build_winter_program(const GlApi& gl, const std::string& vertex_file, const std::string& fragment_file,
-                            const std::string& library = "");
+                            const std::vector<std::string>& libraries = {});
+// The uniforms of winter_edges.glsl.
+void set_edge_uniforms(const GlApi& gl, GLuint program, const WinterFrame& frame);
 
 // Uniform setters by name (a name the driver optimized away is skipped, as GL does for -1).
 void set_uniform(const GlApi& gl, GLuint program, const char* name, int value);

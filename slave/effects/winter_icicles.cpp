@@ -7,8 +7,9 @@
 namespace glcast::slave::effects {
 
 IcicleStage::IcicleStage(const GlApi& gl, const IcicleSettings& settings) : gl_(gl), settings_(settings) {
-    roots_program_ = build_winter_program(gl, "fullscreen.vert", "winter_icicle_roots.frag", "winter_icicle_common.glsl");
-    icicles_program_ = build_winter_program(gl, "winter_icicles.vert", "winter_icicles.frag", "winter_icicle_common.glsl");
+    const std::vector<std::string> libraries = {"winter_icicle_common.glsl", "winter_edges.glsl"};
+    roots_program_ = build_winter_program(gl, "fullscreen.vert", "winter_icicle_roots.frag", libraries);
+    icicles_program_ = build_winter_program(gl, "winter_icicles.vert", "winter_icicles.frag", libraries);
     gl.glGenVertexArrays(1, &empty_vao_);
 }
 
@@ -30,6 +31,7 @@ void IcicleStage::set_icicle_uniforms(GLuint p, const FrameView& view, const Win
     set_uniform(gl, p, "icicle_length_max", frame.length_max_px);
     set_uniform(gl, p, "icicle_growth_frames", settings_.growth_frames);
     set_uniform(gl, p, "icicle_frame", double(view.frame));
+    set_edge_uniforms(gl, p, frame);
 }
 
 void IcicleStage::run(const FrameView& view, const WinterFrame& frame, const SurfaceBuffers& surfaces, GLuint cover,
@@ -77,7 +79,6 @@ void IcicleStage::run(const FrameView& view, const WinterFrame& frame, const Sur
     set_uniform(gl, p, "buffer_size", glm::dvec2(frame.buffer_width, frame.buffer_height));
     set_uniform(gl, p, "canvas_origin", glm::dvec2(canvas_left, view.canvas_y - frame.guard));
     set_uniform(gl, p, "first_cell", first_cell);
-    set_uniform(gl, p, "edge_cos", std::cos(glm::radians(settings_.edge_angle_deg)));
     draw_fullscreen(gl, empty_vao_);
 
     gl.glBindFramebuffer(GL_FRAMEBUFFER, 0);

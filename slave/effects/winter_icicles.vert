@@ -23,7 +23,9 @@ void main() {
         gl_Position = vec4(-2.0, -2.0, 0.0, 1.0);  // all four corners alike: nothing drawn
         return;
     }
-    v_phase = icicle_at(ivec2(column, int(root.x + canvas_offset.y) - guard)).z;
+    ivec2 root_canvas = ivec2(column, int(root.x + canvas_offset.y) - guard);
+    v_phase = icicle_at(root_canvas).z;
+    v_root.x -= winter_lip_thickness(root_canvas);  // it hangs from below the snow's lip
     float half_width = 1.35 * root.y + 1.5;  // radius, bend, antialiasing
     vec2 corner = vec2(float(gl_VertexID & 1), float(gl_VertexID >> 1));
     vec2 pixel = vec2(v_axis + (2.0 * corner.x - 1.0) * half_width, v_root.x - (1.0 - corner.y) * (root.z + 1.0));

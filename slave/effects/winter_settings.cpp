@@ -29,6 +29,10 @@ std::vector<ParamSpec> winter_param_specs() {
                               "faceted (re-rendered triangles' planes) or depth (from the depth buffer, no re-render)"),
         {"cover.build_frames", 0, 0, 1e9, "frames over which the cover builds up from nothing (0: complete at once)"},
         {"cover.brightness", 1, 0, 2, "scale of the snow's shaded color"},
+        {"cover.lip", 0.004, 0, 0.05, "mean thickness of the snow rounded over lower edges (0.5 to 1.5 times this, "
+                                      "seeded along the edge), fraction of the canvas height; 0: no lip"},
+        {"cover.edge_angle", 40, 5, 175, "degrees: at a lower edge of the cover (lip, icicle roots) the surface below "
+                                         "turns away by more than this"},
         text("cover.mask", "PNG stretched over the canvas: snow only where it is white and opaque "
                            "(luminance times alpha scales the cover); seed 003's snow by texture"),
         {"icicles.seed", 1, 0, 4294967295.0, "seed of the icicles' placement, radius and growth"},
@@ -39,7 +43,6 @@ std::vector<ParamSpec> winter_param_specs() {
         {"icicles.length_max", 0.09, 0.001, 0.5,
          "length of an icicle of radius_max, fraction of the canvas height: L = length_max (r / radius_max)^(4/3)"},
         {"icicles.taper", 1, 0.2, 4, "shape: radius at fraction t of the length is r (1 - t)^taper"},
-        {"icicles.edge_angle", 40, 5, 175, "degrees: below a lower edge the surface turns away by more than this"},
         {"icicles.refraction", 0.6, 0, 4, "sideways shift of the background seen through the ice, in icicle radii"},
         {"icicles.growth_frames", 0, 0, 1e9, "each icicle grows over this many frames, starting at a seeded frame "
                                              "below this count (0: fully grown at once)"},
@@ -89,6 +92,8 @@ WinterSettings winter_settings_from(const EffectParams& params) {
     else bad_choice("cover.normals", normals, "auto, vertex, faceted or depth");
     c.build_frames = params.number("cover.build_frames");
     c.brightness = params.number("cover.brightness");
+    c.lip = params.number("cover.lip");
+    c.edge_angle_deg = params.number("cover.edge_angle");
     c.mask_path = params.text("cover.mask");
     if (!c.mask_path.empty()) {
         std::string error;
@@ -103,7 +108,6 @@ WinterSettings winter_settings_from(const EffectParams& params) {
     i.radius_max = params.number("icicles.radius_max");
     i.length_max = params.number("icicles.length_max");
     i.taper = params.number("icicles.taper");
-    i.edge_angle_deg = params.number("icicles.edge_angle");
     i.refraction = params.number("icicles.refraction");
     i.growth_frames = params.number("icicles.growth_frames");
     if (i.radius_min > i.radius_max)

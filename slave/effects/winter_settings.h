@@ -35,6 +35,8 @@ struct CoverSettings {
     NormalSource normals = NormalSource::Auto;
     double build_frames = 0;       // frames over which the cover builds up from nothing (0: at once)
     double brightness = 1.0;       // scale of the snow's shaded color
+    double lip = 0.004;            // mean thickness of the rounded snow over lower edges, fraction of the canvas height
+    double edge_angle_deg = 40;    // a lower edge: the surface below turns away by more than this
     std::string mask_path;         // PNG over the canvas: white opaque = snow allowed, black/transparent = none
     Image mask;                    // loaded when mask_path is set
 };
@@ -47,7 +49,6 @@ struct IcicleSettings {
     double radius_max = 0.010;
     double length_max = 0.09;      // length of an icicle of radius_max: L = length_max (r / radius_max)^(4/3)
     double taper = 1.0;            // radius at fraction t of the length: r (1 - t)^taper
-    double edge_angle_deg = 40;    // a lower edge: the surface below turns away by more than this angle
     double refraction = 0.6;       // sideways displacement of the background seen through the ice
     double growth_frames = 0;      // each icicle grows over this many frames from a seeded start (0: grown)
 };

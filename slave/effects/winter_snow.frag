@@ -2,7 +2,8 @@
 // blue-white diffuse surface lit by the scene's light (wrap lighting for the light that snow
 // scatters under its surface), a blue sky fill, a fine bump of world-space noise and sparse
 // glints, as seed 003's snow shader (section 7: lighting plus anti-aliased noise for the
-// specular and the bump).
+// specular and the bump). Below the lower edges of the cover the snow hangs over in a rounded
+// lip of seeded thickness (winter_edges.glsl).
 uniform sampler2D cover;         // winter_cover.frag, guard-band pixels
 uniform sampler2D normals;
 uniform sampler2D positions;
@@ -14,6 +15,7 @@ uniform vec4 light_eye;          // eye space; w = 0: directional
 uniform float noise_scale;       // world size of the snow patches: the bump is 1/40 of it
 uniform float brightness;
 uniform int seed_bits;      // the seed's unsigned bits (glUniform1i)
+uniform int lip_rows;            // rows searched above a pixel for the lip's edge
 
 out vec4 out_color;
 
@@ -21,9 +23,34 @@ void main() {
     uint seed = uint(seed_bits);
     ivec2 q = ivec2(gl_FragCoord.xy) + guard;
     float amount = texelFetch(cover, q, 0).r;
+    ivec2 surface = q;  // the pixel whose surface holds the snow seen here
+    float down_lip = -1.0;  // 0 at a lower edge to 1 at the lip's bottom; -1: not on a lip
+    if (amount < 0.5 && lip_px > 0.0) {
+        // The lip: snow rounded over a lower edge a few pixels above, hanging down its face.
+        for (int k = 1; k <= lip_rows; ++k) {
+            ivec2 e = q + ivec2(0, k);
+            if (winter_lower_edge(cover, normals, e)) {
+                float thickness = winter_lip_thickness(ivec2(canvas_offset) + e - guard);
+                float reach = clamp(thickness - float(k) + 1.0, 0.0, 1.0);  // antialiased bottom
+                if (reach > 0.0) {
+                    down_lip = (float(k) - 0.5) / thickness;
+                    surface = e;
+                    amount = max(amount, reach * texelFetch(cover, e, 0).r);
+                }
+                break;
+            }
+            if (texelFetch(cover, e, 0).r >= 0.5) break;  // snow above that is no edge
+        }
+    }
     if (amount <= 1.0 / 512.0) discard;
-    vec3 n = texelFetch(normals, q, 0).xyz;
-    vec3 p = texelFetch(positions, q, 0).xyz;
+    vec3 n = texelFetch(normals, surface, 0).xyz;
+    vec3 p = texelFetch(positions, surface, 0).xyz;
+    if (down_lip >= 0.0) {
+        // Rounded from the top's normal towards the face below (or the camera, over the sky).
+        vec4 face = texelFetch(normals, surface - ivec2(0, 1), 0);
+        vec3 front = face.w > 0.0 ? face.xyz : normalize(-p);
+        n = normalize(mix(n, front, smoothstep(0.0, 1.0, clamp(down_lip, 0.0, 1.0))));
+    }
     vec3 world = (world_from_eye * vec4(p, 1.0)).xyz;
 
     // Bump: the gradient of fine noise tilts the normal a little.
