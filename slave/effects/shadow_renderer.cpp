@@ -1,0 +1,444 @@
+#include "slave/effects/shadow_renderer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include "slave/effects/gl_util.h"
+
+namespace glcast::slave::effects {
+
+namespace {
+
+// Texture units of the shaders' inputs.
+enum Unit : GLint { kDepthUnit = 0, kShadowMapUnit, kHardUnit, kEdgesUnit, kLinesUnit, kErosionUnit, kVisibilityUnit };
+
+double now_ms() {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+int floor_mod(int a, int b) { return ((a % b) + b) % b; }
+
+void set_matrix(const GlApi& gl, GLuint program, const char* name, const glm::dmat4& m) {
+    const glm::mat4 f(m);
+    const GLint at = gl.glGetUniformLocation(program, name);
+    if (at >= 0) gl.glUniformMatrix4fv(at, 1, GL_FALSE, glm::value_ptr(f));
+}
+void set_int(const GlApi& gl, GLuint program, const char* name, int v) {
+    const GLint at = gl.glGetUniformLocation(program, name);
+    if (at >= 0) gl.glUniform1i(at, v);
+}
+void set_float(const GlApi& gl, GLuint program, const char* name, double v) {
+    const GLint at = gl.glGetUniformLocation(program, name);
+    if (at >= 0) gl.glUniform1f(at, float(v));
+}
+void set_vec2(const GlApi& gl, GLuint program, const char* name, glm::dvec2 v) {
+    const GLint at = gl.glGetUniformLocation(program, name);
+    if (at >= 0) gl.glUniform2f(at, float(v.x), float(v.y));
+}
+
+void bind_texture(const GlApi& gl, GLint unit, GLuint texture) {
+    gl.glActiveTexture(GLenum(GL_TEXTURE0 + unit));
+    gl.glBindTexture(GL_TEXTURE_2D, texture);
+}
+
+// The clip-space map from the tile's clip space to the work area's: the tile's pixels land
+// `offset` pixels in, in a framebuffer of `work` pixels (design.md 6: a correction applied
+// after the program's projection, like FrameView::guard_band but asymmetric).
+glm::dmat4 work_from_tile_clip(glm::ivec2 tile, glm::ivec2 work, glm::ivec2 offset) {
+    glm::dmat4 m(1.0);
+    m[0][0] = double(tile.x) / work.x;
+    m[1][1] = double(tile.y) / work.y;
+    m[3][0] = double(tile.x + 2 * offset.x) / work.x - 1;
+    m[3][1] = double(tile.y + 2 * offset.y) / work.y - 1;
+    return m;
+}
+
+}  // namespace
+
+ShadowRenderer::ShadowRenderer(const GlApi& gl, const ShadowSettings& settings) : gl_(gl), settings_(settings) {
+    build_programs(settings_.method);
+    gl_.glGenVertexArrays(1, &empty_vao_);
+}
+
+ShadowRenderer::~ShadowRenderer() {
+    release_targets();
+    for (auto& [key, program] : program_cache_) gl_.glDeleteProgram(program);
+    if (empty_vao_) gl_.glDeleteVertexArrays(1, &empty_vao_);
+}
+
+void ShadowRenderer::set_method(ShadowMethod method) {
+    build_programs(method);
+    settings_.method = method;
+}
+
+GLuint ShadowRenderer::program(const std::string& fragment, const std::string& defines, bool common) {
+    const std::string key = fragment + "|" + defines;
+    auto it = program_cache_.find(key);
+    if (it != program_cache_.end()) return it->second;
+    const std::string prefix = defines + (common ? shader_source("shadow_common.glsl") : std::string());
+    const GLuint p = build_program(gl_, "fullscreen.vert", fragment, prefix);
+    program_cache_.emplace(key, p);
+    return p;
+}
+
+void ShadowRenderer::build_programs(ShadowMethod method) {
+    Programs& p = programs_[int(method)];
+    if (p.composite) return;
+    switch (method) {
+    case ShadowMethod::ErosionPcf:
+    case ShadowMethod::ErosionDirect: {
+        const bool direct = method == ShadowMethod::ErosionDirect;
+        p.hard = program("shadow_hard.frag", "", true);
+        p.edges = program("shadow_edges.frag", direct ? "" : "#define OCCLUSION_EDGES\n", true);
+        p.minmax = program("shadow_minmax.frag", "", false);
+        p.erode = program("shadow_erode.frag", direct ? "#define EROSION_DIRECT\n" : "", true);
+        if (direct) p.lines = program("shadow_lines.frag", "", true);
+        else p.shade = program("shadow_shade.frag", "#define EROSION_PCF\n", true);
+        break;
+    }
+    case ShadowMethod::Pcss8:
+    case ShadowMethod::Pcss32:
+    case ShadowMethod::Pcss64: p.shade = program("shadow_shade.frag", "", true); break;
+    case ShadowMethod::Reference: p.reference = program("shadow_reference.frag", "", true); break;
+    }
+    p.composite = program("shadow_composite.frag", "", false);
+}
+
+void ShadowRenderer::release_targets() {
+    for (Target* t : {&shadow_map_, &camera_depth_, &hard_, &edges_, &lines_, &erosion_, &visibility_}) {
+        if (t->framebuffer) gl_.glDeleteFramebuffers(1, &t->framebuffer);
+        if (t->texture) gl_.glDeleteTextures(1, &t->texture);
+        *t = Target{};
+    }
+}
+
+void ShadowRenderer::ensure_targets(const FrameView& view, bool rerender_depth) {
+    const int search = settings_.max_penumbra_px;
+    const int guard = rerender_depth ? search : 0;
+    // Levels until a 2x2 block of the coarsest covers the largest search square.
+    levels_ = int(std::ceil(std::log2(2.0 * search)));
+    const int block = 1 << levels_;
+    tile_offset_ = rerender_depth ? glm::ivec2(guard + floor_mod(view.canvas_x - guard, block),
+                                               guard + floor_mod(view.canvas_y - guard, block))
+                                  : glm::ivec2(0);
+    const glm::ivec2 work(view.width + tile_offset_.x + guard, view.height + tile_offset_.y + guard);
+    canvas_origin_ = glm::ivec2(view.canvas_x, view.canvas_y) - tile_offset_;
+    levels_ = std::min(levels_, int(std::floor(std::log2(double(std::max(work.x, work.y))))));
+
+    const int map = settings_.map_size;
+    if (shadow_map_.width != map) {
+        if (shadow_map_.framebuffer) gl_.glDeleteFramebuffers(1, &shadow_map_.framebuffer);
+        if (shadow_map_.texture) gl_.glDeleteTextures(1, &shadow_map_.texture);
+        shadow_map_.texture = make_texture(gl_, GL_DEPTH_COMPONENT32F, map, map);
+        shadow_map_.framebuffer = make_framebuffer(gl_, 0, shadow_map_.texture);
+        shadow_map_.width = shadow_map_.height = map;
+    }
+    if (work == work_size_ && edges_.texture && levels_ == edge_levels_) return;
+    work_size_ = work;
+    edge_levels_ = levels_;
+    const Target keep_map = shadow_map_;
+    shadow_map_ = Target{};
+    release_targets();
+    shadow_map_ = keep_map;
+    auto make = [&](Target& t, GLenum format, int mip_levels, bool depth) {
+        t.texture = make_texture(gl_, format, work.x, work.y, false, mip_levels);
+        t.framebuffer = depth ? make_framebuffer(gl_, 0, t.texture) : make_framebuffer(gl_, t.texture, 0);
+        t.width = work.x;
+        t.height = work.y;
+    };
+    make(camera_depth_, GL_DEPTH_COMPONENT32F, 1, true);
+    make(hard_, GL_RGBA32F, 1, false);
+    make(edges_, GL_RGBA32F, levels_ + 1, false);
+    make(lines_, GL_RG16F, 1, false);
+    make(erosion_, GL_RG32F, 1, false);
+    make(visibility_, GL_R32F, 1, false);
+}
+
+void ShadowRenderer::set_light_uniforms(GLuint p, const ShadowLight& light, const LightFrame& frame) const {
+    set_matrix(gl_, p, "u_light_clip_from_eye", frame.clip_from_eye());
+    set_matrix(gl_, p, "u_light_view_from_eye", frame.view);
+    set_int(gl_, p, "u_light_ortho", frame.orthographic ? 1 : 0);
+    set_float(gl_, p, "u_light_near", frame.near);
+    set_float(gl_, p, "u_light_far", frame.far);
+    set_vec2(gl_, p, "u_uv_per_unit", frame.uv_per_unit);
+    // penumbra_world() in the shaders: the same formula as penumbra_width() here.
+    const double spread = light.directional ? penumbra_width(light, 0, settings_.light_angle_deg, 1, 0)
+                                            : settings_.light_size;
+    set_float(gl_, p, "u_light_spread", spread);
+}
+
+void ShadowRenderer::set_common_uniforms(GLuint p) const {
+    gl_.glUseProgram(p);
+    set_int(gl_, p, "u_depth", kDepthUnit);
+    set_int(gl_, p, "u_shadow_map", kShadowMapUnit);
+    set_int(gl_, p, "u_hard", kHardUnit);
+    set_int(gl_, p, "u_edges", kEdgesUnit);
+    set_int(gl_, p, "u_source", kEdgesUnit);
+    set_int(gl_, p, "u_lines", kLinesUnit);
+    set_int(gl_, p, "u_erosion", kErosionUnit);
+    set_int(gl_, p, "u_visibility", kVisibilityUnit);
+    set_matrix(gl_, p, "u_eye_from_clip", eye_from_work_clip_);
+    set_vec2(gl_, p, "u_work_size", glm::dvec2(work_size_));
+    set_vec2(gl_, p, "u_canvas_origin", glm::dvec2(canvas_origin_));
+    set_float(gl_, p, "u_focal_px", focal_px_);
+    set_float(gl_, p, "u_max_radius_px", settings_.max_penumbra_px);
+    set_float(gl_, p, "u_map_size", settings_.map_size);
+    set_float(gl_, p, "u_bias_texels", settings_.bias_texels);
+    set_light_uniforms(p, light_, frame_);
+}
+
+void ShadowRenderer::draw_into(const Target& target, GLuint p) const {
+    gl_.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target.framebuffer);
+    gl_.glViewport(0, 0, target.width, target.height);
+    gl_.glDisable(GL_DEPTH_TEST);
+    gl_.glDisable(GL_BLEND);
+    gl_.glUseProgram(p);
+    draw_fullscreen(gl_, empty_vao_);
+}
+
+void ShadowRenderer::step_done(double ShadowStepTimes::*step) {
+    if (!profiling_) return;
+    gl_.glFinish();
+    const double t = now_ms();
+    times_.*step += t - step_start_;
+    step_start_ = t;
+}
+
+bool ShadowRenderer::render(const FrameView& view, std::string& why) {
+    if (!view.view_known) {
+        why = "no draw with a perspective projection this frame";
+        return false;
+    }
+    if (!view.redraw) {
+        why = "the stream's draws cannot be re-rendered (shader program or core context): no shadow map";
+        return false;
+    }
+    gl_.glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &target_framebuffer_);
+    gl_.glGetIntegerv(GL_ACTIVE_TEXTURE, &program_active_texture_);
+    for (int unit = 0; unit < 7; ++unit) {
+        gl_.glActiveTexture(GLenum(GL_TEXTURE0 + unit));
+        gl_.glGetIntegerv(GL_TEXTURE_BINDING_2D, &program_textures_[unit]);
+    }
+    gl_.glActiveTexture(GLenum(program_active_texture_));
+    const bool rerender = settings_.rerender_depth || !view.depth_texture;
+    ensure_targets(view, rerender);
+    tile_size_ = {view.width, view.height};
+    const glm::dmat4 to_work = work_from_tile_clip({view.width, view.height}, work_size_, tile_offset_);
+    eye_from_work_clip_ = glm::inverse(to_work * view.tile_clip_from_eye);
+    const double fx = std::abs(view.tile_clip_from_eye[0][0]) * 0.5 * view.width;
+    const double fy = std::abs(view.tile_clip_from_eye[1][1]) * 0.5 * view.height;
+    focal_px_ = std::sqrt(fx * fy);
+    light_ = choose_light(view, settings_);
+    corners_ = view_frustum_corners(view.projection, settings_.max_distance);
+    frame_ = fit_light_frame(light_, corners_, settings_.max_light_fov_deg);
+
+    times_ = ShadowStepTimes{};
+    if (profiling_) gl_.glFinish();
+    step_start_ = now_ms();
+    const ShadowMethod method = settings_.method;
+    if (method != ShadowMethod::Reference) {
+        render_shadow_map(view, frame_);
+        step_done(&ShadowStepTimes::shadow_map);
+    }
+    if (rerender) {
+        render_camera_depth(view, to_work * view.tile_clip_from_app_clip);
+        camera_depth_texture_ = camera_depth_.texture;
+    } else {
+        camera_depth_texture_ = view.depth_texture();
+    }
+    const Programs& p = programs_[int(method)];
+    switch (method) {
+    case ShadowMethod::ErosionPcf:
+    case ShadowMethod::ErosionDirect:
+        hard_shadows(p);
+        step_done(&ShadowStepTimes::hard_shadows);
+        detect_edges(p);
+        step_done(&ShadowStepTimes::edge_detection);
+        build_min_max(p);
+        erode(p);
+        step_done(&ShadowStepTimes::erosion);
+        if (method == ShadowMethod::ErosionPcf) {
+            shade(p);
+            step_done(&ShadowStepTimes::shading);
+        }
+        break;
+    case ShadowMethod::Pcss8:
+    case ShadowMethod::Pcss32:
+    case ShadowMethod::Pcss64:
+        step_done(&ShadowStepTimes::hard_shadows);
+        shade(p);
+        step_done(&ShadowStepTimes::shading);
+        break;
+    case ShadowMethod::Reference:
+        step_done(&ShadowStepTimes::hard_shadows);
+        reference(view, p);
+        break;
+    }
+    return true;
+}
+
+void ShadowRenderer::program_textures_back() const {
+    for (int unit = 0; unit < 7; ++unit) bind_texture(gl_, unit, GLuint(program_textures_[unit]));
+    gl_.glActiveTexture(GLenum(program_active_texture_));
+}
+
+void ShadowRenderer::render_shadow_map(const FrameView& view, const LightFrame& frame) {
+    gl_.glBindFramebuffer(GL_FRAMEBUFFER, shadow_map_.framebuffer);
+    gl_.glViewport(0, 0, shadow_map_.width, shadow_map_.height);
+    gl_.glDisable(GL_BLEND);
+    gl_.glEnable(GL_DEPTH_TEST);
+    gl_.glDepthFunc(GL_LEQUAL);
+    gl_.glDepthMask(GL_TRUE);
+    gl_.glClearDepth(1.0);
+    gl_.glClear(GL_DEPTH_BUFFER_BIT);
+    gl_.glEnable(GL_POLYGON_OFFSET_FILL);
+    gl_.glPolygonOffset(float(settings_.offset_factor), float(settings_.offset_units));
+    // Casters between the light and the map's near plane still cast (flattened onto it).
+    gl_.glEnable(GL_DEPTH_CLAMP);
+    gl_.glUseProgram(0);
+    gl_.glBindVertexArray(0);
+    program_textures_back();
+    view.redraw(frame.clip_from_eye() * glm::inverse(view.projection));
+    gl_.glDisable(GL_DEPTH_CLAMP);
+    gl_.glDisable(GL_POLYGON_OFFSET_FILL);
+}
+
+void ShadowRenderer::render_camera_depth(const FrameView& view, const glm::dmat4& correction) {
+    gl_.glBindFramebuffer(GL_FRAMEBUFFER, camera_depth_.framebuffer);
+    gl_.glViewport(0, 0, camera_depth_.width, camera_depth_.height);
+    gl_.glDisable(GL_BLEND);
+    gl_.glEnable(GL_DEPTH_TEST);
+    gl_.glDepthFunc(GL_LEQUAL);
+    gl_.glDepthMask(GL_TRUE);
+    gl_.glClearDepth(1.0);
+    gl_.glClear(GL_DEPTH_BUFFER_BIT);
+    gl_.glUseProgram(0);
+    gl_.glBindVertexArray(0);
+    program_textures_back();
+    view.redraw(correction);
+}
+
+void ShadowRenderer::hard_shadows(const Programs& p) {
+    bind_texture(gl_, kDepthUnit, camera_depth_texture_);
+    bind_texture(gl_, kShadowMapUnit, shadow_map_.texture);
+    set_common_uniforms(p.hard);
+    draw_into(hard_, p.hard);
+}
+
+void ShadowRenderer::detect_edges(const Programs& p) {
+    bind_texture(gl_, kHardUnit, hard_.texture);
+    set_common_uniforms(p.edges);
+    set_int(gl_, p.edges, "u_silhouette_check", settings_.silhouette_check ? 1 : 0);
+    draw_into(edges_, p.edges);
+    if (!p.lines) return;
+    if (!settings_.line_fit) return;
+    bind_texture(gl_, kEdgesUnit, edges_.texture);
+    set_common_uniforms(p.lines);
+    draw_into(lines_, p.lines);
+}
+
+void ShadowRenderer::build_min_max(const Programs& p) {
+    bind_texture(gl_, kEdgesUnit, edges_.texture);
+    set_common_uniforms(p.minmax);
+    gl_.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, edges_.framebuffer);
+    gl_.glDisable(GL_DEPTH_TEST);
+    gl_.glDisable(GL_BLEND);
+    for (int level = 1; level <= levels_; ++level) {
+        // Sample only the level above while writing this one (no feedback loop).
+        gl_.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_BASE_LEVEL, level - 1);
+        gl_.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, level - 1);
+        gl_.glFramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, edges_.texture, level);
+        gl_.glViewport(0, 0, std::max(1, work_size_.x >> level), std::max(1, work_size_.y >> level));
+        draw_fullscreen(gl_, empty_vao_);
+    }
+    gl_.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_BASE_LEVEL, 0);
+    gl_.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, levels_);
+    gl_.glFramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, edges_.texture, 0);
+}
+
+void ShadowRenderer::erode(const Programs& p) {
+    bind_texture(gl_, kHardUnit, hard_.texture);
+    bind_texture(gl_, kEdgesUnit, edges_.texture);
+    bind_texture(gl_, kLinesUnit, lines_.texture);
+    set_common_uniforms(p.erode);
+    set_int(gl_, p.erode, "u_levels", levels_);
+    set_int(gl_, p.erode, "u_line_fit", settings_.line_fit ? 1 : 0);
+    draw_into(settings_.method == ShadowMethod::ErosionDirect ? visibility_ : erosion_, p.erode);
+}
+
+void ShadowRenderer::shade(const Programs& p) {
+    bind_texture(gl_, kDepthUnit, camera_depth_texture_);
+    bind_texture(gl_, kShadowMapUnit, shadow_map_.texture);
+    bind_texture(gl_, kHardUnit, hard_.texture);
+    bind_texture(gl_, kErosionUnit, erosion_.texture);
+    set_common_uniforms(p.shade);
+    set_int(gl_, p.shade, "u_pcf_samples", settings_.pcf_samples);
+    set_int(gl_, p.shade, "u_blocker_samples", pcss_blocker_samples(settings_.method));
+    draw_into(visibility_, p.shade);
+}
+
+void ShadowRenderer::reference(const FrameView& view, const Programs& p) {
+    gl_.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, visibility_.framebuffer);
+    gl_.glClearColor(0, 0, 0, 0);
+    gl_.glClear(GL_COLOR_BUFFER_BIT);
+    const int n = settings_.reference_samples;
+    const auto samples = area_light_samples(light_, frame_, settings_.light_size, settings_.light_angle_deg, n);
+    for (const ShadowLight& sample : samples) {
+        const LightFrame frame = fit_light_frame(sample, corners_, settings_.max_light_fov_deg);
+        render_shadow_map(view, frame);
+        step_done(&ShadowStepTimes::shadow_map);
+        bind_texture(gl_, kDepthUnit, camera_depth_texture_);
+        bind_texture(gl_, kShadowMapUnit, shadow_map_.texture);
+        set_common_uniforms(p.reference);
+        set_light_uniforms(p.reference, sample, frame);
+        set_float(gl_, p.reference, "u_weight", 1.0 / n);
+        gl_.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, visibility_.framebuffer);
+        gl_.glViewport(0, 0, visibility_.width, visibility_.height);
+        gl_.glDisable(GL_DEPTH_TEST);
+        gl_.glEnable(GL_BLEND);
+        gl_.glBlendEquation(GL_FUNC_ADD);
+        gl_.glBlendFunc(GL_ONE, GL_ONE);
+        draw_fullscreen(gl_, empty_vao_);
+        gl_.glDisable(GL_BLEND);
+        step_done(&ShadowStepTimes::shading);
+    }
+}
+
+void ShadowRenderer::composite(const FrameView& view) {
+    const GLuint p = programs_[int(settings_.method)].composite;
+    bind_texture(gl_, kVisibilityUnit, visibility_.texture);
+    gl_.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(target_framebuffer_));
+    gl_.glViewport(0, 0, view.width, view.height);
+    gl_.glDisable(GL_DEPTH_TEST);
+    gl_.glDepthMask(GL_FALSE);
+    gl_.glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    gl_.glEnable(GL_BLEND);
+    gl_.glBlendEquation(GL_FUNC_ADD);
+    gl_.glBlendFuncSeparate(GL_ZERO, GL_SRC_COLOR, GL_ZERO, GL_ONE);
+    gl_.glUseProgram(p);
+    set_int(gl_, p, "u_visibility", kVisibilityUnit);
+    set_vec2(gl_, p, "u_tile_offset", glm::dvec2(tile_offset_));
+    set_float(gl_, p, "u_strength", settings_.strength);
+    draw_fullscreen(gl_, empty_vao_);
+    gl_.glDisable(GL_BLEND);
+    step_done(&ShadowStepTimes::shading);
+}
+
+std::vector<float> ShadowRenderer::read_tile(GLuint texture, int channel) const {
+    std::vector<float> all(size_t(work_size_.x) * work_size_.y * 4);
+    gl_.glActiveTexture(GL_TEXTURE0);
+    gl_.glBindTexture(GL_TEXTURE_2D, texture);
+    gl_.glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, GL_FLOAT, all.data());
+    const int w = tile_size_.x, h = tile_size_.y;
+    std::vector<float> tile(size_t(w) * h);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            tile[size_t(y) * w + x] = all[(size_t(y + tile_offset_.y) * work_size_.x + x + tile_offset_.x) * 4 + channel];
+    return tile;
+}
+
+}  // namespace glcast::slave::effects
