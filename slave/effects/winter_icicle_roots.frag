@@ -16,6 +16,7 @@ void main() {
     ivec2 q = ivec2(column - int(canvas_origin.x), f.y);
     out_color = vec4(0.0);
     if (q.x < 0 || q.x >= int(buffer_size.x) || !winter_lower_edge(cover, normals, q)) return;
-    vec3 icicle = icicle_at(ivec2(column, f.y + int(canvas_origin.y)));
-    if (icicle.y > 0.0) out_color = vec4(float(f.y), icicle.x, icicle.y, texelFetch(cover, q, 0).g);
+    float distance = texelFetch(cover, q, 0).g;
+    vec3 icicle = icicle_at(column, distance);
+    if (icicle.y > 0.0) out_color = vec4(float(f.y), icicle.x, icicle.y, distance);
 }

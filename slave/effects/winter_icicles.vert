@@ -24,7 +24,7 @@ void main() {
         return;
     }
     ivec2 root_canvas = ivec2(column, int(root.x + canvas_offset.y) - guard);
-    v_phase = icicle_at(root_canvas).z;
+    v_phase = icicle_at(column, root.w).z;
     v_root.x -= winter_lip_thickness(root_canvas);  // it hangs from below the snow's lip
     float half_width = 1.35 * root.y + 1.5;  // radius, bend, antialiasing
     vec2 corner = vec2(float(gl_VertexID & 1), float(gl_VertexID >> 1));

@@ -54,13 +54,9 @@ void main() {
     vec3 world = (world_from_eye * vec4(p, 1.0)).xyz;
 
     // Bump: the gradient of fine noise tilts the normal a little.
-    vec3 b = world / (noise_scale / 40.0);
-    float b0 = winter_value_noise(b, seed + 101u);
-    vec3 gradient = vec3(winter_value_noise(b + vec3(0.35, 0.0, 0.0), seed + 101u),
-                         winter_value_noise(b + vec3(0.0, 0.35, 0.0), seed + 101u),
-                         winter_value_noise(b + vec3(0.0, 0.0, 0.35), seed + 101u)) - b0;
+    vec3 gradient = winter_value_noise_gradient(world / (noise_scale / 40.0), seed + 101u).yzw;
     // The gradient is a world-space vector; v * M is transpose(M) * v, the inverse rotation.
-    vec3 bumped = normalize(n - 0.35 * (gradient * mat3(world_from_eye)));
+    vec3 bumped = normalize(n - 0.12 * (gradient * mat3(world_from_eye)));
 
     vec3 l = normalize(light_eye.xyz - p * light_eye.w);
     vec3 v = normalize(-p);
