@@ -49,8 +49,10 @@ TEST(Icicles, HangOnlyBelowLowerEdgesOfCoveredSurfaces) {
     for (int y = 1; y < kHeight; ++y)
         for (int x = 0; x < kWidth; ++x)
             edge[size_t(y) * kWidth + x] = class_at(ids, x, y) == kTop && class_at(ids, x, y - 1) != kTop;
-    // Default sizes at this canvas: length_max 0.09 * 360 = 32.4 px, radius_max 0.010 * 360 = 3.6 px.
-    const int reach_down = 34, reach_side = 6;
+    // Default sizes at this canvas: icicles hang below a lip of at most 1.5 * 0.004 * 360 = 2.2 px,
+    // length_max 0.09 * 360 = 32.4 px, radius_max 0.010 * 360 = 3.6 px (plus its bend and
+    // antialiasing).
+    const int reach_down = 37, reach_side = 6;
     long hanging = 0, stray = 0;
     for (int y = 0; y < kHeight; ++y)
         for (int x = 0; x < kWidth; ++x) {
