@@ -9,9 +9,12 @@ namespace glcast::slave::effects {
 Pipeline::Pipeline(const GlApi& gl, const EffectsSettings& settings) : gl_(gl) {
     StateGuard guard(gl);  // passes create their objects with default pixel-store state, and bind them
     const EffectParams& p = settings.params;
-    if (settings.shadows) passes_.push_back(make_shadow_pass(gl, p));
+    // Cover before shadows (design.md 6 has them the other way round): the cover repaints the
+    // surfaces it covers, which would erase shadows cast on them; shadows after it darken snow
+    // and icicles like the rest of the scene. Falling snow stays unshadowed, in front of it all.
     if (settings.cover || settings.icicles)
         passes_.push_back(make_winter_surfaces_pass(gl, p, settings.cover, settings.icicles));
+    if (settings.shadows) passes_.push_back(make_shadow_pass(gl, p));
     if (settings.snow || settings.rain) passes_.push_back(make_precipitation_pass(gl, p, settings.rain));
 }
 

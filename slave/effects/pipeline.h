@@ -1,6 +1,6 @@
 // The injected passes of a slave (design.md 6), run at the end of each frame before present in
-// this order: shadows, snow cover and icicles, falling snow or rain (particles, then the
-// spectral composite). One Pipeline per slave GL context: passes keep GL objects of the
+// this order: snow cover and icicles, shadows, falling snow or rain (particles, then the
+// spectral composite). Cover comes before shadows so that shadows fall on the snow. One Pipeline per slave GL context: passes keep GL objects of the
 // context they were created in.
 #pragma once
 
