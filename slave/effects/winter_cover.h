@@ -23,8 +23,11 @@ public:
     // distance, a 1 surface / 0 background / -1 unknown). Leaves its framebuffer bound.
     void classify(const FrameView& view, const WinterFrame& frame, const SurfaceBuffers& surfaces,
                   GLuint window_depth);
-    // Blends the shaded snow into the bound framebuffer (the window; viewport = the tile).
-    void composite(const FrameView& view, const WinterFrame& frame, const SurfaceBuffers& surfaces);
+    // Blends the shaded snow into the window (framebuffer 0; viewport = the tile).
+    // `before_passes` is view.color_texture(): where an earlier pass (shadows) darkened the
+    // window since that copy was made, the snow is darkened alike.
+    void composite(const FrameView& view, const WinterFrame& frame, const SurfaceBuffers& surfaces,
+                   GLuint before_passes);
 
     GLuint cover() const { return cover_texture_; }
 
@@ -37,6 +40,8 @@ private:
     GLuint mask_texture_ = 0;
     GLuint cover_texture_ = 0, framebuffer_ = 0;
     int width_ = 0, height_ = 0;
+    GLuint window_texture_ = 0;  // the window as this pass finds it
+    glm::ivec2 window_size_{0, 0};
 };
 
 }  // namespace glcast::slave::effects

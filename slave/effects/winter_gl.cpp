@@ -86,6 +86,22 @@ void set_seed_uniform(const GlApi& gl, GLuint program, const char* name, unsigne
     std::memcpy(&bits, &value, sizeof bits);
     gl.glUniform1i(uniform(gl, program, name), bits);
 }
+void copy_window(const GlApi& gl, GLuint& texture, glm::ivec2& size, int width, int height) {
+    GLint window_buffer = GL_BACK;
+    gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
+    gl.glGetIntegerv(GL_DRAW_BUFFER, &window_buffer);
+    if (size != glm::ivec2(width, height)) {
+        if (texture) gl.glDeleteTextures(1, &texture);
+        texture = make_texture(gl, GL_RGBA8, width, height);
+        size = {width, height};
+    }
+    gl.glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+    gl.glReadBuffer(GLenum(window_buffer));
+    gl.glActiveTexture(GL_TEXTURE0);
+    gl.glBindTexture(GL_TEXTURE_2D, texture);
+    gl.glCopyTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, 0, 0, width, height);
+}
+
 void bind_sampler(const GlApi& gl, GLuint program, const char* name, int unit, GLuint texture) {
     gl.glActiveTexture(GLenum(GL_TEXTURE0 + unit));
     gl.glBindTexture(GL_TEXTURE_2D, texture);

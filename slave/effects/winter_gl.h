@@ -49,6 +49,10 @@ void set_uniform(const GlApi& gl, GLuint program, const char* name, const glm::d
 void set_uniform(const GlApi& gl, GLuint program, const char* name, const glm::dmat4& value);
 // A seed: the unsigned bits through glUniform1i, read in GLSL as uint(int).
 void set_seed_uniform(const GlApi& gl, GLuint program, const char* name, unsigned value);
+// Copies the window (framebuffer 0, its draw buffer) into `texture` (RGBA8, created or
+// replaced when `size` is not width x height). Leaves framebuffer 0 bound for reading.
+void copy_window(const GlApi& gl, GLuint& texture, glm::ivec2& size, int width, int height);
+
 // Binds `texture` to unit `unit` and points sampler `name` at it.
 void bind_sampler(const GlApi& gl, GLuint program, const char* name, int unit, GLuint texture);
 

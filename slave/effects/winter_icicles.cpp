@@ -38,19 +38,7 @@ void IcicleStage::run(const FrameView& view, const WinterFrame& frame, const Sur
                       GLuint window_depth) {
     const GlApi& gl = gl_;
     // The ice refracts the window as it is now, snow included: copy it before drawing over it.
-    GLint window_buffer = GL_BACK;
-    gl.glGetIntegerv(GL_DRAW_BUFFER, &window_buffer);
-    if (scene_width_ != view.width || scene_height_ != view.height) {
-        if (scene_texture_) gl.glDeleteTextures(1, &scene_texture_);
-        scene_texture_ = make_texture(gl, GL_RGBA8, view.width, view.height);
-        scene_width_ = view.width;
-        scene_height_ = view.height;
-    }
-    gl.glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
-    gl.glReadBuffer(GLenum(window_buffer));
-    gl.glActiveTexture(GL_TEXTURE0);
-    gl.glBindTexture(GL_TEXTURE_2D, scene_texture_);
-    gl.glCopyTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, 0, 0, view.width, view.height);
+    copy_window(gl, scene_texture_, scene_size_, view.width, view.height);
 
     // Candidate columns over the guard-band buffers' canvas range.
     const int canvas_left = view.canvas_x - frame.guard;

@@ -32,7 +32,7 @@ private:
     GLuint roots_texture_ = 0, roots_framebuffer_ = 0;
     int roots_width_ = 0, roots_height_ = 0;
     GLuint scene_texture_ = 0;
-    int scene_width_ = 0, scene_height_ = 0;
+    glm::ivec2 scene_size_{0, 0};
 };
 
 }  // namespace glcast::slave::effects
