@@ -16,10 +16,12 @@ WinterFrame winter_frame(const FrameView& view, const WinterSettings& settings, 
     f.canvas_height = view.canvas_height > 0 ? view.canvas_height : view.height;
 
     const CoverSettings& c = settings.cover;
-    if (c.up_in_world && view.view_known) {
-        f.up_eye = glm::normalize(glm::dmat3(view.modelview) * c.up);
+    const glm::dvec3 up_through_view = glm::dmat3(view.modelview) * c.up;
+    if (c.up_in_world && view.view_known && glm::length(up_through_view) > 1e-9 &&
+        std::abs(glm::determinant(view.modelview)) > 1e-12) {
+        f.up_eye = glm::normalize(up_through_view);
         f.world_from_eye = glm::inverse(view.modelview);
-    } else {
+    } else {  // eye space asked for, or a view transform that flattens the scene
         f.up_eye = c.up;
     }
     if (view.light.known) {
