@@ -20,15 +20,18 @@ bool tile_options(const std::string& path, const std::string& name, ReplayOption
     for (const auto& [param, value] : config.effect_params)
         if (!options.effects.params.has(param) && !options.effects.params.set(param, value, error)) return false;
     TileMapping& m = options.tile;
+    if (config.program_projection.given) {  // shader programs: for rotated tiles and for effects
+        options.view.program_fov_y_deg = config.program_projection.fov_y_deg;
+        options.view.program_near = config.program_projection.near;
+        options.view.program_far = config.program_projection.far;
+    }
     if (tile->view.enabled) {
         // The program's whole window on the tile, seen through the tile's own camera.
         const TileView& v = tile->view;
-        options.view = ViewCorrection{true, v.yaw_deg, v.pitch_deg, v.roll_deg, v.left_deg, v.right_deg, v.bottom_deg, v.top_deg};
-        if (config.program_projection.given) {
-            options.view.program_fov_y_deg = config.program_projection.fov_y_deg;
-            options.view.program_near = config.program_projection.near;
-            options.view.program_far = config.program_projection.far;
-        }
+        ViewCorrection& c = options.view;
+        c.enabled = true;
+        c.yaw_deg = v.yaw_deg, c.pitch_deg = v.pitch_deg, c.roll_deg = v.roll_deg;
+        c.left_deg = v.left_deg, c.right_deg = v.right_deg, c.bottom_deg = v.bottom_deg, c.top_deg = v.top_deg;
         m.enabled = true;
         m.canvas_width = m.width = tile->width;
         m.canvas_height = m.height = tile->height;

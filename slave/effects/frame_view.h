@@ -43,8 +43,10 @@ struct FrameView {
     glm::dmat4 eye_from_tile_clip{1.0};
     SceneLight light;
 
-    // Copies of the window framebuffer as it was before the passes (made on first call, then
-    // cached for this frame): RGBA8 color and DEPTH24_STENCIL8 depth, texel (x, y) = tile pixel.
+    // Copies of the window framebuffer, made on a pass's first call in a frame and then cached
+    // for the frame: RGBA8 color and DEPTH24_STENCIL8 depth, texel (x, y) = tile pixel. The
+    // color is the window as the passes that ran before the first call left it (the program's
+    // own image when the first pass asks); the depth is always the program's (no pass writes it).
     std::function<GLuint()> color_texture;
     std::function<GLuint()> depth_texture;
 
