@@ -26,7 +26,6 @@ CoverStage::~CoverStage() {
     gl_.glDeleteProgram(snow_program_);
     gl_.glDeleteVertexArrays(1, &empty_vao_);
     if (mask_texture_) gl_.glDeleteTextures(1, &mask_texture_);
-    if (window_texture_) gl_.glDeleteTextures(1, &window_texture_);
     resize(0, 0);
 }
 
@@ -82,10 +81,8 @@ void CoverStage::classify(const FrameView& view, const WinterFrame& frame, const
     draw_fullscreen(gl, empty_vao_);
 }
 
-void CoverStage::composite(const FrameView& view, const WinterFrame& frame, const SurfaceBuffers& surfaces,
-                           GLuint before_passes) {
+void CoverStage::composite(const FrameView& view, const WinterFrame& frame, const SurfaceBuffers& surfaces) {
     const GlApi& gl = gl_;
-    if (settings_.keep_shadows > 0) copy_window(gl, window_texture_, window_size_, view.width, view.height);
     gl.glBindFramebuffer(GL_FRAMEBUFFER, 0);
     const GLuint p = snow_program_;
     gl.glUseProgram(p);
@@ -102,9 +99,6 @@ void CoverStage::composite(const FrameView& view, const WinterFrame& frame, cons
     set_seed_uniform(gl, p, "seed_bits", settings_.seed);
     set_edge_uniforms(gl, p, frame);
     set_uniform(gl, p, "lip_rows", frame.lip_rows);
-    set_uniform(gl, p, "keep_shadows", settings_.keep_shadows);
-    bind_sampler(gl, p, "before_passes", 3, settings_.keep_shadows > 0 ? before_passes : 0);
-    bind_sampler(gl, p, "window_now", 4, window_texture_);
     gl.glDisable(GL_DEPTH_TEST);
     gl.glEnable(GL_BLEND);
     // The window's alpha (if it has any) stays the program's.

@@ -23,11 +23,9 @@ public:
     // distance, a 1 surface / 0 background / -1 unknown). Leaves its framebuffer bound.
     void classify(const FrameView& view, const WinterFrame& frame, const SurfaceBuffers& surfaces,
                   GLuint window_depth);
-    // Blends the shaded snow into the window (framebuffer 0; viewport = the tile).
-    // `before_passes` is view.color_texture(): where an earlier pass (shadows) darkened the
-    // window since that copy was made, the snow is darkened alike.
-    void composite(const FrameView& view, const WinterFrame& frame, const SurfaceBuffers& surfaces,
-                   GLuint before_passes);
+    // Blends the shaded snow into the window (framebuffer 0; viewport = the tile). It runs
+    // before the shadow pass (pipeline.cpp), so shadows darken the snow afterwards.
+    void composite(const FrameView& view, const WinterFrame& frame, const SurfaceBuffers& surfaces);
 
     GLuint cover() const { return cover_texture_; }
 
@@ -40,8 +38,6 @@ private:
     GLuint mask_texture_ = 0;
     GLuint cover_texture_ = 0, framebuffer_ = 0;
     int width_ = 0, height_ = 0;
-    GLuint window_texture_ = 0;  // the window as this pass finds it
-    glm::ivec2 window_size_{0, 0};
 };
 
 }  // namespace glcast::slave::effects

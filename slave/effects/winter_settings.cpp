@@ -31,8 +31,6 @@ std::vector<ParamSpec> winter_param_specs() {
         {"cover.brightness", 1, 0, 2, "scale of the snow's shaded color"},
         {"cover.lip", 0.004, 0, 0.05, "mean thickness of the snow rounded over lower edges (0.5 to 1.5 times this, "
                                       "seeded along the edge), fraction of the canvas height; 0: no lip"},
-        {"cover.keep_shadows", 1, 0, 1, "how much of the darkening an earlier pass (shadows) made since the "
-                                        "window copy FrameView::color_texture the snow keeps"},
         {"cover.edge_angle", 40, 5, 175, "degrees: at a lower edge of the cover (lip, icicle roots) the surface below "
                                          "turns away by more than this"},
         text("cover.mask", "PNG stretched over the canvas: snow only where it is white and opaque "
@@ -96,7 +94,6 @@ WinterSettings winter_settings_from(const EffectParams& params) {
     c.brightness = params.number("cover.brightness");
     c.lip = params.number("cover.lip");
     c.edge_angle_deg = params.number("cover.edge_angle");
-    c.keep_shadows = params.number("cover.keep_shadows");
     c.mask_path = params.text("cover.mask");
     if (!c.mask_path.empty()) {
         std::string error;

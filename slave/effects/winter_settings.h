@@ -37,7 +37,6 @@ struct CoverSettings {
     double brightness = 1.0;       // scale of the snow's shaded color
     double lip = 0.004;            // mean thickness of the rounded snow over lower edges, fraction of the canvas height
     double edge_angle_deg = 40;    // a lower edge: the surface below turns away by more than this
-    double keep_shadows = 1;       // how much of an earlier pass's darkening the snow keeps
     std::string mask_path;         // PNG over the canvas: white opaque = snow allowed, black/transparent = none
     Image mask;                    // loaded when mask_path is set
 };

@@ -16,9 +16,6 @@ uniform float noise_scale;       // world size of the snow patches: the bump is 
 uniform float brightness;
 uniform int seed_bits;      // the seed's unsigned bits (glUniform1i)
 uniform int lip_rows;            // rows searched above a pixel for the lip's edge
-uniform sampler2D before_passes; // the window before the passes (FrameView::color_texture), tile pixels
-uniform sampler2D window_now;    // the window as this pass finds it
-uniform float keep_shadows;
 
 out vec4 out_color;
 
@@ -75,12 +72,5 @@ void main() {
     float mirror = pow(max(dot(reflect(-l, n), v), 0.0), 6.0);
     color += step(0.985, crystal) * mirror * 0.9;
 
-    // An earlier pass (shadows) darkened this pixel by now / before: so is the snow on it.
-    if (keep_shadows > 0.0) {
-        const vec3 luma = vec3(0.2126, 0.7152, 0.0722);
-        float before = dot(texelFetch(before_passes, ivec2(gl_FragCoord.xy), 0).rgb, luma);
-        float now = dot(texelFetch(window_now, ivec2(gl_FragCoord.xy), 0).rgb, luma);
-        color *= mix(1.0, clamp((now + 0.004) / (before + 0.004), 0.0, 1.0), keep_shadows);
-    }
     out_color = vec4(min(color * brightness, vec3(1.0)), amount);
 }

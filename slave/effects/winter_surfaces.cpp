@@ -46,15 +46,13 @@ public:
         }
         // The lazy window copies bind framebuffers of their own: take them before ours.
         const GLuint window_depth = view.depth_texture();
-        const GLuint before_passes =
-            draw_cover_ && settings_.cover.keep_shadows > 0 && view.color_texture ? view.color_texture() : 0;
         const WinterFrame frame = winter_frame(view, settings_, icicles_.has_value());
         surfaces_.update(view, frame, settings_.cover.normals, window_depth);
         cover_.classify(view, frame, surfaces_, window_depth);
 
         gl.glBindFramebuffer(GL_FRAMEBUFFER, 0);
         gl.glViewport(0, 0, view.width, view.height);
-        if (draw_cover_) cover_.composite(view, frame, surfaces_, before_passes);
+        if (draw_cover_) cover_.composite(view, frame, surfaces_);
         if (icicles_) icicles_->run(view, frame, surfaces_, cover_.cover(), window_depth);
     }
 

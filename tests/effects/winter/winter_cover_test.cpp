@@ -251,34 +251,6 @@ TEST(Cover, BuildsUpOverFramesAndRerunsIdentically) {
     }
 }
 
-// A pass before the cover (shadows) darkened part of the window after FrameView's copy "before
-// the passes" was made: the snow there is darkened by the same ratio, so shadows stay visible
-// on the snow. The left half is darkened to 0.5; the snow's mean luminance in a band of ground
-// on each side is compared with cover.keep_shadows=1 and =0.
-TEST(Cover, SnowKeepsTheDarkeningOfEarlierPasses) {
-    Harness& h = harness();
-    ASSERT_TRUE(h.ok()) << h.error();
-    Scene scene;  // the ground alone
-    const Camera camera = high_camera();
-    double left[2] = {}, right[2] = {};
-    for (int keep = 0; keep < 2; ++keep) {
-        RenderOptions options{"cover", {"cover.density=1", "cover.keep_shadows=" + std::to_string(keep)}};
-        options.darken_left = 0.5;
-        const Image after = h.render(scene, camera, options);
-        if (keep) save("cover_keeps_shadows", after);
-        for (int y = 10; y < 60; ++y)
-            for (int x = 40; x < 200; ++x) {
-                left[keep] += luminance(after, x, y);
-                right[keep] += luminance(after, kWidth - 1 - x, y);
-            }
-    }
-    std::printf("[ cover ] left half darkened to 0.5 before the pass: snow with keep_shadows=1 / without: left %.3f, "
-                "right %.3f\n",
-                left[1] / left[0], right[1] / right[0]);
-    EXPECT_NEAR(left[1] / left[0], 0.5, 0.03);
-    EXPECT_NEAR(right[1] / right[0], 1.0, 0.01);
-}
-
 TEST(Cover, BadParametersAndFramesWithoutAViewAreHandled) {
     Harness& h = harness();
     ASSERT_TRUE(h.ok()) << h.error();

@@ -306,30 +306,11 @@ Image Harness::render(const Scene& scene, const Camera& camera, const RenderOpti
             if (!settings.params.set_assignment(p, error)) throw std::runtime_error(error);
         Pipeline pipeline(gl_, settings);
         const FrameView view = frame_view(scene, camera, tile, options);
-        if (options.darken_left < 1.0) darken_left_half(view, options.darken_left);
         pipeline.run(view);
     }
     const GLenum e = gl_.glGetError();
     if (e != GL_NO_ERROR) throw std::runtime_error("GL error 0x" + std::to_string(e) + " in the frame");
     return read_window(tile.width, tile.height);
-}
-
-void Harness::darken_left_half(const FrameView& view, double factor) {
-    view.color_texture();  // the copy "before the passes"
-    gl_.glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    gl_.glDisable(GL_DEPTH_TEST);
-    gl_.glEnable(GL_BLEND);
-    gl_.glBlendFunc(GL_DST_COLOR, GL_ZERO);
-    load_matrices(glm::dmat4(1.0), glm::dmat4(1.0));
-    ff_->glColor3d(factor, factor, factor);
-    ff_->glBegin(GL_QUADS);
-    ff_->glVertex3d(-1, -1, 0);
-    ff_->glVertex3d(0, -1, 0);
-    ff_->glVertex3d(0, 1, 0);
-    ff_->glVertex3d(-1, 1, 0);
-    ff_->glEnd();
-    gl_.glDisable(GL_BLEND);
-    gl_.glEnable(GL_DEPTH_TEST);
 }
 
 Image Harness::classes(const Scene& scene, const Camera& camera, Tile tile) {

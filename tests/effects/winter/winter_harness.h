@@ -80,9 +80,6 @@ struct RenderOptions {
     uint64_t frame = 10;
     bool redraw = true;                        // false: FrameView::redraw empty (as for shader programs)
     bool view_known = true;                    // false: FrameView says the frame has no perspective view
-    // As a shadow pass would: after FrameView::color_texture's copy is made, the window's left
-    // half is multiplied by this before the effects run (1: left alone).
-    double darken_left = 1.0;
 };
 
 class Harness {
@@ -109,7 +106,6 @@ private:
     glcast::slave::effects::FrameView frame_view(const Scene& scene, const Camera& camera, Tile tile,
                                                  const RenderOptions& options);
     Image read_window(int width, int height);
-    void darken_left_half(const glcast::slave::effects::FrameView& view, double factor);
 
     int canvas_width_, canvas_height_;
     int current_width_ = 0, current_height_ = 0;
