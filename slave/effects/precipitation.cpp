@@ -92,16 +92,24 @@ public:
             sp.size = size;
             sp.seed = seed_;
             sp.frame_time = frame_time_;
-            worker_ = std::make_unique<SnowSynthesisWorker>(sp, regions_, sharpness_);
+            worker_ = std::make_unique<SnowSynthesisWorker>(sp, regions_, sharpness_, brightness_, spectral_opacity_);
             min_frequency_fraction_ = sp.min_frequency_fraction;
             composite_ = build_program(gl, "fullscreen.vert", "snow_composite.frag");
-            gl.glGenTextures(1, &texture_);
-            gl.glBindTexture(GL_TEXTURE_2D_ARRAY, texture_);
-            gl.glTexImage3D(GL_TEXTURE_2D_ARRAY, 0, GL_R8, size, size, regions_ * regions_, 0, GL_RED, GL_UNSIGNED_BYTE, nullptr);
-            gl.glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-            gl.glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-            gl.glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_REPEAT);
-            gl.glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_REPEAT);
+            composite_single_ = build_program(gl, "snow_composite_single.vert", "snow_composite_single.frag");
+            const GLenum targets[] = {GL_TEXTURE_2D_ARRAY, GL_TEXTURE_2D};
+            gl.glGenTextures(2, textures_);
+            for (int t = 0; t < 2; ++t) {
+                gl.glBindTexture(targets[t], textures_[t]);
+                if (t == 0)
+                    gl.glTexImage3D(GL_TEXTURE_2D_ARRAY, 0, GL_RGBA8, size, size, regions_ * regions_, 0, GL_RGBA,
+                                    GL_UNSIGNED_BYTE, nullptr);
+                else
+                    gl.glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, size, size, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+                gl.glTexParameteri(targets[t], GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+                gl.glTexParameteri(targets[t], GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+                gl.glTexParameteri(targets[t], GL_TEXTURE_WRAP_S, GL_REPEAT);
+                gl.glTexParameteri(targets[t], GL_TEXTURE_WRAP_T, GL_REPEAT);
+            }
         }
         if (particles_) particle_program_ = build_program(gl, "snow_particles.vert", "snow_particles.frag");
         gl.glGenVertexArrays(1, &vao_);
@@ -109,8 +117,9 @@ public:
 
     ~PrecipitationPass() override {
         gl_.glDeleteVertexArrays(1, &vao_);
-        if (texture_) gl_.glDeleteTextures(1, &texture_);
+        if (textures_[0]) gl_.glDeleteTextures(2, textures_);
         if (composite_) gl_.glDeleteProgram(composite_);
+        if (composite_single_) gl_.glDeleteProgram(composite_single_);
         if (particle_program_) gl_.glDeleteProgram(particle_program_);
     }
 
@@ -184,23 +193,33 @@ private:
         const double cw = view.canvas_width, ch = view.canvas_height;
         // This frame's texture was submitted last frame; the first frame computes its own.
         if (!submitted_) submit(view, relative_eye, unit, 0.0);
-        const std::vector<uint8_t>& opacity = worker_->result();
+        const std::vector<uint8_t>& texels = worker_->result();
+        // While every region has moved alike their textures are identical: one plain 2D texture
+        // with coordinates interpolated from the vertices (llvmpipe's fast textured path).
+        const bool single = alike_so_far_;  // of the job just collected, before the next is submitted
         gl.glActiveTexture(GL_TEXTURE0);
-        gl.glBindTexture(GL_TEXTURE_2D_ARRAY, texture_);
-        gl.glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-        gl.glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, 0, m, m, regions_ * regions_, GL_RED, GL_UNSIGNED_BYTE,
-                           opacity.data());
+        gl.glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+        if (single) {
+            gl.glBindTexture(GL_TEXTURE_2D, textures_[1]);
+            gl.glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, m, m, GL_RGBA, GL_UNSIGNED_BYTE, texels.data());
+        } else {
+            gl.glBindTexture(GL_TEXTURE_2D_ARRAY, textures_[0]);
+            gl.glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, 0, m, m, regions_ * regions_, GL_RGBA, GL_UNSIGNED_BYTE,
+                               texels.data());
+        }
         submit(view, relative_eye, unit, frame_time_);  // the next frame's, while this one is drawn
 
-        gl.glUseProgram(composite_);
-        gl.glUniform1i(uniform(gl, composite_, "opacity_layers"), 0);
-        gl.glUniform1i(uniform(gl, composite_, "regions"), regions_);
-        gl.glUniform1i(uniform(gl, composite_, "uniform_motion"), uniform_motion_[0] ? 1 : 0);
-        gl.glUniform2f(uniform(gl, composite_, "canvas_offset"), float(view.canvas_x), float(view.canvas_y));
-        gl.glUniform2f(uniform(gl, composite_, "canvas_size"), float(cw), float(ch));
-        gl.glUniform1f(uniform(gl, composite_, "texels_per_pixel"), float(1.0 / (scale_ * m)));
-        gl.glUniform1f(uniform(gl, composite_, "strength"), float(spectral_opacity_));
-        gl.glUniform1f(uniform(gl, composite_, "brightness"), float(brightness_));
+        const GLuint program = single ? composite_single_ : composite_;
+        gl.glUseProgram(program);
+        gl.glUniform1i(uniform(gl, program, "snow"), 0);
+        gl.glUniform2f(uniform(gl, program, "canvas_offset"), float(view.canvas_x), float(view.canvas_y));
+        gl.glUniform1f(uniform(gl, program, "texels_per_pixel"), float(1.0 / (scale_ * m)));
+        if (single) {
+            gl.glUniform2f(uniform(gl, program, "tile_size"), float(view.width), float(view.height));
+        } else {
+            gl.glUniform1i(uniform(gl, program, "regions"), regions_);
+            gl.glUniform2f(uniform(gl, program, "canvas_size"), float(cw), float(ch));
+        }
         gl.glDisable(GL_DEPTH_TEST);
         gl.glEnable(GL_BLEND);
         gl.glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);  // I = I_snow a + (1 - a) I_bg
@@ -224,9 +243,8 @@ private:
         // Regions that move alike hold identical textures (one seed): the composite then reads one.
         bool alike = true;
         for (const auto& ct : c_theta) alike &= ct == c_theta.front();
-        uniform_motion_[0] = uniform_motion_[1];
-        uniform_motion_[1] = uniform_motion_[1] && alike;  // phases remember every frame
-        worker_->submit(dt, std::move(c_theta));
+        alike_so_far_ = alike_so_far_ && alike;  // phases remember every frame
+        worker_->submit(dt, std::move(c_theta), alike_so_far_);
         submitted_ = true;
     }
 
@@ -234,9 +252,8 @@ private:
     const Kind& kind_;
     int particles_ = 0, regions_ = 1;
     bool spectral_ = true, camera_motion_ = true, submitted_ = false, has_previous_ = false;
-    // Whether every region had the same C and theta for all frames up to the one being shown
-    // ([0]) and the one being synthesized ([1]).
-    bool uniform_motion_[2] = {true, true};
+    // Every region had the same C and theta in every frame submitted so far.
+    bool alike_so_far_ = true;
     double fall_speed_, box_, flake_size_, sway_, streak_, particle_opacity_, spectral_opacity_, brightness_, sharpness_;
     double scale_, speed_c_, spectral_depth_, frame_time_, min_frequency_fraction_ = 1.0 / 32;
     glm::dvec2 wind_;
@@ -245,7 +262,8 @@ private:
     uint64_t previous_frame_ = 0;
     glm::dmat4 previous_view_{1.0};
     std::unique_ptr<SnowSynthesisWorker> worker_;
-    GLuint composite_ = 0, particle_program_ = 0, texture_ = 0, vao_ = 0;
+    GLuint composite_ = 0, composite_single_ = 0, particle_program_ = 0, vao_ = 0;
+    GLuint textures_[2] = {0, 0};  // the regions' layers; the one texture while they move alike
 };
 
 }  // namespace

@@ -17,16 +17,20 @@ namespace glcast::slave::effects {
 
 class SnowSynthesisWorker {
 public:
-    // `sharpness`: the opacity is raised to this power when quantized (1: as synthesized).
-    SnowSynthesisWorker(const SpectralSnowParams& params, int regions, double sharpness = 1.0);
+    // The result is what the composite blends: RGBA8 texels of colour (grey, grey, grey) and
+    // alpha strength * opacity^sharpness (sharpness 1: the opacity as synthesized). Made here,
+    // off the render thread, so that the GPU only uploads and samples.
+    SnowSynthesisWorker(const SpectralSnowParams& params, int regions, double sharpness = 1.0, double grey = 1.0,
+                        double strength = 1.0);
     ~SnowSynthesisWorker();
 
     // Starts the next frame: every region advances by dt with its own (C, theta) (row-major,
-    // region (i, j) at index j * regions + i, j counting up the canvas). Returns at once.
-    void submit(double dt, std::vector<std::pair<double, double>> c_theta);
-    // The opacities of the frame last submitted, quantized to bytes (0..255 for 0..1; what the
-    // GPU samples): regions^2 textures of M x M, one after the other. Blocks only if that
-    // synthesis has not finished; the wait is added to waited_ms().
+    // region (i, j) at index j * regions + i, j counting up the canvas). With `only_first`, all
+    // regions have moved alike so far and only region 0's texels are made (the phases of all
+    // advance; the inverse FFTs of the others are skipped). Returns at once.
+    void submit(double dt, std::vector<std::pair<double, double>> c_theta, bool only_first = false);
+    // The RGBA8 texels of the frame last submitted: regions^2 textures of M x M, one after the
+    // other. Blocks only if that synthesis has not finished; the wait is added to waited_ms().
     const std::vector<uint8_t>& result();
     double waited_ms() const { return waited_ms_; }
     int size() const { return size_; }
@@ -36,12 +40,13 @@ private:
     void loop();
 
     int size_, regions_;
-    uint8_t quantized_[4097];  // opacity^sharpness * 255, indexed by opacity * 4096
+    uint8_t alpha_[4097];  // strength * opacity^sharpness * 255, indexed by opacity * 4096
+    uint8_t grey_;
     std::vector<SpectralSnow> snow_;
     std::vector<uint8_t> done_;
     std::mutex mutex_;
     std::condition_variable cv_;
-    bool job_pending_ = false, job_done_ = true, stop_ = false;
+    bool job_pending_ = false, job_done_ = true, stop_ = false, job_only_first_ = false;
     double job_dt_ = 0, waited_ms_ = 0;
     std::vector<std::pair<double, double>> job_;
     std::thread thread_;
