@@ -19,7 +19,21 @@ uniform float u_map_size;
 uniform float u_light_spread;     // positional: disk diameter; directional: 2 tan(angle / 2)
 uniform float u_bias_texels;
 
+uniform sampler2D u_hard;         // the hard-shadow buffer (shadow_hard.frag)
+
 const float kNoBlocker = 1e30;
+
+vec4 hard(ivec2 p) {
+    return texelFetch(u_hard, clamp(p, ivec2(0), ivec2(u_work_size) - 1), 0);
+}
+
+// Hard-shadow texel c lies just beyond an object's outline in the camera's view: a 4-neighbour
+// is clearly nearer (background, eye depth 0, never hides anything).
+bool beyond_outline(vec4 c, vec4 w, vec4 e, vec4 s, vec4 n) {
+    float nearer = 0.97 * c.a;
+    return (w.a > 0.0 && w.a < nearer) || (e.a > 0.0 && e.a < nearer) || (s.a > 0.0 && s.a < nearer) ||
+           (n.a > 0.0 && n.a < nearer);
+}
 
 float camera_depth(ivec2 p) {
     return texelFetch(u_depth, clamp(p, ivec2(0), ivec2(u_work_size) - 1), 0).r;

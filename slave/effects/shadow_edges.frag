@@ -1,7 +1,8 @@
-// Edges of the hard shadows (the seed's edge detection): a 3x3 Laplacian (five taps) of the
-// lit channel, kept only where the shadow map has a silhouette at the pixel's light position
-// (the same Laplacian over shadow tests there), so edges that come from occlusion in the
-// camera's view are dropped (Arvo et al.). Output, the min-max mipmap's level 0:
+// Edges of the hard shadows (the seed's edge detection), drawn over the blocks that hold
+// candidates (shadow_candidates.frag): a 3x3 Laplacian (five taps) of the lit channel, kept
+// only where the shadow map has a silhouette at the pixel's light position (the same
+// Laplacian over shadow tests there), so edges that come from occlusion in the camera's view
+// are dropped (Arvo et al.). Output, the min-max mipmap's level 0:
 //   r: 0 on an edge, 1 elsewhere (min-reduced)
 //   g: the edge's full penumbra width, eye units (max-reduced): the largest of its shadowed
 //      taps (a lit edge pixel has no blocker of its own)
@@ -10,13 +11,8 @@
 // may lie in the penumbra of a shadow edge that the object hides; when a few blocker taps
 // around it (over the largest possible penumbra) are mixed, it becomes an edge with the
 // penumbra width of their mean blocker, so the eroded region covers that penumbra too.
-uniform sampler2D u_hard;
 uniform int u_silhouette_check;
 out vec4 out_color;
-
-vec4 hard(ivec2 p) {
-    return texelFetch(u_hard, clamp(p, ivec2(0), ivec2(u_work_size) - 1), 0);
-}
 
 // The receiver's shadow-map neighbourhood, one screen pixel's footprint apart, has both lit
 // and shadowed tests.
@@ -32,12 +28,6 @@ bool silhouette(ivec2 p, float depth) {
 
 #ifdef OCCLUSION_EDGES
 const int kOutlineTaps = 8;
-
-bool beyond_outline(vec4 c, vec4 w, vec4 e, vec4 s, vec4 n) {
-    float nearer = 0.97 * c.a;  // background (a = 0) never hides anything
-    return (w.a > 0.0 && w.a < nearer) || (e.a > 0.0 && e.a < nearer) || (s.a > 0.0 && s.a < nearer) ||
-           (n.a > 0.0 && n.a < nearer);
-}
 
 // The width of the penumbra the pixel may be in, or -1 when its taps agree.
 float hidden_penumbra(ivec2 p) {
@@ -60,18 +50,23 @@ void main() {
     ivec2 p = ivec2(gl_FragCoord.xy);
     vec4 c = hard(p), w = hard(p - ivec2(1, 0)), e = hard(p + ivec2(1, 0)), s = hard(p - ivec2(0, 1)),
          n = hard(p + ivec2(0, 1));
-    float laplacian = 4.0 * c.r - w.r - e.r - s.r - n.r;
-    out_color = vec4(1.0, 0.0, 0.0, 0.0);
-    if (c.a == 0.0) return;
-    if (laplacian == 0.0 || (u_silhouette_check == 1 && !silhouette(p, camera_depth(p)))) {
+    bool candidate = c.a > 0.0 && 4.0 * c.r - w.r - e.r - s.r - n.r != 0.0;
 #ifdef OCCLUSION_EDGES
-        if (beyond_outline(c, w, e, s, n)) {
-            float width = hidden_penumbra(p);
-            if (width >= 0.0) out_color = vec4(0.0, width, c.a, 1.0);
-        }
+    bool outline = c.a > 0.0 && beyond_outline(c, w, e, s, n);
+#else
+    bool outline = false;
 #endif
+    if (!candidate && !outline) discard;  // the cleared (1, 0, 0, 0)
+    if (candidate && (u_silhouette_check == 0 || silhouette(p, camera_depth(p)))) {
+        out_color = vec4(0.0, max(c.g, max(max(w.g, e.g), max(s.g, n.g))), c.a, 0.0);
         return;
     }
-    float width = max(c.g, max(max(w.g, e.g), max(s.g, n.g)));
-    out_color = vec4(0.0, width, c.a, 0.0);
+#ifdef OCCLUSION_EDGES
+    float width = outline ? hidden_penumbra(p) : -1.0;
+    if (width >= 0.0) {
+        out_color = vec4(0.0, width, c.a, 1.0);
+        return;
+    }
+#endif
+    discard;
 }

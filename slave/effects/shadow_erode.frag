@@ -7,11 +7,11 @@
 //   EROSION_DIRECT: out r = visibility from the distance to the nearest edge whose penumbra
 //     reaches the pixel, with the seed's s_outer = (w - d) / 2w, s_inner = 1 - s_outer
 //     (w: the edge's penumbra half-width in pixels, d: distance to its least-squares line).
-uniform sampler2D u_hard;
 uniform sampler2D u_edges;   // min-max mipmap, levels 0..u_levels
 uniform sampler2D u_lines;
 uniform int u_levels;
 uniform int u_line_fit;
+uniform int u_disk_profile;
 out vec4 out_color;
 
 // A region reaches as far as the full penumbra width (twice the half-width): PCF decides the
@@ -19,7 +19,7 @@ out vec4 out_color;
 // penumbras on receivers inclined to the light.
 const float kRegionScale = 1.0;
 // The widest block window one search step reads (blocks per side).
-const int kMaxBlocks = 7;
+const int kMaxBlocks = 4;
 
 // What the hierarchical search found: the edges that can reach the pixel lie in blocks of
 // `level` within `radius` pixels; the widest penumbra among them and the width of the
@@ -81,20 +81,47 @@ Search search(ivec2 p, float px_per_unit) {
 }
 
 #ifdef EROSION_DIRECT
-float best_distance = 1e9, best_reach = 0.0;
+// Distances are taken on the receiver: a screen offset v (pixels) is the eye-space offset
+// surface_x * v.x + surface_y * v.y of the receiver's plane at the pixel, so a penumbra on a
+// surface seen at a grazing angle is not squeezed by the view (the seed measures in pixels).
+vec3 surface_x, surface_y;
+float best_distance = 1e9, best_reach = 0.0;  // eye units
 
 void consider(ivec2 p, ivec2 e) {
     if (any(lessThan(e, ivec2(0))) || any(greaterThanEqual(e, ivec2(u_work_size)))) return;
     vec4 edge = texelFetch(u_edges, e, 0);
     if (edge.r > 0.5) return;
-    float reach = 0.5 * edge.g * u_focal_px / edge.b;  // the edge's half-width, pixels
+    float reach = 0.5 * edge.g;  // the edge's penumbra half-width
     vec2 v = vec2(e - p);
     if (u_line_fit == 1) v += texelFetch(u_lines, e, 0).rg;
-    float d = length(v);
+    float d = length(surface_x * v.x + surface_y * v.y);
     if (d < reach && d < best_distance) {
         best_distance = d;
         best_reach = reach;
     }
+}
+
+// The receiver plane's eye-space offsets per pixel step, from the neighbour on the side whose
+// depth is closer (as receiver_at does).
+void receiver_plane(ivec2 p) {
+    float depth = camera_depth(p);
+    vec3 eye = eye_position(p, depth);
+    vec3 axis[2];
+    for (int a = 0; a < 2; ++a) {
+        ivec2 step = a == 0 ? ivec2(1, 0) : ivec2(0, 1);
+        float da = camera_depth(p + step), db = camera_depth(p - step);
+        bool use_a = abs(da - depth) <= abs(db - depth);
+        axis[a] = use_a ? eye_position(p + step, da) - eye : eye - eye_position(p - step, db);
+    }
+    surface_x = axis[0];
+    surface_y = axis[1];
+}
+
+// The least a one-pixel screen step moves on the receiver (the plane's smaller singular value).
+float smallest_step() {
+    float a = dot(surface_x, surface_x), b = dot(surface_x, surface_y), c = dot(surface_y, surface_y);
+    float mid = 0.5 * (a + c), spread = sqrt(0.25 * (a - c) * (a - c) + b * b);
+    return sqrt(max(mid - spread, 0.0));
 }
 #endif
 
@@ -106,16 +133,17 @@ void main() {
     Search s = search(p, u_focal_px / h.a);
     if (!s.found) return;
 #ifndef EROSION_DIRECT
-#ifndef PCF_WIDTH
-#define PCF_WIDTH (h.r < 0.5 ? h.g : s.nearest_width)
-#endif
-    out_color = vec4(PCF_WIDTH, 1.0, 0.0, 0.0);
+    // The kernel's width: a shadowed pixel's own blocker gives it (measured against a wider
+    // choice: lower error on every test scene); a lit one takes the nearest reaching block's.
+    out_color = vec4(h.r < 0.5 ? h.g : s.nearest_width, 1.0, 0.0, 0.0);
 #else
-    // Rings of growing Chebyshev distance; none can hold a nearer edge once k - 1.5 exceeds the
-    // best distance (line corrections move an edge by at most ~1 pixel).
+    // Rings of growing Chebyshev distance; none can hold a nearer edge once k - 1.5 pixels
+    // (line corrections move an edge by at most ~1 pixel) are further than the best distance.
+    receiver_plane(p);
+    float step = smallest_step();
     int reach = int(ceil(s.radius));
     for (int k = 0; k <= reach; ++k) {
-        if (float(k) - 1.5 > best_distance) break;
+        if ((float(k) - 1.5) * step > best_distance) break;
         for (int i = -k; i <= k; ++i) {
             consider(p, p + ivec2(i, -k));
             if (k > 0) consider(p, p + ivec2(i, k));
@@ -126,7 +154,10 @@ void main() {
         }
     }
     if (best_reach > 0.0) {
-        float outer = clamp((best_reach - best_distance) / (2.0 * best_reach), 0.0, 0.5);
+        // The share of the light hidden on the lit side: the seed's ramp (w - d) / 2w, or the
+        // area of a round light's disk beyond the line at distance d.
+        float u = clamp(best_distance / best_reach, 0.0, 1.0);
+        float outer = u_disk_profile == 1 ? (acos(u) - u * sqrt(1.0 - u * u)) / 3.14159265 : 0.5 * (1.0 - u);
         out_color.r = h.r > 0.5 ? 1.0 - outer : outer;
     }
 #endif

@@ -14,7 +14,9 @@ namespace glcast::slave::effects {
 namespace {
 
 // Texture units of the shaders' inputs.
-enum Unit : GLint { kDepthUnit = 0, kShadowMapUnit, kHardUnit, kEdgesUnit, kLinesUnit, kErosionUnit, kVisibilityUnit };
+enum Unit : GLint {
+    kDepthUnit = 0, kShadowMapUnit, kHardUnit, kEdgesUnit, kLinesUnit, kErosionUnit, kVisibilityUnit, kCullUnit
+};
 
 double now_ms() {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now().time_since_epoch()).count();
@@ -75,12 +77,12 @@ void ShadowRenderer::set_method(ShadowMethod method) {
     settings_.method = method;
 }
 
-GLuint ShadowRenderer::program(const std::string& fragment, const std::string& defines, bool common) {
-    const std::string key = fragment + "|" + defines;
+GLuint ShadowRenderer::program(const std::string& fragment, const std::string& defines, bool common, bool blocks) {
+    const std::string key = fragment + "|" + defines + (blocks ? "|blocks" : "");
     auto it = program_cache_.find(key);
     if (it != program_cache_.end()) return it->second;
     const std::string prefix = defines + (common ? shader_source("shadow_common.glsl") : std::string());
-    const GLuint p = build_program(gl_, "fullscreen.vert", fragment, prefix);
+    const GLuint p = build_program(gl_, blocks ? "shadow_blocks.vert" : "fullscreen.vert", fragment, prefix);
     program_cache_.emplace(key, p);
     return p;
 }
@@ -92,12 +94,14 @@ void ShadowRenderer::build_programs(ShadowMethod method) {
     case ShadowMethod::ErosionPcf:
     case ShadowMethod::ErosionDirect: {
         const bool direct = method == ShadowMethod::ErosionDirect;
+        const std::string outlines = direct ? "" : "#define OCCLUSION_EDGES\n";
         p.hard = program("shadow_hard.frag", "", true);
-        p.edges = program("shadow_edges.frag", direct ? "" : "#define OCCLUSION_EDGES\n", true);
+        p.candidates = program("shadow_candidates.frag", outlines, true);
+        p.edges = program("shadow_edges.frag", outlines, true, true);
         p.minmax = program("shadow_minmax.frag", "", false);
-        p.erode = program("shadow_erode.frag", direct ? "#define EROSION_DIRECT\n" : "", true);
-        if (direct) p.lines = program("shadow_lines.frag", "", true);
-        else p.shade = program("shadow_shade.frag", "#define EROSION_PCF\n", true);
+        p.erode = program("shadow_erode.frag", direct ? "#define EROSION_DIRECT\n" : "", true, true);
+        if (direct) p.lines = program("shadow_lines.frag", "", true, true);
+        else p.shade = program("shadow_shade.frag", "#define EROSION_PCF\n", true, true);
         break;
     }
     case ShadowMethod::Pcss8:
@@ -109,7 +113,7 @@ void ShadowRenderer::build_programs(ShadowMethod method) {
 }
 
 void ShadowRenderer::release_targets() {
-    for (Target* t : {&shadow_map_, &camera_depth_, &hard_, &edges_, &lines_, &erosion_, &visibility_}) {
+    for (Target* t : {&shadow_map_, &camera_depth_, &hard_, &candidates_, &edges_, &lines_, &erosion_, &visibility_}) {
         if (t->framebuffer) gl_.glDeleteFramebuffers(1, &t->framebuffer);
         if (t->texture) gl_.glDeleteTextures(1, &t->texture);
         *t = Target{};
@@ -128,6 +132,11 @@ void ShadowRenderer::ensure_targets(const FrameView& view, bool rerender_depth) 
     const glm::ivec2 work(view.width + tile_offset_.x + guard, view.height + tile_offset_.y + guard);
     canvas_origin_ = glm::ivec2(view.canvas_x, view.canvas_y) - tile_offset_;
     levels_ = std::min(levels_, int(std::floor(std::log2(double(std::max(work.x, work.y))))));
+    // Blocks of 16 pixels for the culled steps (shadow_blocks.vert), fewer levels permitting.
+    block_level_ = std::min(4, levels_);
+    const int block_size = 1 << block_level_;
+    blocks_ = (work + block_size - 1) / block_size;
+    block_reach_ = (search + 2 + block_size - 1) / block_size;
 
     const int map = settings_.map_size;
     if (shadow_map_.width != map) {
@@ -151,10 +160,11 @@ void ShadowRenderer::ensure_targets(const FrameView& view, bool rerender_depth) 
         t.height = work.y;
     };
     make(camera_depth_, GL_DEPTH_COMPONENT32F, 1, true);
-    make(hard_, GL_RGBA32F, 1, false);
-    make(edges_, GL_RGBA32F, levels_ + 1, false);
+    make(hard_, GL_RGBA16F, 1, false);
+    make(candidates_, GL_R8, block_level_ + 1, false);
+    make(edges_, GL_RGBA16F, levels_ + 1, false);
     make(lines_, GL_RG16F, 1, false);
-    make(erosion_, GL_RG32F, 1, false);
+    make(erosion_, GL_RG16F, 1, false);
     make(visibility_, GL_R32F, 1, false);
 }
 
@@ -181,6 +191,7 @@ void ShadowRenderer::set_common_uniforms(GLuint p) const {
     set_int(gl_, p, "u_lines", kLinesUnit);
     set_int(gl_, p, "u_erosion", kErosionUnit);
     set_int(gl_, p, "u_visibility", kVisibilityUnit);
+    set_int(gl_, p, "u_cull", kCullUnit);
     set_matrix(gl_, p, "u_eye_from_clip", eye_from_work_clip_);
     set_vec2(gl_, p, "u_work_size", glm::dvec2(work_size_));
     set_vec2(gl_, p, "u_canvas_origin", glm::dvec2(canvas_origin_));
@@ -191,6 +202,12 @@ void ShadowRenderer::set_common_uniforms(GLuint p) const {
     set_light_uniforms(p, light_, frame_);
 }
 
+void ShadowRenderer::clear(const Target& target, float red) const {
+    gl_.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target.framebuffer);
+    gl_.glClearColor(red, 0, 0, 0);
+    gl_.glClear(GL_COLOR_BUFFER_BIT);
+}
+
 void ShadowRenderer::draw_into(const Target& target, GLuint p) const {
     gl_.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target.framebuffer);
     gl_.glViewport(0, 0, target.width, target.height);
@@ -198,6 +215,48 @@ void ShadowRenderer::draw_into(const Target& target, GLuint p) const {
     gl_.glDisable(GL_BLEND);
     gl_.glUseProgram(p);
     draw_fullscreen(gl_, empty_vao_);
+}
+
+void ShadowRenderer::draw_blocks(const Target& target, GLuint p, GLuint cull, int reach, bool by_width) const {
+    bind_texture(gl_, kCullUnit, cull);
+    gl_.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target.framebuffer);
+    gl_.glViewport(0, 0, target.width, target.height);
+    gl_.glDisable(GL_DEPTH_TEST);
+    gl_.glDisable(GL_BLEND);
+    gl_.glUseProgram(p);
+    set_int(gl_, p, "u_cull_level", block_level_);
+    set_int(gl_, p, "u_cull_reach", reach);
+    set_int(gl_, p, "u_block_size", 1 << block_level_);
+    set_int(gl_, p, "u_blocks_x", blocks_.x);
+    set_int(gl_, p, "u_cull_by_width", by_width ? 1 : 0);
+    gl_.glBindVertexArray(empty_vao_);
+    gl_.glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, blocks_.x * blocks_.y);
+}
+
+void ShadowRenderer::reduce(const Target& target, int levels, GLuint p) {
+    bind_texture(gl_, kEdgesUnit, target.texture);
+    set_common_uniforms(p);
+    gl_.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target.framebuffer);
+    gl_.glDisable(GL_DEPTH_TEST);
+    gl_.glDisable(GL_BLEND);
+    for (int level = 1; level <= levels; ++level) {
+        // Sample only the level above while writing this one (no feedback loop).
+        gl_.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_BASE_LEVEL, level - 1);
+        gl_.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, level - 1);
+        gl_.glFramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, target.texture, level);
+        gl_.glViewport(0, 0, std::max(1, target.width >> level), std::max(1, target.height >> level));
+        draw_fullscreen(gl_, empty_vao_);
+    }
+    gl_.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_BASE_LEVEL, 0);
+    gl_.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, levels);
+    gl_.glFramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, target.texture, 0);
+}
+
+void ShadowRenderer::copy_hard_to_visibility() const {
+    gl_.glBindFramebuffer(GL_READ_FRAMEBUFFER, hard_.framebuffer);
+    gl_.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, visibility_.framebuffer);
+    gl_.glBlitFramebuffer(0, 0, hard_.width, hard_.height, 0, 0, visibility_.width, visibility_.height,
+                          GL_COLOR_BUFFER_BIT, GL_NEAREST);
 }
 
 void ShadowRenderer::step_done(double ShadowStepTimes::*step) {
@@ -330,35 +389,24 @@ void ShadowRenderer::hard_shadows(const Programs& p) {
 }
 
 void ShadowRenderer::detect_edges(const Programs& p) {
+    bind_texture(gl_, kDepthUnit, camera_depth_texture_);
+    bind_texture(gl_, kShadowMapUnit, shadow_map_.texture);
     bind_texture(gl_, kHardUnit, hard_.texture);
+    set_common_uniforms(p.candidates);
+    draw_into(candidates_, p.candidates);
+    reduce(candidates_, block_level_, p.minmax);
+    clear(edges_, 1.0f);
     set_common_uniforms(p.edges);
     set_int(gl_, p.edges, "u_silhouette_check", settings_.silhouette_check ? 1 : 0);
-    draw_into(edges_, p.edges);
-    if (!p.lines) return;
-    if (!settings_.line_fit) return;
+    draw_blocks(edges_, p.edges, candidates_.texture, 0, false);
+    if (!p.lines || !settings_.line_fit) return;
     bind_texture(gl_, kEdgesUnit, edges_.texture);
     set_common_uniforms(p.lines);
-    draw_into(lines_, p.lines);
+    clear(lines_, 0.0f);
+    draw_blocks(lines_, p.lines, candidates_.texture, 0, false);
 }
 
-void ShadowRenderer::build_min_max(const Programs& p) {
-    bind_texture(gl_, kEdgesUnit, edges_.texture);
-    set_common_uniforms(p.minmax);
-    gl_.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, edges_.framebuffer);
-    gl_.glDisable(GL_DEPTH_TEST);
-    gl_.glDisable(GL_BLEND);
-    for (int level = 1; level <= levels_; ++level) {
-        // Sample only the level above while writing this one (no feedback loop).
-        gl_.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_BASE_LEVEL, level - 1);
-        gl_.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, level - 1);
-        gl_.glFramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, edges_.texture, level);
-        gl_.glViewport(0, 0, std::max(1, work_size_.x >> level), std::max(1, work_size_.y >> level));
-        draw_fullscreen(gl_, empty_vao_);
-    }
-    gl_.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_BASE_LEVEL, 0);
-    gl_.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, levels_);
-    gl_.glFramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, edges_.texture, 0);
-}
+void ShadowRenderer::build_min_max(const Programs& p) { reduce(edges_, levels_, p.minmax); }
 
 void ShadowRenderer::erode(const Programs& p) {
     bind_texture(gl_, kHardUnit, hard_.texture);
@@ -367,7 +415,12 @@ void ShadowRenderer::erode(const Programs& p) {
     set_common_uniforms(p.erode);
     set_int(gl_, p.erode, "u_levels", levels_);
     set_int(gl_, p.erode, "u_line_fit", settings_.line_fit ? 1 : 0);
-    draw_into(settings_.method == ShadowMethod::ErosionDirect ? visibility_ : erosion_, p.erode);
+    set_int(gl_, p.erode, "u_disk_profile", settings_.direct_disk_profile ? 1 : 0);
+    // Pixels far from every edge keep: no region (PCF), the hard shadow (direct).
+    const bool direct = settings_.method == ShadowMethod::ErosionDirect;
+    if (direct) copy_hard_to_visibility();
+    else clear(erosion_, 0.0f);
+    draw_blocks(direct ? visibility_ : erosion_, p.erode, edges_.texture, block_reach_, true);
 }
 
 void ShadowRenderer::shade(const Programs& p) {
@@ -378,7 +431,13 @@ void ShadowRenderer::shade(const Programs& p) {
     set_common_uniforms(p.shade);
     set_int(gl_, p.shade, "u_pcf_samples", settings_.pcf_samples);
     set_int(gl_, p.shade, "u_blocker_samples", pcss_blocker_samples(settings_.method));
-    draw_into(visibility_, p.shade);
+    if (settings_.method != ShadowMethod::ErosionPcf) {
+        draw_into(visibility_, p.shade);
+        return;
+    }
+    // Penumbra regions lie within the search radius of an edge; elsewhere the hard shadow.
+    copy_hard_to_visibility();
+    draw_blocks(visibility_, p.shade, edges_.texture, block_reach_, true);
 }
 
 void ShadowRenderer::reference(const FrameView& view, const Programs& p) {
@@ -421,6 +480,7 @@ void ShadowRenderer::composite(const FrameView& view) {
     gl_.glBlendFuncSeparate(GL_ZERO, GL_SRC_COLOR, GL_ZERO, GL_ONE);
     gl_.glUseProgram(p);
     set_int(gl_, p, "u_visibility", kVisibilityUnit);
+    set_int(gl_, p, "u_cull", kCullUnit);
     set_vec2(gl_, p, "u_tile_offset", glm::dvec2(tile_offset_));
     set_float(gl_, p, "u_strength", settings_.strength);
     draw_fullscreen(gl_, empty_vao_);

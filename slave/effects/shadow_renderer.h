@@ -77,16 +77,24 @@ private:
         int width = 0, height = 0;
     };
     struct Programs {
-        GLuint hard = 0, edges = 0, minmax = 0, lines = 0, erode = 0, shade = 0, reference = 0, composite = 0;
+        GLuint hard = 0, candidates = 0, edges = 0, minmax = 0, lines = 0, erode = 0, shade = 0, reference = 0,
+               composite = 0;
     };
 
-    GLuint program(const std::string& fragment, const std::string& defines, bool common);
+    // fullscreen.vert, or shadow_blocks.vert when `blocks`; `common`: shadow_common.glsl first.
+    GLuint program(const std::string& fragment, const std::string& defines, bool common, bool blocks = false);
     void build_programs(ShadowMethod method);
     void ensure_targets(const FrameView& view, bool rerender_depth);
     void release_targets();
     void set_common_uniforms(GLuint program) const;
     void set_light_uniforms(GLuint program, const ShadowLight& light, const LightFrame& frame) const;
     void draw_into(const Target& target, GLuint program) const;
+    void clear(const Target& target, float red) const;  // to (red, 0, 0, 0)
+    // The blocks of the work area that have an edge of `cull` (a min-max mipmap) within
+    // `reach` blocks, and `by_width`: within that edge's penumbra reach (shadow_blocks.vert).
+    void draw_blocks(const Target& target, GLuint program, GLuint cull, int reach, bool by_width) const;
+    void reduce(const Target& target, int levels, GLuint minmax);  // its min-max mipmap
+    void copy_hard_to_visibility() const;
     void render_shadow_map(const FrameView& view, const LightFrame& frame);
     void render_camera_depth(const FrameView& view, const glm::dmat4& correction);
     void hard_shadows(const Programs& p);
@@ -112,6 +120,8 @@ private:
     LightFrame frame_;
     glm::ivec2 tile_size_{0}, work_size_{0}, tile_offset_{0}, canvas_origin_{0};
     int levels_ = 0, edge_levels_ = -1;  // coarsest min-max mipmap level (wanted, allocated)
+    int block_level_ = 0, block_reach_ = 0;  // culled steps: blocks of 2^block_level_ pixels
+    glm::ivec2 blocks_{0};
     std::array<glm::dvec3, 8> corners_{};  // the main view's frustum, eye space
     GLint target_framebuffer_ = 0;         // bound for drawing when render() was called
     // The program's 2D textures of the units the steps use, put back for every redraw (an
@@ -121,7 +131,7 @@ private:
     double focal_px_ = 1;
     GLuint camera_depth_texture_ = 0;  // ours or the window's copy
 
-    Target shadow_map_, camera_depth_, hard_, edges_, lines_, erosion_, visibility_;
+    Target shadow_map_, camera_depth_, hard_, candidates_, edges_, lines_, erosion_, visibility_;
 };
 
 }  // namespace glcast::slave::effects

@@ -48,6 +48,7 @@ struct ShadowSettings {
     int reference_samples = 512;  // light samples of the reference
     bool silhouette_check = true; // keep only hard-shadow edges that are silhouettes in the shadow map
     bool line_fit = true;         // least-squares line correction of erosion/direct
+    bool direct_disk_profile = false;  // erosion/direct: a round light's profile instead of the seed's ramp
     bool rerender_depth = true;   // camera depth re-rendered with a guard band (else the window's depth)
 };
 

@@ -4,7 +4,6 @@
 //   PCSS: Fernando's percentage-closer soft shadows: the mean depth of the blockers found by
 //     u_blocker_samples taps over the largest possible penumbra, the parallel-planes width
 //     from it, PCF over half of it.
-uniform sampler2D u_hard;
 uniform sampler2D u_erosion;
 uniform int u_pcf_samples;
 uniform int u_blocker_samples;
