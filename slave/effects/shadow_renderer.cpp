@@ -109,7 +109,7 @@ void ShadowRenderer::build_programs(ShadowMethod method) {
     case ShadowMethod::Pcss64: p.shade = program("shadow_shade.frag", "", true); break;
     case ShadowMethod::Reference: p.reference = program("shadow_reference.frag", "", true); break;
     }
-    p.composite = program("shadow_composite.frag", "", false);
+    p.composite = program("shadow_composite.frag", "", true);
 }
 
 void ShadowRenderer::release_targets() {
@@ -469,7 +469,9 @@ void ShadowRenderer::reference(const FrameView& view, const Programs& p) {
 
 void ShadowRenderer::composite(const FrameView& view) {
     const GLuint p = programs_[int(settings_.method)].composite;
+    bind_texture(gl_, kDepthUnit, camera_depth_texture_);
     bind_texture(gl_, kVisibilityUnit, visibility_.texture);
+    set_common_uniforms(p);
     gl_.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(target_framebuffer_));
     gl_.glViewport(0, 0, view.width, view.height);
     gl_.glDisable(GL_DEPTH_TEST);
@@ -479,10 +481,11 @@ void ShadowRenderer::composite(const FrameView& view) {
     gl_.glBlendEquation(GL_FUNC_ADD);
     gl_.glBlendFuncSeparate(GL_ZERO, GL_SRC_COLOR, GL_ZERO, GL_ONE);
     gl_.glUseProgram(p);
-    set_int(gl_, p, "u_visibility", kVisibilityUnit);
-    set_int(gl_, p, "u_cull", kCullUnit);
     set_vec2(gl_, p, "u_tile_offset", glm::dvec2(tile_offset_));
     set_float(gl_, p, "u_strength", settings_.strength);
+    const glm::dvec4 light = light_.directional ? glm::dvec4(light_.direction, 0.0) : glm::dvec4(light_.position, 1.0);
+    const GLint at = gl_.glGetUniformLocation(p, "u_light_eye");
+    if (at >= 0) gl_.glUniform4f(at, float(light.x), float(light.y), float(light.z), float(light.w));
     draw_fullscreen(gl_, empty_vao_);
     gl_.glDisable(GL_BLEND);
     step_done(&ShadowStepTimes::shading);
