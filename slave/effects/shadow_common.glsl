@@ -4,14 +4,15 @@
 
 uniform sampler2D u_depth;        // camera depth of the work area, 0..1
 uniform sampler2D u_shadow_map;   // light depth, 0..1
-uniform mat4 u_eye_from_clip;     // work-area clip -> the main view's eye space
 uniform vec2 u_work_size;
 uniform vec2 u_canvas_origin;     // canvas pixel of work pixel (0, 0)
 uniform float u_focal_px;         // pixels per eye-space unit at eye depth 1
 uniform float u_max_radius_px;    // penumbra half-widths are bounded by this many pixels
 
-uniform mat4 u_light_clip_from_eye;
-uniform mat4 u_light_view_from_eye;
+uniform mat4 u_light_view_from_clip;  // L E: work-area clip -> light view (homogeneous, w of eye space)
+uniform mat4 u_light_clip_from_clip;  // P_light L E
+uniform vec4 u_eye_z_row;             // row z of E: the eye-space z of a work-area clip point (homogeneous)
+uniform vec3 u_camera_in_light_view;
 uniform int u_light_ortho;        // 1: orthographic map (directional light)
 uniform float u_light_near, u_light_far;
 uniform vec2 u_uv_per_unit;       // map uv per eye unit across the axis (at light depth 1 if perspective)
@@ -39,17 +40,24 @@ float camera_depth(ivec2 p) {
     return texelFetch(u_depth, clamp(p, ivec2(0), ivec2(u_work_size) - 1), 0).r;
 }
 
-vec3 eye_position(ivec2 p, float depth) {
-    vec4 clip = vec4((vec2(p) + 0.5) / u_work_size * 2.0 - 1.0, depth * 2.0 - 1.0, 1.0);
-    vec4 e = u_eye_from_clip * clip;
-    return e.xyz / e.w;
-}
+// A pixel's point of the scene: shadow-map uv, light depth, light-view position (a rigid
+// motion of eye space: distances and angles are the eye's) and eye depth.
+struct ScenePoint {
+    vec2 uv;
+    float depth;
+    vec3 light_view;
+    float eye_depth;
+};
 
-// Shadow-map uv and light depth of an eye-space point.
-vec3 light_coords(vec3 eye) {
-    vec4 c = u_light_clip_from_eye * vec4(eye, 1.0);
-    float depth = -(u_light_view_from_eye * vec4(eye, 1.0)).z;
-    return vec3(c.xy / c.w * 0.5 + 0.5, depth);
+ScenePoint scene_point(ivec2 p, float depth) {
+    vec4 clip = vec4((vec2(p) + 0.5) / u_work_size * 2.0 - 1.0, depth * 2.0 - 1.0, 1.0);
+    vec4 v = u_light_view_from_clip * clip, k = u_light_clip_from_clip * clip;
+    ScenePoint q;
+    q.light_view = v.xyz / v.w;
+    q.depth = -q.light_view.z;
+    q.uv = k.xy / k.w * 0.5 + 0.5;
+    q.eye_depth = -dot(u_eye_z_row, clip) / v.w;
+    return q;
 }
 
 float light_depth_from_map(float d) {
@@ -81,27 +89,35 @@ struct Receiver {
     vec2 slope;       // d depth / d uv of the receiver's plane (Isidoro's receiver-plane bias)
     float eye_depth;  // distance along the camera's axis
     float bias;       // light depth a blocker must be nearer by
+    float facing;     // 0 where the plane turns from the light, 1 from N.L = 0.2 on
 };
 
 // The receiver at work pixel p (camera depth `depth`, not background). Its plane comes from
 // the neighbours on the side whose depth is closer, so silhouettes do not tilt it.
 Receiver receiver_at(ivec2 p, float depth) {
-    vec3 eye = eye_position(p, depth);
-    vec3 c = light_coords(eye);
-    vec3 d[2];
+    ScenePoint c = scene_point(p, depth);
+    vec3 d[2], along[2];
+    bool plane = true;
     for (int axis = 0; axis < 2; ++axis) {
         ivec2 step = axis == 0 ? ivec2(1, 0) : ivec2(0, 1);
         float da = camera_depth(p + step), db = camera_depth(p - step);
         bool use_a = abs(da - depth) <= abs(db - depth);
         float dn = use_a ? da : db;
-        if (dn >= 1.0) { d[axis] = vec3(0.0); continue; }
-        vec3 cn = light_coords(eye_position(use_a ? p + step : p - step, dn));
-        d[axis] = use_a ? cn - c : c - cn;
+        if (dn >= 1.0) {
+            d[axis] = vec3(0.0);
+            along[axis] = vec3(0.0);
+            plane = false;
+            continue;
+        }
+        ScenePoint n = scene_point(use_a ? p + step : p - step, dn);
+        float sign = use_a ? 1.0 : -1.0;
+        d[axis] = sign * (vec3(n.uv, n.depth) - vec3(c.uv, c.depth));
+        along[axis] = sign * (n.light_view - c.light_view);
     }
     Receiver r;
-    r.uv = c.xy;
-    r.depth = c.z;
-    r.eye_depth = -eye.z;
+    r.uv = c.uv;
+    r.depth = c.depth;
+    r.eye_depth = c.eye_depth;
     mat2 j = mat2(d[0].xy, d[1].xy);  // columns: d uv / d pixel x, d uv / d pixel y
     float det = determinant(j);
     r.slope = abs(det) > 1e-14 ? vec2(d[0].z, d[1].z) * inverse(j) : vec2(0.0);
@@ -111,6 +127,14 @@ Receiver receiver_at(ivec2 p, float depth) {
     float s = length(r.slope);
     if (s > cap) r.slope *= cap / s;
     r.bias = u_bias_texels * max(texel_world.x, texel_world.y) + (abs(r.slope.x) + abs(r.slope.y)) / u_map_size;
+    r.facing = 1.0;
+    vec3 normal = cross(along[0], along[1]);
+    if (plane && dot(normal, normal) > 0.0) {
+        normal = normalize(normal);
+        if (dot(normal, u_camera_in_light_view - c.light_view) < 0.0) normal = -normal;  // the side we see
+        vec3 to_light = u_light_ortho == 1 ? vec3(0.0, 0.0, 1.0) : normalize(-c.light_view);
+        r.facing = smoothstep(0.0, 0.2, dot(normal, to_light));
+    }
     return r;
 }
 

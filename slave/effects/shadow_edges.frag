@@ -58,7 +58,7 @@ void main() {
 #endif
     if (!candidate && !outline) discard;  // the cleared (1, 0, 0, 0)
     if (candidate && (u_silhouette_check == 0 || silhouette(p, camera_depth(p)))) {
-        out_color = vec4(0.0, max(c.g, max(max(w.g, e.g), max(s.g, n.g))), c.a, 0.0);
+        out_color = vec4(0.0, max(c.b, max(max(w.b, e.b), max(s.b, n.b))), c.a, 0.0);
         return;
     }
 #ifdef OCCLUSION_EDGES

@@ -6,7 +6,8 @@
 //     1 inside a region, 0 outside), for the PCF of shadow_shade.frag.
 //   EROSION_DIRECT: out r = visibility from the distance to the nearest edge whose penumbra
 //     reaches the pixel, with the seed's s_outer = (w - d) / 2w, s_inner = 1 - s_outer
-//     (w: the edge's penumbra half-width in pixels, d: distance to its least-squares line).
+//     (w: the edge's penumbra half-width, d: distance to its least-squares line, both on the
+//     receiver); out g = the hard texel's facing.
 uniform sampler2D u_edges;   // min-max mipmap, levels 0..u_levels
 uniform sampler2D u_lines;
 uniform int u_levels;
@@ -81,7 +82,7 @@ Search search(ivec2 p, float px_per_unit) {
 }
 
 #ifdef EROSION_DIRECT
-// Distances are taken on the receiver: a screen offset v (pixels) is the eye-space offset
+// Distances are taken on the receiver: a screen offset v (pixels) is the offset
 // surface_x * v.x + surface_y * v.y of the receiver's plane at the pixel, so a penumbra on a
 // surface seen at a grazing angle is not squeezed by the view (the seed measures in pixels).
 vec3 surface_x, surface_y;
@@ -101,17 +102,17 @@ void consider(ivec2 p, ivec2 e) {
     }
 }
 
-// The receiver plane's eye-space offsets per pixel step, from the neighbour on the side whose
-// depth is closer (as receiver_at does).
+// The receiver plane's offsets per pixel step (light-view space: a rigid motion of eye space),
+// from the neighbour on the side whose depth is closer (as receiver_at does).
 void receiver_plane(ivec2 p) {
     float depth = camera_depth(p);
-    vec3 eye = eye_position(p, depth);
+    vec3 here = scene_point(p, depth).light_view;
     vec3 axis[2];
     for (int a = 0; a < 2; ++a) {
         ivec2 step = a == 0 ? ivec2(1, 0) : ivec2(0, 1);
         float da = camera_depth(p + step), db = camera_depth(p - step);
         bool use_a = abs(da - depth) <= abs(db - depth);
-        axis[a] = use_a ? eye_position(p + step, da) - eye : eye - eye_position(p - step, db);
+        axis[a] = use_a ? scene_point(p + step, da).light_view - here : here - scene_point(p - step, db).light_view;
     }
     surface_x = axis[0];
     surface_y = axis[1];
@@ -128,14 +129,14 @@ float smallest_step() {
 void main() {
     ivec2 p = ivec2(gl_FragCoord.xy);
     vec4 h = texelFetch(u_hard, p, 0);
-    out_color = vec4(h.r, 0.0, 0.0, 0.0);
+    out_color = vec4(h.r, h.g, 0.0, 0.0);  // direct: visibility and facing, as the hard shadow
     if (h.a == 0.0) return;
     Search s = search(p, u_focal_px / h.a);
     if (!s.found) return;
 #ifndef EROSION_DIRECT
     // The kernel's width: a shadowed pixel's own blocker gives it (measured against a wider
     // choice: lower error on every test scene); a lit one takes the nearest reaching block's.
-    out_color = vec4(h.r < 0.5 ? h.g : s.nearest_width, 1.0, 0.0, 0.0);
+    out_color = vec4(h.r < 0.5 ? h.b : s.nearest_width, 1.0, 0.0, 0.0);
 #else
     // Rings of growing Chebyshev distance; none can hold a nearer edge once k - 1.5 pixels
     // (line corrections move an edge by at most ~1 pixel) are further than the best distance.

@@ -109,7 +109,7 @@ void ShadowRenderer::build_programs(ShadowMethod method) {
     case ShadowMethod::Pcss64: p.shade = program("shadow_shade.frag", "", true); break;
     case ShadowMethod::Reference: p.reference = program("shadow_reference.frag", "", true); break;
     }
-    p.composite = program("shadow_composite.frag", "", true);
+    p.composite = program("shadow_composite.frag", "", false);
 }
 
 void ShadowRenderer::release_targets() {
@@ -165,12 +165,15 @@ void ShadowRenderer::ensure_targets(const FrameView& view, bool rerender_depth) 
     make(edges_, GL_RGBA16F, levels_ + 1, false);
     make(lines_, GL_RG16F, 1, false);
     make(erosion_, GL_RG16F, 1, false);
-    make(visibility_, GL_R32F, 1, false);
+    make(visibility_, GL_RG32F, 1, false);
 }
 
 void ShadowRenderer::set_light_uniforms(GLuint p, const ShadowLight& light, const LightFrame& frame) const {
-    set_matrix(gl_, p, "u_light_clip_from_eye", frame.clip_from_eye());
-    set_matrix(gl_, p, "u_light_view_from_eye", frame.view);
+    set_matrix(gl_, p, "u_light_view_from_clip", frame.view * eye_from_work_clip_);
+    set_matrix(gl_, p, "u_light_clip_from_clip", frame.clip_from_eye() * eye_from_work_clip_);
+    const glm::dvec3 camera(frame.view[3]);
+    const GLint at = gl_.glGetUniformLocation(p, "u_camera_in_light_view");
+    if (at >= 0) gl_.glUniform3f(at, float(camera.x), float(camera.y), float(camera.z));
     set_int(gl_, p, "u_light_ortho", frame.orthographic ? 1 : 0);
     set_float(gl_, p, "u_light_near", frame.near);
     set_float(gl_, p, "u_light_far", frame.far);
@@ -192,7 +195,10 @@ void ShadowRenderer::set_common_uniforms(GLuint p) const {
     set_int(gl_, p, "u_erosion", kErosionUnit);
     set_int(gl_, p, "u_visibility", kVisibilityUnit);
     set_int(gl_, p, "u_cull", kCullUnit);
-    set_matrix(gl_, p, "u_eye_from_clip", eye_from_work_clip_);
+    const glm::dvec4 eye_z(eye_from_work_clip_[0][2], eye_from_work_clip_[1][2], eye_from_work_clip_[2][2],
+                           eye_from_work_clip_[3][2]);
+    const GLint at = gl_.glGetUniformLocation(p, "u_eye_z_row");
+    if (at >= 0) gl_.glUniform4f(at, float(eye_z.x), float(eye_z.y), float(eye_z.z), float(eye_z.w));
     set_vec2(gl_, p, "u_work_size", glm::dvec2(work_size_));
     set_vec2(gl_, p, "u_canvas_origin", glm::dvec2(canvas_origin_));
     set_float(gl_, p, "u_focal_px", focal_px_);
@@ -469,9 +475,7 @@ void ShadowRenderer::reference(const FrameView& view, const Programs& p) {
 
 void ShadowRenderer::composite(const FrameView& view) {
     const GLuint p = programs_[int(settings_.method)].composite;
-    bind_texture(gl_, kDepthUnit, camera_depth_texture_);
     bind_texture(gl_, kVisibilityUnit, visibility_.texture);
-    set_common_uniforms(p);
     gl_.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(target_framebuffer_));
     gl_.glViewport(0, 0, view.width, view.height);
     gl_.glDisable(GL_DEPTH_TEST);
@@ -483,9 +487,7 @@ void ShadowRenderer::composite(const FrameView& view) {
     gl_.glUseProgram(p);
     set_vec2(gl_, p, "u_tile_offset", glm::dvec2(tile_offset_));
     set_float(gl_, p, "u_strength", settings_.strength);
-    const glm::dvec4 light = light_.directional ? glm::dvec4(light_.direction, 0.0) : glm::dvec4(light_.position, 1.0);
-    const GLint at = gl_.glGetUniformLocation(p, "u_light_eye");
-    if (at >= 0) gl_.glUniform4f(at, float(light.x), float(light.y), float(light.z), float(light.w));
+    set_int(gl_, p, "u_visibility", kVisibilityUnit);
     draw_fullscreen(gl_, empty_vao_);
     gl_.glDisable(GL_BLEND);
     step_done(&ShadowStepTimes::shading);

@@ -60,7 +60,7 @@ public:
     void composite(const FrameView& view);
 
     // Results of the last render(), for tests and pictures.
-    GLuint visibility_texture() const { return visibility_.texture; }   // R32F, work area
+    GLuint visibility_texture() const { return visibility_.texture; }   // RG32F, work area: visibility, facing
     GLuint hard_shadow_texture() const { return hard_.texture; }        // RGBA32F: lit, width, light depth, eye depth
     GLuint edges_texture() const { return edges_.texture; }             // RGBA32F: 0 on edges, width, eye depth
     GLuint erosion_texture() const { return erosion_.texture; }         // RG32F (erosion-pcf): width, 1 in a region

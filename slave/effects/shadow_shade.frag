@@ -1,4 +1,4 @@
-// Visibility of each work pixel.
+// Visibility of each work pixel (r), with the receiver's facing (g) for the darkening.
 //   EROSION_PCF: in the eroded penumbra regions PCF over the region's penumbra half-width at
 //     this receiver (the seed's first solution); elsewhere the hard shadow.
 //   PCSS: Fernando's percentage-closer soft shadows: the mean depth of the blockers found by
@@ -12,19 +12,21 @@ out vec4 out_color;
 void main() {
     ivec2 p = ivec2(gl_FragCoord.xy);
     float depth = camera_depth(p);
-    out_color = vec4(1.0, 0.0, 0.0, 0.0);
+    out_color = vec4(1.0, 1.0, 0.0, 0.0);
     if (depth >= 1.0) return;
 #ifdef EROSION_PCF
     vec2 region = texelFetch(u_erosion, p, 0).rg;
     if (region.g < 0.5) {
-        out_color.r = texelFetch(u_hard, p, 0).r;
+        out_color.rg = texelFetch(u_hard, p, 0).rg;
         return;
     }
     Receiver r = receiver_at(p, depth);
+    out_color.g = r.facing;
     vec2 radius = min(0.5 * region.r * uv_scale(r.depth), max_half_width_uv(r));
     out_color.r = pcf_narrowed(r, radius, u_pcf_samples, pixel_rotation(p));
 #else
     Receiver r = receiver_at(p, depth);
+    out_color.g = r.facing;
     float rotation = pixel_rotation(p);
     vec2 search = max_half_width_uv(r);
     float blockers = 0.0, sum = 0.0;
