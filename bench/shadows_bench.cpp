@@ -98,19 +98,22 @@ int pictures(const std::string& dir) {
     for (const Scene& scene : {shadow_test::blocks_scene(), shadow_test::fence_scene(), shadow_test::ramp_scene()}) {
         ShadowRenderer r(ctx.gl(), settings_for(scene, 2048, 512));
         ctx.draw_frame(scene, tile);
-        std::vector<Image> frames{ctx.read_color(tile)};
+        std::vector<Image> frames{ctx.read_color(tile)};  // [0]: the frame without shadows
         for (ShadowMethod m : {ShadowMethod::ErosionPcf, ShadowMethod::ErosionDirect, ShadowMethod::Pcss8,
                                ShadowMethod::Pcss32, ShadowMethod::Reference}) {
             frames.emplace_back();
             run_method(ctx, r, scene, tile, m, &frames.back());
         }
-        if (scene.name == "blocks") write(dir + "/shadows-blocks-after.png", frames[1]);
-        if (scene.name == "blocks") write(dir + "/shadows-blocks-before.png", frames[0]);
-        // Crops around the most telling shadows, at twice their size.
-        const int x = scene.name == "fence" ? 200 : scene.name == "ramp" ? 250 : 340;
-        const int y = scene.name == "fence" ? 190 : scene.name == "ramp" ? 170 : 150;
+        // Crops around the most telling shadows: the floating cube's wide penumbra, the
+        // slats (fine structure), the plank's shadow from contact to its raised end.
+        struct Crop {
+            int x, y, w, h, scale;
+        };
+        const Crop c = scene.name == "fence" ? Crop{200, 190, 128, 96, 2}
+                     : scene.name == "ramp"  ? Crop{185, 195, 380, 120, 1}
+                                             : Crop{340, 150, 128, 96, 2};
         write(dir + "/shadows-" + scene.name + "-methods.png",
-              strip({frames[1], frames[2], frames[3], frames[4], frames[5]}, x, y, 128, 96, 2));
+              strip({frames[1], frames[2], frames[3], frames[4], frames[5]}, c.x, c.y, c.w, c.h, c.scale));
     }
     return 0;
 }

@@ -258,13 +258,6 @@ void ShadowRenderer::reduce(const Target& target, int levels, GLuint p) {
     gl_.glFramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, target.texture, 0);
 }
 
-void ShadowRenderer::copy_hard_to_visibility() const {
-    gl_.glBindFramebuffer(GL_READ_FRAMEBUFFER, hard_.framebuffer);
-    gl_.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, visibility_.framebuffer);
-    gl_.glBlitFramebuffer(0, 0, hard_.width, hard_.height, 0, 0, visibility_.width, visibility_.height,
-                          GL_COLOR_BUFFER_BIT, GL_NEAREST);
-}
-
 void ShadowRenderer::step_done(double ShadowStepTimes::*step) {
     if (!profiling_) return;
     gl_.glFinish();
@@ -391,7 +384,14 @@ void ShadowRenderer::hard_shadows(const Programs& p) {
     bind_texture(gl_, kDepthUnit, camera_depth_texture_);
     bind_texture(gl_, kShadowMapUnit, shadow_map_.texture);
     set_common_uniforms(p.hard);
+    // Both outputs: the hard-shadow buffer and the visibility's start.
+    gl_.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, hard_.framebuffer);
+    gl_.glFramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, visibility_.texture, 0);
+    const GLenum both[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    gl_.glDrawBuffers(2, both);
     draw_into(hard_, p.hard);
+    gl_.glFramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, 0, 0);
+    gl_.glDrawBuffers(1, both);
 }
 
 void ShadowRenderer::detect_edges(const Programs& p) {
@@ -424,8 +424,7 @@ void ShadowRenderer::erode(const Programs& p) {
     set_int(gl_, p.erode, "u_disk_profile", settings_.direct_disk_profile ? 1 : 0);
     // Pixels far from every edge keep: no region (PCF), the hard shadow (direct).
     const bool direct = settings_.method == ShadowMethod::ErosionDirect;
-    if (direct) copy_hard_to_visibility();
-    else clear(erosion_, 0.0f);
+    if (!direct) clear(erosion_, 0.0f);
     draw_blocks(direct ? visibility_ : erosion_, p.erode, edges_.texture, block_reach_, true);
 }
 
@@ -441,8 +440,8 @@ void ShadowRenderer::shade(const Programs& p) {
         draw_into(visibility_, p.shade);
         return;
     }
-    // Penumbra regions lie within the search radius of an edge; elsewhere the hard shadow.
-    copy_hard_to_visibility();
+    // Penumbra regions lie within the search radius of an edge; elsewhere the hard shadow that
+    // shadow_hard.frag wrote.
     draw_blocks(visibility_, p.shade, edges_.texture, block_reach_, true);
 }
 

@@ -94,7 +94,6 @@ private:
     // `reach` blocks, and `by_width`: within that edge's penumbra reach (shadow_blocks.vert).
     void draw_blocks(const Target& target, GLuint program, GLuint cull, int reach, bool by_width) const;
     void reduce(const Target& target, int levels, GLuint minmax);  // its min-max mipmap
-    void copy_hard_to_visibility() const;
     void render_shadow_map(const FrameView& view, const LightFrame& frame);
     void render_camera_depth(const FrameView& view, const glm::dmat4& correction);
     void hard_shadows(const Programs& p);
