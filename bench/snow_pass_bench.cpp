@@ -95,7 +95,7 @@ int main(int argc, char** argv) {
         const double ms = frame_ms(*t, r.params, frames, nullptr);
         std::printf("| %s | %.2f |\n", r.what, ms);
         std::fflush(stdout);
-        if (std::string(r.what).rfind("hybrid", 0) == 0) hybrid = ms;
+        if (std::string(r.what) == "hybrid: 2,000 particles + spectral") hybrid = ms;
         if (std::string(r.what).find("16,000") != std::string::npos) p16 = ms;
         if (std::string(r.what).find("150,000") != std::string::npos) p150 = ms;
     }
