@@ -198,8 +198,15 @@ void Replayer::redraw_main_view(const glm::dmat4& correction) {
         gl.glGetDoublev(s.matrix_query, s.top);
     }
     ctx.matrix_mode = uint32_t(mode);
-    gl.glPushAttrib(GL_ALL_ATTRIB_BITS);
+    gl.glPushAttrib(GL_ALL_ATTRIB_BITS);  // GL_TEXTURE_BIT: the pass's texture bindings come back
     gl.glPushClientAttrib(GL_CLIENT_ALL_ATTRIB_BITS);
+    const EffectsState& st = *ctx.effects;
+    gl.glBindVertexArray(GLuint(st.program_vao));
+    for (int unit = 0; unit < 8; ++unit) {
+        gl.glActiveTexture(GLenum(GL_TEXTURE0 + unit));
+        gl.glBindTexture(GL_TEXTURE_2D, GLuint(st.program_textures[unit]));
+    }
+    gl.glActiveTexture(GLenum(st.program_active_texture));
     redrawing_ = true;
     redraw_correction_ = correction;
     Call c;
@@ -307,6 +314,14 @@ void Replayer::frame_view(SlaveContext& ctx, effects::FrameView& v) {
     }
     EffectsState* st = ctx.effects.get();
     st->color_copied = st->depth_copied = false;
+    const effects::GlApi& gl = *effects_gl_;
+    gl.glGetIntegerv(GL_VERTEX_ARRAY_BINDING, &st->program_vao);
+    gl.glGetIntegerv(GL_ACTIVE_TEXTURE, &st->program_active_texture);
+    for (int unit = 0; unit < 8; ++unit) {
+        gl.glActiveTexture(GLenum(GL_TEXTURE0 + unit));
+        gl.glGetIntegerv(GL_TEXTURE_BINDING_2D, &st->program_textures[unit]);
+    }
+    gl.glActiveTexture(GLenum(st->program_active_texture));
     SlaveContext* c = &ctx;
     v.color_texture = [this, c] { return window_copy(*c, false); };
     v.depth_texture = [this, c] { return window_copy(*c, true); };

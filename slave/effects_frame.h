@@ -51,6 +51,9 @@ struct EffectsState {
     GLuint color_texture = 0, depth_texture = 0, color_fb = 0, depth_fb = 0;
     int copies_width = 0, copies_height = 0;
     bool color_copied = false, depth_copied = false;
+    // The program's vertex-array object and 2D textures (units 0..7) as the frame left them,
+    // before any pass: redraw gives them back to the program's draws, whatever a pass bound.
+    GLint program_vao = 0, program_active_texture = GL_TEXTURE0, program_textures[8] = {};
 };
 
 // The effects could not run (a shader that does not compile, a driver without GL 3.3): fatal

@@ -53,8 +53,10 @@ struct FrameView {
     // Re-renders the frame's draws of the main view (those made to the window with the main
     // view's projection) into whatever framebuffer, viewport and program are bound, with
     //     clip = correction * P_app * modelview * vertex
-    // and the program's own fragment state, except: color, depth and stencil state, blending,
-    // culling, polygon offset, scissor and the bound framebuffer are the caller's. Empty when
+    // and the program's own fragment state, vertex-array object and 2D textures (as the frame
+    // left them), except: color, depth and stencil state, blending, culling, polygon offset,
+    // scissor, the bound program (0 for the program's fixed-function shading) and the bound
+    // framebuffer are the caller's. Empty when
     // the stream cannot be re-rendered (shader programs, core contexts).
     std::function<void(const glm::dmat4& correction)> redraw;
 

@@ -186,12 +186,6 @@ bool ShadowRenderer::render(const FrameView& view, std::string& why) {
         return false;
     }
     gl_.glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &target_framebuffer_);
-    gl_.glGetIntegerv(GL_ACTIVE_TEXTURE, &program_active_texture_);
-    for (int unit = 0; unit < 7; ++unit) {
-        gl_.glActiveTexture(GLenum(GL_TEXTURE0 + unit));
-        gl_.glGetIntegerv(GL_TEXTURE_BINDING_2D, &program_textures_[unit]);
-    }
-    gl_.glActiveTexture(GLenum(program_active_texture_));
     const bool rerender = settings_.rerender_depth || !view.depth_texture;
     ensure_targets(view, rerender);
     tile_size_ = {view.width, view.height};

@@ -103,7 +103,6 @@ private:
     void shade(const Programs& p);
     void reference(const FrameView& view, const Programs& p);
     void step_done(double ShadowStepTimes::*step);
-    void program_textures_back() const;
 
     const GlApi& gl_;
     ShadowSettings settings_;
@@ -123,9 +122,6 @@ private:
     glm::ivec2 blocks_{0};
     std::array<glm::dvec3, 8> corners_{};  // the main view's frustum, eye space
     GLint target_framebuffer_ = 0;         // bound for drawing when render() was called
-    // The program's 2D textures of the units the steps use, put back for every redraw (an
-    // alpha-tested draw must see its own texture).
-    GLint program_textures_[7] = {}, program_active_texture_ = GL_TEXTURE0;
     glm::dmat4 eye_from_work_clip_{1.0};
     double focal_px_ = 1;
     GLuint camera_depth_texture_ = 0;  // ours or the window's copy

@@ -68,11 +68,6 @@ void ShadowRenderer::step_done(double ShadowStepTimes::*step) {
     step_start_ = t;
 }
 
-void ShadowRenderer::program_textures_back() const {
-    for (int unit = 0; unit < 7; ++unit) bind_texture(gl_, unit, GLuint(program_textures_[unit]));
-    gl_.glActiveTexture(GLenum(program_active_texture_));
-}
-
 void ShadowRenderer::render_shadow_map(const FrameView& view, const LightFrame& frame) {
     gl_.glBindFramebuffer(GL_FRAMEBUFFER, shadow_map_.framebuffer);
     gl_.glViewport(0, 0, shadow_map_.width, shadow_map_.height);
@@ -86,9 +81,7 @@ void ShadowRenderer::render_shadow_map(const FrameView& view, const LightFrame& 
     gl_.glPolygonOffset(float(settings_.offset_factor), float(settings_.offset_units));
     // Casters between the light and the map's near plane still cast (flattened onto it).
     gl_.glEnable(GL_DEPTH_CLAMP);
-    gl_.glUseProgram(0);
-    gl_.glBindVertexArray(0);
-    program_textures_back();
+    gl_.glUseProgram(0);  // the program's own fixed-function draws
     view.redraw(frame.clip_from_eye() * glm::inverse(view.projection));
     gl_.glDisable(GL_DEPTH_CLAMP);
     gl_.glDisable(GL_POLYGON_OFFSET_FILL);
@@ -104,8 +97,6 @@ void ShadowRenderer::render_camera_depth(const FrameView& view, const glm::dmat4
     gl_.glClearDepth(1.0);
     gl_.glClear(GL_DEPTH_BUFFER_BIT);
     gl_.glUseProgram(0);
-    gl_.glBindVertexArray(0);
-    program_textures_back();
     view.redraw(correction);
 }
 

@@ -245,9 +245,13 @@ TEST(Cover, BuildsUpOverFramesAndRerunsIdentically) {
         const double f = snow_by_class(before, image, ids).at(kGround).value();
         std::printf("[ cover ] building over 20 frames: frame %llu, ground covered %.3f\n",
                     static_cast<unsigned long long>(frame), f);
-        if (frame == 0) EXPECT_EQ(f, 0.0);
-        if (frame == 10) EXPECT_NEAR(f, 0.45, 0.1);
-        if (frame >= 20) EXPECT_EQ(glcast::slave::compare(image, complete).differing_pixels, 0);
+        if (frame == 0) {
+            EXPECT_EQ(f, 0.0);
+        } else if (frame == 10) {
+            EXPECT_NEAR(f, 0.45, 0.1);
+        } else if (frame >= 20) {
+            EXPECT_EQ(glcast::slave::compare(image, complete).differing_pixels, 0);
+        }
     }
 }
 
