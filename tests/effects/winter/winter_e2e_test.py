@@ -18,16 +18,16 @@ import math
 import os
 import re
 import shutil
-import struct
 import subprocess
 import sys
-import zlib
 
 GLCAST = os.environ["GLCAST"]
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..")
 DATA = os.path.join(ROOT, "tests", "data")
 CONFIGS = os.path.join(ROOT, "display_configs")
 OUT = os.path.join(os.environ.get("OUT_DIR", "/tmp/glcast-e2e"), "winter")
+sys.path.insert(0, os.path.join(ROOT, "tests", "e2e"))
+from png import read_png  # noqa: E402
 
 
 def check(cond, msg):
@@ -54,51 +54,6 @@ def replay(capture, out, effects=None, params=(), canvas=None, extra=()):
         cmd += ["--effect-param", p]
     run(cmd)
     return out
-
-
-# ---- PNG reading (8-bit gray/RGB/RGBA, not interlaced: what glcast writes) -----------------
-
-def read_png(path):
-    data = open(path, "rb").read()
-    check(data[:8] == b"\x89PNG\r\n\x1a\n", f"{path} is not a PNG")
-    pos, idat = 8, b""
-    while pos < len(data):
-        (n,) = struct.unpack(">I", data[pos:pos + 4])
-        kind, body = data[pos + 4:pos + 8], data[pos + 8:pos + 8 + n]
-        pos += 12 + n
-        if kind == b"IHDR":
-            width, height, depth, color, _, _, interlace = struct.unpack(">IIBBBBB", body)
-            check(depth == 8 and interlace == 0, f"{path}: unsupported PNG")
-        elif kind == b"IDAT":
-            idat += body
-    bpp = {0: 1, 2: 3, 4: 2, 6: 4}[color]
-    raw = zlib.decompress(idat)
-    stride = width * bpp
-    rows, prev = [], bytearray(stride)
-    for y in range(height):
-        f = raw[y * (stride + 1)]
-        line = bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
-        if f == 1:
-            for i in range(bpp, stride):
-                line[i] = (line[i] + line[i - bpp]) & 255
-        elif f == 2:
-            for i in range(stride):
-                line[i] = (line[i] + prev[i]) & 255
-        elif f == 3:
-            for i in range(stride):
-                left = line[i - bpp] if i >= bpp else 0
-                line[i] = (line[i] + ((left + prev[i]) >> 1)) & 255
-        elif f == 4:
-            for i in range(stride):
-                a = line[i - bpp] if i >= bpp else 0
-                b, c = prev[i], prev[i - bpp] if i >= bpp else 0
-                pa, pb, pc = abs(b - c), abs(a - c), abs(a + b - 2 * c)
-                line[i] = (line[i] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
-        rows.append(line)
-        prev = line
-    pixels = [[tuple(row[x * bpp:x * bpp + 3]) if bpp >= 3 else (row[x * bpp],) * 3 for x in range(width)]
-              for row in rows]
-    return width, height, pixels  # pixels[row from the top][x] = (r, g, b)
 
 
 def luminance(p):
