@@ -24,7 +24,8 @@ except ImportError as e:  # CMake turns this into a configure error
 
 import registry
 from classify import Classifier, WIRE_BYTES
-from slave_plan import SlavePlanner
+from semantics import Semantics, SemanticsError
+from slave_plan import SlavePlanner, ns_id
 
 REGISTRY_DIR = os.environ.get("GLCAST_REGISTRY_DIR", "/usr/share/khronos-api")
 TEMPLATES = os.path.join(HERE, "templates")
@@ -40,6 +41,8 @@ OUTPUTS = {  # template -> generated file
     "roundtrip_test.cpp.j2": "glcast_roundtrip_test.cpp",
     "slave_dispatch.h.j2": "glcast_slave_dispatch.h",
     "slave_dispatch.cpp.j2": "glcast_slave_dispatch.cpp",
+    "gl_api.h.j2": "glcast_gl_api.h",
+    "gl_api.cpp.j2": "glcast_gl_api.cpp",
 }
 
 
@@ -50,6 +53,8 @@ class Model:
             self.annotations = yaml.safe_load(f)
         with open(os.path.join(ann_dir, "pnames.yaml")) as f:
             self.pnames = yaml.safe_load(f)["tables"]
+        with open(os.path.join(ann_dir, "semantics.yaml")) as f:
+            self.semantics_spec = yaml.safe_load(f)
         with open(os.path.join(ann_dir, "handwritten.txt")) as f:
             self.handwritten = [l.split("#")[0].strip() for l in f if l.split("#")[0].strip()]
 
@@ -65,10 +70,18 @@ class Model:
         classifier = Classifier(self.annotations, self.pnames, {**gl_enums, **glx_enums})
         self.plans = [classifier.plan(c, i, set(self.handwritten)) for i, c in enumerate(self.commands)]
         self.add_sample_pnames(classifier)
+        try:
+            self.semantics = Semantics(self.semantics_spec, self.commands, {**gl_enums, **glx_enums}, ns_id)
+            for p in self.plans:
+                self.semantics.plan(p)
+            self.semantics.check_patterns()
+        except SemanticsError as e:
+            sys.exit(f"glcast-codegen: {e}")
         self.slave = SlavePlanner(self.annotations)
         for p in self.plans:
             self.slave.plan(p)
         self.check_annotations()
+        self.check_slave_handwritten()
 
     def add_sample_pnames(self, classifier):
         """For the round-trip test: a pname each table knows, so enum-sized arrays encode."""
@@ -97,6 +110,25 @@ class Model:
             sys.exit("glcast-codegen: interceptor/special/*.cpp and handwritten.txt disagree:\n"
                      f"  listed, not defined: {sorted(set(self.handwritten) - defined)}\n"
                      f"  defined, not listed: {sorted(defined - set(self.handwritten))}")
+
+    def check_slave_handwritten(self):
+        """The slave's hand-written replay (commands.yaml slave.handwritten) against the
+        `replay_special::NAME` functions slave/special/*.cpp defines, as for the shim."""
+        listed = set(self.slave.handwritten)
+        names = {c.name for c in self.commands}
+        if listed - names:
+            sys.exit(f"glcast-codegen: commands.yaml slave.handwritten names unknown commands: {sorted(listed - names)}")
+        special = os.path.join(HERE, "..", "slave", "special")
+        if not os.path.isdir(special):
+            return
+        defined = set()
+        for path in glob.glob(os.path.join(special, "*.cpp")):
+            with open(path) as f:
+                defined |= set(re.findall(r"^void (gl\w+)\(Replayer& \w+, const Call& \w+\)", f.read(), re.M))
+        if defined != listed:
+            sys.exit("glcast-codegen: slave/special/*.cpp and commands.yaml slave.handwritten disagree:\n"
+                     f"  listed, not defined: {sorted(listed - defined)}\n"
+                     f"  defined, not listed: {sorted(defined - listed)}")
 
     def check_annotations(self):
         names = {c.name: c for c in self.commands}
@@ -245,7 +277,8 @@ def main():
         deps = [os.path.join(REGISTRY_DIR, "gl.xml"), os.path.join(REGISTRY_DIR, "glx.xml")]
         deps += sorted(glob.glob(os.path.join(HERE, "*.py")) + glob.glob(os.path.join(HERE, "annotations", "*"))
                        + glob.glob(os.path.join(TEMPLATES, "*.j2"))
-                       + glob.glob(os.path.join(HERE, "..", "interceptor", "special", "*.cpp")))
+                       + glob.glob(os.path.join(HERE, "..", "interceptor", "special", "*.cpp"))
+                       + glob.glob(os.path.join(HERE, "..", "slave", "special", "*.cpp")))
         print(";".join(os.path.abspath(d) for d in deps))
         return
 
@@ -258,7 +291,11 @@ def main():
     env = make_env()
     ctx = {"plans": model.plans, "enum_groups": model.enum_groups(), "table_hash": model.table_hash(),
            "enum_names": model.enum_names(), "namespaces": model.slave.namespace_table(),
-           "pname_tables": model.pname_tables(), "opcode_count": len(model.plans)}
+           "pname_tables": model.pname_tables(), "opcode_count": len(model.plans),
+           "opcodes": {p.cmd.name: p.opcode for p in model.plans},
+           "generators": model.semantics.generators(),
+           "window_system_pnames": model.semantics.window_system_pnames(),
+           "state_groups": model.semantics.state_groups}
     os.makedirs(args.out, exist_ok=True)
     for template, name in OUTPUTS.items():
         text = env.get_template(template).render(**ctx)

@@ -36,15 +36,19 @@ class SlavePlanner:
                 if not (spec or {}).get("same_as")]
 
     def plan(self, p):
-        """Adds p.replay (how, or None when not replayed) and p.replay_params."""
+        """Adds p.replay (how, or None when not replayed), p.replay_fn and p.replay_params.
+        Reads p.sem (semantics.py): a twin of a hand-written command shares its function."""
         cmd = p.cmd
+        twin = p.sem["twin"]
         p.replay = "generated"
+        p.replay_fn = "replay_" + cmd.name
         if not p.serializable:
             p.replay = "unserializable"
         elif cmd.api != "gl":
             p.replay = "window_system"
-        elif cmd.name in self.handwritten:
+        elif cmd.name in self.handwritten or twin in self.handwritten:
             p.replay = "handwritten"
+            p.replay_fn = "replay_special::" + (cmd.name if cmd.name in self.handwritten else twin)
         elif any(fnmatch.fnmatchcase(cmd.name, pat) for pat in self.skip):
             p.replay = "skip"
         elif p.reply_only:
@@ -53,9 +57,9 @@ class SlavePlanner:
         p.replay_ret = None
         if p.replay not in ("generated", "reply_only"):
             return
-        deleting = cmd.name.startswith("glDelete")
+        deleting = p.sem["deletes"]
         uniform = any(fnmatch.fnmatchcase(cmd.name, pat) for pat in self.uniform_patterns)
-        for q, w in zip(cmd.params, p.params):
+        for i, (q, w) in enumerate(zip(cmd.params, p.params)):
             cls = self.name_classes.get(f"{cmd.name}.{q.name}", q.name_class)
             ns = self.namespace(cls)
             role = w.kind
@@ -67,7 +71,13 @@ class SlavePlanner:
                 role = "names_delete" if deleting else "names_in"
             elif ns and w.kind == "out":
                 role = "gen_out"
-            p.replay_params.append({"role": role, "ns": ns, "ctype": q.ctype, "name": q.name, "base": q.base})
+            use = "Use"
+            if role in ("name", "names_in") and (ns in p.sem["first_use_namespaces"] or p.sem["created_param"] == i):
+                use = "CreateAtFirstUse"
+            elif role in ("name_delete", "names_delete"):
+                use = "Delete"
+            p.replay_params.append({"role": role, "ns": ns, "ctype": q.ctype, "name": q.name, "base": q.base,
+                                    "use": use})
         if p.ret and cmd.ret_class:
             p.replay_ret = self.namespace(self.name_classes.get(f"{cmd.name}.return", cmd.ret_class))
         has_program = "program" in [q.name for q in cmd.params]

@@ -16,22 +16,20 @@
 
 namespace glcast {
 
-template <class Fn>
-static Fn real(uint32_t op) { return reinterpret_cast<Fn>(real_proc(op)); }
+// The real driver's functions, as the shim resolves them.
+static const GlApi& real_gl() {
+    static const GlApi gl([](void*, uint32_t opcode) { return real_proc(opcode); }, nullptr);
+    return gl;
+}
 
 void snapshot_back_buffer(int width, int height) {
     static std::atomic<uint64_t> frame{0};
     const uint64_t n = frame++;
     const std::string& dir = shim_config().snapshot_dir;
     if (width <= 0 || height <= 0) return;
-    ReadbackGl gl;
-    gl.GetIntegerv = real<decltype(gl.GetIntegerv)>(OP_glGetIntegerv);
-    gl.BindFramebuffer = real<decltype(gl.BindFramebuffer)>(OP_glBindFramebuffer);
-    gl.BindBuffer = real<decltype(gl.BindBuffer)>(OP_glBindBuffer);
-    gl.ReadBuffer = real<decltype(gl.ReadBuffer)>(OP_glReadBuffer);
-    gl.PixelStorei = real<decltype(gl.PixelStorei)>(OP_glPixelStorei);
-    gl.ReadPixels = real<decltype(gl.ReadPixels)>(OP_glReadPixels);
-    if (!gl.GetIntegerv || !gl.ReadBuffer || !gl.PixelStorei || !gl.ReadPixels) return;
+    const GlApi& gl = real_gl();
+    for (uint32_t op : {OP_glGetIntegerv, OP_glReadBuffer, OP_glPixelStorei, OP_glReadPixels})
+        if (!gl.has(op)) return;
     const slave::Image image{width, height, read_window(gl, GL_BACK, width, height)};
     mkdir(dir.c_str(), 0755);
     char path[4096];

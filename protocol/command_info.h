@@ -7,6 +7,8 @@
 #include <string>
 #include <type_traits>
 
+#include "glcast_commands.h"
+
 namespace glcast {
 
 // How one parameter or return value is encoded; see docs/stream-format.md.
@@ -63,6 +65,46 @@ enum CommandFlags : uint8_t {
     kHandwritten = 8,   // semantics in interceptor/special/
 };
 
+// What a command means beyond its wire layout, from codegen/annotations/semantics.yaml
+// (docs/codegen.md). A twin (a gl.xml alias, or an unaliased extension command with the same
+// meaning) carries the same properties as its core command.
+// (No enumerator is called None: Xlib defines it as a macro.)
+enum class MatrixOp : uint8_t { Nothing, Mode, Push, Pop, Load, Multiply };
+enum class RedrawKind : uint8_t { Ignored, State, Draw, Begin, End, NewList, EndList };
+enum class WindowMapping : uint8_t {
+    Nothing, Viewport, Scissor, ViewportIndexed, ScissorIndexed, ViewportArray, ScissorArray,
+    LineWidth, PointSize, PixelZoom, BlitDestination, DrawFramebuffer,
+};
+enum class ObjectAccess : uint8_t { Nothing, Bound, Named };
+enum class ContextOp : uint8_t { Nothing, Create, MakeCurrent, Swap, Destroy };
+enum SemanticFlags : uint8_t {
+    kSemDeletes = 1,        // releases the names it is given
+    kSemLinksProgram = 2,   // links a program: its uniforms start over
+    kSemFrameOnly = 4,      // changes only the pixels of the framebuffer drawn to
+    kSemWindowQuery = 8,    // glGet*v of a pname that may describe the window system
+    kSemEgl = 16,           // an EGL call (attribute lists use EGL's keys)
+};
+
+struct CommandSemantics {
+    uint32_t twin;              // opcode of the core command it means the same as; its own if none
+    MatrixOp matrix;            // on the stack glMatrixMode selects
+    RedrawKind redraw;          // what the frame recorder keeps of it
+    WindowMapping window;       // window coordinates or pixel sizes a tile maps
+    int8_t window_params[5];    // ... taken from these parameters, in the mapping's order
+    StateGroup state;           // the context state it sets
+    int8_t state_key[2];        // parameters saying which entry of the group (-1: none)
+    ObjectAccess writes;        // object contents it writes ...
+    Ns writes_ns;               // ... of this namespace ...
+    int8_t writes_param;        // ... found by this parameter (a binding target, or a name)
+    int8_t program_use;         // the parameter naming the program it makes current, or -1
+    int8_t shader_type;         // the parameter giving the type of the shader it returns, or -1
+    ContextOp context;          // a window-system call the slave follows ...
+    int8_t context_param;       // ... with this parameter (attributes, drawable, context), or -1
+    uint8_t flags;              // SemanticFlags
+    uint8_t redraw_first_count; // > 0: kept for redraw only when the first parameter is one of
+    const uint32_t* redraw_first_values;
+};
+
 struct CommandInfo {
     const char* name;
     const ParamInfo* params;
@@ -72,6 +114,7 @@ struct CommandInfo {
     uint8_t flags;
     const char* origin;  // GL_VERSION_x_y or the extension that introduced it
     const char* reason;  // why it is not serializable, or ""
+    CommandSemantics sem;
 };
 
 // A value as its wire type: handles and other pointers by address, numbers by conversion.
@@ -90,5 +133,8 @@ std::string bitfield_names(uint32_t value, int group);  // "GL_A_BIT | GL_B_BIT 
 uint32_t opcode_count();
 uint64_t opcode_table_hash();
 int opcode_by_name(const char* name);  // -1 if unknown
+// A pname of the glGet*v calls marked kSemWindowQuery that describes the window system
+// (double buffering, the window's draw and read buffers): semantics.yaml window_system_pnames.
+bool is_window_system_pname(uint32_t pname);
 
 }  // namespace glcast

@@ -69,6 +69,7 @@ enum SyntheticOpcode : uint32_t {
     //   u64 the driver's context handle, u32 share context id (0: none), u8 api (0 GLX, 1 EGL)
     kSynthContext = kSynthBase + 5,
 };
+inline constexpr uint32_t kSynthCount = 6;  // kSynthBase + 0 .. kSynthBase + 5
 
 enum class ClientSlot : uint8_t {
     Vertex, Normal, Color, SecondaryColor, FogCoord, Index, EdgeFlag, TexCoord, Attrib

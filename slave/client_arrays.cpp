@@ -14,8 +14,8 @@ void Replayer::client_arrays(const Call& c) {
     ByteReader r(c.body, c.body_bytes, c.offset + kTupleHeaderBytes);
     const uint32_t n = r.get<uint32_t>();
     GLint array_buffer = 0;
-    gl<decltype(&::glGetIntegerv)>(OP_glGetIntegerv)(GL_ARRAY_BUFFER_BINDING, &array_buffer);
-    const auto bind = gl<decltype(&::glBindBuffer)>(OP_glBindBuffer);
+    api_.glGetIntegerv(GL_ARRAY_BUFFER_BINDING, &array_buffer);
+    auto bind = [this](GLenum target, GLuint buffer) { api_.glBindBuffer(target, buffer); };
     bind(GL_ARRAY_BUFFER, 0);
     for (uint32_t i = 0; i < n; ++i) {
         const auto slot = ClientSlot(r.get<uint8_t>());
@@ -43,29 +43,29 @@ void Replayer::client_arrays(const Call& c) {
         // GL adds first * stride itself: hand it the address the master's range started from.
         const void* p = copy.data() - first_byte;
         switch (slot) {
-        case ClientSlot::Vertex: gl<decltype(&::glVertexPointer)>(OP_glVertexPointer)(size, type, stride, p); break;
-        case ClientSlot::Normal: gl<decltype(&::glNormalPointer)>(OP_glNormalPointer)(type, stride, p); break;
-        case ClientSlot::Color: gl<decltype(&::glColorPointer)>(OP_glColorPointer)(size, type, stride, p); break;
+        case ClientSlot::Vertex: api_.glVertexPointer(size, type, stride, p); break;
+        case ClientSlot::Normal: api_.glNormalPointer(type, stride, p); break;
+        case ClientSlot::Color: api_.glColorPointer(size, type, stride, p); break;
         case ClientSlot::SecondaryColor:
-            gl<decltype(&::glSecondaryColorPointer)>(OP_glSecondaryColorPointer)(size, type, stride, p);
+            api_.glSecondaryColorPointer(size, type, stride, p);
             break;
-        case ClientSlot::FogCoord: gl<decltype(&::glFogCoordPointer)>(OP_glFogCoordPointer)(type, stride, p); break;
-        case ClientSlot::Index: gl<decltype(&::glIndexPointer)>(OP_glIndexPointer)(type, stride, p); break;
-        case ClientSlot::EdgeFlag: gl<decltype(&::glEdgeFlagPointer)>(OP_glEdgeFlagPointer)(stride, p); break;
+        case ClientSlot::FogCoord: api_.glFogCoordPointer(type, stride, p); break;
+        case ClientSlot::Index: api_.glIndexPointer(type, stride, p); break;
+        case ClientSlot::EdgeFlag: api_.glEdgeFlagPointer(stride, p); break;
         case ClientSlot::TexCoord: {
             GLint active = GL_TEXTURE0;
-            gl<decltype(&::glGetIntegerv)>(OP_glGetIntegerv)(GL_CLIENT_ACTIVE_TEXTURE, &active);
-            const auto client_active = gl<decltype(&::glClientActiveTexture)>(OP_glClientActiveTexture);
+            api_.glGetIntegerv(GL_CLIENT_ACTIVE_TEXTURE, &active);
+            auto client_active = [this](GLenum unit) { api_.glClientActiveTexture(unit); };
             client_active(GL_TEXTURE0 + index);
-            gl<decltype(&::glTexCoordPointer)>(OP_glTexCoordPointer)(size, type, stride, p);
+            api_.glTexCoordPointer(size, type, stride, p);
             client_active(GLenum(active));
             break;
         }
         case ClientSlot::Attrib:
             if (integer)
-                gl<decltype(&::glVertexAttribIPointer)>(OP_glVertexAttribIPointer)(index, size, type, stride, p);
+                api_.glVertexAttribIPointer(index, size, type, stride, p);
             else
-                gl<decltype(&::glVertexAttribPointer)>(OP_glVertexAttribPointer)(index, size, type, normalized, stride, p);
+                api_.glVertexAttribPointer(index, size, type, normalized, stride, p);
             break;
         }
     }
@@ -83,14 +83,14 @@ void Replayer::buffer_write(const Call& c) {
     const uint8_t* data = r.bytes(bytes, "buffer write data");
     const GLuint buffer = GLuint(map_name(Ns::buffer, master, c));
     GLint saved = 0;
-    gl<decltype(&::glGetIntegerv)>(OP_glGetIntegerv)(GL_COPY_WRITE_BUFFER_BINDING, &saved);
-    const auto bind = gl<decltype(&::glBindBuffer)>(OP_glBindBuffer);
+    api_.glGetIntegerv(GL_COPY_WRITE_BUFFER_BINDING, &saved);
+    auto bind = [this](GLenum target, GLuint buffer) { api_.glBindBuffer(target, buffer); };
     bind(GL_COPY_WRITE_BUFFER, buffer);
-    void* p = gl<decltype(&::glMapBufferRange)>(OP_glMapBufferRange)(GL_COPY_WRITE_BUFFER, GLintptr(offset), bytes,
+    void* p = api_.glMapBufferRange(GL_COPY_WRITE_BUFFER, GLintptr(offset), bytes,
                                                                      GL_MAP_WRITE_BIT | GL_MAP_INVALIDATE_RANGE_BIT);
     if (p) {
         std::memcpy(p, data, bytes);
-        gl<decltype(&::glUnmapBuffer)>(OP_glUnmapBuffer)(GL_COPY_WRITE_BUFFER);
+        api_.glUnmapBuffer(GL_COPY_WRITE_BUFFER);
     }
     bind(GL_COPY_WRITE_BUFFER, GLuint(saved));
     if (!p) throw ReplayError("buffer write: the slave could not map buffer " + std::to_string(master));

@@ -6,21 +6,13 @@
 #include <cstdint>
 #include <vector>
 
-#include "master/gl_headers.h"
+#include "glcast_gl_api.h"
 
 namespace glcast {
 
-struct ReadbackGl {  // the driver's functions, however the caller resolves them
-    decltype(&::glGetIntegerv) GetIntegerv = nullptr;
-    decltype(&::glBindFramebuffer) BindFramebuffer = nullptr;
-    decltype(&::glBindBuffer) BindBuffer = nullptr;
-    decltype(&::glReadBuffer) ReadBuffer = nullptr;
-    decltype(&::glPixelStorei) PixelStorei = nullptr;
-    decltype(&::glReadPixels) ReadPixels = nullptr;
-};
-
 // `buffer` (GL_BACK or GL_FRONT) of framebuffer 0 as RGBA rows from the top, alpha 255 (a window
-// shows none).
-std::vector<uint8_t> read_window(const ReadbackGl& gl, GLenum buffer, int width, int height);
+// shows none). Through the caller's table of the driver's functions (glBindFramebuffer and
+// glBindBuffer are used where the driver has them: GL 1.x has neither).
+std::vector<uint8_t> read_window(const GlApi& gl, GLenum buffer, int width, int height);
 
 }  // namespace glcast

@@ -182,7 +182,7 @@ StateGuard::StateGuard(const GlApi& gl) : gl_(gl) {
     }
     GLint profile = 0;
     gl.glGetIntegerv(GL_CONTEXT_PROFILE_MASK, &profile);
-    compatibility_ = gl.glPushAttrib && !(profile & GL_CONTEXT_CORE_PROFILE_BIT);
+    compatibility_ = gl.has(OP_glPushAttrib) && !(profile & GL_CONTEXT_CORE_PROFILE_BIT);
     if (compatibility_)
         for (GLenum e : kCompatEnables) enables_.emplace_back(e, gl.glIsEnabled(e)), gl.glDisable(e);
     gl.glGetIntegerv(GL_ACTIVE_TEXTURE, &active_texture_);
@@ -228,7 +228,7 @@ StateGuard::~StateGuard() {
         gl.glActiveTexture(GLenum(GL_TEXTURE0 + i));
         gl.glBindTexture(GL_TEXTURE_2D, GLuint(textures_[i]));
         gl.glBindSampler(GLuint(i), GLuint(samplers_[i]));
-        for (auto [e, on] : unit_enables_[i]) (on ? gl.glEnable : gl.glDisable)(e);
+        for (auto [e, on] : unit_enables_[i]) on ? gl.glEnable(e) : gl.glDisable(e);
     }
     gl.glActiveTexture(GLenum(active_texture_));
     for (auto [p, v] : pixel_store_) gl.glPixelStorei(p, v);
@@ -257,7 +257,7 @@ StateGuard::~StateGuard() {
     gl.glBlendColor(blend_color_[0], blend_color_[1], blend_color_[2], blend_color_[3]);
     gl.glBlendEquationSeparate(GLenum(blend_eq_rgb_), GLenum(blend_eq_a_));
     gl.glBlendFuncSeparate(GLenum(blend_src_rgb_), GLenum(blend_dst_rgb_), GLenum(blend_src_a_), GLenum(blend_dst_a_));
-    for (auto [e, on] : enables_) (on ? gl.glEnable : gl.glDisable)(e);
+    for (auto [e, on] : enables_) on ? gl.glEnable(e) : gl.glDisable(e);
     gl.glScissor(scissor_[0], scissor_[1], scissor_[2], scissor_[3]);
     gl.glViewport(viewport_[0], viewport_[1], viewport_[2], viewport_[3]);
     gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(draw_fb_));

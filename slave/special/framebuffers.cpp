@@ -19,7 +19,7 @@ GLenum window_buffer(Replayer& r, GLenum buf) {
 
 bool window_bound(Replayer& r, GLenum binding) {
     GLint fb = 0;
-    r.gl<decltype(&::glGetIntegerv)>(OP_glGetIntegerv)(binding, &fb);
+    r.api().glGetIntegerv(binding, &fb);
     return fb == 0;
 }
 
@@ -28,13 +28,13 @@ bool window_bound(Replayer& r, GLenum binding) {
 void glDrawBuffer(Replayer& r, const Call& c) {
     GLenum buf = r.value<GLenum>(c, 0);
     if (window_bound(r, GL_DRAW_FRAMEBUFFER_BINDING)) buf = window_buffer(r, buf);
-    r.gl<decltype(&::glDrawBuffer)>(OP_glDrawBuffer)(buf);
+    r.api().glDrawBuffer(buf);
 }
 
 void glReadBuffer(Replayer& r, const Call& c) {
     GLenum buf = r.value<GLenum>(c, 0);
     if (window_bound(r, GL_READ_FRAMEBUFFER_BINDING)) buf = window_buffer(r, buf);
-    r.gl<decltype(&::glReadBuffer)>(OP_glReadBuffer)(buf);
+    r.api().glReadBuffer(buf);
 }
 
 void glDrawBuffers(Replayer& r, const Call& c) {
@@ -43,7 +43,7 @@ void glDrawBuffers(Replayer& r, const Call& c) {
     std::vector<GLenum> mapped(bufs ? bufs : nullptr, bufs ? bufs + std::max(n, 0) : nullptr);
     if (window_bound(r, GL_DRAW_FRAMEBUFFER_BINDING))
         for (GLenum& b : mapped) b = window_buffer(r, b);
-    r.gl<decltype(&::glDrawBuffers)>(OP_glDrawBuffers)(n, mapped.data());
+    r.api().glDrawBuffers(n, mapped.data());
 }
 
 void glNamedFramebufferDrawBuffer(Replayer& r, const Call& c) {
@@ -51,7 +51,7 @@ void glNamedFramebufferDrawBuffer(Replayer& r, const Call& c) {
     const GLuint fb = r.name<GLuint>(Ns::framebuffer, c, 0);
     GLenum buf = r.value<GLenum>(c, 1);
     if (window) buf = window_buffer(r, buf);
-    r.gl<decltype(&::glNamedFramebufferDrawBuffer)>(OP_glNamedFramebufferDrawBuffer)(fb, buf);
+    r.api().glNamedFramebufferDrawBuffer(fb, buf);
 }
 
 void glNamedFramebufferReadBuffer(Replayer& r, const Call& c) {
@@ -59,7 +59,7 @@ void glNamedFramebufferReadBuffer(Replayer& r, const Call& c) {
     const GLuint fb = r.name<GLuint>(Ns::framebuffer, c, 0);
     GLenum buf = r.value<GLenum>(c, 1);
     if (window) buf = window_buffer(r, buf);
-    r.gl<decltype(&::glNamedFramebufferReadBuffer)>(OP_glNamedFramebufferReadBuffer)(fb, buf);
+    r.api().glNamedFramebufferReadBuffer(fb, buf);
 }
 
 }  // namespace glcast::slave::replay_special

@@ -7,7 +7,7 @@ namespace glcast::slave::replay_special {
 
 void glGenLists(Replayer& r, const Call& c) {
     const GLsizei range = r.value<GLsizei>(c, 0);
-    const GLuint slave = r.gl<decltype(&::glGenLists)>(OP_glGenLists)(range);
+    const GLuint slave = r.api().glGenLists(range);
     const uint64_t master = c.ret.bits;
     if (!master || !slave) return;
     for (GLsizei i = 0; i < range; ++i) r.map_created(Ns::display_list, master + uint64_t(i), slave + GLuint(i));
@@ -17,11 +17,11 @@ void glDeleteLists(Replayer& r, const Call& c) {
     const uint64_t master = c.args[0].bits;
     const GLsizei range = r.value<GLsizei>(c, 1);
     NameMap& map = r.current().names.map(Ns::display_list);
-    const auto del = r.gl<decltype(&::glDeleteLists)>(OP_glDeleteLists);
+    const GlApi& gl = r.api();
     for (GLsizei i = 0; i < range; ++i) {
         uint64_t slave = 0;
         if (map.find(master + uint64_t(i), slave)) {
-            del(GLuint(slave), 1);
+            gl.glDeleteLists(GLuint(slave), 1);
             map.erase(master + uint64_t(i));
         }
     }
@@ -59,9 +59,8 @@ void glCallLists(Replayer& r, const Call& c) {
         // An undefined list is ignored by GL; 0 is never a list, so the slave ignores it too.
         names[size_t(i)] = map.find(uint64_t(int64_t(ctx.list_base) + v), slave) ? GLuint(slave) : 0;
     }
-    const auto base = r.gl<decltype(&::glListBase)>(OP_glListBase);
-    base(0);
-    r.gl<decltype(&::glCallLists)>(OP_glCallLists)(n, GL_UNSIGNED_INT, names.data());
+    r.api().glListBase(0);
+    r.api().glCallLists(n, GL_UNSIGNED_INT, names.data());
 }
 
 }  // namespace glcast::slave::replay_special

@@ -5,29 +5,30 @@
 
 #include "master/gl_headers.h"
 #include "slave/replayer.h"
+#include "slave/tile_adapter.h"
 
 namespace glcast::slave::replay_special {
 
 void glGetUniformLocation(Replayer& r, const Call& c) {
     const GLuint program = r.name<GLuint>(Ns::program, c, 0);
     const char* name = r.string(c, 1);
-    const GLint slave = r.gl<decltype(&::glGetUniformLocation)>(OP_glGetUniformLocation)(program, name);
+    const GLint slave = r.api().glGetUniformLocation(program, name);
     const auto master = int32_t(uint32_t(c.ret.bits));
     if (master >= 0 && slave >= 0) r.set_uniform_location(c.args[0].bits, master, slave);
 }
 
 // Rotated tiles with a program projection from the display config (docs/wall.md): vertex
 // shaders get a last step, gl_Position = glcast_clip * gl_Position, the program's main renamed.
-// glcast_clip is set before draws (Replayer::correct_shader_program).
+// glcast_clip is set before draws (TileAdapter::correct_shader_program).
 void glShaderSource(Replayer& r, const Call& c) {
     const GLuint shader = r.name<GLuint>(Ns::program, c, 0);
     const GLsizei count = r.value<GLsizei>(c, 1);
     const char* const* strings = r.strings(c, 2);
     const auto* lengths = static_cast<const GLint*>(r.in(c, 3));
-    const auto source = r.gl<decltype(&::glShaderSource)>(OP_glShaderSource);
-    const auto& types = r.current().names.shared->shader_types;
-    const auto type = types.find(c.args[0].bits);
-    if (!r.view().enabled || !r.view().program_fov_y_deg || type == types.end() || type->second != GL_VERTEX_SHADER) {
+    auto source = [&r](GLuint s, GLsizei n, const char* const* text, const GLint* lengths) {
+        r.api().glShaderSource(s, n, text, lengths);
+    };
+    if (!r.tile_adapter().patches_vertex_shader(c.args[0].bits)) {
         source(shader, count, strings, lengths);
         return;
     }
@@ -52,7 +53,7 @@ void glShaderSource(Replayer& r, const Call& c) {
 void glGetAttribLocation(Replayer& r, const Call& c) {
     const GLuint program = r.name<GLuint>(Ns::program, c, 0);
     const char* name = r.string(c, 1);
-    const GLint slave = r.gl<decltype(&::glGetAttribLocation)>(OP_glGetAttribLocation)(program, name);
+    const GLint slave = r.api().glGetAttribLocation(program, name);
     const auto master = int32_t(uint32_t(c.ret.bits));
     if (slave != master)
         throw ReplayError(std::string("attribute \"") + (name ? name : "") + "\" is at location " +

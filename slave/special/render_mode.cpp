@@ -9,19 +9,19 @@ void glSelectBuffer(Replayer& r, const Call& c) {
     const GLsizei size = std::clamp(r.value<GLsizei>(c, 0), 0, 1 << 24);
     SlaveContext& ctx = r.current();
     ctx.select_buffer.assign(size_t(size) * sizeof(GLuint), 0);
-    r.gl<decltype(&::glSelectBuffer)>(OP_glSelectBuffer)(size, reinterpret_cast<GLuint*>(ctx.select_buffer.data()));
+    r.api().glSelectBuffer(size, reinterpret_cast<GLuint*>(ctx.select_buffer.data()));
 }
 
 void glFeedbackBuffer(Replayer& r, const Call& c) {
     const GLsizei size = std::clamp(r.value<GLsizei>(c, 0), 0, 1 << 24);
     SlaveContext& ctx = r.current();
     ctx.feedback_buffer.assign(size_t(size) * sizeof(GLfloat), 0);
-    r.gl<decltype(&::glFeedbackBuffer)>(OP_glFeedbackBuffer)(size, r.value<GLenum>(c, 1),
+    r.api().glFeedbackBuffer(size, r.value<GLenum>(c, 1),
                                                               reinterpret_cast<GLfloat*>(ctx.feedback_buffer.data()));
 }
 
 void glRenderMode(Replayer& r, const Call& c) {
-    r.gl<decltype(&::glRenderMode)>(OP_glRenderMode)(r.value<GLenum>(c, 0));
+    r.api().glRenderMode(r.value<GLenum>(c, 0));
 }
 
 }  // namespace glcast::slave::replay_special

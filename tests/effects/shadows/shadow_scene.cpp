@@ -113,7 +113,7 @@ SceneContext::SceneContext() {
         throw std::runtime_error("egl context: " + error);
     auto resolve = [this](const char* name) { return backend_->proc_address(name); };
     if (!gl_.load(resolve, error)) throw std::runtime_error(error);
-    if (!gl_.glMatrixMode || !gl_.glLoadMatrixd) throw std::runtime_error("no compatibility profile");
+    if (!gl_.has(glcast::OP_glMatrixMode) || !gl_.has(glcast::OP_glLoadMatrixd)) throw std::runtime_error("no compatibility profile");
 #define SHADOW_TEST_LOAD(name)                                                          \
     compat_.name = reinterpret_cast<decltype(compat_.name)>(backend_->proc_address(#name)); \
     if (!compat_.name) throw std::runtime_error("missing " #name);

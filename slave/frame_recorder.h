@@ -1,16 +1,19 @@
-// The replayer's side of the injected passes (design.md 6): what a slave context records of
-// each frame so that passes can know the scene (the main view, the light) and re-render it.
+// The replayer's side of the injected passes (docs/effects.md): what a slave context records
+// of each frame so that passes can know the scene (the main view, the light) and re-render
+// it, and running the passes before the frame is presented. An observer of the replay core.
 #pragma once
 
 #include <cstdint>
 #include <memory>
 #include <stdexcept>
+#include <unordered_map>
 #include <vector>
 
 #include <glm/glm.hpp>
 
 #include "slave/effects/frame_view.h"
 #include "slave/effects/pipeline.h"
+#include "slave/replay_observer.h"
 
 namespace glcast::slave {
 
@@ -61,6 +64,33 @@ struct EffectsState {
 class EffectsError : public std::runtime_error {
 public:
     using std::runtime_error::runtime_error;
+};
+
+class Replayer;
+class TileAdapter;
+
+class FrameRecorder : public ReplayObserver {
+public:
+    FrameRecorder(Replayer& core, TileAdapter& tile) : core_(core), tile_(tile) {}
+    ~FrameRecorder() override;
+
+    bool wants(uint32_t opcode, const CommandInfo* info) const override;
+    void before_call(const Call& c, const uint8_t* tuple, size_t bytes) override;
+    void end_frame(SlaveContext& ctx) override;
+    void reset() override { states_.clear(); }
+
+private:
+    EffectsState& state(const SlaveContext& ctx);
+    void record(const Call& c, const uint8_t* tuple, size_t bytes);
+    void run_effects(SlaveContext& ctx);
+    void redraw_main_view(SlaveContext& ctx, const glm::dmat4& correction);
+    void frame_view(SlaveContext& ctx, effects::FrameView& view);
+    unsigned window_copy(SlaveContext& ctx, bool depth);  // a GL texture name
+
+    Replayer& core_;
+    TileAdapter& tile_;
+    std::unordered_map<uint32_t, std::unique_ptr<EffectsState>> states_;  // by context id
+    bool checked_ = false;  // the driver has every function the passes need
 };
 
 }  // namespace glcast::slave

@@ -1,0 +1,363 @@
+#include "slave/tile_adapter.h"
+
+#include <algorithm>
+#include <cstring>
+
+#include "master/gl_headers.h"
+#include "slave/replayer.h"
+
+namespace glcast::slave {
+
+// Per context: the program's rectangles as it set them, and the projection-correction state
+// of rotated tiles, one entry per GL_PROJECTION stack level: whether the level holds
+// M * P_app, whether the program changed it since (relative to M * P_app), and the M it holds.
+struct TileAdapter::State {
+    double viewport[kViewports][4] = {};
+    int32_t scissor[kViewports][4] = {};
+    bool indexed = false;  // the program used GL_ARB_viewport_array: all rectangles are applied
+    struct Projection {
+        bool corrected = false, dirty = false;
+        glm::dmat4 m{1.0};
+    };
+    std::vector<Projection> projection = std::vector<Projection>(1);
+    uint32_t matrix_mode = GL_MODELVIEW;
+    bool in_begin_end = false;  // GL refuses queries between glBegin and glEnd
+};
+
+// Per share group: what the shader patch needs to know of shaders and programs.
+struct TileAdapter::Shared {
+    std::unordered_map<uint64_t, uint32_t> shader_types;  // master shader name -> GL_VERTEX_SHADER, ...
+    // glcast_clip's location in each slave program (-1: not patched) and whether it now holds
+    // the correction (window) or the identity (the program's own FBOs).
+    std::unordered_map<uint32_t, std::pair<int32_t, int>> clip_uniforms;
+};
+
+TileAdapter::TileAdapter(Replayer& core) : core_(core) {}
+TileAdapter::~TileAdapter() = default;
+
+TileAdapter::State& TileAdapter::state() {
+    auto& s = states_[core_.current().id];
+    if (!s) s = std::make_unique<State>();
+    return *s;
+}
+
+TileAdapter::Shared& TileAdapter::shared() {
+    auto& s = shared_[core_.current().names.shared.get()];
+    if (!s) s = std::make_unique<Shared>();
+    return *s;
+}
+
+void TileAdapter::reset() {
+    states_.clear();
+    shared_.clear();
+}
+
+bool TileAdapter::wants(uint32_t, const CommandInfo* info) const {
+    if (!info) return false;
+    const CommandSemantics& s = info->sem;
+    const bool view = core_.options().view.enabled;
+    return s.window != WindowMapping::Nothing || s.shader_type >= 0 || (s.flags & kSemLinksProgram) ||
+           (view && (s.matrix != MatrixOp::Nothing || s.redraw == RedrawKind::Draw || s.redraw == RedrawKind::Begin ||
+                     s.redraw == RedrawKind::End));
+}
+
+bool TileAdapter::mapping() { return core_.options().tile.enabled && core_.current().drawing_to_window; }
+
+double TileAdapter::pixel_scale() {
+    const SlaveContext& ctx = core_.current();
+    const TileMapping& t = core_.options().tile;
+    return 0.5 * (t.sx(ctx.master_width) + t.sy(ctx.master_height));
+}
+
+void TileAdapter::made_current(SlaveContext& ctx, bool first) {
+    if (!first) return;
+    // GLX starts a context with viewport and scissor box covering the window it is first made
+    // current to; backends differ (a 1x1 buffer, a window created at another size).
+    const int mw = ctx.master_width ? ctx.master_width : ctx.width;
+    const int mh = ctx.master_height ? ctx.master_height : ctx.height;
+    if (mw <= 0 || mh <= 0) return;
+    State& s = state();
+    for (int i = 0; i < kViewports; ++i) {
+        const double v[4] = {0, 0, double(mw), double(mh)};
+        const int32_t b[4] = {0, 0, mw, mh};
+        std::memcpy(s.viewport[i], v, sizeof v);
+        std::memcpy(s.scissor[i], b, sizeof b);
+    }
+    apply_window_rects();
+}
+
+void TileAdapter::program_viewport(int32_t out[4]) {
+    const State& s = state();
+    for (int i = 0; i < 4; ++i) out[i] = int32_t(s.viewport[0][i]);
+}
+
+// Re-issues the program's viewports and scissor boxes for the current draw framebuffer.
+void TileAdapter::apply_window_rects() {
+    const SlaveContext& ctx = core_.current();
+    const TileMapping& t = core_.options().tile;
+    const GlApi& gl = core_.api();
+    const State& s = state();
+    const bool map = t.enabled && ctx.drawing_to_window;
+    const int W = ctx.master_width, H = ctx.master_height;
+    GLfloat viewports[kViewports][4];
+    GLint scissors[kViewports][4];
+    for (int i = 0; i < (s.indexed ? kViewports : 1); ++i) {
+        const double* v = s.viewport[i];
+        const int32_t* b = s.scissor[i];
+        if (map) {
+            const double mv[4] = {double(t.map_x(v[0], W)), double(t.map_y(v[1], H)), double(t.map_w(v[0], v[2], W)),
+                                  double(t.map_h(v[1], v[3], H))};
+            for (int k = 0; k < 4; ++k) viewports[i][k] = GLfloat(mv[k]);
+            scissors[i][0] = GLint(t.map_x(b[0], W)), scissors[i][1] = GLint(t.map_y(b[1], H));
+            scissors[i][2] = GLint(t.map_w(b[0], b[2], W)), scissors[i][3] = GLint(t.map_h(b[1], b[3], H));
+        } else {
+            for (int k = 0; k < 4; ++k) viewports[i][k] = GLfloat(v[k]), scissors[i][k] = b[k];
+        }
+    }
+    if (s.indexed) {
+        gl.glViewportArrayv(0, kViewports, &viewports[0][0]);
+        gl.glScissorArrayv(0, kViewports, &scissors[0][0]);
+        return;
+    }
+    gl.glViewport(GLint(viewports[0][0]), GLint(viewports[0][1]), GLsizei(viewports[0][2]), GLsizei(viewports[0][3]));
+    gl.glScissor(scissors[0][0], scissors[0][1], scissors[0][2], scissors[0][3]);
+}
+
+// Before a call that opens a draw (a draw call outside glBegin/glEnd, or glBegin itself).
+void TileAdapter::before_call(const Call& c, const uint8_t*, size_t) {
+    const RedrawKind k = c.info->sem.redraw;
+    if (!redrawing_ && !core_.options().view.enabled) return;
+    if (k != RedrawKind::Draw && k != RedrawKind::Begin && k != RedrawKind::End) return;
+    State& s = state();
+    if (k == RedrawKind::End) s.in_begin_end = false;
+    else if (!s.in_begin_end) correct_projection();
+    if (k == RedrawKind::Begin) s.in_begin_end = true;
+}
+
+// Window coordinates of the program in the tile's framebuffer, pixel sizes scaled with the
+// canvas. The program's rectangles are kept as it set them and applied mapped while the
+// window is the draw framebuffer, as they are while one of its own framebuffer objects is.
+bool TileAdapter::replace_call(const Call& c) {
+    const CommandSemantics& sem = c.info->sem;
+    const int8_t* p = sem.window_params;
+    auto arg = [&](int k) { return p[k]; };
+    const bool tile = core_.options().tile.enabled;
+    const GlApi& gl = core_.api();
+    switch (sem.window) {
+    case WindowMapping::Viewport:
+    case WindowMapping::Scissor: {
+        State& s = state();
+        for (int i = 0; i < kViewports; ++i)
+            for (int k = 0; k < 4; ++k) {
+                if (sem.window == WindowMapping::Viewport) s.viewport[i][k] = core_.value<int32_t>(c, arg(k));
+                else s.scissor[i][k] = core_.value<int32_t>(c, arg(k));
+            }
+        if (!tile) return false;
+        apply_window_rects();
+        return true;
+    }
+    case WindowMapping::ViewportIndexed:
+    case WindowMapping::ScissorIndexed:
+    case WindowMapping::ViewportArray:
+    case WindowMapping::ScissorArray: {
+        const bool viewport = sem.window == WindowMapping::ViewportIndexed || sem.window == WindowMapping::ViewportArray;
+        const bool array = sem.window == WindowMapping::ViewportArray || sem.window == WindowMapping::ScissorArray;
+        State& s = state();
+        s.indexed = true;
+        const int64_t first = core_.value<uint32_t>(c, arg(0));
+        const int64_t count = array ? core_.value<int32_t>(c, arg(1)) : 1;
+        // One value each (glViewportIndexedf), or an array of `count` rectangles.
+        const int values_at = array ? 2 : 1;
+        const bool by_value = !array && p[2] >= 0;
+        const PtrRecord* rec = by_value ? nullptr : &c.args[size_t(arg(values_at))].ptr;
+        for (int64_t i = 0; i < count && first + i < kViewports && first + i >= 0; ++i) {
+            for (int k = 0; k < 4; ++k) {
+                double v = 0;
+                if (by_value) {
+                    v = viewport ? core_.value<float>(c, arg(1 + k)) : core_.value<int32_t>(c, arg(1 + k));
+                } else if (rec->tag == PtrTag::Data && uint64_t(4 * i + k) < rec->count) {
+                    if (viewport) { float f; std::memcpy(&f, rec->data + 4 * (4 * i + k), 4); v = f; }
+                    else { int32_t n; std::memcpy(&n, rec->data + 4 * (4 * i + k), 4); v = n; }
+                }
+                if (viewport) s.viewport[first + i][k] = v;
+                else s.scissor[first + i][k] = int32_t(v);
+            }
+        }
+        if (!tile) return false;
+        apply_window_rects();
+        return true;
+    }
+    case WindowMapping::LineWidth:
+    case WindowMapping::PointSize: {
+        if (!mapping()) return false;
+        const GLfloat v = GLfloat(core_.value<GLfloat>(c, arg(0)) * pixel_scale());
+        if (sem.window == WindowMapping::LineWidth) gl.glLineWidth(v);
+        else gl.glPointSize(v);
+        return true;
+    }
+    case WindowMapping::PixelZoom: {
+        if (!mapping()) return false;
+        const SlaveContext& ctx = core_.current();
+        const TileMapping& t = core_.options().tile;
+        gl.glPixelZoom(GLfloat(core_.value<GLfloat>(c, arg(0)) * t.sx(ctx.master_width)),
+                       GLfloat(core_.value<GLfloat>(c, arg(1)) * t.sy(ctx.master_height)));
+        return true;
+    }
+    case WindowMapping::BlitDestination: {
+        // Into the window: the destination rectangle is window coordinates. (Reading the window
+        // back on a tile would need the other tiles' pixels; that source is left as it is.)
+        if (!mapping()) return false;
+        const SlaveContext& ctx = core_.current();
+        const TileMapping& t = core_.options().tile;
+        GLint v[10];
+        for (int i = 0; i < 10; ++i) v[i] = core_.value<GLint>(c, i);
+        v[arg(0)] = GLint(t.map_x(v[arg(0)], ctx.master_width));
+        v[arg(2)] = GLint(t.map_x(v[arg(2)], ctx.master_width));
+        v[arg(1)] = GLint(t.map_y(v[arg(1)], ctx.master_height));
+        v[arg(3)] = GLint(t.map_y(v[arg(3)], ctx.master_height));
+        reinterpret_cast<void (*)(GLint, GLint, GLint, GLint, GLint, GLint, GLint, GLint, GLbitfield, GLenum)>(
+            core_.proc(c.opcode))(v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], GLbitfield(v[8]), GLenum(v[9]));
+        return true;
+    }
+    case WindowMapping::DrawFramebuffer:
+    case WindowMapping::Nothing: return false;
+    }
+    return false;
+}
+
+void TileAdapter::after_call(const Call& c) {
+    const CommandSemantics& sem = c.info->sem;
+    if (sem.window == WindowMapping::DrawFramebuffer) {
+        const auto target = core_.value<GLenum>(c, sem.window_params[0]);
+        if (target == GL_FRAMEBUFFER || target == GL_DRAW_FRAMEBUFFER) {
+            SlaveContext& ctx = core_.current();
+            const bool window = c.args[size_t(sem.window_params[1])].bits == 0;
+            if (window != ctx.drawing_to_window) {
+                ctx.drawing_to_window = window;
+                if (core_.options().tile.enabled) apply_window_rects();
+            }
+        }
+    }
+    if (sem.shader_type >= 0) shared().shader_types[c.ret.bits] = uint32_t(c.args[size_t(sem.shader_type)].bits);
+    if (sem.flags & kSemLinksProgram) shared().clip_uniforms.clear();  // linking resets uniforms
+    if (sem.matrix != MatrixOp::Nothing && (redrawing_ || core_.options().view.enabled)) track_matrix(c);
+}
+
+// --- rotated tiles: the projection correction (slave/view_correction.h) ----------------
+
+void TileAdapter::track_matrix(const Call& c) {
+    State& s = state();
+    switch (c.info->sem.matrix) {
+    case MatrixOp::Mode: s.matrix_mode = uint32_t(c.args[0].bits); return;
+    case MatrixOp::Push:
+        if (s.matrix_mode == GL_PROJECTION) s.projection.push_back(s.projection.back());
+        return;
+    case MatrixOp::Pop:
+        if (s.matrix_mode == GL_PROJECTION && s.projection.size() > 1) s.projection.pop_back();
+        return;
+    default: break;
+    }
+    if (s.matrix_mode != GL_PROJECTION) return;
+    auto& top = s.projection.back();
+    if (c.info->sem.matrix == MatrixOp::Load) top = State::Projection{};  // the program's own matrix again
+    else top.dirty = top.corrected;  // M * P_app * X: M must be redone for P_app * X
+}
+
+glm::dmat4 TileAdapter::program_projection_now() {
+    GLdouble m[16];
+    core_.api().glGetDoublev(GL_PROJECTION_MATRIX, m);
+    glm::dmat4 p;
+    std::memcpy(&p[0][0], m, sizeof m);
+    const auto& top = state().projection.back();
+    return top.corrected ? glm::inverse(top.m) * p : p;
+}
+
+// Before a draw on the window of a fixed-function program: make GL_PROJECTION hold
+// M * P_app for the program's current P_app.
+void TileAdapter::correct_projection() {
+    SlaveContext& ctx = core_.current();
+    const GlApi& gl = core_.api();
+    State& s = state();
+    if (redrawing_) {  // an injected pass re-renders the main view: its correction, always
+        const glm::dmat4 corrected = redraw_correction_ * program_projection_now();
+        gl.glMatrixMode(GL_PROJECTION);
+        gl.glLoadMatrixd(&corrected[0][0]);
+        gl.glMatrixMode(GLenum(s.matrix_mode));
+        s.projection.back() = State::Projection{true, false, redraw_correction_};
+        return;
+    }
+    GLint program = 0;
+    gl.glGetIntegerv(GL_CURRENT_PROGRAM, &program);
+    if (program) {  // a shader program: its patched vertex shader multiplies by glcast_clip
+        correct_shader_program(GLuint(program));
+        return;
+    }
+    if (!ctx.drawing_to_window) return;  // the program's own FBOs: untouched
+    auto& top = s.projection.back();
+    if (top.corrected && !top.dirty) return;
+    GLdouble current[16];
+    gl.glGetDoublev(GL_PROJECTION_MATRIX, current);
+    glm::dmat4 p;
+    std::memcpy(&p[0][0], current, sizeof current);
+    const glm::dmat4 app = top.corrected ? glm::inverse(top.m) * p : p;
+    const glm::dmat4 m = core_.options().view.correction(app);
+    const glm::dmat4 corrected = m * app;
+    GLint mode = GL_MODELVIEW;
+    gl.glGetIntegerv(GL_MATRIX_MODE, &mode);
+    gl.glMatrixMode(GL_PROJECTION);
+    gl.glLoadMatrixd(&corrected[0][0]);
+    gl.glMatrixMode(GLenum(mode));
+    top = State::Projection{true, false, m};
+}
+
+// Shader programs on rotated tiles: glcast_clip holds M (for the config's program_projection)
+// while the window is drawn to, the identity while one of the program's FBOs is.
+void TileAdapter::correct_shader_program(uint32_t program) {
+    SlaveContext& ctx = core_.current();
+    const ViewCorrection& view = core_.options().view;
+    if (!view.program_fov_y_deg) return;
+    const GlApi& gl = core_.api();
+    auto& cache = shared().clip_uniforms;
+    auto it = cache.find(program);
+    if (it == cache.end())
+        it = cache.emplace(program, std::make_pair(gl.glGetUniformLocation(program, "glcast_clip"), -1)).first;
+    const int32_t location = it->second.first;
+    const int want = ctx.drawing_to_window ? 1 : 0;
+    if (location < 0 || it->second.second == want) return;
+    glm::mat4 m(1.0f);
+    if (want) {
+        const double aspect = ctx.master_height ? double(ctx.master_width) / ctx.master_height : 1.0;
+        m = glm::mat4(view.correction(view.program_projection(aspect)));
+    }
+    gl.glUniformMatrix4fv(location, 1, GL_FALSE, &m[0][0]);
+    it->second.second = want;
+}
+
+bool TileAdapter::patches_vertex_shader(uint64_t shader) {
+    const ViewCorrection& view = core_.options().view;
+    if (!view.enabled || !view.program_fov_y_deg) return false;
+    const auto& types = shared().shader_types;
+    const auto type = types.find(shader);
+    return type != types.end() && type->second == GL_VERTEX_SHADER;
+}
+
+void TileAdapter::begin_redraw(const glm::dmat4& correction) {
+    saved_ = std::make_unique<State>(state());
+    GLint mode = GL_MODELVIEW;
+    core_.api().glGetIntegerv(GL_MATRIX_MODE, &mode);
+    state().matrix_mode = uint32_t(mode);
+    redrawing_ = true;
+    redraw_correction_ = correction;
+}
+
+void TileAdapter::end_redraw() {
+    redrawing_ = false;
+    if (saved_) {
+        State& s = state();
+        s.projection = saved_->projection;
+        s.matrix_mode = saved_->matrix_mode;
+        saved_.reset();
+    }
+}
+
+}  // namespace glcast::slave

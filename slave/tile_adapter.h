@@ -1,0 +1,75 @@
+// A tile's view of the program (docs/wall.md): window coordinates and pixel sizes mapped into
+// the tile's framebuffer (slave/tile_mapping.h), and the projection of rotated or asymmetric
+// tiles corrected (slave/view_correction.h). Which calls carry window coordinates, set the
+// draw framebuffer or change a matrix comes from semantics.yaml (`window`, `matrix`); adding a
+// call there is all a new variant of a known kind needs.
+//
+// It always follows the program's viewports, scissor boxes and draw framebuffer, wall or not:
+// the injected passes read them. Rendering into the program's own framebuffer objects is left
+// as the program set it.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "slave/replay_observer.h"
+
+namespace glcast::slave {
+
+class Replayer;
+struct ShareGroup;
+
+class TileAdapter : public ReplayObserver {
+public:
+    // GL_MAX_VIEWPORTS is at least 16 wherever GL_ARB_viewport_array exists.
+    static constexpr int kViewports = 16;
+
+    explicit TileAdapter(Replayer& core);
+    ~TileAdapter() override;
+
+    bool wants(uint32_t opcode, const CommandInfo* info) const override;
+    void before_call(const Call& c, const uint8_t* tuple, size_t bytes) override;
+    bool replace_call(const Call& c) override;
+    void after_call(const Call& c) override;
+    void made_current(SlaveContext& ctx, bool first) override;
+    void reset() override;
+
+    // The program's viewport 0 as it set it (master window coordinates).
+    void program_viewport(int32_t out[4]);
+    // The program's own projection now: GL_PROJECTION without the correction a rotated tile
+    // (or a redraw) premultiplied into it.
+    glm::dmat4 program_projection_now();
+    // Whether the vertex shader of master name `shader` gets the clip-space correction.
+    bool patches_vertex_shader(uint64_t shader);
+
+    // Redraw by the injected passes: draws get `correction` premultiplied into the program's
+    // projection; end_redraw puts the projection tracking back as it was.
+    void begin_redraw(const glm::dmat4& correction);
+    void end_redraw();
+
+private:
+    struct State;
+    struct Shared;
+    State& state();
+    Shared& shared();
+    void apply_window_rects();
+    void track_matrix(const Call& c);
+    void correct_projection();
+    void correct_shader_program(uint32_t program);
+    bool mapping();
+    double pixel_scale();
+
+    Replayer& core_;
+    std::unordered_map<uint32_t, std::unique_ptr<State>> states_;       // by context id
+    std::unordered_map<const ShareGroup*, std::unique_ptr<Shared>> shared_;
+    bool redrawing_ = false;
+    glm::dmat4 redraw_correction_{1.0};
+    std::unique_ptr<State> saved_;  // the tracking state a redraw started from
+};
+
+}  // namespace glcast::slave

@@ -1,0 +1,72 @@
+#include "slave/verifier.h"
+
+#include <cinttypes>
+#include <cstdio>
+#include <cstring>
+
+#include "slave/replayer.h"
+
+namespace glcast::slave {
+
+bool Verifier::wants(uint32_t opcode, const CommandInfo* info) const {
+    return info && kReplayKind[opcode] == ReplayKind::ReplyOnly;
+}
+
+bool Verifier::replace_call(const Call& c) {
+    core_.stats().reply_only++;
+    if (!kVerify[c.opcode]) return true;
+    core_.current();
+    checking_ = true;
+    try {
+        kVerify[c.opcode](core_, c);
+    } catch (...) {
+        checking_ = false;
+        throw;
+    }
+    checking_ = false;
+    return true;
+}
+
+void Verifier::mismatch(const Call& c, const std::string& what) {
+    core_.stats().mismatches++;
+    std::fprintf(stderr, "glcast replay --verify: frame %" PRIu64 ", call %" PRIu64 ": %s: %s\n", core_.frame(), core_.call_index(),
+                 c.info->name, what.c_str());
+}
+
+void Verifier::check_reply(const Call& c, int i, const void* slave_output) {
+    const Arg& a = c.args[size_t(i)];
+    if (!checking_ || a.ptr.tag != PtrTag::Reply || !slave_output) return;
+    // A headless slave's window framebuffer is single-buffered: these answers describe the
+    // slave's window system, not the replay, and are not compared there.
+    if (!core_.current().double_buffered && (c.info->sem.flags & kSemWindowQuery) &&
+        is_window_system_pname(uint32_t(c.args[0].bits)))
+        return;
+    core_.stats().verified++;
+    const ParamInfo& p = c.info->params[i];
+    const size_t bytes = a.reply.count * (p.kind == ArgKind::OutString ? 1 : wire_bytes(p.wire));
+    if (std::memcmp(slave_output, a.reply.data, bytes) == 0) return;
+    size_t first = 0;
+    const auto* s = static_cast<const uint8_t*>(slave_output);
+    while (first < bytes && s[first] == a.reply.data[first]) ++first;
+    mismatch(c, std::string(p.name) + " differs from the master's reply from byte " + std::to_string(first) + " of " +
+                    std::to_string(bytes));
+}
+
+void Verifier::check_return(const Call& c, uint64_t slave_value) {
+    if (!checking_) return;
+    core_.stats().verified++;
+    const uint64_t mask = wire_bytes(c.info->ret.wire) >= 8 ? ~0ull : (1ull << (8 * wire_bytes(c.info->ret.wire))) - 1;
+    if ((slave_value & mask) != (c.ret.bits & mask))
+        mismatch(c, "returned " + std::to_string(slave_value & mask) + ", the master got " + std::to_string(c.ret.bits & mask));
+}
+
+void Verifier::check_return_string(const Call& c, const char* slave_value) {
+    if (!checking_) return;
+    core_.stats().verified++;
+    const PtrRecord& r = c.ret.ptr;
+    const std::string master = r.tag == PtrTag::Data ? std::string(reinterpret_cast<const char*>(r.data), r.count) : "";
+    if (master != (slave_value ? slave_value : ""))
+        mismatch(c, "returned \"" + std::string(slave_value ? slave_value : "") + "\", the master got \"" + master + "\"");
+}
+
+}  // namespace glcast::slave
