@@ -73,12 +73,73 @@ class TrickyCommands(unittest.TestCase):
         self.assertEqual(MODEL.table_hash(), glcast_codegen.Model().table_hash())
 
 
+def sem(command):
+    return PLANS[command].sem
+
+
+def replay_use(command, param):
+    return next(a["use"] for a in PLANS[command].replay_params if a["name"] == param)
+
+
+class DeclaredSemantics(unittest.TestCase):
+    """semantics.yaml, as the generated command table will carry it."""
+
+    def test_unaliased_twins_get_their_core_commands_meaning(self):
+        self.assertEqual(sem("glBindFramebufferEXT")["twin"], "glBindFramebuffer")
+        self.assertEqual(sem("glBindFramebufferEXT")["window"], "draw_framebuffer")
+        self.assertEqual(sem("glBindFramebufferEXT")["window_params"], [0, 1])
+        self.assertEqual(replay_use("glBindFramebufferEXT", "framebuffer"), "CreateAtFirstUse")
+        self.assertTrue(sem("glDeleteTexturesEXT")["deletes"])
+        self.assertEqual(replay_use("glDeleteTexturesEXT", "textures"), "Delete")
+        # not_twins inherit nothing
+        self.assertIsNone(sem("glPolygonOffsetEXT")["twin"])
+        self.assertIsNone(sem("glPolygonOffsetEXT")["state"])
+
+    def test_aliases_found_by_position_when_they_name_parameters_differently(self):
+        self.assertEqual(sem("glUseProgramObjectARB")["program_use"], 0)
+        self.assertEqual(sem("glCreateShaderObjectARB")["shader_type"], 0)
+        self.assertEqual(PLANS["glBindBufferARB"].sem["redraw"], "state")
+
+    def test_window_coordinates_of_every_viewport_and_scissor_form(self):
+        self.assertEqual((sem("glViewport")["window"], sem("glViewport")["window_params"]), ("viewport", [0, 1, 2, 3]))
+        self.assertEqual(sem("glViewportIndexedf")["window"], "viewport_indexed")
+        self.assertEqual(sem("glViewportIndexedfv")["window_params"], [0, 1])
+        self.assertEqual(sem("glViewportArrayv")["window"], "viewport_array")
+        self.assertEqual(sem("glScissorIndexed")["window_params"], [0, 1, 2, 3, 4])
+        self.assertEqual(sem("glScissorArrayv")["window"], "scissor_array")
+        self.assertEqual(sem("glBlitFramebuffer")["window_params"], [4, 5, 6, 7])
+
+    def test_matrix_and_redraw_kinds(self):
+        self.assertEqual(sem("glLoadIdentity")["matrix"], "load")
+        self.assertEqual(sem("glFrustum")["matrix"], "multiply")
+        self.assertEqual(sem("glPushMatrix")["matrix"], "push")
+        self.assertEqual(sem("glDrawElements")["redraw"], "draw")   # from commands.yaml draws
+        self.assertEqual(sem("glRectf")["redraw"], "draw")
+        self.assertEqual(sem("glVertexAttrib4f")["redraw"], "state")
+        self.assertEqual(sem("glMultiTexCoord2fARB")["redraw"], "state")
+        self.assertIsNone(sem("glVertexAttribLPointer")["redraw"])
+        self.assertIsNone(sem("glTexImage2D")["redraw"])            # uploads are never redrawn
+        self.assertEqual([e for _, e in sem("glBindBuffer")["redraw_first_values"]],
+                         ["GL_ARRAY_BUFFER", "GL_ELEMENT_ARRAY_BUFFER"])
+
+    def test_state_writes_and_contexts(self):
+        self.assertEqual((sem("glEnable")["state"], sem("glEnable")["state_key"]), ("enable", [0]))
+        self.assertEqual((sem("glLightfv")["state"], sem("glLightfv")["state_key"]), ("lighting", [0, 1]))
+        self.assertTrue(sem("glClear")["frame_only"] and sem("glDrawArrays")["frame_only"])
+        self.assertFalse(sem("glTexImage2D")["frame_only"])
+        self.assertEqual((sem("glTexImage2D")["writes"], sem("glTexImage2D")["writes_ns"]), ("bound", "texture"))
+        self.assertEqual((sem("glNamedBufferData")["writes"], sem("glNamedBufferData")["writes_param"]), ("named", 0))
+        self.assertEqual((sem("eglMakeCurrent")["context"], sem("eglMakeCurrent")["context_param"]), ("make_current", 1))
+        self.assertEqual(sem("glXSwapBuffers")["context"], "swap")
+
+
 class AnnotationErrors(unittest.TestCase):
     def run_with(self, edit):
         """Runs the generator on a copy of codegen/ whose annotations `edit` changed."""
         with tempfile.TemporaryDirectory() as tmp:
             subprocess.run(["cp", "-r", os.path.join(HERE, "..", "codegen"), tmp], check=True)
             subprocess.run(["cp", "-r", os.path.join(HERE, "..", "interceptor"), tmp], check=True)
+            subprocess.run(["cp", "-r", os.path.join(HERE, "..", "slave"), tmp], check=True)
             edit(os.path.join(tmp, "codegen", "annotations"))
             return subprocess.run([sys.executable, os.path.join(tmp, "codegen", "glcast_codegen.py"), "--report"],
                                   capture_output=True, text=True)
@@ -111,6 +172,39 @@ class AnnotationErrors(unittest.TestCase):
         r = self.run_with(edit)
         self.assertNotEqual(r.returncode, 0, r.stdout[-500:])
         self.assertIn("GL_NOT_AN_ENUM", r.stderr)
+
+    def edit_semantics(self, old, new):
+        def edit(d):
+            path = os.path.join(d, "semantics.yaml")
+            text = open(path).read()
+            self.assertIn(old, text)
+            open(path, "w").write(text.replace(old, new))
+        return self.run_with(edit)
+
+    def test_twin_that_is_neither_declared_nor_refused(self):
+        r = self.edit_semantics("  glBindFramebufferEXT: glBindFramebuffer ", "  ")
+        self.assertNotEqual(r.returncode, 0)
+        self.assertIn("glBindFramebufferEXT", r.stderr)
+        self.assertIn("twins or not_twins", r.stderr)
+
+    def test_pattern_that_matches_nothing(self):
+        r = self.edit_semantics("  link: [glLinkProgram]", "  link: [glLinkProgam]")
+        self.assertNotEqual(r.returncode, 0)
+        self.assertIn("glLinkProgam", r.stderr)
+
+    def test_semantics_parameter_that_does_not_exist(self):
+        r = self.edit_semantics("glBindFramebuffer: [target, framebuffer]", "glBindFramebuffer: [target, fb]")
+        self.assertNotEqual(r.returncode, 0)
+        self.assertIn("'fb'", r.stderr)
+
+    def test_slave_handwritten_without_definition(self):
+        def edit(d):
+            path = os.path.join(d, "commands.yaml")
+            text = open(path).read().replace("handwritten: [glGenLists,", "handwritten: [glFinish, glGenLists,")
+            open(path, "w").write(text)
+        r = self.run_with(edit)
+        self.assertNotEqual(r.returncode, 0)
+        self.assertIn("listed, not defined: ['glFinish']", r.stderr)
 
 
 if __name__ == "__main__":
