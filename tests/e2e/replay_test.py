@@ -27,6 +27,8 @@ CASES = {
     "glxgears": (lambda: ["glxgears"], 20),
     "xscreensaver_gears": (lambda: ["/usr/libexec/xscreensaver/gears", "-window"], 12),
     "threads_buffers": (lambda: [os.path.join(APPS, "threads_buffers"), "--frames", "6"], None),
+    "fbo_ext": (lambda: [os.path.join(APPS, "fbo_ext"), "--frames", "8"], 8),
+    "viewport_array": (lambda: [os.path.join(APPS, "viewport_array"), "--frames", "8"], 8),
 }
 
 

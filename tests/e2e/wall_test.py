@@ -6,6 +6,16 @@ one slave process per tile, headless PNG output.
 
 mosaic_*: the tiles of wall-2x2.json, stitched, equal one replay of the same stream at the
   canvas size, within the tolerance below.
+  mosaic_fbo_ext: a viewport set while the program's own framebuffer object is bound with
+  glBindFramebufferEXT (not an alias of glBindFramebuffer in gl.xml) is not a window viewport,
+  and must stay as it is on every tile (tests/apps_extra/fbo_ext.c).
+  mosaic_viewport_array: indexed viewports and scissor boxes (glViewportIndexedf[v],
+  glViewportArrayv, glScissorIndexed[v], glScissorArrayv, a geometry shader writing
+  gl_ViewportIndex) are window coordinates, mapped like glViewport's and glScissor's
+  (tests/apps_extra/viewport_array.c).
+  The canvas replay is a tile too (one as large as the canvas), so a mapping error can make
+  it and the tiles wrong alike; for these two, pixels of the canvas are also checked against
+  the program's picture scaled to the canvas.
 bezel: every tile of wall-3x2-bezel.json equals its rectangle of the canvas (the bezel strips
   between them are not shown by any tile).
 late_join: a slave started after the program has run 100 frames, and the same slave killed
@@ -76,7 +86,9 @@ def canvas_replay(capture, out, canvas, frame):
     return os.path.join(ref, f"frame-{frame:06d}.png")
 
 
-def mosaic(program):
+def mosaic(program, probes=None):
+    """probes(frame): (x, y, rgb, tolerance, what) that the canvas replay of that frame must show
+    at x, y (from the top left): the canvas itself is right, not only the tiles like it."""
     frames = 6
     out, capture = wall_run("mosaic_" + os.path.basename(program[0]), "wall-2x2.json", program, frames)
     last = f"frame-{frames - 1:06d}.png"
@@ -86,9 +98,18 @@ def mosaic(program):
     stitched = os.path.join(out, "mosaic.png")
     r = run([GLCAST, "image", "mosaic", "2x2", stitched] + tiles)
     check(r.returncode == 0, r.stderr)
-    differing, max_diff = compare(stitched, canvas_replay(capture, out, (1280, 960), frames - 1))
+    canvas = canvas_replay(capture, out, (1280, 960), frames - 1)
+    differing, max_diff = compare(stitched, canvas)
     print(f"{program[0]}: mosaic vs canvas: {differing} of {1280 * 960} pixels differ, max channel difference {max_diff}")
+    wrong = []
+    for x, y, rgb, tolerance, what in (probes(frames - 1) if probes else []):
+        seen = pixel(canvas, x, y)
+        if max(abs(a - b) for a, b in zip(seen, rgb)) > tolerance:
+            wrong.append(f"{what} at {x},{y}: {seen}, expected {rgb}")
+    if probes:
+        print(f"{program[0]}: canvas probes: " + ("; ".join(wrong) if wrong else "all as expected"))
     check(differing <= TOLERANCE * 1280 * 960, f"mosaic differs from the canvas in {differing} pixels")
+    check(not wrong, f"the canvas does not show the program's picture: {'; '.join(wrong)}")
 
 
 def case_mosaic_ff_scene():
@@ -105,6 +126,55 @@ def case_mosaic_glfw_dynamic():
 
 def case_mosaic_glxgears():
     mosaic(["glxgears"])
+
+
+def window_to_canvas(x, y):
+    """A point of the program's 320x240 window (GL: from the bottom left) on the 1280x960
+    canvas image (from the top left), in the middle of the 4x4 pixels it becomes."""
+    return round(4 * x + 2), round(959 - (4 * y + 2))
+
+
+def rgb8(*c):
+    return tuple(round(255 * v) for v in c)
+
+
+def fbo_ext_probes(frame):
+    # tests/apps_extra/fbo_ext.c: the texture (s, t) lies on the window quad x -0.9..0.35,
+    # y -0.85..0.85 (NDC); the fan's white centre is at (0.2, 0.25) of the texture's scene.
+    def texture_point(s, t):
+        return window_to_canvas((0.1 + 1.25 * s) / 2 * 320, (0.15 + 1.7 * t) / 2 * 240)
+    return [(*texture_point(0.6, 0.625), (255, 255, 255), 24, "the fan's white centre inside the texture"),
+            (*texture_point(0.1, 0.9), rgb8(0.15 + 0.02 * (frame % 10), 0.1, 0.3), 3, "the texture's clear colour"),
+            (*window_to_canvas(272, 100), rgb8(0.9, 0.6, 0.1), 3, "the window's orange triangle"),
+            (*window_to_canvas(300, 230), rgb8(0.05, 0.05, 0.08), 3, "the window's clear colour")]
+
+
+def case_mosaic_fbo_ext():
+    mosaic([os.path.join(APPS, "fbo_ext"), "--frames", "100"], fbo_ext_probes)
+
+
+def viewport_array_probes(frame):
+    # tests/apps_extra/viewport_array.c: in every viewport, corners inside its scissor box (on
+    # either side of a seam it spans) show the viewport's colour; a point of the viewport
+    # outside the box shows the clear colour.
+    grey = rgb8(0.12, 0.12, 0.14)
+    red, green, blue, yellow = rgb8(0.85, 0.2, 0.2), rgb8(0.2, 0.8, 0.3), rgb8(0.2, 0.35, 0.9), rgb8(0.95, 0.85, 0.2)
+    return [(*window_to_canvas(15, 15), red, 3, "viewport 0 (red), left of the seam"),
+            (*window_to_canvas(165, 95), red, 3, "viewport 0 (red), right of the seam"),
+            (*window_to_canvas(183, 55), grey, 3, "viewport 0 beyond scissor box 0"),
+            (*window_to_canvas(305, 25), green, 3, "viewport 1 (green), below the seam"),
+            (*window_to_canvas(305, 165), green, 3, "viewport 1 (green), above the seam"),
+            (*window_to_canvas(205, 90), grey, 3, "viewport 1 beyond scissor box 1"),
+            (*window_to_canvas(45, 115), blue, 3, "viewport 2 (blue), below the seam"),
+            (*window_to_canvas(165, 225), blue, 3, "viewport 2 (blue), right of the seam"),
+            (*window_to_canvas(30, 170), grey, 3, "viewport 2 beyond scissor box 2"),
+            (*window_to_canvas(185, 185), yellow, 3, "viewport 3 (yellow)"),
+            (*window_to_canvas(245, 230), grey, 3, "viewport 3 beyond scissor box 3"),
+            (*window_to_canvas(195, 120), grey, 3, "between the viewports")]
+
+
+def case_mosaic_viewport_array():
+    mosaic([os.path.join(APPS, "viewport_array"), "--frames", "100"], viewport_array_probes)
 
 
 def case_bezel():
