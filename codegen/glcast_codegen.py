@@ -24,6 +24,7 @@ except ImportError as e:  # CMake turns this into a configure error
 
 import registry
 from classify import Classifier, WIRE_BYTES
+import synthetic
 from semantics import Semantics, SemanticsError
 from slave_plan import SlavePlanner, ns_id
 
@@ -43,6 +44,9 @@ OUTPUTS = {  # template -> generated file
     "slave_dispatch.cpp.j2": "glcast_slave_dispatch.cpp",
     "gl_api.h.j2": "glcast_gl_api.h",
     "gl_api.cpp.j2": "glcast_gl_api.cpp",
+    "synthetic.h.j2": "glcast_synthetic.h",
+    "synthetic.cpp.j2": "glcast_synthetic.cpp",
+    "synthetic_encode.h.j2": "glcast_synthetic_encode.h",
 }
 
 
@@ -55,6 +59,11 @@ class Model:
             self.pnames = yaml.safe_load(f)["tables"]
         with open(os.path.join(ann_dir, "semantics.yaml")) as f:
             self.semantics_spec = yaml.safe_load(f)
+        with open(os.path.join(ann_dir, "synthetic.yaml")) as f:
+            try:
+                self.synthetic = synthetic.load(yaml.safe_load(f))
+            except synthetic.SyntheticError as e:
+                sys.exit(f"glcast-codegen: {e}")
         with open(os.path.join(ann_dir, "handwritten.txt")) as f:
             self.handwritten = [l.split("#")[0].strip() for l in f if l.split("#")[0].strip()]
 
@@ -295,7 +304,7 @@ def main():
            "opcodes": {p.cmd.name: p.opcode for p in model.plans},
            "generators": model.semantics.generators(),
            "window_system_pnames": model.semantics.window_system_pnames(),
-           "state_groups": model.semantics.state_groups}
+           "state_groups": model.semantics.state_groups, "synthetic": model.synthetic}
     os.makedirs(args.out, exist_ok=True)
     for template, name in OUTPUTS.items():
         text = env.get_template(template).render(**ctx)

@@ -1,5 +1,6 @@
 // Per-thread recursion guard, tuple recording and the stream's lifetime inside the host program.
 #include "interceptor/shim.h"
+#include "glcast_synthetic_encode.h"
 
 #include <time.h>
 #include <unistd.h>
@@ -112,9 +113,7 @@ void CallScope::unserialized(const char* reason) {
     if (!reason || !*reason) reason = info && *info->reason ? info->reason : "not serializable";
     if (g_unserialized[opcode_].fetch_add(1, std::memory_order_relaxed) == 0 && shim_config().verbose)
         std::fprintf(stderr, "glcast: %s forwarded, not serialized: %s\n", info ? info->name : "?", reason);
-    Encoder& e = begin_synthetic(kSynthUnserialized);
-    e.value<uint32_t>(opcode_);
-    e.string(reason);
+    encode_synth_unserialized(begin_synthetic(kSynthUnserialized), opcode_, reason);
     commit_synthetic();
     if (Stream* s = stream()) s->count_unserialized();
 }

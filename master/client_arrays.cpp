@@ -4,6 +4,7 @@
 // programs) pay one check per draw. Index ranges come from the index array itself
 // (max index + 1, honouring base vertex and primitive restart), never from the index count.
 #include "master/client_arrays.h"
+#include "glcast_synthetic_encode.h"
 
 #include <algorithm>
 #include <atomic>
@@ -371,7 +372,7 @@ void CallScope::ship_client_arrays(const DrawRange& range) {
     if (lo < 0) lo = 0;
 
     Encoder& e = begin_synthetic(kSynthClientArrays);
-    e.value<uint32_t>(uint32_t(arrays.size()));
+    encode_synth_client_arrays(e, uint32_t(arrays.size()));
     Stream* s = stream();
     std::lock_guard lock(g_mutex);
     ContextArrays& c = arrays_of_current();
@@ -392,25 +393,11 @@ void CallScope::ship_client_arrays(const DrawRange& range) {
         bool fresh = false;
         Shadow& sh = shadow_for(c, ShadowKey{uint8_t(a.slot), a.index, a.pointer, first_byte, uint32_t(bytes)}, fresh);
         sh.last_use = ++c.clock;
-        e.value<uint8_t>(uint8_t(a.slot));
-        e.value<uint32_t>(a.index);
-        e.value<int32_t>(a.size);
-        e.value<uint32_t>(a.type);
-        e.value<int32_t>(int32_t(stride));
-        e.value<uint8_t>(a.normalized);
-        e.value<uint8_t>(a.integer);
-        e.value<uint32_t>(sh.handle);
-        e.value<uint32_t>(first_byte);
         const uint8_t* data = a.pointer + first_byte;
         const bool hit = !fresh && std::memcmp(sh.bytes.data(), data, size_t(bytes)) == 0;
-        e.value<uint8_t>(hit);
-        if (!hit) {
-            e.value<uint32_t>(uint32_t(bytes));
-            const size_t at = thread_state().synthetic.size();
-            thread_state().synthetic.resize(at + size_t(bytes));
-            std::memcpy(thread_state().synthetic.data() + at, data, size_t(bytes));
-            sh.bytes.assign(data, data + bytes);
-        }
+        encode_synth_client_arrays_item(e, uint8_t(a.slot), a.index, a.size, a.type, int32_t(stride), a.normalized,
+                                        a.integer, sh.handle, first_byte, hit, data, bytes);
+        if (!hit) sh.bytes.assign(data, data + bytes);
         if (s) s->count_cache(hit);
     }
     if (!thread_state().synthetic_encoder.failure().empty()) {

@@ -68,6 +68,12 @@ public:
     void visual_attribs(const int* list);
     void visualinfo(const XVisualInfo* vi);
     void reply_marker(const void* p);
+    // u32 byte count, then the bytes (synthetic tuples' `bytes` fields).
+    void bytes(const void* p, int64_t n) {
+        if (n < 0 || n > kMaxArrayBytes) { fail("byte field of " + std::to_string(n) + " bytes"); n = 0; }
+        value<uint32_t>(uint32_t(n));
+        put(p, size_t(n));
+    }
 
     // Reply part: the data of an output whose request record was PtrTag::Reply.
     void reply_data(const void* p, int64_t count, size_t elem_bytes);

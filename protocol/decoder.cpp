@@ -64,7 +64,7 @@ void decode_tuple(ByteReader& r, Call& call) {
     call.ret = Arg{};
     call.info = nullptr;
     if (call.opcode >= kSynthBase) {
-        if (call.opcode > kSynthContext)
+        if (!is_synthetic_opcode(call.opcode))
             throw DecodeError(call.offset, "unknown synthetic opcode 0x" + [&] {
                 char b[16];
                 std::snprintf(b, sizeof b, "%08x", call.opcode);

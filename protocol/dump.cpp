@@ -124,100 +124,33 @@ std::string argument(const Arg& a, const ParamInfo& p, const DumpOptions& opt) {
     }
 }
 
-const char* slot_name(uint8_t slot) {
-    static const char* names[] = {"vertex", "normal", "color", "secondary_color", "fog_coord",
-                                  "index", "edge_flag", "texcoord", "attrib"};
-    return slot < sizeof names / sizeof *names ? names[slot] : "?";
-}
-
-// Synthetic tuples: parsed here with the same distrust as generated ones.
-std::string format_synthetic(const Call& call, FrameSummary* sum) {
-    ByteReader r(call.body, call.body_bytes, call.offset + kTupleHeaderBytes);
-    std::string s;
+// What a frame's summary counts of glcast's own tuples: client arrays sent and found cached,
+// mapped-buffer writes, calls the master could not serialize.
+void count_synthetic(const Call& call, FrameSummary& sum) {
     switch (call.opcode) {
     case kSynthClientArrays: {
-        const uint32_t n = r.get<uint32_t>();
-        if (n > r.remaining()) throw DecodeError(r.offset(), "client array count runs past the tuple");
-        s = "glcast.client_arrays(";
-        for (uint32_t i = 0; i < n; ++i) {
-            const uint8_t slot = r.get<uint8_t>();
-            const uint32_t index = r.get<uint32_t>();
-            const int32_t size = r.get<int32_t>();
-            const uint32_t type = r.get<uint32_t>();
-            const int32_t stride = r.get<int32_t>();
-            r.get<uint8_t>();
-            r.get<uint8_t>();
-            r.get<uint32_t>();  // handle
-            const uint32_t first_byte = r.get<uint32_t>();
-            const uint8_t cached = r.get<uint8_t>();
-            if (i) s += ", ";
-            s += std::string(slot_name(slot)) + "[" + std::to_string(index) + "] " + std::to_string(size) + "x" +
-                 (enum_name(type) ? enum_name(type) : hex(type)) + " stride " + std::to_string(stride) + " from byte " +
-                 std::to_string(first_byte);
-            if (cached) {
-                s += " cached";
-                if (sum) sum->cache_hits++;
+        SynthClientArrays v;
+        read_synthetic(call, v);
+        for (const auto& a : v.arrays) {
+            if (a.cached) {
+                sum.cache_hits++;
             } else {
-                const uint32_t bytes = r.get<uint32_t>();
-                r.bytes(bytes, "client array data");
-                s += " " + std::to_string(bytes) + " bytes";
-                if (sum) { sum->arrays_sent++; sum->array_bytes += bytes; }
+                sum.arrays_sent++;
+                sum.array_bytes += a.data_bytes;
             }
         }
-        s += ")";
         break;
     }
-    case kSynthBufferWrite: {
-        const uint32_t buffer = r.get<uint32_t>();
-        const uint64_t offset = r.get<uint64_t>();
-        if (PtrTag(r.get<uint8_t>()) != PtrTag::Data) throw DecodeError(r.offset() - 1, "buffer write without data");
-        const uint32_t bytes = r.get<uint32_t>();
-        r.bytes(bytes, "buffer write data");
-        s = "glcast.buffer_write(buffer = " + std::to_string(buffer) + ", offset = " + std::to_string(offset) +
-            ", bytes = " + std::to_string(bytes) + ")";
-        if (sum) sum->buffer_writes++;
-        break;
+    case kSynthBufferWrite: sum.buffer_writes++; break;
+    case kSynthUnserialized: sum.unserialized++; break;
+    default: break;
     }
-    case kSynthUnserialized: {
-        const uint32_t op = r.get<uint32_t>();
-        const CommandInfo* ci = command_info(op);
-        if (!ci) throw DecodeError(r.offset() - 4, "unserialized record names unknown opcode " + std::to_string(op));
-        std::string reason;
-        if (PtrTag(r.get<uint8_t>()) == PtrTag::Data) {
-            const uint32_t n = r.get<uint32_t>();
-            const uint8_t* p = r.bytes(n, "reason");
-            reason.assign(reinterpret_cast<const char*>(p), n);
-        }
-        s = std::string("glcast.unserialized(") + ci->name + ": " + reason + ")";
-        if (sum) sum->unserialized++;
-        break;
-    }
-    case kSynthDrawableSize: {
-        const uint64_t drawable = r.get<uint64_t>();
-        const int32_t w = r.get<int32_t>();
-        const int32_t h = r.get<int32_t>();
-        s = "glcast.drawable_size(drawable = " + hex(drawable) + ", width = " + std::to_string(w) +
-            ", height = " + std::to_string(h) + ")";
-        break;
-    }
-    case kSynthContext: {
-        const uint32_t id = r.get<uint32_t>();
-        const uint64_t handle = r.get<uint64_t>();
-        const uint32_t share = r.get<uint32_t>();
-        const uint8_t api = r.get<uint8_t>();
-        s = "glcast.context(id = " + std::to_string(id) + ", handle = " + hex(handle) + ", share = " +
-            std::to_string(share) + ", api = " + (api ? "EGL" : "GLX") + ")";
-        break;
-    }
-    }
-    if (r.remaining()) throw DecodeError(r.offset(), "unexpected bytes after synthetic tuple");
-    return s;
 }
 
 }  // namespace
 
 std::string format_call(const Call& call, const DumpOptions& opt) {
-    if (!call.info) return format_synthetic(call, nullptr);
+    if (!call.info) return format_synthetic(call);
     const CommandInfo& ci = *call.info;
     std::string s = ci.name;
     s += "(";
@@ -249,7 +182,8 @@ void dump_capture(CaptureReader& reader, const DumpOptions& opt, FILE* out) {
                 decode_tuple(r, call);
                 sum.calls++;
                 sum.raw_bytes += kTupleHeaderBytes + call.body_bytes;
-                std::string line = call.info ? format_call(call, opt) : format_synthetic(call, &sum);
+                std::string line = call.info ? format_call(call, opt) : format_synthetic(call);
+                if (!call.info) count_synthetic(call, sum);
                 if (shown && opt.calls) {
                     if (call.context != context) std::fprintf(out, "# context %u\n", call.context);
                     std::fprintf(out, "%" PRIu64 " %s\n", index, line.c_str());

@@ -4,11 +4,14 @@
 //   message      = MessageHeader, payload (zstd-compressed when kMsgCompressed)
 //   payload      = tuples
 //   tuple        = u32 opcode, u32 context id, u32 body length, body
+//                  (opcodes from kSynthBase on are glcast's own: codegen/annotations/synthetic.yaml)
 //
 // The wire carries the same messages without the file header (design.md 1).
 #pragma once
 
 #include <cstdint>
+
+#include "glcast_synthetic.h"
 
 namespace glcast {
 
@@ -49,27 +52,8 @@ static_assert(sizeof(MessageHeader) == 32);
 inline constexpr uint32_t kMaxMessageBytes = 256u << 20;  // refuse larger length fields
 inline constexpr uint32_t kTupleHeaderBytes = 12;
 
-// Synthetic opcodes: tuples glcast adds to the application's calls (apitrace's FLAG_FAKE).
-enum SyntheticOpcode : uint32_t {
-    kSynthBase = 0xFFFF0000u,
-    // Client arrays a draw reads, just before that draw's tuple (design.md 4).
-    //   u32 array count, then per array: u8 slot kind, u32 slot index, i32 size, u32 type,
-    //   i32 stride (effective), u8 normalized, u8 integer, u32 handle, u32 first byte,
-    //   u8 cached (1: the slave's copy of `handle` is current; no data), else u32 bytes + data
-    kSynthClientArrays = kSynthBase + 1,
-    // Data written through a mapped buffer range, before the unmap/flush/draw that publishes it.
-    //   u32 buffer name, u64 offset, u32 bytes, data
-    kSynthBufferWrite = kSynthBase + 2,
-    // A call that was forwarded but not serialized: u32 opcode, then the reason text.
-    kSynthUnserialized = kSynthBase + 3,
-    // Size of the drawable a context renders to, at make-current and when it changes.
-    //   u64 drawable, i32 width, i32 height
-    kSynthDrawableSize = kSynthBase + 4,
-    // A context came into being (after its creation call's tuple): u32 context id,
-    //   u64 the driver's context handle, u32 share context id (0: none), u8 api (0 GLX, 1 EGL)
-    kSynthContext = kSynthBase + 5,
-};
-inline constexpr uint32_t kSynthCount = 6;  // kSynthBase + 0 .. kSynthBase + 5
+// Synthetic opcodes, their fields, writers and readers: codegen/annotations/synthetic.yaml,
+// generated into glcast_synthetic.h (kSynthBase, kSynthClientArrays, ..., read_synthetic).
 
 enum class ClientSlot : uint8_t {
     Vertex, Normal, Color, SecondaryColor, FogCoord, Index, EdgeFlag, TexCoord, Attrib

@@ -11,33 +11,26 @@ namespace glcast::slave {
 // client-active unit. Both are restored.
 void Replayer::client_arrays(const Call& c) {
     SlaveContext& ctx = current();
-    ByteReader r(c.body, c.body_bytes, c.offset + kTupleHeaderBytes);
-    const uint32_t n = r.get<uint32_t>();
+    SynthClientArrays t;
+    read_synthetic(c, t);
     GLint array_buffer = 0;
     api_.glGetIntegerv(GL_ARRAY_BUFFER_BINDING, &array_buffer);
     auto bind = [this](GLenum target, GLuint buffer) { api_.glBindBuffer(target, buffer); };
     bind(GL_ARRAY_BUFFER, 0);
-    for (uint32_t i = 0; i < n; ++i) {
-        const auto slot = ClientSlot(r.get<uint8_t>());
-        const uint32_t index = r.get<uint32_t>();
-        const int32_t size = r.get<int32_t>();
-        const GLenum type = r.get<uint32_t>();
-        const int32_t stride = r.get<int32_t>();
-        const uint8_t normalized = r.get<uint8_t>();
-        const uint8_t integer = r.get<uint8_t>();
-        const uint32_t handle = r.get<uint32_t>();
-        const uint32_t first_byte = r.get<uint32_t>();
-        const uint8_t cached = r.get<uint8_t>();
+    for (const SynthClientArrays::Item& a : t.arrays) {
+        const auto slot = ClientSlot(a.slot);
+        const uint32_t index = a.index, handle = a.handle, first_byte = a.first_byte;
+        const int32_t size = a.size, stride = a.stride;
+        const GLenum type = a.type;
+        const uint8_t normalized = a.normalized, integer = a.integer;
         std::vector<uint8_t>& copy = ctx.client_arrays[handle];
-        if (cached) {
+        if (a.cached) {
             if (copy.empty()) {
                 bind(GL_ARRAY_BUFFER, GLuint(array_buffer));
                 throw ReplayError("a draw uses client array " + std::to_string(handle) + ", which was never sent");
             }
         } else {
-            const uint32_t bytes = r.get<uint32_t>();
-            const uint8_t* data = r.bytes(bytes, "client array data");
-            copy.assign(data, data + bytes);
+            copy.assign(a.data, a.data + a.data_bytes);
             if (copy.empty()) copy.push_back(0);
         }
         // GL adds first * stride itself: hand it the address the master's range started from.
@@ -75,12 +68,12 @@ void Replayer::client_arrays(const Call& c) {
 // Written through a mapped range on the master. The slave never maps the program's buffers
 // itself, so a short map of its own writes the bytes, whatever the buffer's storage flags.
 void Replayer::buffer_write(const Call& c) {
-    ByteReader r(c.body, c.body_bytes, c.offset + kTupleHeaderBytes);
-    const uint32_t master = r.get<uint32_t>();
-    const uint64_t offset = r.get<uint64_t>();
-    if (PtrTag(r.get<uint8_t>()) != PtrTag::Data) throw ReplayError("buffer write without data");
-    const uint32_t bytes = r.get<uint32_t>();
-    const uint8_t* data = r.bytes(bytes, "buffer write data");
+    SynthBufferWrite t;
+    read_synthetic(c, t);
+    if (!t.data_present) throw ReplayError("buffer write without data");
+    const uint32_t master = t.buffer, bytes = t.data_bytes;
+    const uint64_t offset = t.offset;
+    const uint8_t* data = t.data;
     const GLuint buffer = GLuint(map_name(Ns::buffer, master, c));
     GLint saved = 0;
     api_.glGetIntegerv(GL_COPY_WRITE_BUFFER_BINDING, &saved);

@@ -258,8 +258,9 @@ void Replayer::synthetic(const Call& c) {
     case kSynthClientArrays: client_arrays(c); break;
     case kSynthBufferWrite: buffer_write(c); break;
     case kSynthUnserialized: {
-        ByteReader r(c.body, c.body_bytes, c.offset + kTupleHeaderBytes);
-        const uint32_t op = r.get<uint32_t>();
+        SynthUnserialized t;
+        read_synthetic(c, t);
+        const uint32_t op = t.command;
         stats_.unserialized++;
         if (unserialized_seen_[op]++ == 0 && command_info(op))
             std::fprintf(stderr, "glcast replay: the master could not serialize %s: this frame may differ\n",

@@ -54,23 +54,19 @@ bool WindowSystem::wants(uint32_t opcode, const CommandInfo* info) const {
 
 bool WindowSystem::replace_call(const Call& c) {
     if (c.opcode == kSynthContext) {
-        ByteReader r(c.body, c.body_bytes, c.offset + kTupleHeaderBytes);
-        const uint32_t id = r.get<uint32_t>();
-        const uint64_t handle = r.get<uint64_t>();
-        const uint32_t share = r.get<uint32_t>();
-        const auto request = pending_.find(handle);
+        SynthContext t;
+        read_synthetic(c, t);
+        const auto request = pending_.find(t.handle);
         const ContextRequest wanted = request != pending_.end() ? request->second : ContextRequest{};
         if (request != pending_.end()) pending_.erase(request);
-        core_.add_context(id, handle, share, wanted);
-        ids_by_handle_[handle] = id;
+        core_.add_context(t.id, t.handle, t.share, wanted);
+        ids_by_handle_[t.handle] = t.id;
         return true;
     }
     if (c.opcode == kSynthDrawableSize) {
-        ByteReader r(c.body, c.body_bytes, c.offset + kTupleHeaderBytes);
-        const uint64_t drawable = r.get<uint64_t>();
-        const int32_t w = r.get<int32_t>();
-        const int32_t h = r.get<int32_t>();
-        drawable_sizes_[drawable] = {w, h};  // used at the next make-current or swap
+        SynthDrawableSize t;
+        read_synthetic(c, t);
+        drawable_sizes_[t.drawable] = {t.width, t.height};  // used at the next make-current or swap
         return true;
     }
     const CommandSemantics& sem = c.info->sem;

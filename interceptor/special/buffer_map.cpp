@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "glcast_commands.h"
+#include "glcast_synthetic_encode.h"
 #include "glcast_encode.h"
 #include "glcast_special.h"
 #include "interceptor/shim.h"
@@ -81,10 +82,7 @@ GLbitfield access_bits(GLenum access) {  // glMapBuffer's enum to glMapBufferRan
 
 void emit_write(CallScope& scope, GLuint buffer, int64_t offset, const uint8_t* data, int64_t bytes) {
     if (bytes <= 0) return;
-    Encoder& e = scope.begin_synthetic(kSynthBufferWrite);
-    e.value<uint32_t>(buffer);
-    e.value<uint64_t>(uint64_t(offset));
-    e.data(data, bytes, 1);
+    encode_synth_buffer_write(scope.begin_synthetic(kSynthBufferWrite), buffer, uint64_t(offset), data, bytes);
     scope.commit_synthetic();
 }
 

@@ -7,6 +7,7 @@
 #include <mutex>
 
 #include "glcast_commands.h"
+#include "glcast_synthetic_encode.h"
 #include "glcast_encode.h"
 #include "glcast_special.h"
 #include "interceptor/dl_hooks.h"
@@ -48,11 +49,7 @@ void created(CallScope& scope, const void* handle, const void* share, uint8_t ap
         std::lock_guard lock(g_mutex);
         id = g_context_ids[handle] = g_next_id++;
     }
-    Encoder& e = scope.begin_synthetic(kSynthContext);
-    e.value<uint32_t>(id);
-    e.address(handle);
-    e.value<uint32_t>(id_of(share));
-    e.value<uint8_t>(api);
+    encode_synth_context(scope.begin_synthetic(kSynthContext), id, reinterpret_cast<uintptr_t>(handle), id_of(share), api);
     scope.commit_synthetic();
 }
 
@@ -68,10 +65,7 @@ void drawable_size(CallScope& scope, uint64_t drawable, int32_t w, int32_t h) {
         if (size == std::make_pair(w, h)) return;
         size = {w, h};
     }
-    Encoder& e = scope.begin_synthetic(kSynthDrawableSize);
-    e.value<uint64_t>(drawable);
-    e.value<int32_t>(w);
-    e.value<int32_t>(h);
+    encode_synth_drawable_size(scope.begin_synthetic(kSynthDrawableSize), drawable, w, h);
     scope.commit_synthetic();
 }
 

@@ -85,7 +85,8 @@ def case_ff_scene():
     check(all(int(f[4]) > 0 for f in s[1:]), "unchanged client arrays were not cache hits")
     check(all(int(f[2]) > 0 for f in s[1:]), "the array the program changes every frame was not resent")
     # the indexed draw ships the range up to the max index, not the index count
-    m = re.search(r"glcast.client_arrays\(vertex\[0\] 3xGL_FLOAT stride 12 from byte (\d+) (\d+) bytes.*\n\d+ "
+    m = re.search(r"glcast.client_arrays\(arrays = \[\{slot = vertex, index = 0, size = 3, type = GL_FLOAT, stride = 12, "
+                  r"[^}]*first_byte = (\d+), cached = 0, data = (\d+) bytes\}.*\n\d+ "
                   r"glDraw(?:Range)?Elements\(mode = \w+, (?:start = \d+, end = \d+, )?count = (\d+), "
                   r"type = GL_UNSIGNED_SHORT, indices = (?:blob|\{)", text)
     check(m, "no client-array draw with client indices")
@@ -106,7 +107,7 @@ def case_core_scene():
           "shader source strings missing")
     check(re.search(r"glCheckFramebufferStatus\(target = GL_FRAMEBUFFER\) = GL_FRAMEBUFFER_COMPLETE", text),
           "FBO status reply missing")
-    check(re.search(r"glcast.buffer_write\(buffer = \d+, offset = \d+, bytes = \d+\)\n\d+ glUnmapBuffer", text),
+    check(re.search(r"glcast.buffer_write\(buffer = \d+, offset = \d+, data = \d+ bytes\)\n\d+ glUnmapBuffer", text),
           "mapped range not shipped before glUnmapBuffer")
     check(re.search(r"glDrawElements\(.*indices = buffer\+0x", text), "element-buffer draw missing")
     print("core_scene: ok")
@@ -162,7 +163,7 @@ def case_threads_buffers():
     persistent, explicit = m.group(1), m.group(2)
     writes = re.findall(rf"glcast.buffer_write\(buffer = {persistent}, .*\)\n\d+ glDrawArrays", text)
     check(len(writes) >= 5, f"persistent-map writes before draws: {len(writes)}")
-    flushes = re.findall(rf"glcast.buffer_write\(buffer = {explicit}, offset = 0, bytes = 24\)\n\d+ glFlushMappedBufferRange", text)
+    flushes = re.findall(rf"glcast.buffer_write\(buffer = {explicit}, offset = 0, data = 24 bytes\)\n\d+ glFlushMappedBufferRange", text)
     check(len(flushes) == 6, f"explicit flushes shipped: {len(flushes)}")
     print(f"threads_buffers: {len(writes)} persistent writes, {len(flushes)} flushes")
 
