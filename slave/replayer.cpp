@@ -4,7 +4,7 @@
 #include <cinttypes>
 #include <cstdio>
 
-#include "master/gl_headers.h"
+#include "common/gl_headers.h"
 #include "slave/effects_frame.h"
 
 namespace glcast::slave {

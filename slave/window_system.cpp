@@ -5,10 +5,10 @@
 #include <cinttypes>
 #include <cstdio>
 
-#include "master/gl_headers.h"
+#include "common/gl_headers.h"
+#include "common/window_readback.h"
 #include "slave/effects_frame.h"
 #include "slave/replayer.h"
-#include "slave/window_readback.h"
 
 namespace glcast::slave {
 namespace {

@@ -6,7 +6,7 @@
 #include <functional>
 #include <string>
 
-#include "master/gl_headers.h"
+#include "common/gl_headers.h"
 
 namespace glcast::slave::effects {
 

@@ -1,7 +1,7 @@
 // Window coordinates on a tile (slave/tile_mapping.h): the program's viewport and scissor box
 // are kept as it set them and applied mapped while the window framebuffer is drawn to, as they
 // are while one of its own framebuffer objects is; pixel-sized state scales with the canvas.
-#include "master/gl_headers.h"
+#include "common/gl_headers.h"
 #include "slave/replayer.h"
 
 namespace glcast::slave::replay_special {
