@@ -15,9 +15,9 @@
 #include <string>
 #include <vector>
 
+#include "common/image.h"
 #include "slave/effects/gl_util.h"
-#include "slave/effects/shadow_renderer.h"
-#include "slave/image.h"
+#include "slave/effects/shadows/shadow_renderer.h"
 #include "tests/effects/shadows/shadow_scene.h"
 
 using namespace glcast::slave::effects;

@@ -1,10 +1,10 @@
-// Spectral snow synthesis time per frame on one core (slave/effects/spectral_snow.h,
+// Spectral snow synthesis time per frame on one core (slave/effects/snow/spectral_snow.h,
 // docs/snow.md), split into the paper's stages (sec. 6.1): phase update (advance(): phases,
 // coefficients, temporal blur), inverse FFT (field(): scatter into the half spectrum + c2r), and
 // mapping (opacity(): shift, scale, clip, square). Prints a markdown table of medians.
 //
 //   spectral_snow_bench [frames=400] [--measure]
-#include "slave/effects/spectral_snow.h"
+#include "slave/effects/snow/spectral_snow.h"
 
 #include <algorithm>
 #include <chrono>

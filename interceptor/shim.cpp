@@ -14,10 +14,10 @@
 #include <mutex>
 
 #include "glcast_commands.h"
+#include "interceptor/client_arrays.h"
 #include "interceptor/config.h"
+#include "interceptor/driver_size_queries.h"
 #include "interceptor/shim_internal.h"
-#include "master/client_arrays.h"
-#include "master/driver_size_queries.h"
 #include "master/publisher.h"
 #include "master/stream.h"
 #include "protocol/format.h"

@@ -61,4 +61,8 @@ private:
 uint32_t current_context_id();
 void set_current_context(uint32_t id);
 
+// Mapped buffers (special/buffer_map.cpp): called before every draw, ships what the program
+// wrote into persistent mappings since the last one.
+void ship_mapped_writes(CallScope& scope);
+
 }  // namespace glcast

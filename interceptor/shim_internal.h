@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "master/driver_size_queries.h"
+#include "interceptor/driver_size_queries.h"
 #include "master/encoder.h"
 
 namespace glcast {

@@ -7,12 +7,12 @@
 #include <cstdio>
 #include <vector>
 
+#include "common/gl_headers.h"
+#include "common/image.h"
+#include "common/window_readback.h"
 #include "glcast_commands.h"
 #include "interceptor/config.h"
 #include "interceptor/shim.h"
-#include "master/gl_headers.h"
-#include "slave/image.h"
-#include "slave/window_readback.h"
 
 namespace glcast {
 

@@ -1,8 +1,8 @@
 // The vertex range an index array reads: pure arithmetic, shared by the shim and tests.
 #include <algorithm>
 
-#include "master/client_arrays.h"
-#include "master/gl_headers.h"
+#include "common/gl_headers.h"
+#include "master/index_range.h"
 
 namespace glcast {
 namespace {

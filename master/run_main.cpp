@@ -17,9 +17,9 @@
 #include <thread>
 #include <vector>
 
+#include "display_configs/display_config.h"
 #include "master/launcher.h"
 #include "master/swap_barrier.h"
-#include "slave/display_config.h"
 #include "slave/effects/effect_params.h"
 
 namespace glcast {

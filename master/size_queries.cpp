@@ -3,7 +3,7 @@
 #include <cstdio>
 #include <cstring>
 
-#include "master/gl_headers.h"
+#include "common/gl_headers.h"
 
 namespace glcast {
 

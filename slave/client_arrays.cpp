@@ -1,6 +1,6 @@
 // Client-memory vertex arrays and mapped-buffer writes, as the master shipped them
 // (protocol/format.h: kSynthClientArrays, kSynthBufferWrite).
-#include "master/gl_headers.h"
+#include "common/gl_headers.h"
 #include "protocol/format.h"
 #include "slave/replayer.h"
 

@@ -6,7 +6,7 @@
 #include <cstring>
 #include <string>
 
-#include "master/gl_headers.h"
+#include "common/gl_headers.h"
 #include "protocol/format.h"
 #include "slave/effects/gl_util.h"
 #include "slave/frame_recorder.h"

@@ -5,7 +5,7 @@
 #include <cstdlib>
 #include <cstring>
 
-#include "slave/image.h"
+#include "common/image.h"
 
 namespace glcast::slave {
 

@@ -2,7 +2,7 @@
 // (slave/name_map.h), and uniform locations per program.
 #include <cstring>
 
-#include "master/gl_headers.h"
+#include "common/gl_headers.h"
 #include "slave/replayer.h"
 
 namespace glcast::slave {

@@ -2,7 +2,7 @@
 // per-call scratch memory (the arena), outputs sized for the driver to write.
 #include <cstring>
 
-#include "master/gl_headers.h"
+#include "common/gl_headers.h"
 #include "slave/replayer.h"
 
 namespace glcast::slave {

@@ -8,8 +8,8 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "common/image.h"
 #include "protocol/decoder.h"
-#include "slave/image.h"
 #include "slave/replayer.h"
 #include "slave/tile_options.h"
 

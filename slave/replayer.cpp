@@ -3,11 +3,11 @@
 #include <cinttypes>
 #include <cstdio>
 
-#include "master/gl_headers.h"
+#include "common/gl_headers.h"
+#include "common/window_readback.h"
 #include "slave/frame_recorder.h"
 #include "slave/tile_adapter.h"
 #include "slave/verifier.h"
-#include "slave/window_readback.h"
 #include "slave/window_system.h"
 
 namespace glcast::slave {

@@ -10,7 +10,7 @@
 #include <cstdlib>
 #include <cstring>
 
-#include "slave/image.h"
+#include "common/image.h"
 #include "slave/network_source.h"
 #include "slave/replayer.h"
 #include "slave/tile_options.h"

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cstring>
 
-#include "master/gl_headers.h"
+#include "common/gl_headers.h"
 #include "slave/replayer.h"
 
 namespace glcast::slave {

@@ -1,6 +1,6 @@
 #include "slave/tile_options.h"
 
-#include "slave/display_config.h"
+#include "display_configs/display_config.h"
 
 namespace glcast::slave {
 

@@ -2,7 +2,7 @@
 // the master's drawable had (slave/backend.h says why it is not an FBO).
 #include "slave/window_system.h"
 
-#include "master/gl_headers.h"
+#include "common/gl_headers.h"
 #include "slave/replayer.h"
 
 namespace glcast::slave {

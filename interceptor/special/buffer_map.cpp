@@ -22,8 +22,8 @@
 #include "glcast_synthetic_encode.h"
 #include "glcast_encode.h"
 #include "glcast_special.h"
+#include "interceptor/driver_size_queries.h"
 #include "interceptor/shim.h"
-#include "master/driver_size_queries.h"
 #include "protocol/format.h"
 
 namespace glcast {

@@ -2,8 +2,8 @@
 // driver read all of them: the shim ships the locked range with every draw in between.
 #include "glcast_encode.h"
 #include "glcast_special.h"
+#include "interceptor/client_arrays.h"
 #include "interceptor/shim.h"
-#include "master/client_arrays.h"
 
 namespace glcast {
 

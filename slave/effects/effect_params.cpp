@@ -6,7 +6,7 @@
 #include <cstdlib>
 #include <stdexcept>
 
-#include "slave/display_config.h"
+#include "common/edit_distance.h"
 #include "slave/effects/pipeline.h"
 
 namespace glcast::slave::effects {
@@ -78,6 +78,11 @@ std::string EffectParams::text(const std::string& name) const {
     if (!spec || !spec->text) throw std::logic_error("undeclared text effect parameter " + name);
     auto it = values_.find(name);
     return it == values_.end() ? std::string() : it->second;
+}
+
+const std::vector<std::string>& known_display_effects() {
+    static const std::vector<std::string> names = {"snow", "rain", "cover", "icicles", "shadows"};
+    return names;
 }
 
 bool EffectsSettings::enable(const std::string& list, std::string& error) {

@@ -37,6 +37,10 @@ private:
     std::map<std::string, std::string> values_;
 };
 
+// The effect names --effects and a display config's "effects" may list, in the order the
+// documentation gives them.
+const std::vector<std::string>& known_display_effects();
+
 // The effects a slave runs: names from --effects (comma-separated) and a display config's
 // "effects", plus parameters.
 struct EffectsSettings {

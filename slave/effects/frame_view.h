@@ -19,7 +19,7 @@
 
 #include <glm/glm.hpp>
 
-#include "master/gl_headers.h"
+#include "common/gl_headers.h"
 
 namespace glcast::slave::effects {
 

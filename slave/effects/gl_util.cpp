@@ -5,7 +5,7 @@
 
 namespace glcast::slave::effects {
 
-// Generated from slave/effects/*.{vert,frag,glsl} (CMake: glcast_embed_shaders).
+// Generated from slave/effects/**/*.{vert,frag,glsl} (CMake: glcast_embed_shaders).
 const std::map<std::string, std::string>& embedded_shaders();
 
 const std::string& shader_source(const std::string& file_name) {

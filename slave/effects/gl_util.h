@@ -12,8 +12,8 @@
 
 namespace glcast::slave::effects {
 
-// The text of slave/effects/<file_name> (e.g. "snow_composite.frag"); throws std::runtime_error
-// for a name that was not embedded.
+// The text of the shader file <file_name> of slave/effects/ or one of its folders (e.g.
+// "snow_composite.frag"); throws std::runtime_error for a name that was not embedded.
 const std::string& shader_source(const std::string& file_name);
 
 // Compiles and links a program from embedded shader files. Every file gets the line

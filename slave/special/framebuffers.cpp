@@ -1,5 +1,5 @@
 // Buffer names of the window framebuffer (GL_BACK, ...) as the slave's window has them.
-#include "master/gl_headers.h"
+#include "common/gl_headers.h"
 #include "slave/replayer.h"
 
 namespace glcast::slave::replay_special {

@@ -1,6 +1,6 @@
 // Display lists: glGenLists hands out a range, and glCallLists adds glListBase to every
 // entry, so names are mapped entry by entry here rather than by the generated code.
-#include "master/gl_headers.h"
+#include "common/gl_headers.h"
 #include "slave/replayer.h"
 
 namespace glcast::slave::replay_special {

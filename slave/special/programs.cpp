@@ -3,7 +3,7 @@
 #include <regex>
 #include <string>
 
-#include "master/gl_headers.h"
+#include "common/gl_headers.h"
 #include "slave/replayer.h"
 #include "slave/tile_adapter.h"
 

@@ -1,6 +1,6 @@
 // Selection and feedback: GL keeps the buffer pointer and fills it during later draws, so the
 // slave gives it memory of its own that lives as long as the context.
-#include "master/gl_headers.h"
+#include "common/gl_headers.h"
 #include "slave/replayer.h"
 
 namespace glcast::slave::replay_special {

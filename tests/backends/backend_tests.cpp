@@ -1,4 +1,4 @@
-// Context backends (slave/backends/) and image utilities (slave/image.*).
+// Context backends (slave/backends/) and image utilities (common/image.*).
 //
 // A backend's default framebuffer is the program's window framebuffer (slave/backend.h): the
 // tests draw into it, not into FBOs, and check its size, its buffers, its life across
@@ -28,8 +28,8 @@
 #include <thread>
 #include <vector>
 
+#include "common/image.h"
 #include "slave/backend.h"
-#include "slave/image.h"
 #include "tests/backends/x11_grab.h"
 
 using namespace glcast::slave;

@@ -5,7 +5,7 @@
 
 #include <string>
 
-#include "slave/image.h"
+#include "common/image.h"
 
 namespace glcast::test {
 

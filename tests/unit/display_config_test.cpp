@@ -1,10 +1,10 @@
-// Display configs (slave/display_config.h): the shipped files load with their stated geometry,
+// Display configs (display_configs/display_config.h): the shipped files load with their stated geometry,
 // every validation rule gives its exact message, and no input crashes the loader.
 //
 // Alone, from the repository root:
-//   g++ -std=c++17 -DGLCAST_SOURCE_DIR=\"$PWD\" -I. slave/display_config.cpp tests/unit/display_config_test.cpp
+//   g++ -std=c++17 -DGLCAST_SOURCE_DIR=\"$PWD\" -I. display_configs/display_config.cpp tests/unit/display_config_test.cpp
 //       -lgtest -lgtest_main -pthread
-#include "slave/display_config.h"
+#include "display_configs/display_config.h"
 
 #include <gtest/gtest.h>
 

@@ -7,8 +7,8 @@
 #include <cstring>
 
 #include "glcast_encode.h"
-#include "master/client_arrays.h"
 #include "master/encoder.h"
+#include "master/index_range.h"
 #include "protocol/decoder.h"
 #include "tests/roundtrip_support.h"
 

@@ -1,9 +1,9 @@
-// Spectral snow synthesis (slave/effects/spectral_snow.h, docs/snow.md): the 3D spectrum of a
+// Spectral snow synthesis (slave/effects/snow/spectral_snow.h, docs/snow.md): the 3D spectrum of a
 // synthesized sequence lies on the dispersion surface of Eq. 6 inside the annulus, the temporal
 // blur removes everything above the temporal Nyquist limit, phases advance by omega_t dt with C
 // and theta changing over time, the opacity has the mapped statistics and no seam, and a seed
 // always gives the same texture.
-#include "slave/effects/spectral_snow.h"
+#include "slave/effects/snow/spectral_snow.h"
 
 #include <fftw3.h>
 #include <gtest/gtest.h>

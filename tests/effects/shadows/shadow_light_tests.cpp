@@ -1,4 +1,4 @@
-// The light geometry of the soft-shadow pass (slave/effects/shadow_light.h), without GL.
+// The light geometry of the soft-shadow pass (slave/effects/shadows/shadow_light.h), without GL.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -6,7 +6,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "slave/effects/effect_params.h"
-#include "slave/effects/shadow_light.h"
+#include "slave/effects/shadows/shadow_light.h"
 
 using namespace glcast::slave::effects;
 

@@ -14,10 +14,10 @@
 
 #include <glm/glm.hpp>
 
+#include "common/image.h"
 #include "slave/backend.h"
 #include "slave/effects/frame_view.h"
 #include "slave/effects/gl_api.h"
-#include "slave/image.h"
 
 namespace shadow_test {
 

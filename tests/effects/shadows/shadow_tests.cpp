@@ -18,7 +18,7 @@
 
 #include "slave/effects/gl_util.h"
 #include "slave/effects/pipeline.h"
-#include "slave/effects/shadow_renderer.h"
+#include "slave/effects/shadows/shadow_renderer.h"
 #include "tests/effects/shadows/shadow_scene.h"
 
 using namespace glcast::slave::effects;

@@ -9,10 +9,10 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "common/image.h"
 #include "slave/effects/gl_util.h"
 #include "slave/effects/pipeline.h"
-#include "slave/effects/snow_motion.h"
-#include "slave/image.h"
+#include "slave/effects/snow/snow_motion.h"
 #include "slave/replayer.h"
 #include "tests/effects/snow/effects_test_support.h"
 

@@ -16,11 +16,11 @@
 
 #include <glm/glm.hpp>
 
+#include "common/image.h"
 #include "slave/backend.h"
 #include "slave/effects/effect_params.h"
 #include "slave/effects/frame_view.h"
 #include "slave/effects/gl_api.h"
-#include "slave/image.h"
 
 namespace winter_test {
 

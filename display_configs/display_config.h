@@ -1,0 +1,72 @@
+// Display configurations: which tiles a wall has, where each sits on the canvas, and, for
+// rotated or asymmetric walls, what each tile's camera sees (design.md 5 and 8). They are JSON
+// files in display_configs/, documented field by field in docs/display-configs.md.
+//
+// Loading validates everything and never crashes: any input (random bytes, huge numbers, wrong
+// types, deep nesting) gives false and one error that names the file, the JSON path of the bad
+// field and what is wrong, e.g.
+//   wall.json: tiles[2].width: must be a positive integer, got -5
+//   wall.json: line 3, column 7: syntax error while parsing object key - ...
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "slave/effects/effect_params.h"
+
+namespace glcast::slave {
+
+// A tile's own view for rotated or asymmetric walls (cylinders, CAVEs): the tile shows what a
+// camera rotated by yaw/pitch/roll relative to the program's camera sees through an
+// asymmetric frustum given as angles from its own view axis.
+struct TileView {
+    bool enabled = false;                 // false: planar tile (a rectangle of the canvas)
+    double yaw_deg = 0, pitch_deg = 0, roll_deg = 0;   // yaw: positive turns right; pitch: positive looks up
+    double left_deg = -30, right_deg = 30, bottom_deg = -20, top_deg = 30;  // frustum edges, angles from the axis
+};
+
+struct Tile {
+    std::string name;
+    int x = 0, y = 0, width = 0, height = 0;  // rectangle on the canvas in pixels; origin top-left, y down
+    TileView view;
+};
+
+// The projection of a program whose projection the stream does not show (shader programs), for
+// rotated tiles: a symmetric perspective of this vertical field of view, at the aspect of the
+// program's window.
+struct ProgramProjection {
+    bool given = false;
+    double fov_y_deg = 60, near = 0.1, far = 1000;
+};
+
+struct DisplayConfig {
+    std::string name, description;
+    int canvas_width = 0, canvas_height = 0;  // planar walls: the whole image incl. hidden bezel pixels
+    std::vector<Tile> tiles;
+    bool swap_barrier = false;
+    std::vector<std::string> effects;          // e.g. "snow", "shadows" (names only; validated against a list)
+    std::vector<std::pair<std::string, std::string>> effect_params;  // name, value (checked: slave/effects/effect_params.h)
+    ProgramProjection program_projection;
+    const Tile* find(const std::string& name) const;   // nullptr if absent
+};
+
+// Parses and validates `json_text`; `origin` (usually the file name) starts every error message.
+// On failure returns false, sets `error` and leaves `out` unchanged.
+bool parse_display_config(const std::string& json_text, const std::string& origin, DisplayConfig& out, std::string& error);
+// Reads `path` (at most kMaxDisplayConfigBytes) and parses it with `path` as the origin.
+bool load_display_config(const std::string& path, DisplayConfig& out, std::string& error);
+
+// Limits the loader enforces (documented in docs/display-configs.md).
+constexpr size_t kMaxDisplayConfigBytes = 1 << 20;  // 1 MiB
+constexpr int kMaxDisplaySize = 16384;               // pixels, any width, height or canvas side
+constexpr double kMaxFrustumAngleDeg = 89;           // frustum edges lie strictly within +-89 degrees
+constexpr int kMaxJsonDepth = 64;                    // nesting of arrays and objects
+
+// The effect names "effects" may list, in the order the documentation gives them.
+using effects::known_display_effects;
+
+// True if `name` is a valid tile or config name: non-empty, only [A-Za-z0-9_.-].
+bool is_valid_display_name(const std::string& name);
+
+}  // namespace glcast::slave

@@ -1,0 +1,409 @@
+// What a draw reads from client memory is found by asking the driver for the array state
+// (enabled, pointer, size, type, stride, divisor) of the array kinds this context has ever
+// pointed at client memory: exact, and contexts that never do (core profile, VBO-only
+// programs) pay one check per draw. Index ranges come from the index array itself
+// (max index + 1, honouring base vertex and primitive restart), never from the index count.
+#include "interceptor/client_arrays.h"
+#include "glcast_synthetic_encode.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cstring>
+#include <map>
+#include <tuple>
+#include <mutex>
+#include <vector>
+
+#include "common/gl_headers.h"
+#include "glcast_commands.h"
+#include "interceptor/driver_size_queries.h"
+#include "interceptor/shim.h"
+#include "interceptor/shim_internal.h"
+#include "master/index_range.h"
+#include "master/stream.h"
+#include "protocol/format.h"
+
+namespace glcast {
+namespace {
+
+// One cached array range: a program often draws several ranges of one array per frame, so
+// the cache keys on the range, not only on the array slot.
+struct ShadowKey {
+    uint8_t slot;
+    uint32_t index;
+    const void* pointer;
+    uint32_t first_byte;
+    uint32_t bytes;
+    bool operator<(const ShadowKey& o) const {
+        return std::tie(slot, index, pointer, first_byte, bytes) <
+               std::tie(o.slot, o.index, o.pointer, o.first_byte, o.bytes);
+    }
+};
+struct Shadow {
+    uint32_t handle = 0;
+    uint64_t last_use = 0;
+    std::vector<uint8_t> bytes;
+};
+constexpr size_t kMaxShadowsPerContext = 1024;
+
+struct ContextArrays {
+    uint32_t kinds_used = 0;  // bit per ClientSlot that got client memory
+    bool locked = false;
+    int64_t lock_first = 0, lock_count = 0;
+    std::map<ShadowKey, Shadow> shadows;
+    uint32_t next_handle = 1;
+    uint64_t clock = 0;
+};
+
+// The cache entry for `key`, evicting the least recently used one when the cache is full
+// (its handle is reused: the slave overwrites that copy).
+Shadow& shadow_for(ContextArrays& c, const ShadowKey& key, bool& fresh) {
+    auto it = c.shadows.find(key);
+    fresh = it == c.shadows.end();
+    if (!fresh) return it->second;
+    uint32_t handle = c.next_handle;
+    if (c.shadows.size() >= kMaxShadowsPerContext) {
+        auto oldest = std::min_element(c.shadows.begin(), c.shadows.end(), [](const auto& a, const auto& b) {
+            return a.second.last_use < b.second.last_use;
+        });
+        handle = oldest->second.handle;
+        c.shadows.erase(oldest);
+    } else {
+        c.next_handle++;
+    }
+    Shadow& s = c.shadows[key];
+    s.handle = handle;
+    return s;
+}
+
+std::mutex g_mutex;
+std::map<uint32_t, ContextArrays> g_contexts;
+// Set once any context points an array at client memory: until then a draw takes no lock.
+std::atomic<bool> g_client_arrays_seen{false};
+
+ContextArrays& arrays_of_current() {
+    return g_contexts[current_context_id()];
+}
+
+uint32_t kinds_for(uint32_t opcode) {
+    auto bit = [](ClientSlot s) { return 1u << unsigned(s); };
+    switch (opcode) {
+    case OP_glVertexPointer: case OP_glVertexPointerEXT: return bit(ClientSlot::Vertex);
+    case OP_glNormalPointer: case OP_glNormalPointerEXT: return bit(ClientSlot::Normal);
+    case OP_glColorPointer: case OP_glColorPointerEXT: return bit(ClientSlot::Color);
+    case OP_glSecondaryColorPointer: case OP_glSecondaryColorPointerEXT: return bit(ClientSlot::SecondaryColor);
+    case OP_glFogCoordPointer: case OP_glFogCoordPointerEXT: return bit(ClientSlot::FogCoord);
+    case OP_glIndexPointer: return bit(ClientSlot::Index);
+    case OP_glEdgeFlagPointer: return bit(ClientSlot::EdgeFlag);
+    case OP_glTexCoordPointer: case OP_glTexCoordPointerEXT: return bit(ClientSlot::TexCoord);
+    case OP_glInterleavedArrays:
+        return bit(ClientSlot::Vertex) | bit(ClientSlot::Normal) | bit(ClientSlot::Color) | bit(ClientSlot::TexCoord);
+    default: return bit(ClientSlot::Attrib);
+    }
+}
+
+template <class Fn>
+Fn real(uint32_t op) { return reinterpret_cast<Fn>(real_proc(op)); }
+
+struct ArrayState {
+    ClientSlot slot;
+    uint32_t index;
+    int32_t size;
+    uint32_t type;
+    int32_t stride;
+    uint8_t normalized, integer;
+    uint32_t divisor;
+    const uint8_t* pointer;
+};
+
+int32_t element_bytes(const ArrayState& a) {
+    const int comps = a.size == GL_BGRA ? 4 : a.size;
+    switch (a.type) {
+    case GL_BYTE: case GL_UNSIGNED_BYTE: return comps;
+    case GL_SHORT: case GL_UNSIGNED_SHORT: case GL_HALF_FLOAT: return comps * 2;
+    case GL_INT: case GL_UNSIGNED_INT: case GL_FLOAT: case GL_FIXED: return comps * 4;
+    case GL_DOUBLE: return comps * 8;
+    case GL_INT_2_10_10_10_REV: case GL_UNSIGNED_INT_2_10_10_10_REV: case GL_UNSIGNED_INT_10F_11F_11F_REV: return 4;
+    default: return 0;
+    }
+}
+
+// Fixed-function arrays: enable cap, buffer-binding, pointer, size, type, stride queries.
+struct FixedSlot {
+    ClientSlot slot;
+    GLenum cap, binding, pointer, size, type, stride;
+    int32_t fixed_size;
+    GLenum fixed_type;
+};
+const FixedSlot kFixed[] = {
+    {ClientSlot::Vertex, GL_VERTEX_ARRAY, GL_VERTEX_ARRAY_BUFFER_BINDING, GL_VERTEX_ARRAY_POINTER,
+     GL_VERTEX_ARRAY_SIZE, GL_VERTEX_ARRAY_TYPE, GL_VERTEX_ARRAY_STRIDE, 0, 0},
+    {ClientSlot::Normal, GL_NORMAL_ARRAY, GL_NORMAL_ARRAY_BUFFER_BINDING, GL_NORMAL_ARRAY_POINTER, 0,
+     GL_NORMAL_ARRAY_TYPE, GL_NORMAL_ARRAY_STRIDE, 3, 0},
+    {ClientSlot::Color, GL_COLOR_ARRAY, GL_COLOR_ARRAY_BUFFER_BINDING, GL_COLOR_ARRAY_POINTER,
+     GL_COLOR_ARRAY_SIZE, GL_COLOR_ARRAY_TYPE, GL_COLOR_ARRAY_STRIDE, 0, 0},
+    {ClientSlot::SecondaryColor, GL_SECONDARY_COLOR_ARRAY, GL_SECONDARY_COLOR_ARRAY_BUFFER_BINDING,
+     GL_SECONDARY_COLOR_ARRAY_POINTER, GL_SECONDARY_COLOR_ARRAY_SIZE, GL_SECONDARY_COLOR_ARRAY_TYPE,
+     GL_SECONDARY_COLOR_ARRAY_STRIDE, 0, 0},
+    {ClientSlot::FogCoord, GL_FOG_COORD_ARRAY, GL_FOG_COORD_ARRAY_BUFFER_BINDING, GL_FOG_COORD_ARRAY_POINTER, 0,
+     GL_FOG_COORD_ARRAY_TYPE, GL_FOG_COORD_ARRAY_STRIDE, 1, 0},
+    {ClientSlot::Index, GL_INDEX_ARRAY, GL_INDEX_ARRAY_BUFFER_BINDING, GL_INDEX_ARRAY_POINTER, 0,
+     GL_INDEX_ARRAY_TYPE, GL_INDEX_ARRAY_STRIDE, 1, 0},
+    {ClientSlot::EdgeFlag, GL_EDGE_FLAG_ARRAY, GL_EDGE_FLAG_ARRAY_BUFFER_BINDING, GL_EDGE_FLAG_ARRAY_POINTER, 0, 0,
+     GL_EDGE_FLAG_ARRAY_STRIDE, 1, GL_UNSIGNED_BYTE},
+    {ClientSlot::TexCoord, GL_TEXTURE_COORD_ARRAY, GL_TEXTURE_COORD_ARRAY_BUFFER_BINDING,
+     GL_TEXTURE_COORD_ARRAY_POINTER, GL_TEXTURE_COORD_ARRAY_SIZE, GL_TEXTURE_COORD_ARRAY_TYPE,
+     GL_TEXTURE_COORD_ARRAY_STRIDE, 0, 0},
+};
+
+bool read_fixed(const FixedSlot& f, uint32_t index, ArrayState& a) {
+    static const auto is_enabled = real<decltype(&::glIsEnabled)>(OP_glIsEnabled);
+    static const auto get_pointer = real<decltype(&::glGetPointerv)>(OP_glGetPointerv);
+    if (!is_enabled || !get_pointer || !is_enabled(f.cap)) return false;
+    if (real_get_integer(f.binding) != 0) return false;  // a buffer object: its data already travelled
+    void* p = nullptr;
+    get_pointer(f.pointer, &p);
+    a = ArrayState{f.slot, index, f.size ? real_get_integer(f.size) : f.fixed_size,
+                   f.type ? uint32_t(real_get_integer(f.type)) : f.fixed_type, real_get_integer(f.stride),
+                   uint8_t(f.slot == ClientSlot::Color || f.slot == ClientSlot::SecondaryColor ||
+                           f.slot == ClientSlot::Normal), 0, 0, static_cast<const uint8_t*>(p)};
+    return p != nullptr;
+}
+
+bool read_attrib(uint32_t index, ArrayState& a) {
+    static const auto get = real<PFNGLGETVERTEXATTRIBIVPROC>(OP_glGetVertexAttribiv);
+    static const auto get_pointer = real<PFNGLGETVERTEXATTRIBPOINTERVPROC>(OP_glGetVertexAttribPointerv);
+    if (!get || !get_pointer) return false;
+    GLint v = 0;
+    get(index, GL_VERTEX_ATTRIB_ARRAY_ENABLED, &v);
+    if (!v) return false;
+    get(index, GL_VERTEX_ATTRIB_ARRAY_BUFFER_BINDING, &v);
+    if (v) return false;
+    void* p = nullptr;
+    get_pointer(index, GL_VERTEX_ATTRIB_ARRAY_POINTER, &p);
+    GLint size = 4, type = GL_FLOAT, stride = 0, normalized = 0, integer = 0, divisor = 0;
+    get(index, GL_VERTEX_ATTRIB_ARRAY_SIZE, &size);
+    get(index, GL_VERTEX_ATTRIB_ARRAY_TYPE, &type);
+    get(index, GL_VERTEX_ATTRIB_ARRAY_STRIDE, &stride);
+    get(index, GL_VERTEX_ATTRIB_ARRAY_NORMALIZED, &normalized);
+    get(index, GL_VERTEX_ATTRIB_ARRAY_INTEGER, &integer);
+    get(index, GL_VERTEX_ATTRIB_ARRAY_DIVISOR, &divisor);
+    a = ArrayState{ClientSlot::Attrib, index, size, uint32_t(type), stride, uint8_t(normalized), uint8_t(integer),
+                   uint32_t(divisor), static_cast<const uint8_t*>(p)};
+    return p != nullptr;
+}
+
+std::vector<ArrayState> enabled_client_arrays(uint32_t kinds) {
+    std::vector<ArrayState> out;
+    ArrayState a{};
+    for (const FixedSlot& f : kFixed) {
+        if (!(kinds & (1u << unsigned(f.slot)))) continue;
+        if (f.slot != ClientSlot::TexCoord) {
+            if (read_fixed(f, 0, a)) out.push_back(a);
+            continue;
+        }
+        static const auto active = real<decltype(&::glClientActiveTexture)>(OP_glClientActiveTexture);
+        const GLint units = active ? real_get_integer(GL_MAX_TEXTURE_COORDS) : 1;
+        const GLint saved = active ? real_get_integer(GL_CLIENT_ACTIVE_TEXTURE) : GL_TEXTURE0;
+        for (GLint u = 0; u < std::max(units, 1); ++u) {
+            if (active) active(GL_TEXTURE0 + u);
+            if (read_fixed(f, uint32_t(u), a)) out.push_back(a);
+        }
+        if (active) active(saved);
+    }
+    if (kinds & (1u << unsigned(ClientSlot::Attrib))) {
+        const GLint n = std::min(real_get_integer(GL_MAX_VERTEX_ATTRIBS), 64);
+        for (GLint i = 0; i < n; ++i)
+            if (read_attrib(uint32_t(i), a)) out.push_back(a);
+    }
+    return out;
+}
+
+}  // namespace
+
+DrawRange DrawRange::arrays(int64_t first, int64_t count, int64_t instances) {
+    DrawRange r;
+    r.kind = Arrays;
+    r.first = first;
+    r.count = count;
+    r.instances = instances;
+    return r;
+}
+
+DrawRange DrawRange::elements(const void* indices, uint32_t type, int64_t count, int64_t basevertex,
+                              int64_t instances) {
+    DrawRange r;
+    r.kind = Elements;
+    r.indices = indices;
+    r.type = type;
+    r.count = count;
+    r.basevertex = basevertex;
+    r.instances = instances;
+    return r;
+}
+
+DrawRange DrawRange::multi_arrays(const int32_t* firsts, const int32_t* counts, int64_t drawcount) {
+    DrawRange r;
+    r.kind = MultiArrays;
+    r.firsts = firsts;
+    r.counts = counts;
+    r.drawcount = drawcount;
+    return r;
+}
+
+DrawRange DrawRange::multi_elements(const void* const* indices, uint32_t type, const int32_t* counts,
+                                    int64_t drawcount, const int32_t* basevertices) {
+    DrawRange r;
+    r.kind = MultiElements;
+    r.index_arrays = indices;
+    r.type = type;
+    r.counts = counts;
+    r.drawcount = drawcount;
+    r.basevertices = basevertices;
+    return r;
+}
+
+void note_client_pointer(uint32_t opcode) {
+    g_client_arrays_seen.store(true, std::memory_order_relaxed);
+    std::lock_guard lock(g_mutex);
+    arrays_of_current().kinds_used |= kinds_for(opcode);
+}
+
+uint32_t thread_state_opcode() { return thread_state().opcode; }
+
+void lock_client_arrays(int64_t first, int64_t count) {
+    std::lock_guard lock(g_mutex);
+    ContextArrays& c = arrays_of_current();
+    c.locked = count > 0;
+    c.lock_first = first;
+    c.lock_count = count;
+}
+
+void unlock_client_arrays() {
+    std::lock_guard lock(g_mutex);
+    arrays_of_current().locked = false;
+}
+
+// The vertex range [lo, hi] a draw reads; false when it reads none.
+static bool vertex_range(const DrawRange& r, int64_t& lo, int64_t& hi) {
+    switch (r.kind) {
+    case DrawRange::Arrays:
+        if (r.count <= 0) return false;
+        lo = r.first;
+        hi = r.first + r.count - 1;
+        return true;
+    case DrawRange::MultiArrays: {
+        bool any = false;
+        for (int64_t i = 0; r.firsts && r.counts && i < r.drawcount; ++i) {
+            if (r.counts[i] <= 0) continue;
+            lo = any ? std::min<int64_t>(lo, r.firsts[i]) : r.firsts[i];
+            hi = any ? std::max<int64_t>(hi, r.firsts[i] + r.counts[i] - 1) : r.firsts[i] + r.counts[i] - 1;
+            any = true;
+        }
+        return any;
+    }
+    case DrawRange::MultiElements: {
+        bool any = false;
+        for (int64_t i = 0; r.index_arrays && r.counts && i < r.drawcount; ++i) {
+            int64_t l = 0, h = -1;
+            const DrawRange one = DrawRange::elements(r.index_arrays[i], r.type, r.counts[i],
+                                           r.basevertices ? r.basevertices[i] : 0, 1);
+            if (!vertex_range(one, l, h)) continue;
+            lo = any ? std::min(lo, l) : l;
+            hi = any ? std::max(hi, h) : h;
+            any = true;
+        }
+        return any;
+    }
+    case DrawRange::Elements: {
+        if (r.count <= 0) return false;
+        static const auto is_enabled = real<decltype(&::glIsEnabled)>(OP_glIsEnabled);
+        bool restart = false;
+        uint32_t restart_index = 0;
+        if (is_enabled && is_enabled(GL_PRIMITIVE_RESTART_FIXED_INDEX)) {
+            restart = true;
+            restart_index = r.type == GL_UNSIGNED_BYTE ? 0xFFu : r.type == GL_UNSIGNED_SHORT ? 0xFFFFu : 0xFFFFFFFFu;
+        } else if (is_enabled && is_enabled(GL_PRIMITIVE_RESTART)) {
+            restart = true;
+            restart_index = uint32_t(real_get_integer(GL_PRIMITIVE_RESTART_INDEX));
+        }
+        const int bytes = r.type == GL_UNSIGNED_BYTE ? 1 : r.type == GL_UNSIGNED_SHORT ? 2 : 4;
+        if (real_get_integer(GL_ELEMENT_ARRAY_BUFFER_BINDING) == 0)
+            return index_range(r.indices, r.type, r.count, r.basevertex, restart, restart_index, lo, hi);
+        // Indices in a buffer object, vertices in client memory: read the indices back.
+        static const auto get_sub = real<PFNGLGETBUFFERSUBDATAPROC>(OP_glGetBufferSubData);
+        if (!get_sub) return false;
+        std::vector<uint8_t> tmp(size_t(r.count) * bytes);
+        get_sub(GL_ELEMENT_ARRAY_BUFFER, GLintptr(reinterpret_cast<uintptr_t>(r.indices)), GLsizeiptr(tmp.size()),
+                tmp.data());
+        return index_range(tmp.data(), r.type, r.count, r.basevertex, restart, restart_index, lo, hi);
+    }
+    }
+    return false;
+}
+
+void CallScope::ship_client_arrays(const DrawRange& range) {
+    ship_mapped_writes(*this);
+    if (!g_client_arrays_seen.load(std::memory_order_relaxed)) return;
+    uint32_t kinds;
+    bool locked;
+    int64_t lock_first, lock_count;
+    {
+        std::lock_guard lock(g_mutex);
+        ContextArrays& c = arrays_of_current();
+        kinds = c.kinds_used;
+        locked = c.locked;
+        lock_first = c.lock_first;
+        lock_count = c.lock_count;
+    }
+    if (!kinds) return;
+    const std::vector<ArrayState> arrays = enabled_client_arrays(kinds);
+    if (arrays.empty()) return;
+    int64_t lo = 0, hi = -1;
+    const bool any = vertex_range(range, lo, hi);
+    if (locked) {
+        lo = any ? std::min(lo, lock_first) : lock_first;
+        hi = any ? std::max(hi, lock_first + lock_count - 1) : lock_first + lock_count - 1;
+    } else if (!any) {
+        return;
+    }
+    if (lo < 0) lo = 0;
+
+    Encoder& e = begin_synthetic(kSynthClientArrays);
+    encode_synth_client_arrays(e, uint32_t(arrays.size()));
+    Stream* s = stream();
+    std::lock_guard lock(g_mutex);
+    ContextArrays& c = arrays_of_current();
+    for (const ArrayState& a : arrays) {
+        const int32_t elem = element_bytes(a);
+        const int64_t stride = a.stride ? a.stride : elem;
+        int64_t first = lo, last = hi;
+        if (a.divisor) {  // per-instance array: instances / divisor elements from 0
+            first = 0;
+            last = (std::max<int64_t>(range.instances, 1) - 1) / a.divisor;
+        }
+        const int64_t bytes = elem ? (last - first) * stride + elem : 0;
+        if (bytes < 0 || bytes > kMaxArrayBytes) {
+            e.fail("client array range of " + std::to_string(bytes) + " bytes");
+            break;
+        }
+        const uint32_t first_byte = uint32_t(first * stride);
+        bool fresh = false;
+        Shadow& sh = shadow_for(c, ShadowKey{uint8_t(a.slot), a.index, a.pointer, first_byte, uint32_t(bytes)}, fresh);
+        sh.last_use = ++c.clock;
+        const uint8_t* data = a.pointer + first_byte;
+        const bool hit = !fresh && std::memcmp(sh.bytes.data(), data, size_t(bytes)) == 0;
+        encode_synth_client_arrays_item(e, uint8_t(a.slot), a.index, a.size, a.type, int32_t(stride), a.normalized,
+                                        a.integer, sh.handle, first_byte, hit, data, bytes);
+        if (!hit) sh.bytes.assign(data, data + bytes);
+        if (s) s->count_cache(hit);
+    }
+    if (!thread_state().synthetic_encoder.failure().empty()) {
+        unserialized(thread_state().synthetic_encoder.failure().c_str());
+        thread_state().synthetic_encoder.clear_failure();
+        return;
+    }
+    commit_synthetic();
+}
+
+}  // namespace glcast

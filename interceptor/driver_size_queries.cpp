@@ -1,0 +1,47 @@
+#include "interceptor/driver_size_queries.h"
+
+#include "common/gl_headers.h"
+#include "glcast_commands.h"
+#include "interceptor/client_arrays.h"
+#include "interceptor/shim.h"
+
+namespace glcast {
+
+int32_t real_get_integer(uint32_t pname) {
+    static const auto get = reinterpret_cast<decltype(&::glGetIntegerv)>(real_proc(OP_glGetIntegerv));
+    GLint v = 0;
+    if (get) get(pname, &v);
+    return v;
+}
+
+PixelStore DriverSizeQueries::pixel_store(Dir dir) {
+    PixelStore ps;
+    const bool in = dir == Dir::In;
+    ps.row_length = real_get_integer(in ? GL_UNPACK_ROW_LENGTH : GL_PACK_ROW_LENGTH);
+    ps.image_height = real_get_integer(in ? GL_UNPACK_IMAGE_HEIGHT : GL_PACK_IMAGE_HEIGHT);
+    ps.skip_pixels = real_get_integer(in ? GL_UNPACK_SKIP_PIXELS : GL_PACK_SKIP_PIXELS);
+    ps.skip_rows = real_get_integer(in ? GL_UNPACK_SKIP_ROWS : GL_PACK_SKIP_ROWS);
+    ps.skip_images = real_get_integer(in ? GL_UNPACK_SKIP_IMAGES : GL_PACK_SKIP_IMAGES);
+    ps.alignment = real_get_integer(in ? GL_UNPACK_ALIGNMENT : GL_PACK_ALIGNMENT);
+    return ps;
+}
+
+bool DriverSizeQueries::bound(uint32_t binding_query) { return real_get_integer(binding_query) != 0; }
+
+int64_t DriverSizeQueries::driver_count(uint32_t pname) { return real_get_integer(pname); }
+
+int64_t DriverSizeQueries::tex_level(uint32_t target, int32_t level, uint32_t pname) {
+    static const auto get =
+        reinterpret_cast<decltype(&::glGetTexLevelParameteriv)>(real_proc(OP_glGetTexLevelParameteriv));
+    GLint v = 0;
+    if (get) get(target, level, pname, &v);
+    return v;
+}
+
+bool DriverSizeQueries::client_pointer(const void*) {
+    const bool in_buffer = real_get_integer(GL_ARRAY_BUFFER_BINDING) != 0;
+    if (!in_buffer) note_client_pointer(thread_state_opcode());
+    return in_buffer;
+}
+
+}  // namespace glcast
