@@ -120,30 +120,15 @@ void FrameRecorder::record(const Call& c, const uint8_t* tuple, size_t tuple_siz
 }
 
 // Re-executes the recorded calls of the main view with `correction` premultiplied into the
-// program's projection. Everything it changes is put back: attributes and client attributes
-// (glPush/PopAttrib), the three matrix stacks (depth and top), and the replayer's trackers.
+// program's projection. Everything it changes is put back: attributes and client attributes,
+// the three matrix stacks (depth and top), the vertex array (the guard), and the trackers.
 void FrameRecorder::redraw_main_view(SlaveContext& ctx, const glm::dmat4& correction) {
     EffectsState& st = state(ctx);
     FrameRecord& rec = st.record;
     const GlApi& gl = core_.api();
     if (rec.entries.empty() || !gl.has(OP_glPushAttrib)) return;
     const uint32_t saved_list_base = ctx.list_base;
-    struct Stack {
-        GLenum mode, depth_query, matrix_query;
-        GLint depth = 0;
-        GLdouble top[16] = {};
-    } stacks[] = {{GL_MODELVIEW, GL_MODELVIEW_STACK_DEPTH, GL_MODELVIEW_MATRIX},
-                  {GL_PROJECTION, GL_PROJECTION_STACK_DEPTH, GL_PROJECTION_MATRIX},
-                  {GL_TEXTURE, GL_TEXTURE_STACK_DEPTH, GL_TEXTURE_MATRIX}};
-    GLint mode = GL_MODELVIEW, vao = 0;
-    gl.glGetIntegerv(GL_MATRIX_MODE, &mode);
-    gl.glGetIntegerv(GL_VERTEX_ARRAY_BINDING, &vao);
-    for (Stack& s : stacks) {
-        gl.glGetIntegerv(s.depth_query, &s.depth);
-        gl.glGetDoublev(s.matrix_query, s.top);
-    }
-    gl.glPushAttrib(GL_ALL_ATTRIB_BITS);  // GL_TEXTURE_BIT: the pass's texture bindings come back
-    gl.glPushClientAttrib(GL_CLIENT_ALL_ATTRIB_BITS);
+    GlStateGuard guard(gl, kGuardAttribStacks | kGuardMatrixStacks | kGuardMatrixMode | kGuardVertexArray);
     gl.glBindVertexArray(GLuint(st.program_vao));
     for (int unit = 0; unit < 8; ++unit) {
         gl.glActiveTexture(GLenum(GL_TEXTURE0 + unit));
@@ -164,18 +149,6 @@ void FrameRecorder::redraw_main_view(SlaveContext& ctx, const glm::dmat4& correc
         }
     }
     tile_.end_redraw();
-    gl.glPopClientAttrib();
-    gl.glPopAttrib();
-    gl.glBindVertexArray(GLuint(vao));
-    for (const Stack& s : stacks) {
-        gl.glMatrixMode(s.mode);
-        GLint depth = 0;
-        gl.glGetIntegerv(s.depth_query, &depth);
-        for (; depth > s.depth; --depth) gl.glPopMatrix();
-        for (; depth < s.depth; ++depth) gl.glPushMatrix();
-        gl.glLoadMatrixd(s.top);
-    }
-    gl.glMatrixMode(GLenum(mode));
     ctx.list_base = saved_list_base;
 }
 

@@ -4,6 +4,7 @@
 #include <cstring>
 
 #include "common/gl_headers.h"
+#include "common/gl_state.h"
 #include "slave/replayer.h"
 
 namespace glcast::slave {
@@ -280,9 +281,9 @@ void TileAdapter::correct_projection() {
     State& s = state();
     if (redrawing_) {  // an injected pass re-renders the main view: its correction, always
         const glm::dmat4 corrected = redraw_correction_ * program_projection_now();
+        GlStateGuard mode(gl, kGuardMatrixMode);
         gl.glMatrixMode(GL_PROJECTION);
         gl.glLoadMatrixd(&corrected[0][0]);
-        gl.glMatrixMode(GLenum(s.matrix_mode));
         s.projection.back() = State::Projection{true, false, redraw_correction_};
         return;
     }
@@ -302,11 +303,9 @@ void TileAdapter::correct_projection() {
     const glm::dmat4 app = top.corrected ? glm::inverse(top.m) * p : p;
     const glm::dmat4 m = core_.options().view.correction(app);
     const glm::dmat4 corrected = m * app;
-    GLint mode = GL_MODELVIEW;
-    gl.glGetIntegerv(GL_MATRIX_MODE, &mode);
+    GlStateGuard mode(gl, kGuardMatrixMode);
     gl.glMatrixMode(GL_PROJECTION);
     gl.glLoadMatrixd(&corrected[0][0]);
-    gl.glMatrixMode(GLenum(mode));
     top = State::Projection{true, false, m};
 }
 

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "common/gl_state.h"
 #include "slave/effects/gl_api.h"
 
 namespace glcast::slave::effects {
@@ -36,34 +37,14 @@ GLuint make_framebuffer(const GlApi& gl, GLuint color, GLuint depth, GLenum dept
 void draw_fullscreen(const GlApi& gl, GLuint empty_vao);
 
 // Saves, on construction, every piece of GL state a pass may change, and restores it on
-// destruction: framebuffer bindings and draw/read buffers, viewport, scissor, the enables
-// passes use, blend/depth/stencil/color masks and functions, polygon mode and offset, point
-// size, line width, clear values, program, VAO, array and pixel buffers, pixel store, active
-// texture and the 2D texture and sampler of units 0..7. In compatibility contexts it also turns
-// off, and later restores, the fixed-function state that still acts on a shader's output or
-// its sampling: texture-target enables of units 0..7 (Mesa samples nothing from a unit whose
-// enabled fixed-function target differs from the shader's sampler type), alpha test, user
-// clip planes, polygon and line stipple.
-class StateGuard {
+// destruction (common/gl_state.h, kGuardPass: framebuffers, viewport, raster state, program,
+// vertex array, pixel store, texture units). In compatibility contexts it also turns off, and
+// later restores, the fixed-function state that still acts on a shader's output or its
+// sampling: Mesa samples nothing from a unit whose enabled fixed-function target differs from
+// the shader's sampler type.
+class StateGuard : public GlStateGuard {
 public:
-    explicit StateGuard(const GlApi& gl);
-    ~StateGuard();
-    StateGuard(const StateGuard&) = delete;
-    StateGuard& operator=(const StateGuard&) = delete;
-
-private:
-    const GlApi& gl_;
-    GLint draw_fb_, read_fb_, draw_buffer_, read_buffer_, viewport_[4], scissor_[4];
-    std::vector<std::pair<GLenum, GLboolean>> enables_;
-    GLint blend_src_rgb_, blend_dst_rgb_, blend_src_a_, blend_dst_a_, blend_eq_rgb_, blend_eq_a_;
-    GLfloat blend_color_[4], clear_color_[4], clear_depth_, polygon_offset_[2], point_size_, line_width_;
-    GLboolean color_mask_[4], depth_mask_;
-    GLint depth_func_, stencil_mask_, polygon_mode_[2], cull_face_, front_face_;
-    GLint program_, vao_, array_buffer_, pack_buffer_, unpack_buffer_, active_texture_;
-    std::vector<std::pair<GLenum, GLint>> pixel_store_;
-    GLint textures_[8], samplers_[8];
-    bool compatibility_ = false;
-    std::vector<std::pair<GLenum, GLboolean>> unit_enables_[8];
+    explicit StateGuard(const GlApi& gl) : GlStateGuard(gl, kGuardPass) {}
 };
 
 }  // namespace glcast::slave::effects
