@@ -1,5 +1,6 @@
-// Every GLCAST_* environment variable the shim reads, read once and checked (style.md 14).
-// docs/environment.md lists them.
+// Every GLCAST_* environment variable the shim reads, read once and checked here, so that a
+// bad value is one clear message at start and not a surprise later. docs/environment.md lists
+// them, and those the glcast command and the slaves read.
 #pragma once
 
 #include <cstdint>
@@ -20,6 +21,7 @@ struct ShimConfig {
     uint64_t drop_every = 0;       // GLCAST_TEST_DROP_EVERY: lose every Nth message (tests)
     uint64_t wait_subscribers = 0; // GLCAST_WAIT_SUBSCRIBERS: slaves to wait for at start
     uint64_t lockstep = 0;         // GLCAST_LOCKSTEP: slaves that must replay each frame before the next
+    std::string swap_log;          // GLCAST_TEST_SWAP_LOG: when each frame left the program (benchmarks)
     bool has_consumer() const { return !capture_path.empty() || !publish.empty(); }
 };
 

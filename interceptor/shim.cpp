@@ -1,6 +1,5 @@
 // Per-thread recursion guard, tuple recording and the stream's lifetime inside the host program.
 #include "interceptor/shim.h"
-#include "glcast_synthetic_encode.h"
 
 #include <time.h>
 #include <unistd.h>
@@ -15,6 +14,7 @@
 
 #include "glcast_commands.h"
 #include "interceptor/client_arrays.h"
+#include "glcast_synthetic_encode.h"
 #include "interceptor/config.h"
 #include "interceptor/driver_size_queries.h"
 #include "interceptor/shim_internal.h"
@@ -147,7 +147,7 @@ void on_frame_end() {
     if (!s) return;
     s->end_frame();
     // Benchmark hook: when each frame left the program (CLOCK_MONOTONIC), for wall latencies.
-    static FILE* swap_log = std::getenv("GLCAST_TEST_SWAP_LOG") ? std::fopen(std::getenv("GLCAST_TEST_SWAP_LOG"), "w") : nullptr;
+    static FILE* swap_log = shim_config().swap_log.empty() ? nullptr : std::fopen(shim_config().swap_log.c_str(), "w");
     if (swap_log) {
         timespec ts;
         clock_gettime(CLOCK_MONOTONIC, &ts);
