@@ -1,5 +1,5 @@
 // Display configurations: which tiles a wall has, where each sits on the canvas, and, for
-// rotated or asymmetric walls, what each tile's camera sees (design.md 5 and 8). They are JSON
+// rotated or asymmetric walls, what each tile's camera sees (docs/display-configs.md). They are JSON
 // files in display_configs/, documented field by field in docs/display-configs.md.
 //
 // Loading validates everything and never crashes: any input (random bytes, huge numbers, wrong

@@ -1,6 +1,6 @@
 // Client-memory vertex arrays: GL reads them at the draw, so the shim ships them then, over
 // exactly the range the draw uses, and only when they changed since the last time (the
-// shadow-copy array cache of design.md 4). Buffer-object arrays travel with the buffer data.
+// shadow-copy array cache of docs/stream-format.md). Buffer-object arrays travel with the buffer data.
 #pragma once
 
 #include <cstdint>

@@ -1,4 +1,4 @@
-// Finding the driver's functions: from the real libraries, never from ourselves (style.md 9).
+// Finding the driver's functions: from the real libraries, never from ourselves.
 // Resolved once per opcode on first use; libraries are opened only then, so a process that
 // never calls GL (a shell the program starts) never loads them.
 #include <dlfcn.h>

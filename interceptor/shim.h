@@ -1,6 +1,6 @@
 // The shim's per-call machinery, shared by the generated entry points and interceptor/special.
 //
-// Every entry point has the same shape (style.md 8): resolve the real function, open a
+// Every entry point has the same shape: resolve the real function, open a
 // CallScope (the per-thread recursion guard), call the driver first, then encode request and
 // reply. Only outermost calls (depth 0) of a process with a consumer are recorded.
 #pragma once

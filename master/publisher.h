@@ -1,4 +1,4 @@
-// The wall's transport on the master (design.md 7): every message is published on a ZeroMQ
+// The wall's transport on the master (docs/wall.md): every message is published on a ZeroMQ
 // PUB socket, and kept in a journal that a ROUTER side channel hands to slaves that join late
 // or lost messages (the zguide's Clone pattern: a slave subscribes first, asks for the
 // snapshot, then drops live messages it already has).

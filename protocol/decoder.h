@@ -1,5 +1,5 @@
 // Reading the stream back: capture files and messages (CaptureReader), and tuples
-// (decode_tuple). The decoder distrusts its input (style.md 12): every length is checked
+// (decode_tuple). The decoder distrusts its input: every length is checked
 // against what is left, every opcode against the table, and a violation throws DecodeError
 // naming the byte offset. Nothing is allocated from an unchecked length.
 #pragma once

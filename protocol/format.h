@@ -6,7 +6,7 @@
 //   tuple        = u32 opcode, u32 context id, u32 body length, body
 //                  (opcodes from kSynthBase on are glcast's own: codegen/annotations/synthetic.yaml)
 //
-// The wire carries the same messages without the file header (design.md 1).
+// The wire carries the same messages without the file header (docs/stream-format.md).
 #pragma once
 
 #include <cstdint>

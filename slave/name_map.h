@@ -1,4 +1,4 @@
-// The master's object names -> the slave's (design.md 5). Shareable objects live in a map per
+// The master's object names -> the slave's (docs/slave.md). Shareable objects live in a map per
 // share group; container objects (framebuffers, vertex arrays, queries, transform feedbacks,
 // program pipelines) in a map per context, as GL itself scopes them.
 #pragma once

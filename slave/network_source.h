@@ -1,4 +1,4 @@
-// A slave's subscription to a live master (design.md 7, the zguide's Clone pattern): subscribe
+// A slave's subscription to a live master (docs/wall.md; the Clone pattern of the ZeroMQ guide): subscribe
 // first, then ask the master's journal for every message so far, replay that, and go on with
 // the live messages after it. A gap in the sequence numbers (a dropped message, a slave that
 // fell behind) makes the slave start over from a fresh snapshot.

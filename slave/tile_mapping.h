@@ -1,4 +1,4 @@
-// Planar tile adaptation (design.md 5): the master's window is stretched over the canvas, and
+// Planar tile adaptation (docs/slave.md): the master's window is stretched over the canvas, and
 // a tile shows one rectangle of it. Window coordinates of the program (viewport, scissor box,
 // window raster positions, blit rectangles) are mapped into the tile's framebuffer, and
 // pixel-sized state (line width, point size, pixel zoom) scales with the canvas. This needs

@@ -1,4 +1,4 @@
-// Rotated and asymmetric tiles (cylinders, CAVEs; design.md 5): the tile shows what a camera
+// Rotated and asymmetric tiles (cylinders, CAVEs; docs/wall.md): the tile shows what a camera
 // turned by the tile's yaw/pitch/roll sees through its own asymmetric frustum. Applied after
 // the program's own transform as a clip-space correction
 //

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Generator unit tests (style.md 15a): how the classifier plans the tricky commands, and
+"""Generator unit tests: how the classifier plans the tricky commands, and
 that the generator refuses inconsistent annotation files."""
 import os
 import subprocess

@@ -1,4 +1,4 @@
-// What an injected pass knows about the frame it decorates (design.md 6). Filled by the
+// What an injected pass knows about the frame it decorates (docs/effects.md). Filled by the
 // replayer at the end of each frame, before present, with the program's window framebuffer
 // bound as the draw framebuffer and the viewport covering the whole tile.
 //

@@ -9,7 +9,7 @@ namespace glcast::slave::effects {
 Pipeline::Pipeline(const GlApi& gl, const EffectsSettings& settings) : gl_(gl) {
     StateGuard guard(gl);  // passes create their objects with default pixel-store state, and bind them
     const EffectParams& p = settings.params;
-    // Cover before shadows (design.md 6 has them the other way round): the cover repaints the
+    // Cover before shadows (docs/effects.md says why this order): the cover repaints the
     // surfaces it covers, which would erase shadows cast on them; shadows after it darken snow
     // and icicles like the rest of the scene. Falling snow stays unshadowed, in front of it all.
     if (settings.cover || settings.icicles)

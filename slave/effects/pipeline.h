@@ -1,4 +1,4 @@
-// The injected passes of a slave (design.md 6), run at the end of each frame before present in
+// The injected passes of a slave (docs/effects.md), run at the end of each frame before present in
 // this order: snow cover and icicles, shadows, falling snow or rain (particles, then the
 // spectral composite). Cover comes before shadows so that shadows fall on the snow. One Pipeline per slave GL context: passes keep GL objects of the
 // context they were created in.

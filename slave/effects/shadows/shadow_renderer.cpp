@@ -16,7 +16,7 @@ namespace {
 int floor_mod(int a, int b) { return ((a % b) + b) % b; }
 
 // The clip-space map from the tile's clip space to the work area's: the tile's pixels land
-// `offset` pixels in, in a framebuffer of `work` pixels (design.md 6: a correction applied
+// `offset` pixels in, in a framebuffer of `work` pixels (docs/shadows.md: a correction applied
 // after the program's projection, like FrameView::guard_band but asymmetric).
 glm::dmat4 work_from_tile_clip(glm::ivec2 tile, glm::ivec2 work, glm::ivec2 offset) {
     glm::dmat4 m(1.0);

@@ -183,7 +183,7 @@ glm::dmat4 projection_of(const Camera& camera, int canvas_width, int canvas_heig
 
 glm::dmat4 view_of(const Camera& camera) { return glm::lookAt(camera.eye, camera.target, glm::dvec3(0, 1, 0)); }
 
-// The wall's stretch: canvas clip space to the clip space of `tile` (design.md: T).
+// The wall's stretch: canvas clip space to the clip space of `tile` (the planar stretch T of docs/effects.md's FrameView).
 glm::dmat4 tile_stretch(Tile t, int canvas_width, int canvas_height) {
     glm::dmat4 m(1.0);
     m[0][0] = double(canvas_width) / t.width;

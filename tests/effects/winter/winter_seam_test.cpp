@@ -1,4 +1,4 @@
-// Tiles join without seams (design.md 6): the canvas rendered as one tile and as 2x2 tiles
+// Tiles join without seams (docs/effects.md): the canvas rendered as one tile and as 2x2 tiles
 // (each with its own FrameView: canvas offset, the wall's stretch, a re-render of its guard
 // band) must give the same picture with cover and icicles.
 //
