@@ -52,6 +52,17 @@ bool has_extension(const char* list, const char* name) {
 }
 
 struct EglApi {
+    bool load(void* lib, std::string& error) {
+        return load_symbols("egl", lib, error,
+                            "eglGetProcAddress", GetProcAddress, "eglGetError", GetError,
+                            "eglQueryString", QueryString, "eglInitialize", Initialize,
+                            "eglTerminate", Terminate, "eglBindAPI", BindAPI,
+                            "eglChooseConfig", ChooseConfig, "eglCreateContext", CreateContext,
+                            "eglDestroyContext", DestroyContext, "eglMakeCurrent", MakeCurrent,
+                            "eglGetCurrentContext", GetCurrentContext, "eglCreatePbufferSurface", CreatePbufferSurface,
+                            "eglGetConfigAttrib", GetConfigAttrib, "eglDestroySurface", DestroySurface);
+    }
+
     decltype(&::eglGetProcAddress) GetProcAddress = nullptr;
     decltype(&::eglGetError) GetError = nullptr;
     decltype(&::eglQueryString) QueryString = nullptr;
@@ -68,23 +79,6 @@ struct EglApi {
     decltype(&::eglDestroySurface) DestroySurface = nullptr;
     PFNEGLGETPLATFORMDISPLAYEXTPROC GetPlatformDisplayEXT = nullptr;
     decltype(&::eglGetPlatformDisplay) GetPlatformDisplay = nullptr;  // EGL 1.5, may be absent
-
-    bool load(void* lib, std::string& error) {
-        return load_symbol("egl", lib, "eglGetProcAddress", GetProcAddress, error) &&
-               load_symbol("egl", lib, "eglGetError", GetError, error) &&
-               load_symbol("egl", lib, "eglQueryString", QueryString, error) &&
-               load_symbol("egl", lib, "eglInitialize", Initialize, error) &&
-               load_symbol("egl", lib, "eglTerminate", Terminate, error) &&
-               load_symbol("egl", lib, "eglBindAPI", BindAPI, error) &&
-               load_symbol("egl", lib, "eglChooseConfig", ChooseConfig, error) &&
-               load_symbol("egl", lib, "eglCreateContext", CreateContext, error) &&
-               load_symbol("egl", lib, "eglDestroyContext", DestroyContext, error) &&
-               load_symbol("egl", lib, "eglMakeCurrent", MakeCurrent, error) &&
-               load_symbol("egl", lib, "eglGetCurrentContext", GetCurrentContext, error) &&
-               load_symbol("egl", lib, "eglCreatePbufferSurface", CreatePbufferSurface, error) &&
-               load_symbol("egl", lib, "eglGetConfigAttrib", GetConfigAttrib, error) &&
-               load_symbol("egl", lib, "eglDestroySurface", DestroySurface, error);
-    }
 };
 
 // The surfaceless display is one per process, shared by every EglBackend: count the users so

@@ -29,19 +29,18 @@ struct Context {
 };
 
 struct OsmesaApi {
+    bool load(void* lib, std::string& error) {
+        return load_symbols("osmesa", lib, error,
+                            "OSMesaCreateContextAttribs", CreateContextAttribs, "OSMesaDestroyContext", DestroyContext,
+                            "OSMesaMakeCurrent", MakeCurrent, "OSMesaGetCurrentContext", GetCurrentContext,
+                            "OSMesaGetProcAddress", GetProcAddress);
+    }
+
     decltype(&::OSMesaCreateContextAttribs) CreateContextAttribs = nullptr;
     decltype(&::OSMesaDestroyContext) DestroyContext = nullptr;
     decltype(&::OSMesaMakeCurrent) MakeCurrent = nullptr;
     decltype(&::OSMesaGetCurrentContext) GetCurrentContext = nullptr;
     decltype(&::OSMesaGetProcAddress) GetProcAddress = nullptr;
-
-    bool load(void* lib, std::string& error) {
-        return load_symbol("osmesa", lib, "OSMesaCreateContextAttribs", CreateContextAttribs, error) &&
-               load_symbol("osmesa", lib, "OSMesaDestroyContext", DestroyContext, error) &&
-               load_symbol("osmesa", lib, "OSMesaMakeCurrent", MakeCurrent, error) &&
-               load_symbol("osmesa", lib, "OSMesaGetCurrentContext", GetCurrentContext, error) &&
-               load_symbol("osmesa", lib, "OSMesaGetProcAddress", GetProcAddress, error);
-    }
 };
 
 class OsmesaBackend final : public Backend {
