@@ -22,6 +22,8 @@ struct ContextRequest {
     bool debug = false;
 };
 
+// A backend is called from one thread at a time (the slave replays on one thread) and does no
+// locking of its own; a context released on one thread may be made current on another.
 class Backend {
 public:
     virtual ~Backend() = default;

@@ -36,4 +36,13 @@ bool load_symbol(const char* backend, void* lib, const char* name, Fn& fn, std::
     return false;
 }
 
+// load_symbol for each pair of `name, fn` in turn, up to the first that is missing.
+template <class Fn, class... More>
+bool load_symbols(const char* backend, void* lib, std::string& error, const char* name, Fn& fn,
+                  More&... more) {
+    if (!load_symbol(backend, lib, name, fn, error)) return false;
+    if constexpr (sizeof...(more) > 0) return load_symbols(backend, lib, error, more...);
+    return true;
+}
+
 }  // namespace glcast::slave

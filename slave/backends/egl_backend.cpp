@@ -15,10 +15,10 @@
 #include <cstdio>
 #include <cstdlib>
 #include <mutex>
-#include <unordered_map>
 #include <vector>
 
 #include "slave/backends/backends_internal.h"
+#include "slave/backends/context_backend.h"
 #include "slave/backends/dynlib.h"
 
 namespace glcast::slave {
@@ -52,6 +52,17 @@ bool has_extension(const char* list, const char* name) {
 }
 
 struct EglApi {
+    bool load(void* lib, std::string& error) {
+        return load_symbols("egl", lib, error,
+                            "eglGetProcAddress", GetProcAddress, "eglGetError", GetError,
+                            "eglQueryString", QueryString, "eglInitialize", Initialize,
+                            "eglTerminate", Terminate, "eglBindAPI", BindAPI,
+                            "eglChooseConfig", ChooseConfig, "eglCreateContext", CreateContext,
+                            "eglDestroyContext", DestroyContext, "eglMakeCurrent", MakeCurrent,
+                            "eglGetCurrentContext", GetCurrentContext, "eglCreatePbufferSurface", CreatePbufferSurface,
+                            "eglGetConfigAttrib", GetConfigAttrib, "eglDestroySurface", DestroySurface);
+    }
+
     decltype(&::eglGetProcAddress) GetProcAddress = nullptr;
     decltype(&::eglGetError) GetError = nullptr;
     decltype(&::eglQueryString) QueryString = nullptr;
@@ -68,46 +79,27 @@ struct EglApi {
     decltype(&::eglDestroySurface) DestroySurface = nullptr;
     PFNEGLGETPLATFORMDISPLAYEXTPROC GetPlatformDisplayEXT = nullptr;
     decltype(&::eglGetPlatformDisplay) GetPlatformDisplay = nullptr;  // EGL 1.5, may be absent
-
-    bool load(void* lib, std::string& error) {
-        return load_symbol("egl", lib, "eglGetProcAddress", GetProcAddress, error) &&
-               load_symbol("egl", lib, "eglGetError", GetError, error) &&
-               load_symbol("egl", lib, "eglQueryString", QueryString, error) &&
-               load_symbol("egl", lib, "eglInitialize", Initialize, error) &&
-               load_symbol("egl", lib, "eglTerminate", Terminate, error) &&
-               load_symbol("egl", lib, "eglBindAPI", BindAPI, error) &&
-               load_symbol("egl", lib, "eglChooseConfig", ChooseConfig, error) &&
-               load_symbol("egl", lib, "eglCreateContext", CreateContext, error) &&
-               load_symbol("egl", lib, "eglDestroyContext", DestroyContext, error) &&
-               load_symbol("egl", lib, "eglMakeCurrent", MakeCurrent, error) &&
-               load_symbol("egl", lib, "eglGetCurrentContext", GetCurrentContext, error) &&
-               load_symbol("egl", lib, "eglCreatePbufferSurface", CreatePbufferSurface, error) &&
-               load_symbol("egl", lib, "eglGetConfigAttrib", GetConfigAttrib, error) &&
-               load_symbol("egl", lib, "eglDestroySurface", DestroySurface, error);
-    }
 };
 
-// The surfaceless display is one per process, shared by every EglBackend: count the users so
+// The surfaceless display is one per process, shared by every EGL backend: count the users so
 // that destroying one backend does not terminate the display under another.
 std::mutex g_display_mutex;
 int g_display_users = 0;
 
-class EglBackend final : public Backend {
+class EglDriver : public DriverDefaults {
 public:
-    ~EglBackend() override {
-        std::vector<EGLContext> all;
-        {
-            std::lock_guard<std::mutex> lock(mutex_);
-            for (auto& [id, ctx] : contexts_) all.push_back(ctx);
-            contexts_.clear();
-        }
-        for (EGLContext ctx : all) release_and_destroy(ctx);
+    struct Context {
+        EGLContext context = EGL_NO_CONTEXT;
+        EGLSurface surface = EGL_NO_SURFACE;  // the pbuffer
+        int width = 0, height = 0;
+    };
+    static constexpr const char* name = "egl";
+
+    ~EglDriver() {
         if (!display_counted_) return;
         std::lock_guard<std::mutex> lock(g_display_mutex);
         if (--g_display_users == 0) api_.Terminate(display_);
     }
-
-    const char* name() const override { return "egl"; }
 
     bool init(std::string& error) {
         void* lib = open_library("egl", {"libEGL.so.1", "libEGL.so"}, error);
@@ -141,58 +133,15 @@ public:
             return fail(error, "the display lacks EGL_KHR_surfaceless_context");
         if (version_ < 15 && !has_extension(ext, "EGL_KHR_create_context"))
             return fail(error, "the display lacks EGL_KHR_create_context (EGL 1.4)");
-        {
-            // One config for every context (so that they can share) and its pbuffers: 8-bit RGB
-            // without alpha, 24-bit depth, 8-bit stencil, like the program's GLX visual.
-            const EGLint attribs[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_SURFACE_TYPE, EGL_PBUFFER_BIT,
-                                      EGL_RED_SIZE, 8, EGL_GREEN_SIZE, 8, EGL_BLUE_SIZE, 8, EGL_ALPHA_SIZE, 0,
-                                      EGL_DEPTH_SIZE, 24, EGL_STENCIL_SIZE, 8, EGL_NONE};
-            // Among them exactly 8/8/8/0 bits (the at-least-8 match also returns 10-bit
-            // configs), and of those the lowest config id: Mesa lists XRGB8888 (B, G, R, X in
-            // memory, the X11 window's layout) before XBGR8888, and the surfaceless platform
-            // reports no native visual id to tell them apart. The pixel-exact replay tests
-            // catch a driver that orders them otherwise; GLCAST_EGL_CONFIG_ID overrides.
-            EGLConfig configs[64];
-            EGLint count = 0;
-            if (!api_.ChooseConfig(display_, attribs, configs, 64, &count) || count < 1)
-                return fail_egl(error, "eglChooseConfig(RGB888 pbuffer)");
-            const char* forced = std::getenv("GLCAST_EGL_CONFIG_ID");
-            EGLint best_id = 0;
-            for (EGLint i = 0; i < count; ++i) {
-                EGLint id = 0, r = 0, g = 0, b = 0, a = 0;
-                api_.GetConfigAttrib(display_, configs[i], EGL_CONFIG_ID, &id);
-                api_.GetConfigAttrib(display_, configs[i], EGL_RED_SIZE, &r);
-                api_.GetConfigAttrib(display_, configs[i], EGL_GREEN_SIZE, &g);
-                api_.GetConfigAttrib(display_, configs[i], EGL_BLUE_SIZE, &b);
-                api_.GetConfigAttrib(display_, configs[i], EGL_ALPHA_SIZE, &a);
-                const bool wanted = forced ? id == std::atoi(forced) : (r == 8 && g == 8 && b == 8 && a == 0);
-                if (wanted && (!best_id || id < best_id)) {
-                    best_id = id;
-                    config_ = configs[i];
-                }
-            }
-            if (!best_id) return fail(error, "no EGL config with 8-bit RGB, no alpha, depth 24, stencil 8");
-        }
-        if (!bind_api(error)) return false;
-        return true;
+        return choose_config(error) && prepare(error);
     }
 
-    bool create_context(uint32_t id, uint32_t share_id, const ContextRequest& request,
-                        std::string& error) override {
-        if (id == 0) return fail(error, "context id 0 is reserved");
-        EGLContext share = EGL_NO_CONTEXT;
-        {
-            std::lock_guard<std::mutex> lock(mutex_);
-            if (contexts_.count(id)) return fail(error, "context " + std::to_string(id) + " already exists");
-            if (share_id) {
-                auto it = contexts_.find(share_id);
-                if (it == contexts_.end())
-                    return fail(error, "share context " + std::to_string(share_id) + " does not exist");
-                share = it->second;
-            }
-        }
-        if (!bind_api(error)) return false;
+    bool prepare(std::string& error) {
+        if (api_.BindAPI(EGL_OPENGL_API)) return true;
+        return fail_egl(error, "eglBindAPI(EGL_OPENGL_API)");
+    }
 
+    bool create(const Context* share, const ContextRequest& request, Context& out, std::string& error) {
         std::vector<EGLint> attribs;
         EGLint flags = 0;
         if (request.major > 0) {
@@ -213,89 +162,88 @@ public:
         if (flags) attribs.insert(attribs.end(), {EGL_CONTEXT_FLAGS_KHR, flags});
         attribs.push_back(EGL_NONE);
 
-        EGLContext ctx = api_.CreateContext(display_, config_, share, attribs.data());
-        if (ctx == EGL_NO_CONTEXT) return fail_egl(error, "eglCreateContext(" + describe(request) + ")");
-        std::lock_guard<std::mutex> lock(mutex_);
-        contexts_[id] = ctx;
+        out.context = api_.CreateContext(display_, config_, share ? share->context : EGL_NO_CONTEXT, attribs.data());
+        if (out.context == EGL_NO_CONTEXT) return fail_egl(error, "eglCreateContext(" + describe(request) + ")");
         return true;
     }
 
-    // The context's pbuffer at width x height: created on first use, replaced when the size
-    // changes (the master's window was resized; its contents are redrawn by the next frame).
-    bool surface_for(uint32_t id, int width, int height, EGLSurface& out, std::string& error) {
-        std::lock_guard<std::mutex> lock(mutex_);
-        Surface& s = surfaces_[id];
-        if (s.surface != EGL_NO_SURFACE && s.width == width && s.height == height) {
-            out = s.surface;
-            return true;
-        }
+    // The old pbuffer may be current (on this thread or another): destroyed once released.
+    bool resize(Context& c, int width, int height, std::string& error) {
         const EGLint attribs[] = {EGL_WIDTH, width, EGL_HEIGHT, height, EGL_NONE};
         EGLSurface fresh = api_.CreatePbufferSurface(display_, config_, attribs);
         if (fresh == EGL_NO_SURFACE)
             return fail_egl(error, "eglCreatePbufferSurface(" + std::to_string(width) + "x" + std::to_string(height) + ")");
-        if (s.surface != EGL_NO_SURFACE) retired_.push_back(s.surface);  // destroyed once released
-        s = Surface{fresh, width, height};
-        out = fresh;
+        if (c.surface != EGL_NO_SURFACE) retired_.push_back(c.surface);
+        c.surface = fresh;
         return true;
     }
 
-    bool make_current(uint32_t id, int width, int height, std::string& error) override {
-        EGLContext ctx = EGL_NO_CONTEXT;
-        if (id) {
-            std::lock_guard<std::mutex> lock(mutex_);
-            auto it = contexts_.find(id);
-            if (it == contexts_.end()) return fail(error, "make_current: no context " + std::to_string(id));
-            ctx = it->second;
-        }
-        if (!bind_api(error)) return false;
-        EGLSurface surface = EGL_NO_SURFACE;
-        if (id && width > 0 && height > 0 && !surface_for(id, width, height, surface, error)) return false;
-        if (!api_.MakeCurrent(display_, surface, surface, ctx))
-            return fail_egl(error, id ? "eglMakeCurrent(context " + std::to_string(id) + ")"
-                                      : std::string("eglMakeCurrent(release)"));
-        std::lock_guard<std::mutex> lock(mutex_);
-        for (EGLSurface old : retired_) api_.DestroySurface(display_, old);
-        retired_.clear();
+    // Asked for no size (0 x 0), the context is current without a framebuffer (surfaceless).
+    bool bind(uint32_t id, Context& c, bool sized, std::string& error) {
+        const EGLSurface surface = sized ? c.surface : EGL_NO_SURFACE;
+        if (!api_.MakeCurrent(display_, surface, surface, c.context))
+            return fail_egl(error, "eglMakeCurrent(context " + std::to_string(id) + ")");
+        destroy_retired();
         return true;
     }
 
-    void destroy_context(uint32_t id) override {
-        EGLContext ctx;
-        {
-            std::lock_guard<std::mutex> lock(mutex_);
-            auto it = contexts_.find(id);
-            if (it == contexts_.end()) return;
-            ctx = it->second;
-            contexts_.erase(it);
-        }
-        release_and_destroy(ctx);
-        std::lock_guard<std::mutex> lock(mutex_);
-        auto s = surfaces_.find(id);
-        if (s != surfaces_.end()) {
-            api_.DestroySurface(display_, s->second.surface);
-            surfaces_.erase(s);
-        }
-    }
-
-    void* proc_address(const char* name) override {
-        return reinterpret_cast<void*>(api_.GetProcAddress(name));
-    }
-
-    void present() override {}
-
-private:
-    bool bind_api(std::string& error) {
-        if (api_.BindAPI(EGL_OPENGL_API)) return true;
-        return fail_egl(error, "eglBindAPI(EGL_OPENGL_API)");
+    bool release(std::string& error) {
+        if (!api_.MakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT))
+            return fail_egl(error, "eglMakeCurrent(release)");
+        destroy_retired();
+        return true;
     }
 
     // EGL defers destroying a context current on some thread; release it first on this one.
-    void release_and_destroy(EGLContext ctx) {
-        if (api_.GetCurrentContext() == ctx) {
+    void destroy(Context& c) {
+        if (api_.GetCurrentContext() == c.context) {
             api_.BindAPI(EGL_OPENGL_API);
             api_.MakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
         }
-        api_.DestroyContext(display_, ctx);
+        api_.DestroyContext(display_, c.context);
+        if (c.surface != EGL_NO_SURFACE) api_.DestroySurface(display_, c.surface);
+    }
+
+    void* proc_address(const char* name) { return reinterpret_cast<void*>(api_.GetProcAddress(name)); }
+
+private:
+    // One config for every context (so that they can share) and its pbuffers: 8-bit RGB without
+    // alpha, 24-bit depth, 8-bit stencil, like the program's GLX visual.
+    bool choose_config(std::string& error) {
+        const EGLint attribs[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_SURFACE_TYPE, EGL_PBUFFER_BIT,
+                                  EGL_RED_SIZE, 8, EGL_GREEN_SIZE, 8, EGL_BLUE_SIZE, 8, EGL_ALPHA_SIZE, 0,
+                                  EGL_DEPTH_SIZE, 24, EGL_STENCIL_SIZE, 8, EGL_NONE};
+        // Among them exactly 8/8/8/0 bits (the at-least-8 match also returns 10-bit configs),
+        // and of those the lowest config id: Mesa lists XRGB8888 (B, G, R, X in memory, the X11
+        // window's layout) before XBGR8888, and the surfaceless platform reports no native
+        // visual id to tell them apart. The pixel-exact replay tests catch a driver that orders
+        // them otherwise; GLCAST_EGL_CONFIG_ID overrides.
+        EGLConfig configs[64];
+        EGLint count = 0;
+        if (!api_.ChooseConfig(display_, attribs, configs, 64, &count) || count < 1)
+            return fail_egl(error, "eglChooseConfig(RGB888 pbuffer)");
+        const char* forced = std::getenv("GLCAST_EGL_CONFIG_ID");
+        EGLint best_id = 0;
+        for (EGLint i = 0; i < count; ++i) {
+            EGLint id = 0, r = 0, g = 0, b = 0, a = 0;
+            api_.GetConfigAttrib(display_, configs[i], EGL_CONFIG_ID, &id);
+            api_.GetConfigAttrib(display_, configs[i], EGL_RED_SIZE, &r);
+            api_.GetConfigAttrib(display_, configs[i], EGL_GREEN_SIZE, &g);
+            api_.GetConfigAttrib(display_, configs[i], EGL_BLUE_SIZE, &b);
+            api_.GetConfigAttrib(display_, configs[i], EGL_ALPHA_SIZE, &a);
+            const bool wanted = forced ? id == std::atoi(forced) : (r == 8 && g == 8 && b == 8 && a == 0);
+            if (wanted && (!best_id || id < best_id)) {
+                best_id = id;
+                config_ = configs[i];
+            }
+        }
+        if (!best_id) return fail(error, "no EGL config with 8-bit RGB, no alpha, depth 24, stencil 8");
+        return true;
+    }
+
+    void destroy_retired() {
+        for (EGLSurface old : retired_) api_.DestroySurface(display_, old);
+        retired_.clear();
     }
 
     static bool fail(std::string& error, const std::string& what) {
@@ -312,22 +260,11 @@ private:
     EGLConfig config_ = EGL_NO_CONFIG_KHR;
     int version_ = 0;
     bool display_counted_ = false;
-    std::mutex mutex_;
-    std::unordered_map<uint32_t, EGLContext> contexts_;
-    struct Surface {
-        EGLSurface surface = EGL_NO_SURFACE;
-        int width = 0, height = 0;
-    };
-    std::unordered_map<uint32_t, Surface> surfaces_;
-    std::vector<EGLSurface> retired_;
+    std::vector<EGLSurface> retired_;  // replaced pbuffers, until the next make-current
 };
 
 }  // namespace
 
-std::unique_ptr<Backend> make_egl_backend(std::string& error) {
-    auto backend = std::make_unique<EglBackend>();
-    if (!backend->init(error)) return nullptr;
-    return backend;
-}
+std::unique_ptr<Backend> make_egl_backend(std::string& error) { return make_context_backend<EglDriver>(error); }
 
 }  // namespace glcast::slave

@@ -12,67 +12,45 @@
 // ignored (GL_KHR_debug output still works once the program enables GL_DEBUG_OUTPUT).
 #include <GL/osmesa.h>
 
-#include <mutex>
-#include <unordered_map>
 #include <vector>
 
 #include "slave/backends/backends_internal.h"
+#include "slave/backends/context_backend.h"
 #include "slave/backends/dynlib.h"
 
 namespace glcast::slave {
 namespace {
 
-struct Context {
-    OSMesaContext ctx = nullptr;
-    std::vector<uint32_t> buffer = std::vector<uint32_t>(1);  // the BGRA window framebuffer
-    int width = 1, height = 1;
-};
-
 struct OsmesaApi {
+    bool load(void* lib, std::string& error) {
+        return load_symbols("osmesa", lib, error,
+                            "OSMesaCreateContextAttribs", CreateContextAttribs, "OSMesaDestroyContext", DestroyContext,
+                            "OSMesaMakeCurrent", MakeCurrent, "OSMesaGetCurrentContext", GetCurrentContext,
+                            "OSMesaGetProcAddress", GetProcAddress);
+    }
+
     decltype(&::OSMesaCreateContextAttribs) CreateContextAttribs = nullptr;
     decltype(&::OSMesaDestroyContext) DestroyContext = nullptr;
     decltype(&::OSMesaMakeCurrent) MakeCurrent = nullptr;
     decltype(&::OSMesaGetCurrentContext) GetCurrentContext = nullptr;
     decltype(&::OSMesaGetProcAddress) GetProcAddress = nullptr;
-
-    bool load(void* lib, std::string& error) {
-        return load_symbol("osmesa", lib, "OSMesaCreateContextAttribs", CreateContextAttribs, error) &&
-               load_symbol("osmesa", lib, "OSMesaDestroyContext", DestroyContext, error) &&
-               load_symbol("osmesa", lib, "OSMesaMakeCurrent", MakeCurrent, error) &&
-               load_symbol("osmesa", lib, "OSMesaGetCurrentContext", GetCurrentContext, error) &&
-               load_symbol("osmesa", lib, "OSMesaGetProcAddress", GetProcAddress, error);
-    }
 };
 
-class OsmesaBackend final : public Backend {
+class OsmesaDriver : public DriverDefaults {
 public:
-    ~OsmesaBackend() override {
-        std::lock_guard<std::mutex> lock(mutex_);
-        for (auto& [id, c] : contexts_) release_and_destroy(c->ctx);
-        contexts_.clear();
-    }
-
-    const char* name() const override { return "osmesa"; }
+    struct Context {
+        OSMesaContext context = nullptr;
+        std::vector<uint32_t> buffer = std::vector<uint32_t>(1);  // the BGRA window framebuffer
+        int width = 1, height = 1;  // OSMesa makes nothing current without a buffer
+    };
+    static constexpr const char* name = "osmesa";
 
     bool init(std::string& error) {
         void* lib = open_library("osmesa", {"libOSMesa.so.8", "libOSMesa.so.6", "libOSMesa.so"}, error);
         return lib && api_.load(lib, error);
     }
 
-    bool create_context(uint32_t id, uint32_t share_id, const ContextRequest& request,
-                        std::string& error) override {
-        if (id == 0) return fail(error, "context id 0 is reserved");
-        OSMesaContext share = nullptr;
-        {
-            std::lock_guard<std::mutex> lock(mutex_);
-            if (contexts_.count(id)) return fail(error, "context " + std::to_string(id) + " already exists");
-            if (share_id) {
-                auto it = contexts_.find(share_id);
-                if (it == contexts_.end())
-                    return fail(error, "share context " + std::to_string(share_id) + " does not exist");
-                share = it->second->ctx;
-            }
-        }
+    bool create(const Context* share, const ContextRequest& request, Context& out, std::string& error) {
         std::vector<int> attribs = {OSMESA_FORMAT, OSMESA_BGRA, OSMESA_DEPTH_BITS, 24,
                                     OSMESA_STENCIL_BITS, 8};
         if (request.major > 0) {
@@ -85,78 +63,47 @@ public:
             attribs.insert(attribs.end(), {OSMESA_PROFILE, OSMESA_COMPAT_PROFILE});
         }
         attribs.push_back(0);
-        OSMesaContext ctx = api_.CreateContextAttribs(attribs.data(), share);
-        if (!ctx) return fail(error, "OSMesaCreateContextAttribs(" + describe(request) + ") failed");
-        auto c = std::make_unique<Context>();
-        c->ctx = ctx;
-        std::lock_guard<std::mutex> lock(mutex_);
-        contexts_[id] = std::move(c);
+        out.context = api_.CreateContextAttribs(attribs.data(), share ? share->context : nullptr);
+        if (!out.context) return fail(error, "OSMesaCreateContextAttribs(" + describe(request) + ") failed");
         return true;
     }
 
-    bool make_current(uint32_t id, int width, int height, std::string& error) override {
-        if (id == 0) {
-            if (!api_.MakeCurrent(nullptr, nullptr, 0, 0, 0))
-                return fail(error, "OSMesaMakeCurrent(release) failed");
-            return true;
-        }
-        Context* c;
-        {
-            std::lock_guard<std::mutex> lock(mutex_);
-            auto it = contexts_.find(id);
-            if (it == contexts_.end()) return fail(error, "make_current: no context " + std::to_string(id));
-            c = it->second.get();
-        }
-        if (width > 0 && height > 0 && (width != c->width || height != c->height)) {
-            c->buffer.assign(size_t(width) * size_t(height), 0);
-            c->width = width;
-            c->height = height;
-        }
-        if (!api_.MakeCurrent(c->ctx, c->buffer.data(), GL_UNSIGNED_BYTE, c->width, c->height))
+    bool resize(Context& c, int width, int height, std::string&) {
+        c.buffer.assign(size_t(width) * size_t(height), 0);
+        return true;
+    }
+
+    bool bind(uint32_t id, Context& c, bool, std::string& error) {
+        if (!api_.MakeCurrent(c.context, c.buffer.data(), GL_UNSIGNED_BYTE, c.width, c.height))
             return fail(error, "OSMesaMakeCurrent(context " + std::to_string(id) + ") failed");
         return true;
     }
 
-    void destroy_context(uint32_t id) override {
-        std::unique_ptr<Context> c;
-        {
-            std::lock_guard<std::mutex> lock(mutex_);
-            auto it = contexts_.find(id);
-            if (it == contexts_.end()) return;
-            c = std::move(it->second);
-            contexts_.erase(it);
-        }
-        release_and_destroy(c->ctx);
+    bool release(std::string& error) {
+        if (!api_.MakeCurrent(nullptr, nullptr, 0, 0, 0)) return fail(error, "OSMesaMakeCurrent(release) failed");
+        return true;
     }
 
-    void* proc_address(const char* name) override {
-        return reinterpret_cast<void*>(api_.GetProcAddress(name));
+    void destroy(Context& c) {
+        if (api_.GetCurrentContext() == c.context) api_.MakeCurrent(nullptr, nullptr, 0, 0, 0);
+        api_.DestroyContext(c.context);
     }
 
-    void present() override {}
+    void* proc_address(const char* name) { return reinterpret_cast<void*>(api_.GetProcAddress(name)); }
 
 private:
-    void release_and_destroy(OSMesaContext ctx) {
-        if (api_.GetCurrentContext() == ctx) api_.MakeCurrent(nullptr, nullptr, 0, 0, 0);
-        api_.DestroyContext(ctx);
-    }
-
     static bool fail(std::string& error, const std::string& what) {
         error = "osmesa: " + what;
         return false;
     }
 
     OsmesaApi api_;
-    std::mutex mutex_;
-    std::unordered_map<uint32_t, std::unique_ptr<Context>> contexts_;  // buffers stay put
 };
 
 }  // namespace
 
 std::unique_ptr<Backend> make_osmesa_backend(std::string& error) {
-    auto backend = std::make_unique<OsmesaBackend>();
-    if (!backend->init(error)) return nullptr;
-    return backend;
+    return make_context_backend<OsmesaDriver>(error);
 }
 
 }  // namespace glcast::slave

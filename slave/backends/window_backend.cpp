@@ -17,9 +17,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <mutex>
-#include <unordered_map>
 
 #include "slave/backends/backends_internal.h"
+#include "slave/backends/context_backend.h"
 
 namespace glcast::slave {
 namespace {
@@ -35,27 +35,20 @@ std::string glfw_error() {
     return description ? description : "GLFW error " + std::to_string(code);
 }
 
-struct Context {
-    uint32_t id = 0;
-    GLFWwindow* window = nullptr;
-    int width = 0, height = 0;  // the size last asked of the window
-    bool shown = false;
-};
-
-class WindowBackend final : public Backend {
+class WindowDriver : public DriverDefaults {
 public:
-    ~WindowBackend() override {
-        {
-            std::lock_guard<std::mutex> lock(mutex_);
-            for (auto& [id, c] : contexts_) destroy_window(c->window);
-            contexts_.clear();
-        }
+    struct Context {
+        GLFWwindow* window = nullptr;
+        int width = 0, height = 0;  // the size last asked of the window
+        bool shown = false;
+    };
+    static constexpr const char* name = "window";
+
+    ~WindowDriver() {
         if (!glfw_counted_) return;
         std::lock_guard<std::mutex> lock(g_glfw_mutex);
         if (--g_glfw_users == 0) glfwTerminate();
     }
-
-    const char* name() const override { return "window"; }
 
     bool init(std::string& error) {
         std::lock_guard<std::mutex> lock(g_glfw_mutex);
@@ -68,20 +61,7 @@ public:
         return true;
     }
 
-    bool create_context(uint32_t id, uint32_t share_id, const ContextRequest& request,
-                        std::string& error) override {
-        if (id == 0) return fail(error, "context id 0 is reserved");
-        GLFWwindow* share = nullptr;
-        {
-            std::lock_guard<std::mutex> lock(mutex_);
-            if (contexts_.count(id)) return fail(error, "context " + std::to_string(id) + " already exists");
-            if (share_id) {
-                auto it = contexts_.find(share_id);
-                if (it == contexts_.end())
-                    return fail(error, "share context " + std::to_string(share_id) + " does not exist");
-                share = it->second->window;
-            }
-        }
+    bool create(const Context* share, const ContextRequest& request, Context& out, std::string& error) {
         glfwDefaultWindowHints();
         glfwWindowHint(GLFW_CLIENT_API, GLFW_OPENGL_API);
         glfwWindowHint(GLFW_CONTEXT_CREATION_API, GLFW_NATIVE_CONTEXT_API);
@@ -108,73 +88,54 @@ public:
         glfwWindowHint(GLFW_OPENGL_DEBUG_CONTEXT, request.debug ? GLFW_TRUE : GLFW_FALSE);
 
         glfwGetError(nullptr);
-        const bool first = !share_id;
-        GLFWwindow* window = glfwCreateWindow(first ? 640 : 1, first ? 480 : 1, "glcast slave", nullptr, share);
-        if (!window)
+        const bool first = !share;
+        out.window = glfwCreateWindow(first ? 640 : 1, first ? 480 : 1, "glcast slave", nullptr,
+                                      share ? share->window : nullptr);
+        if (!out.window)
             return fail(error, "glfwCreateWindow(" + describe(request) + ") failed: " + glfw_error());
-        auto c = std::make_unique<Context>();
-        c->id = id;
-        c->window = window;
-        glfwSetWindowUserPointer(window, c.get());
-        std::lock_guard<std::mutex> lock(mutex_);
-        contexts_[id] = std::move(c);
+        glfwSetWindowUserPointer(out.window, &out);
         return true;
     }
 
-    bool make_current(uint32_t id, int width, int height, std::string& error) override {
-        if (id == 0) {
-            glfwMakeContextCurrent(nullptr);
-            return true;
+    bool resize(Context& c, int width, int height, std::string&) {
+        glfwSetWindowSize(c.window, width, height);
+        // The X server resizes asynchronously: wait (briefly) until the framebuffer has the size.
+        for (int i = 0; i < 200; ++i) {
+            int fw = 0, fh = 0;
+            glfwGetFramebufferSize(c.window, &fw, &fh);
+            if (fw == width && fh == height) break;
+            glfwWaitEventsTimeout(0.005);
         }
-        Context* c;
-        {
-            std::lock_guard<std::mutex> lock(mutex_);
-            auto it = contexts_.find(id);
-            if (it == contexts_.end()) return fail(error, "make_current: no context " + std::to_string(id));
-            c = it->second.get();
-        }
-        if (width > 0 && height > 0 && (width != c->width || height != c->height)) {
-            glfwSetWindowSize(c->window, width, height);
-            c->width = width;
-            c->height = height;
-            // The X server resizes asynchronously: wait (briefly) until the framebuffer has the size.
-            for (int i = 0; i < 200; ++i) {
-                int fw = 0, fh = 0;
-                glfwGetFramebufferSize(c->window, &fw, &fh);
-                if (fw == width && fh == height) break;
-                glfwWaitEventsTimeout(0.005);
-            }
-        }
+        return true;
+    }
+
+    bool bind(uint32_t id, Context& c, bool, std::string& error) {
         glfwGetError(nullptr);
-        glfwMakeContextCurrent(c->window);
-        if (glfwGetCurrentContext() != c->window)
+        glfwMakeContextCurrent(c.window);
+        if (glfwGetCurrentContext() != c.window)
             return fail(error, "glfwMakeContextCurrent(context " + std::to_string(id) + ") failed: " + glfw_error());
         return true;
     }
 
-    void destroy_context(uint32_t id) override {
-        std::unique_ptr<Context> c;
-        {
-            std::lock_guard<std::mutex> lock(mutex_);
-            auto it = contexts_.find(id);
-            if (it == contexts_.end()) return;
-            c = std::move(it->second);
-            contexts_.erase(it);
-        }
-        destroy_window(c->window);
+    bool release(std::string&) {
+        glfwMakeContextCurrent(nullptr);
+        return true;
     }
 
-    void* proc_address(const char* name) override {
-        return reinterpret_cast<void*>(glfwGetProcAddress(name));
+    void destroy(Context& c) {
+        if (glfwGetCurrentContext() == c.window) glfwMakeContextCurrent(nullptr);
+        glfwDestroyWindow(c.window);
     }
 
-    void set_position(int x, int y) override {
+    void* proc_address(const char* name) { return reinterpret_cast<void*>(glfwGetProcAddress(name)); }
+
+    void set_position(int x, int y) {
         position_x_ = x;
         position_y_ = y;
         has_position_ = true;
     }
 
-    void present() override {
+    void present() {
         GLFWwindow* window = glfwGetCurrentContext();
         if (!window) return;
         auto* c = static_cast<Context*>(glfwGetWindowUserPointer(window));
@@ -189,11 +150,6 @@ public:
     }
 
 private:
-    static void destroy_window(GLFWwindow* window) {
-        if (glfwGetCurrentContext() == window) glfwMakeContextCurrent(nullptr);
-        glfwDestroyWindow(window);
-    }
-
     static bool fail(std::string& error, const std::string& what) {
         error = "window: " + what;
         return false;
@@ -202,16 +158,12 @@ private:
     bool glfw_counted_ = false;
     bool has_position_ = false;
     int position_x_ = 0, position_y_ = 0;
-    std::mutex mutex_;
-    std::unordered_map<uint32_t, std::unique_ptr<Context>> contexts_;
 };
 
 }  // namespace
 
 std::unique_ptr<Backend> make_window_backend(std::string& error) {
-    auto backend = std::make_unique<WindowBackend>();
-    if (!backend->init(error)) return nullptr;
-    return backend;
+    return make_context_backend<WindowDriver>(error);
 }
 
 }  // namespace glcast::slave
