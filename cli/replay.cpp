@@ -1,6 +1,6 @@
 // `glcast replay`: a capture back to pixels, one PNG per swapped frame, optionally compared
 // with reference PNGs (the program's own frames from GLCAST_SNAPSHOT_DIR, or goldens).
-#include "slave/replay_main.h"
+#include "cli/commands.h"
 
 #include <sys/stat.h>
 
@@ -11,7 +11,7 @@
 #include "protocol/decoder.h"
 #include "slave/image.h"
 #include "slave/replayer.h"
-#include "slave/tile_options.h"
+#include "cli/tile_options.h"
 
 namespace glcast::slave {
 

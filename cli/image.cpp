@@ -1,4 +1,4 @@
-#include "slave/image_main.h"
+#include "cli/commands.h"
 
 #include <cinttypes>
 #include <cstdio>

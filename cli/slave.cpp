@@ -1,5 +1,5 @@
 // `glcast slave`: one tile of a wall on this machine, fed by the master over ZeroMQ.
-#include "slave/slave_main.h"
+#include "cli/commands.h"
 
 #include <sys/stat.h>
 #include <unistd.h>
@@ -13,7 +13,7 @@
 #include "slave/image.h"
 #include "slave/network_source.h"
 #include "slave/replayer.h"
-#include "slave/tile_options.h"
+#include "cli/tile_options.h"
 
 namespace glcast::slave {
 

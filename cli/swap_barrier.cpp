@@ -1,4 +1,4 @@
-#include "master/swap_barrier.h"
+#include "cli/swap_barrier.h"
 
 #include <zmq.hpp>
 

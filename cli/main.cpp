@@ -6,20 +6,13 @@
 #include <string>
 #include <vector>
 
-#include "master/launcher.h"
+#include "cli/commands.h"
+#include "cli/launcher.h"
 #include "protocol/decoder.h"
 #include "protocol/dump.h"
 #include "slave/effects/effect_params.h"
-#include "slave/image_main.h"
-#include "slave/replay_main.h"
-#include "slave/slave_main.h"
 
 using namespace glcast;
-
-namespace glcast {
-int run_main(const std::vector<std::string>& args);
-extern const char* kRunUsage;
-}  // namespace glcast
 
 namespace {
 

@@ -1,4 +1,4 @@
-#include "slave/tile_options.h"
+#include "cli/tile_options.h"
 
 #include "slave/display_config.h"
 

@@ -1,4 +1,4 @@
-#include "master/launcher.h"
+#include "cli/launcher.h"
 
 #include <sys/wait.h>
 #include <unistd.h>

@@ -17,8 +17,8 @@
 #include <thread>
 #include <vector>
 
-#include "master/launcher.h"
-#include "master/swap_barrier.h"
+#include "cli/launcher.h"
+#include "cli/swap_barrier.h"
 #include "slave/display_config.h"
 #include "slave/effects/effect_params.h"
 
