@@ -1,148 +1,132 @@
-// The glcast command: one binary with subcommands, like git and apitrace (design.md 8).
-#include <cinttypes>
+// The glcast command: one binary with subcommands, like git and apitrace (design.md 8). Each
+// subcommand is a file of cli/ that declares its options on CLI11; this file dispatches, prints
+// help (exit 0), and turns every command-line error into one line on stderr and exit 2.
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
 #include <cstdio>
-#include <cstdlib>
-#include <cstring>
+#include <set>
 #include <string>
 #include <vector>
 
 #include "cli/commands.h"
-#include "cli/launcher.h"
-#include "protocol/decoder.h"
-#include "protocol/dump.h"
-#include "slave/effects/effect_params.h"
 
-using namespace glcast;
+using namespace glcast::cli;
 
 namespace {
 
-const char* kUsage =
-    "usage: glcast <command> [options]\n"
-    "\n"
-    "commands:\n"
-    "%s"
-    "  capture -o FILE [--frames N] -- PROGRAM [ARGS...]\n"
-    "        run PROGRAM with the shim and write its GL stream to FILE; with --frames the\n"
-    "        program is ended once N frames are written\n"
-    "  dump FILE [--frames A:B] [--summary]\n"
-    "        print one call per line with arguments and replies, and a summary per frame;\n"
-    "        --frames limits the output to frames A through B (either may be omitted)\n"
-    "%s"
-    "%s"
-    "%s"
-    "  effects  the injected passes' parameters (name, default, range, meaning) as a markdown table\n"
-    "  help  this text\n"
-    "\n"
-    "The shim reads GLCAST_* variables; see docs/environment.md.\n";
+// CLI11's help, with "-- PROGRAM [ARGS...]" on the usage line of the commands that run one.
+class Formatter : public CLI::Formatter {
+public:
+    std::set<const CLI::App*> runs_program;
 
-void print_usage(FILE* f) {
-    std::fprintf(f, kUsage, glcast::kRunUsage, glcast::slave::kReplayUsage, glcast::slave::kSlaveUsage,
-                 glcast::slave::kImageUsage);
+    std::string make_usage(const CLI::App* app, std::string name) const override {
+        std::string usage = CLI::Formatter::make_usage(app, name);
+        if (runs_program.count(app) && !usage.empty() && usage.back() == '\n')
+            usage.insert(usage.size() - 1, " -- PROGRAM [ARGS...]");
+        return usage;
+    }
+};
+
+// "Commands" rather than CLI11's "Subcommands", and positionals without CLI11's type "TEXT":
+// their names (FILE, OUT, ...) say what they are.
+void tidy_help(CLI::App& app) {
+    for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
+        sub->group("Commands");
+        tidy_help(*sub);
+    }
+    for (CLI::Option* o : app.get_options([](const CLI::Option* o) { return o->get_positional(); }))
+        if (o->get_type_name() == "TEXT") o->type_name("");
 }
 
-int usage_error(const std::string& msg) {
-    std::fprintf(stderr, "glcast: %s\n\n", msg.c_str());
-    print_usage(stderr);
+int usage_failure(const std::string& who, const std::string& message) {
+    std::fprintf(stderr, "%s: %s\n", who.c_str(), message.c_str());
     return 2;
 }
 
-bool parse_u64(const std::string& s, uint64_t& out) {
-    if (s.empty() || s.size() > 19 || s.find_first_not_of("0123456789") != std::string::npos) return false;
-    out = std::strtoull(s.c_str(), nullptr, 10);
-    return true;
-}
-
-int cmd_capture(const std::vector<std::string>& args) {
-    std::string output;
-    uint64_t frames = 0;
-    size_t i = 0;
-    for (; i < args.size() && args[i] != "--"; ++i) {
-        if ((args[i] == "-o" || args[i] == "--output") && i + 1 < args.size()) output = args[++i];
-        else if (args[i] == "--frames" && i + 1 < args.size()) {
-            if (!parse_u64(args[++i], frames) || frames == 0 || frames > UINT32_MAX)
-                return usage_error("--frames needs a positive integer, got '" + args[i] + "'");
-        } else
-            return usage_error("capture: unknown option '" + args[i] + "'");
-    }
-    if (output.empty()) return usage_error("capture: -o FILE is required");
-    if (i + 1 >= args.size()) return usage_error("capture: the program to run follows '--'");
-    std::vector<std::string> program(args.begin() + long(i) + 1, args.end());
-    std::map<std::string, std::string> env{{"GLCAST_CAPTURE", output}};
-    if (frames) {
-        env["GLCAST_FRAMES"] = std::to_string(frames);
-        env["GLCAST_EXIT_AFTER_FRAMES"] = "1";
-    }
-    const int status = run_with_shim(program, env);
-    if (status < 0) return 1;
-    if (FILE* f = std::fopen(output.c_str(), "rb")) std::fclose(f);
-    else std::fprintf(stderr, "glcast: %s made no GL calls; no capture written\n", program[0].c_str());
-    return status;
-}
-
-int cmd_dump(const std::vector<std::string>& args) {
-    std::string path;
-    DumpOptions opt;
-    for (size_t i = 0; i < args.size(); ++i) {
-        if (args[i] == "--frames" && i + 1 < args.size()) {
-            const std::string r = args[++i];
-            const size_t colon = r.find(':');
-            const std::string a = colon == std::string::npos ? r : r.substr(0, colon);
-            const std::string b = colon == std::string::npos ? r : r.substr(colon + 1);
-            if ((!a.empty() && !parse_u64(a, opt.first_frame)) || (!b.empty() && !parse_u64(b, opt.last_frame)) ||
-                opt.first_frame > opt.last_frame)
-                return usage_error("--frames takes A:B with A <= B, got '" + r + "'");
-        } else if (args[i] == "--summary") {
-            opt.calls = false;
-        } else if (!args[i].empty() && args[i][0] == '-') {
-            return usage_error("dump: unknown option '" + args[i] + "'");
-        } else if (path.empty()) {
-            path = args[i];
-        } else {
-            return usage_error("dump: one capture file at a time");
-        }
-    }
-    if (path.empty()) return usage_error("dump: which capture file?");
-    try {
-        CaptureReader reader(open_file_source(path));
-        dump_capture(reader, opt, stdout);
-    } catch (const DecodeError& e) {
-        std::fflush(stdout);
-        std::fprintf(stderr, "glcast: %s: %s\n", path.c_str(), e.what());
-        return 1;
-    } catch (const std::exception& e) {
-        std::fflush(stdout);
-        std::fprintf(stderr, "glcast: %s\n", e.what());
-        return 1;
-    }
-    return 0;
-}
-
-int cmd_effects(const std::vector<std::string>& args) {
-    if (!args.empty()) return usage_error("effects takes no arguments");
-    std::printf("| parameter | default | range | meaning |\n|---|---|---|---|\n");
-    for (const auto& p : glcast::slave::effects::all_param_specs()) {
-        if (p.text) std::printf("| `%s` | (none) | text | %s |\n", p.name.c_str(), p.help.c_str());
-        else std::printf("| `%s` | %g | %g .. %g | %s |\n", p.name.c_str(), p.value, p.min, p.max, p.help.c_str());
-    }
-    return 0;
+// The subcommand that was being parsed: the one whose leftover arguments are unknown to it.
+const CLI::App* innermost(const CLI::App& app) {
+    const CLI::App* a = &app;
+    while (!a->get_subcommands().empty()) a = a->get_subcommands().front();
+    return a;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-    if (argc < 2) return usage_error("which command?");
-    const std::string cmd = argv[1];
-    const std::vector<std::string> args(argv + 2, argv + argc);
-    if (cmd == "capture") return cmd_capture(args);
-    if (cmd == "dump") return cmd_dump(args);
-    if (cmd == "replay") return glcast::slave::replay_main(args);
-    if (cmd == "image") return glcast::slave::image_main(args);
-    if (cmd == "slave") return glcast::slave::slave_main(args);
-    if (cmd == "run") return glcast::run_main(args);
-    if (cmd == "effects") return cmd_effects(args);
-    if (cmd == "help" || cmd == "--help" || cmd == "-h") {
-        print_usage(stdout);
-        return 0;
+    CLI::App app{"glcast puts unmodified OpenGL programs on display walls: a preloaded shim publishes\n"
+                 "every GL call with its reply, and slaves replay them per tile.",
+                 "glcast"};
+    auto formatter = std::make_shared<Formatter>();
+    formatter->column_width(32);
+    formatter->label("SUBCOMMAND", "COMMAND");
+    app.formatter(formatter);  // before the subcommands: they share it
+    app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);  // the last one wins
+    app.set_help_flag("-h,--help", "print this help and exit");
+    app.require_subcommand(1);  // exactly one: no later argument is taken for another command
+
+    const std::vector<Command> commands = {add_capture(app), add_dump(app),  add_replay(app), add_run(app),
+                                           add_slave(app),   add_image(app), add_effects(app)};
+    CLI::App* help = app.add_subcommand("help", "this text, or a command's options");
+    std::string topic;
+    help->add_option("COMMAND", topic, "the command");
+    for (const Command& c : commands)
+        if (c.runs_program) formatter->runs_program.insert(c.app);
+    tidy_help(app);
+    app.footer("glcast COMMAND --help (or glcast help COMMAND) lists a command's options.\n"
+               "The shim reads GLCAST_* variables; see docs/environment.md.");  // after the subcommands: not theirs
+
+    std::vector<std::string> args(argv + 1, argv + argc);
+    if (args.empty()) return usage_failure("glcast", "which command? (glcast --help lists them)");
+    const auto named = [&](const std::string& name) -> const Command* {
+        for (const Command& c : commands)
+            if (c.app->get_name() == name) return &c;
+        return nullptr;
+    };
+    const Command* command = named(args[0]);
+    if (!command && args[0] != "help" && args[0] != "-h" && args[0] != "--help")
+        return usage_failure("glcast", std::string(args[0][0] == '-' ? "unknown option '" : "unknown command '") +
+                                           args[0] + "' (glcast --help lists the commands)");
+    const std::string who = command ? "glcast " + args[0] : "glcast";
+
+    // A program's command line is split off at the first "--" and never reaches CLI11.
+    std::vector<std::string> program;
+    bool has_program = false;
+    if (command && command->runs_program) {
+        const auto dashes = std::find(args.begin() + 1, args.end(), "--");
+        has_program = dashes != args.end();
+        if (has_program) {
+            program.assign(dashes + 1, args.end());
+            args.erase(dashes, args.end());
+        }
     }
-    return usage_error("unknown command '" + cmd + "'");
+    try {
+        std::vector<const char*> cli_argv{argv[0]};
+        for (const std::string& a : args) cli_argv.push_back(a.c_str());
+        app.parse(int(cli_argv.size()), cli_argv.data());
+        if (help->parsed()) {
+            if (topic.empty() || topic == "help") {
+                std::fputs(formatter->make_help(&app, "glcast", CLI::AppFormatMode::Normal).c_str(), stdout);
+                return 0;
+            }
+            const Command* about = named(topic);
+            if (!about) return usage_failure("glcast help", "unknown command '" + topic + "'");
+            std::fputs(formatter->make_help(about->app, "glcast " + topic, CLI::AppFormatMode::Normal).c_str(), stdout);
+            return 0;
+        }
+        if (command->runs_program && program.empty())
+            throw CLI::ValidationError(std::string(has_program ? "which program? (after '--')"
+                                                               : "the program to run follows '--'"));
+        return command->run(program);
+    } catch (const CLI::CallForHelp&) {
+        std::fputs(app.help().c_str(), stdout);  // the help of the command that asked for it
+        return 0;
+    } catch (const CLI::ParseError& e) {
+        // An unknown option or a stray argument is what went wrong first, whatever else CLI11 found.
+        const std::vector<std::string> extra = innermost(app)->remaining();
+        if (!extra.empty())
+            return usage_failure(who, std::string(extra[0][0] == '-' ? "unknown option '" : "unexpected argument '") +
+                                          extra[0] + "'");
+        return usage_failure(who, e.what());
+    }
 }

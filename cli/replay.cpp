@@ -1,48 +1,33 @@
-// `glcast replay`: a capture back to pixels, one PNG per swapped frame, optionally compared
-// with reference PNGs (the program's own frames from GLCAST_SNAPSHOT_DIR, or goldens).
-#include "cli/commands.h"
-
+// `glcast replay FILE [options]`: a capture back to pixels, one PNG per swapped frame,
+// optionally compared with reference PNGs (the program's own frames from GLCAST_SNAPSHOT_DIR,
+// or goldens).
 #include <sys/stat.h>
 
+#include <cerrno>
 #include <cinttypes>
 #include <cstdio>
-#include <cstdlib>
+#include <cstring>
+#include <memory>
 
+#include "cli/commands.h"
+#include "cli/options.h"
+#include "cli/tile_options.h"
 #include "protocol/decoder.h"
 #include "slave/image.h"
 #include "slave/replayer.h"
-#include "cli/tile_options.h"
 
-namespace glcast::slave {
+namespace glcast::cli {
 
-const char* kReplayUsage =
-    "  replay FILE [--frames A:B] [--backend egl|osmesa|window] [--out DIR] [--compare DIR]\n"
-    "         [--size WxH] [--offset-names N] [--verify] [--config FILE --tile NAME]\n"
-    "         [--canvas WxH --tile-rect X,Y,W,H] [--effects LIST] [--effect-param NAME=VALUE]...\n"
-    "        replay a capture on the slave engine; --out writes frame-NNNNNN.png per swap,\n"
-    "        --compare checks each frame against DIR/frame-NNNNNN.png (exit 1 on a mismatch);\n"
-    "        --config/--tile show one tile of a display config, as `glcast slave` does;\n"
-    "        --canvas/--tile-rect stretch the program's window over a canvas and show one rectangle\n"
-    "        of it (from the top left), as one tile of a wall does;\n"
-    "        --verify also executes the calls that only answered the program (glGet*, glReadPixels,\n"
-    "        glGetError, ...) and reports where the slave's answer differs from the master's;\n"
-    "        --offset-names makes the slave keep N objects of each kind of its own first, so its\n"
-    "        names differ from the master's (a test of the name maps);\n"
-    "        --effects runs injected passes before each present: a comma-separated list of snow,\n"
-    "        rain, cover, icicles, shadows; --effect-param sets one of their parameters (docs/effects.md)\n";
+using namespace glcast::slave;
 
 namespace {
 
-int usage(const std::string& msg) {
-    std::fprintf(stderr, "glcast replay: %s\nusage: glcast\n%s", msg.c_str(), kReplayUsage);
-    return 2;
-}
-
-bool parse_u64(const std::string& s, uint64_t& out) {
-    if (s.empty() || s.size() > 19 || s.find_first_not_of("0123456789") != std::string::npos) return false;
-    out = std::strtoull(s.c_str(), nullptr, 10);
-    return true;
-}
+struct ReplayArgs {
+    std::string path, backend_kind = "egl", out_dir, compare_dir, config_path, tile_name;
+    uint64_t offset_names = 0;
+    std::vector<int> tile_rect;  // X,Y,W,H on the canvas, from the top left
+    ReplayOptions opt;
+};
 
 std::string frame_file(const std::string& dir, uint64_t frame) {
     char name[32];
@@ -50,96 +35,34 @@ std::string frame_file(const std::string& dir, uint64_t frame) {
     return dir + name;
 }
 
-}  // namespace
-
-int replay_main(const std::vector<std::string>& args) {
-    std::string path, backend_kind = "egl", out_dir, compare_dir;
-    uint64_t offset_names = 0;
-    std::string config_path, tile_name;
-    ReplayOptions opt;
-    for (size_t i = 0; i < args.size(); ++i) {
-        const std::string& a = args[i];
-        const bool has_value = i + 1 < args.size();
-        if (a == "--frames" && has_value) {
-            const std::string r = args[++i];
-            const size_t colon = r.find(':');
-            const std::string lo = colon == std::string::npos ? r : r.substr(0, colon);
-            const std::string hi = colon == std::string::npos ? r : r.substr(colon + 1);
-            if ((!lo.empty() && !parse_u64(lo, opt.first_frame)) || (!hi.empty() && !parse_u64(hi, opt.last_frame)) ||
-                opt.first_frame > opt.last_frame)
-                return usage("--frames takes A:B with A <= B, got '" + r + "'");
-        } else if (a == "--backend" && has_value) {
-            backend_kind = args[++i];
-        } else if (a == "--out" && has_value) {
-            out_dir = args[++i];
-        } else if (a == "--canvas" && has_value) {
-            if (std::sscanf(args[++i].c_str(), "%dx%d", &opt.tile.canvas_width, &opt.tile.canvas_height) != 2 ||
-                opt.tile.canvas_width <= 0 || opt.tile.canvas_height <= 0 || opt.tile.canvas_width > 65536 ||
-                opt.tile.canvas_height > 65536)
-                return usage("--canvas takes WxH, got '" + args[i] + "'");
-        } else if (a == "--tile-rect" && has_value) {
-            int x, y, w, h;
-            if (std::sscanf(args[++i].c_str(), "%d,%d,%d,%d", &x, &y, &w, &h) != 4 || w <= 0 || h <= 0 || w > 16384 ||
-                h > 16384)
-                return usage("--tile-rect takes X,Y,W,H (canvas pixels from the top left), got '" + args[i] + "'");
-            opt.tile.enabled = true;
-            opt.tile.x = x;
-            opt.tile.width = w;
-            opt.tile.height = h;
-            opt.tile.y = y;  // converted to GL's bottom-left origin once the canvas is known
-        } else if (a == "--config" && has_value) {
-            config_path = args[++i];
-        } else if (a == "--tile" && has_value) {
-            tile_name = args[++i];
-        } else if (a == "--effects" && has_value) {
-            std::string error;
-            if (!opt.effects.enable(args[++i], error)) return usage("--effects: " + error);
-        } else if (a == "--effect-param" && has_value) {
-            std::string error;
-            if (!opt.effects.params.set_assignment(args[++i], error)) return usage(error);
-        } else if (a == "--verify") {
-            opt.verify = true;
-        } else if (a == "--offset-names" && has_value) {
-            if (!parse_u64(args[++i], offset_names) || offset_names > 10000)
-                return usage("--offset-names takes 0..10000, got '" + args[i] + "'");
-        } else if (a == "--compare" && has_value) {
-            compare_dir = args[++i];
-        } else if (a == "--size" && has_value) {
-            if (std::sscanf(args[++i].c_str(), "%dx%d", &opt.width, &opt.height) != 2 || opt.width <= 0 ||
-                opt.height <= 0 || opt.width > 16384 || opt.height > 16384)
-                return usage("--size takes WxH (1..16384), got '" + args[i] + "'");
-        } else if (!a.empty() && a[0] == '-') {
-            return usage("unknown option '" + a + "'");
-        } else if (path.empty()) {
-            path = a;
-        } else {
-            return usage("one capture at a time");
-        }
-    }
-    if (path.empty()) return usage("which capture?");
-    if (!config_path.empty() || !tile_name.empty()) {
+int replay(ReplayArgs& a) {
+    ReplayOptions& opt = a.opt;
+    const std::string &path = a.path, &out_dir = a.out_dir, &compare_dir = a.compare_dir;
+    if (!a.config_path.empty()) {  // --config and --tile come together (CLI11 checks)
         std::string error;
-        if (config_path.empty() || tile_name.empty()) return usage("--config and --tile go together");
-        if (!tile_options(config_path, tile_name, opt, error)) {
+        if (!tile_options(a.config_path, a.tile_name, opt, error)) {
             std::fprintf(stderr, "glcast replay: %s\n", error.c_str());
             return 1;
         }
-    }
-    if (opt.tile.enabled && config_path.empty()) {  // --canvas/--tile-rect (tile_options did a config's tile)
-        if (!opt.tile.canvas_width) return usage("--tile-rect needs --canvas");
-        if (opt.tile.x < 0 || opt.tile.y < 0 || opt.tile.x + opt.tile.width > opt.tile.canvas_width ||
-            opt.tile.y + opt.tile.height > opt.tile.canvas_height)
-            return usage("--tile-rect lies outside the canvas");
-        opt.tile.y = opt.tile.canvas_height - opt.tile.y - opt.tile.height;
-        opt.tile.place_x = opt.tile.x, opt.tile.place_y = opt.tile.y;
-        opt.tile.place_canvas_width = opt.tile.canvas_width, opt.tile.place_canvas_height = opt.tile.canvas_height;
+    } else if (!a.tile_rect.empty()) {  // --canvas/--tile-rect
+        if (!opt.tile.canvas_width) usage_error("--tile-rect", "needs --canvas");
+        TileMapping& t = opt.tile;
+        t.enabled = true;
+        t.x = a.tile_rect[0], t.y = a.tile_rect[1], t.width = a.tile_rect[2], t.height = a.tile_rect[3];
+        if (t.width < 1 || t.height < 1 || t.width > 16384 || t.height > 16384)
+            usage_error("--tile-rect", "W and H take 1..16384");
+        if (t.x + t.width > t.canvas_width || t.y + t.height > t.canvas_height)
+            usage_error("--tile-rect", "lies outside the canvas");
+        t.y = t.canvas_height - t.y - t.height;  // GL's origin is the bottom left
+        t.place_x = t.x, t.place_y = t.y;
+        t.place_canvas_width = t.canvas_width, t.place_canvas_height = t.canvas_height;
     }
     if (!out_dir.empty() && mkdir(out_dir.c_str(), 0755) != 0 && errno != EEXIST) {
         std::fprintf(stderr, "glcast replay: cannot create %s: %s\n", out_dir.c_str(), std::strerror(errno));
         return 1;
     }
     std::string error;
-    std::unique_ptr<Backend> backend = make_backend(backend_kind, error);
+    std::unique_ptr<Backend> backend = make_backend(a.backend_kind, error);
     if (!backend) {
         std::fprintf(stderr, "glcast replay: %s\n", error.c_str());
         return 1;
@@ -147,7 +70,7 @@ int replay_main(const std::vector<std::string>& args) {
 
     uint64_t mismatched = 0, compared = 0, missing = 0;
     Replayer replayer(std::move(backend), opt);
-    if (offset_names) replayer.on_first_context = [&](Replayer& r) { r.keep_own_objects(int(offset_names)); };
+    if (a.offset_names) replayer.on_first_context = [&](Replayer& r) { r.keep_own_objects(int(a.offset_names)); };
     if (!out_dir.empty() || !compare_dir.empty()) replayer.on_frame = [&](uint64_t frame, int w, int h, const std::vector<uint8_t>& rgba) {
         Image image{w, h, rgba};
         std::string err;
@@ -194,4 +117,39 @@ int replay_main(const std::vector<std::string>& args) {
     return (mismatched || missing || s.errors || s.mismatches) ? 1 : 0;
 }
 
-}  // namespace glcast::slave
+}  // namespace
+
+Command add_replay(CLI::App& glcast) {
+    auto a = std::make_shared<ReplayArgs>();
+    CLI::App* app = glcast.add_subcommand("replay", "replay a capture on the slave engine, to PNGs or a window");
+    app->add_option("FILE", a->path, "the capture file")->required();
+    add_frame_range(*app, "--frames", LoneFrame::only_that_frame, a->opt.first_frame, a->opt.last_frame,
+                    "only frames A through B (either may be omitted; N alone: frame N)");
+    app->add_option("--backend", a->backend_kind, "egl (headless, the default), osmesa or window")
+        ->type_name("egl|osmesa|window");
+    app->add_option("--out", a->out_dir, "write frame-NNNNNN.png into DIR per swap")->type_name("DIR");
+    app->add_option("--compare", a->compare_dir,
+                    "check each frame against DIR/frame-NNNNNN.png (exit 1 on a mismatch)")
+        ->type_name("DIR");
+    add_size(*app, "--size", 16384, a->opt.width, a->opt.height, "the window's framebuffer size (default: the master's)");
+    add_u64(*app, "--offset-names", a->offset_names, 0, 10000,
+            "keep N objects of each kind of the slave's own first, so that its names\n"
+            "differ from the master's (a test of the name maps)");
+    app->add_flag("--verify", a->opt.verify,
+                  "also execute the calls that only answered the program (glGet*, glReadPixels,\n"
+                  "glGetError, ...) and report where the slave's answer differs from the master's");
+    CLI::Option* config = app->add_option("--config", a->config_path, "a display config: with --tile, show one tile of it,\n"
+                                                                    "as glcast slave does")
+                              ->type_name("FILE");
+    CLI::Option* tile = app->add_option("--tile", a->tile_name, "the tile of --config to show")->type_name("NAME");
+    config->needs(tile);
+    tile->needs(config);
+    add_size(*app, "--canvas", 65536, a->opt.tile.canvas_width, a->opt.tile.canvas_height,
+             "stretch the program's window over a canvas of WxH (with --tile-rect)");
+    add_ints(*app, "--tile-rect", 4, 0, 65536, "X,Y,W,H", a->tile_rect,
+             "show one rectangle of the canvas (pixels from the top left), as one tile of a wall does");
+    add_effect_options(*app, a->opt.effects);
+    return {app, [a](const std::vector<std::string>&) { return replay(*a); }};
+}
+
+}  // namespace glcast::cli

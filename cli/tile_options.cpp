@@ -2,7 +2,9 @@
 
 #include "slave/display_config.h"
 
-namespace glcast::slave {
+namespace glcast::cli {
+
+using namespace glcast::slave;
 
 bool tile_options(const std::string& path, const std::string& name, ReplayOptions& options, std::string& error) {
     DisplayConfig config;
@@ -54,4 +56,4 @@ bool tile_options(const std::string& path, const std::string& name, ReplayOption
     return true;
 }
 
-}  // namespace glcast::slave
+}  // namespace glcast::cli
