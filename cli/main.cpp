@@ -87,7 +87,7 @@ int main(int argc, char** argv) {
     if (!command && args[0] != "help" && args[0] != "-h" && args[0] != "--help")
         return usage_failure("glcast", std::string(args[0][0] == '-' ? "unknown option '" : "unknown command '") +
                                            args[0] + "' (glcast --help lists the commands)");
-    const std::string who = command ? "glcast " + args[0] : "glcast";
+    const std::string who = command || args[0] == "help" ? "glcast " + args[0] : "glcast";
 
     // A program's command line is split off at the first "--" and never reaches CLI11.
     std::vector<std::string> program;
@@ -110,7 +110,7 @@ int main(int argc, char** argv) {
                 return 0;
             }
             const Command* about = named(topic);
-            if (!about) return usage_failure("glcast help", "unknown command '" + topic + "'");
+            if (!about) return usage_failure(who, "unknown command '" + topic + "'");
             std::fputs(formatter->make_help(about->app, "glcast " + topic, CLI::AppFormatMode::Normal).c_str(), stdout);
             return 0;
         }

@@ -2,6 +2,7 @@
 
 #include <cinttypes>
 #include <climits>
+#include <functional>
 
 #include "slave/effects/effect_params.h"
 
@@ -129,105 +130,85 @@ void usage_error(const std::string& option, const std::string& message) {
     throw CLI::ValidationError(option, message);
 }
 
-CLI::Option* add_u64(CLI::App& app, const std::string& names, uint64_t& out, uint64_t min, uint64_t max,
-                     const std::string& help) {
+namespace {
+
+// An option whose every value, repeated or not, goes through `set` (which throws usage_error on a
+// bad one); the last value wins. One value per occurrence: a positional after it stays one.
+CLI::Option* add_checked(CLI::App& app, const std::string& names, const std::string& type_name, const std::string& help,
+                         std::function<void(const std::string& name, const std::string& value)> set) {
     const std::string name = option_display_name(names);
     return app
-        .add_option_function<std::string>(
+        .add_option_function<std::vector<std::string>>(
             names,
-            [&out, name, min, max](const std::string& s) {
-                std::string error;
-                if (!parse_u64(s, min, max, out, error)) usage_error(name, error);
+            [name, set](const std::vector<std::string>& values) {
+                for (const std::string& v : values) set(name, v);
             },
             help)
-        ->type_name("N");
+        ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
+        ->allow_extra_args(false)
+        ->expected(1)
+        ->type_name(type_name);
+}
+
+}  // namespace
+
+CLI::Option* add_u64(CLI::App& app, const std::string& names, uint64_t& out, uint64_t min, uint64_t max,
+                     const std::string& help) {
+    return add_checked(app, names, "N", help, [&out, min, max](const std::string& name, const std::string& v) {
+        std::string error;
+        if (!parse_u64(v, min, max, out, error)) usage_error(name, error);
+    });
 }
 
 CLI::Option* add_int(CLI::App& app, const std::string& names, int& out, int min, int max, const std::string& help) {
-    const std::string name = option_display_name(names);
-    return app
-        .add_option_function<std::string>(
-            names,
-            [&out, name, min, max](const std::string& s) {
-                std::string error;
-                if (!parse_int(s, min, max, out, error)) usage_error(name, error);
-            },
-            help)
-        ->type_name("N");
+    return add_checked(app, names, "N", help, [&out, min, max](const std::string& name, const std::string& v) {
+        std::string error;
+        if (!parse_int(v, min, max, out, error)) usage_error(name, error);
+    });
 }
 
 CLI::Option* add_frame_range(CLI::App& app, const std::string& names, LoneFrame lone, uint64_t& first,
                              uint64_t& last, const std::string& help) {
-    const std::string name = option_display_name(names);
-    return app
-        .add_option_function<std::string>(
-            names,
-            [&first, &last, name, lone](const std::string& s) {
-                FrameRange r;
-                std::string error;
-                if (!parse_frame_range(s, lone, r, error)) usage_error(name, error);
-                first = r.first, last = r.last;
-            },
-            help)
-        ->type_name("A:B");
+    return add_checked(app, names, "A:B", help, [&first, &last, lone](const std::string& name, const std::string& v) {
+        FrameRange r;
+        std::string error;
+        if (!parse_frame_range(v, lone, r, error)) usage_error(name, error);
+        first = r.first, last = r.last;
+    });
 }
 
 CLI::Option* add_size(CLI::App& app, const std::string& names, int max, int& width, int& height,
                       const std::string& help) {
-    const std::string name = option_display_name(names);
-    return app
-        .add_option_function<std::string>(
-            names,
-            [&width, &height, name, max](const std::string& s) {
-                std::string error;
-                if (!parse_size(s, max, width, height, error)) usage_error(name, error);
-            },
-            help)
-        ->type_name("WxH");
+    return add_checked(app, names, "WxH", help, [&width, &height, max](const std::string& name, const std::string& v) {
+        std::string error;
+        if (!parse_size(v, max, width, height, error)) usage_error(name, error);
+    });
 }
 
 CLI::Option* add_ints(CLI::App& app, const std::string& names, size_t count, int min, int max,
                       const std::string& what, std::vector<int>& out, const std::string& help) {
-    const std::string name = option_display_name(names);
-    return app
-        .add_option_function<std::string>(
-            names,
-            [&out, name, count, min, max, what](const std::string& s) {
-                std::string error;
-                if (!parse_ints(s, count, min, max, what, out, error)) usage_error(name, error);
-            },
-            help)
-        ->type_name(what);
+    return add_checked(app, names, what, help, [&out, count, min, max, what](const std::string& name, const std::string& v) {
+        std::string error;
+        if (!parse_ints(v, count, min, max, what, out, error)) usage_error(name, error);
+    });
 }
 
 void add_effect_options(CLI::App& app, slave::effects::EffectsSettings& effects, std::vector<std::string>* forwarded) {
-    // Repeatable: every occurrence counts, one value each (a positional after it stays one).
-    const auto repeatable = [](CLI::Option* o) {
-        o->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)->allow_extra_args(false)->expected(1);
-    };
-    repeatable(app.add_option_function<std::vector<std::string>>(
-                      "--effects",
-                      [&effects, forwarded](const std::vector<std::string>& lists) {
-                          for (const std::string& list : lists) {
-                              std::string error;
-                              if (!effects.enable(list, error)) usage_error("--effects", error);
-                              if (forwarded) forwarded->insert(forwarded->end(), {"--effects", list});
-                          }
-                      },
-                      "injected passes run before each present, comma-separated:\n"
-                      "snow, rain, cover, icicles, shadows (docs/effects.md)")
-                   ->type_name("LIST"));
-    repeatable(app.add_option_function<std::vector<std::string>>(
-                      "--effect-param",
-                      [&effects, forwarded](const std::vector<std::string>& assignments) {
-                          for (const std::string& a : assignments) {
-                              std::string error;
-                              if (!effects.params.set_assignment(a, error)) usage_error("--effect-param", error);
-                              if (forwarded) forwarded->insert(forwarded->end(), {"--effect-param", a});
-                          }
-                      },
-                      "one parameter of the passes, repeatable (glcast effects lists them)")
-                   ->type_name("NAME=VALUE"));
+    // Every occurrence counts (--effects snow --effects rain runs both).
+    add_checked(app, "--effects", "LIST",
+                "injected passes run before each present, comma-separated:\n"
+                "snow, rain, cover, icicles, shadows (docs/effects.md)",
+                [&effects, forwarded](const std::string& name, const std::string& list) {
+                    std::string error;
+                    if (!effects.enable(list, error)) usage_error(name, error);
+                    if (forwarded) forwarded->insert(forwarded->end(), {name, list});
+                });
+    add_checked(app, "--effect-param", "NAME=VALUE", "one parameter of the passes, repeatable (glcast effects lists them)",
+                [&effects, forwarded](const std::string& name, const std::string& assignment) {
+                    std::string error;
+                    if (!effects.params.set_assignment(assignment, error)) usage_error(name, error);
+                    if (forwarded) forwarded->insert(forwarded->end(), {name, assignment});
+                });
 }
 
 }  // namespace glcast::cli

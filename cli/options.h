@@ -46,7 +46,8 @@ bool parse_ints(const std::string& s, size_t count, int min, int max, const std:
 std::string option_display_name(const std::string& names);
 
 // --- CLI11 options ------------------------------------------------------------------------
-// Each sets its variable(s) once the command line is parsed; the last of repeated options wins.
+// Each sets its variable(s) once the command line is parsed; every value given is checked, and
+// the last of repeated options wins.
 CLI::Option* add_u64(CLI::App& app, const std::string& names, uint64_t& out, uint64_t min, uint64_t max,
                      const std::string& help);
 CLI::Option* add_int(CLI::App& app, const std::string& names, int& out, int min, int max, const std::string& help);

@@ -44,6 +44,7 @@ BAD_VALUES = [
     (["dump", "x.glcs", "--frames", "9:3"], "--frames"),
     (["dump", "x.glcs", "--frames"], "--frames"),
     (["replay", "x.glcs", "--frames", "x"], "--frames"),
+    (["replay", "x.glcs", "--frames", "x", "--frames", "1:2"], "--frames"),  # every value is checked
     (["replay", "x.glcs", "--size", "0x5"], "--size"),
     (["replay", "x.glcs", "--offset-names", "10001"], "--offset-names"),
     (["replay", "x.glcs", "--canvas", "640"], "--canvas"),
