@@ -13,6 +13,7 @@ packages=(
   # stream
   libzstd-dev zlib1g-dev libpng-dev libzmq3-dev cppzmq-dev nlohmann-json3-dev
   libfftw3-dev                          # spectral snow synthesis (slave/effects)
+  libcli11-dev                          # the glcast command's argument parsing (cli/)
   # tests: X server, real third-party GL programs
   xvfb xauth mesa-utils xscreensaver-gl googletest libgtest-dev iproute2  # iproute2: multicast test namespaces
   # benchmarks

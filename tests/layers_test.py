@@ -32,16 +32,6 @@ ALLOWED = {
 }
 LAYERS = list(ALLOWED)
 
-# Files of the command line that still sit in master/ and slave/ until they move to cli/: they
-# are the cli layer wherever they are (they may include anything, and only cli may include them).
-# A path listed here that no longer exists is skipped.
-COMMAND_LINE_FILES = {
-    "master/glcast_main.cpp", "master/run_main.cpp",
-    "master/launcher.h", "master/launcher.cpp", "master/swap_barrier.h", "master/swap_barrier.cpp",
-    "slave/replay_main.h", "slave/replay_main.cpp", "slave/slave_main.h", "slave/slave_main.cpp",
-    "slave/image_main.h", "slave/image_main.cpp", "slave/tile_options.h", "slave/tile_options.cpp",
-}
-
 SOURCE_SUFFIXES = (".h", ".cpp", ".c")
 INCLUDE = re.compile(r'^\s*#\s*include\s*([<"])([^">]+)[">]')
 GENERATED = re.compile(r"^glcast_[A-Za-z0-9_]+\.h$")
@@ -49,8 +39,6 @@ GENERATED = re.compile(r"^glcast_[A-Za-z0-9_]+\.h$")
 
 def layer_of(path):
     """The layer of a source path relative to the root ("slave/effects/pipeline.h" -> "slave")."""
-    if path in COMMAND_LINE_FILES:
-        return "cli"
     return path.split("/", 1)[0]
 
 
@@ -68,8 +56,8 @@ def rule(layer):
 def sources(root):
     for layer in LAYERS:
         top = os.path.join(root, layer)
-        if not os.path.isdir(top):  # cli/ may not exist yet
-            continue
+        if not os.path.isdir(top):
+            raise AssertionError(f"layer folder {layer}/ is missing")
         for dirpath, dirnames, filenames in os.walk(top):
             dirnames.sort()
             for name in sorted(filenames):

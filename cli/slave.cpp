@@ -1,82 +1,43 @@
 // `glcast slave`: one tile of a wall on this machine, fed by the master over ZeroMQ.
-#include "slave/slave_main.h"
-
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <chrono>
 #include <cinttypes>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <memory>
 
+#include "cli/commands.h"
+#include "cli/options.h"
+#include "cli/tile_options.h"
 #include "common/image.h"
 #include "slave/network_source.h"
 #include "slave/replayer.h"
-#include "slave/tile_options.h"
 
-namespace glcast::slave {
+namespace glcast::cli {
 
-const char* kSlaveUsage =
-    "  slave --connect ENDPOINT [--journal ENDPOINT] [--config FILE --tile NAME]\n"
-    "        [--backend egl|osmesa|window] [--out DIR] [--frames A:B] [--wait SECONDS] [--quiet]\n"
-    "        [--swap-barrier ENDPOINT] [--lockstep] [--effects LIST] [--effect-param NAME=VALUE]...\n"
-    "        one tile of a wall: subscribe to a master (glcast run prints its endpoints), join\n"
-    "        through its journal, replay; --out writes the tile's frames as PNGs; --swap-barrier\n"
-    "        presents each frame only when every tile of the wall has it (glcast run prints the endpoint);\n"
-    "        --lockstep reports each replayed frame to a master that waits for its slaves;\n"
-    "        --effects/--effect-param as for replay (a display config's \"effects\" add to them)\n";
+using namespace glcast::slave;
 
 namespace {
 
-int usage(const std::string& msg) {
-    std::fprintf(stderr, "glcast slave: %s\nusage: glcast\n%s", msg.c_str(), kSlaveUsage);
-    return 2;
-}
-
-}  // namespace
-
-int slave_main(const std::vector<std::string>& args) {
-    std::string endpoint, journal, backend_kind = "egl", out_dir, config_path, tile_name;
+struct SlaveArgs {
+    std::string endpoint, journal, backend_kind = "egl", out_dir, config_path, tile_name, barrier_endpoint;
     ReplayOptions opt;
     int wait_seconds = 60;
     bool quiet = false, lockstep = false;
-    std::string barrier_endpoint;
-    for (size_t i = 0; i < args.size(); ++i) {
-        const std::string& a = args[i];
-        const bool v = i + 1 < args.size();
-        if (a == "--connect" && v) endpoint = args[++i];
-        else if (a == "--journal" && v) journal = args[++i];
-        else if (a == "--config" && v) config_path = args[++i];
-        else if (a == "--tile" && v) tile_name = args[++i];
-        else if (a == "--backend" && v) backend_kind = args[++i];
-        else if (a == "--out" && v) out_dir = args[++i];
-        else if (a == "--quiet") quiet = true;
-        else if (a == "--swap-barrier" && v) barrier_endpoint = args[++i];
-        else if (a == "--lockstep") lockstep = true;
-        else if (a == "--effects" && v) {
-            std::string error;
-            if (!opt.effects.enable(args[++i], error)) return usage("--effects: " + error);
-        } else if (a == "--effect-param" && v) {
-            std::string error;
-            if (!opt.effects.params.set_assignment(args[++i], error)) return usage(error);
-        } else if (a == "--wait" && v) {
-            wait_seconds = std::atoi(args[++i].c_str());
-            if (wait_seconds <= 0 || wait_seconds > 86400) return usage("--wait takes 1..86400 seconds");
-        } else if (a == "--frames" && v) {
-            unsigned long long lo = 0, hi = UINT64_MAX;
-            if (std::sscanf(args[++i].c_str(), "%llu:%llu", &lo, &hi) < 1 || lo > hi) return usage("--frames takes A:B");
-            opt.first_frame = lo;
-            opt.last_frame = hi;
-        } else {
-            return usage("unknown option '" + a + "'");
-        }
-    }
-    if (endpoint.empty()) return usage("--connect ENDPOINT is required");
+};
+
+int slave(SlaveArgs& a) {
+    const std::string &endpoint = a.endpoint, &journal = a.journal, &out_dir = a.out_dir, &tile_name = a.tile_name,
+                      &barrier_endpoint = a.barrier_endpoint;
+    ReplayOptions& opt = a.opt;
+    const bool quiet = a.quiet, lockstep = a.lockstep;
     std::string error;
-    if (!config_path.empty() || !tile_name.empty()) {
-        if (config_path.empty() || tile_name.empty()) return usage("--config and --tile go together");
-        if (!tile_options(config_path, tile_name, opt, error)) {
+    if (!a.config_path.empty()) {  // --config and --tile come together (CLI11 checks)
+        if (!tile_options(a.config_path, tile_name, opt, error)) {
             std::fprintf(stderr, "glcast slave: %s\n", error.c_str());
             return 1;
         }
@@ -85,7 +46,7 @@ int slave_main(const std::vector<std::string>& args) {
         std::fprintf(stderr, "glcast slave: cannot create %s: %s\n", out_dir.c_str(), std::strerror(errno));
         return 1;
     }
-    std::unique_ptr<Backend> backend = make_backend(backend_kind, error);
+    std::unique_ptr<Backend> backend = make_backend(a.backend_kind, error);
     if (!backend) {
         std::fprintf(stderr, "glcast slave: %s\n", error.c_str());
         return 1;
@@ -94,7 +55,7 @@ int slave_main(const std::vector<std::string>& args) {
     if (opt.tile.enabled && !opt.view.enabled)  // a window at its tile's place on the canvas
         backend->set_position(opt.tile.x, opt.tile.canvas_height - opt.tile.y - opt.tile.height);
     try {
-        NetworkSource source(endpoint, journal, wait_seconds);
+        NetworkSource source(endpoint, journal, a.wait_seconds);
         Replayer replayer(std::move(backend), opt);
         source.on_restart = [&] {
             std::fprintf(stderr, "glcast slave %s: messages lost (%s); starting over from the master's journal\n",
@@ -151,4 +112,36 @@ int slave_main(const std::vector<std::string>& args) {
     }
 }
 
-}  // namespace glcast::slave
+}  // namespace
+
+Command add_slave(CLI::App& glcast) {
+    auto a = std::make_shared<SlaveArgs>();
+    CLI::App* app = glcast.add_subcommand("slave", "one tile of a wall: subscribe to a master (glcast run) and replay");
+    app->footer("glcast run prints the endpoints of its stream, journal and swap barrier.");
+    app->add_option("--connect", a->endpoint, "the master's stream (tcp://HOST:PORT, ipc://PATH, epgm://...)")
+        ->required()
+        ->type_name("ENDPOINT");
+    app->add_option("--journal", a->journal, "the master's journal, to join a program already running")
+        ->type_name("ENDPOINT");
+    CLI::Option* config = app->add_option("--config", a->config_path, "a display config: with --tile, the tile to show")
+                              ->type_name("FILE");
+    CLI::Option* tile = app->add_option("--tile", a->tile_name, "the tile of --config to show")->type_name("NAME");
+    config->needs(tile);
+    tile->needs(config);
+    app->add_option("--backend", a->backend_kind, "egl (headless, the default), osmesa or window")
+        ->type_name("egl|osmesa|window");
+    app->add_option("--out", a->out_dir, "write the tile's frames into DIR as frame-NNNNNN.png")->type_name("DIR");
+    add_frame_range(*app, "--frames", LoneFrame::from_that_frame, a->opt.first_frame, a->opt.last_frame,
+                    "only frames A through B (either may be omitted; N alone: from frame N on)");
+    add_int(*app, "--wait", a->wait_seconds, 1, 86400, "how long to wait for the master (default 60)")
+        ->type_name("SECONDS");
+    app->add_flag("--quiet", a->quiet, "no status line");
+    app->add_option("--swap-barrier", a->barrier_endpoint,
+                    "present each frame only when every tile of the wall has it")
+        ->type_name("ENDPOINT");
+    app->add_flag("--lockstep", a->lockstep, "report each replayed frame to a master that waits for its slaves");
+    add_effect_options(*app, a->opt.effects);  // a display config's "effects" add to them
+    return {app, [a](const std::vector<std::string>&) { return slave(*a); }};
+}
+
+}  // namespace glcast::cli

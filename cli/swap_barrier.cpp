@@ -1,4 +1,4 @@
-#include "master/swap_barrier.h"
+#include "cli/swap_barrier.h"
 
 #include <zmq.hpp>
 
@@ -7,7 +7,7 @@
 #include <map>
 #include <vector>
 
-namespace glcast {
+namespace glcast::cli {
 
 struct SwapBarrier::Sockets {
     zmq::context_t context{1};
@@ -54,4 +54,4 @@ void SwapBarrier::serve() {
     }
 }
 
-}  // namespace glcast
+}  // namespace glcast::cli

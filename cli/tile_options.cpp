@@ -1,8 +1,10 @@
-#include "slave/tile_options.h"
+#include "cli/tile_options.h"
 
 #include "display_configs/display_config.h"
 
-namespace glcast::slave {
+namespace glcast::cli {
+
+using namespace glcast::slave;
 
 bool tile_options(const std::string& path, const std::string& name, ReplayOptions& options, std::string& error) {
     DisplayConfig config;
@@ -54,4 +56,4 @@ bool tile_options(const std::string& path, const std::string& name, ReplayOption
     return true;
 }
 
-}  // namespace glcast::slave
+}  // namespace glcast::cli

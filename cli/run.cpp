@@ -17,29 +17,24 @@
 #include <thread>
 #include <vector>
 
+#include "cli/commands.h"
+#include "cli/launcher.h"
+#include "cli/options.h"
+#include "cli/swap_barrier.h"
 #include "display_configs/display_config.h"
-#include "master/launcher.h"
-#include "master/swap_barrier.h"
 #include "slave/effects/effect_params.h"
 
-namespace glcast {
-
-const char* kRunUsage =
-    "  run [--config FILE] [--backend egl|osmesa|window] [--out DIR] [--frames N] [--endpoint tcp://*:PORT]\n"
-    "      [--lockstep] [--effects LIST] [--effect-param NAME=VALUE]...\n"
-    "      -- PROGRAM [ARGS...]\n"
-    "        run PROGRAM on a wall: one local slave per tile of FILE (default: one slave showing the\n"
-    "        whole window); --out DIR writes each tile's frames to DIR/TILE/; --frames ends the\n"
-    "        program after N frames; --endpoint publishes on TCP for slaves on other machines;\n"
-    "        --lockstep holds the program at each swap until every slave has replayed the frame;\n"
-    "        --effects/--effect-param are passed to every slave (injected passes, docs/effects.md)\n";
+namespace glcast::cli {
 
 namespace {
 
-int usage(const std::string& msg) {
-    std::fprintf(stderr, "glcast run: %s\nusage: glcast\n%s", msg.c_str(), kRunUsage);
-    return 2;
-}
+struct RunArgs {
+    std::string config_path, backend = std::getenv("DISPLAY") ? "window" : "egl", out_dir, endpoint;
+    uint64_t frames = 0;  // 0: as long as the program runs
+    bool lockstep = false;
+    slave::effects::EffectsSettings effects;  // checked here, so that a typo fails before any slave starts
+    std::vector<std::string> effect_args;     // passed on to every slave
+};
 
 std::string self_exe() {
     char exe[PATH_MAX] = {};
@@ -81,36 +76,12 @@ std::string connectable(const std::string& bound) {  // tcp://*:5555 -> tcp://12
     return star == std::string::npos ? bound : bound.substr(0, star) + "://127.0.0.1" + bound.substr(star + 4);
 }
 
-}  // namespace
-
-int run_main(const std::vector<std::string>& args) {
-    std::string config_path, backend = std::getenv("DISPLAY") ? "window" : "egl", out_dir, endpoint;
-    uint64_t frames = 0;
-    bool lockstep = false;
-    slave::effects::EffectsSettings effects;
-    std::vector<std::string> effect_args;
-    size_t i = 0;
-    for (; i < args.size() && args[i] != "--"; ++i) {
-        const bool v = i + 1 < args.size();
-        if (args[i] == "--config" && v) config_path = args[++i];
-        else if (args[i] == "--backend" && v) backend = args[++i];
-        else if (args[i] == "--out" && v) out_dir = args[++i];
-        else if (args[i] == "--endpoint" && v) endpoint = args[++i];
-        else if (args[i] == "--lockstep") lockstep = true;
-        else if (args[i] == "--frames" && v) frames = std::strtoull(args[++i].c_str(), nullptr, 10);
-        else if ((args[i] == "--effects" || args[i] == "--effect-param") && v) {
-            std::string error;  // checked here, so that a typo fails before any slave starts
-            const bool ok = args[i] == "--effects" ? effects.enable(args[i + 1], error)
-                                                   : effects.params.set_assignment(args[i + 1], error);
-            if (!ok) return usage(args[i] + ": " + error);
-            effect_args.push_back(args[i]);
-            effect_args.push_back(args[++i]);
-        }
-        else return usage("unknown option '" + args[i] + "'");
-    }
-    if (i + 1 >= args.size()) return usage("the program to run follows '--'");
-    const std::vector<std::string> program(args.begin() + long(i) + 1, args.end());
-
+int run(const RunArgs& a, const std::vector<std::string>& program) {
+    const std::string &config_path = a.config_path, &backend = a.backend, &out_dir = a.out_dir;
+    const uint64_t frames = a.frames;
+    const bool lockstep = a.lockstep;
+    const std::vector<std::string>& effect_args = a.effect_args;
+    std::string endpoint = a.endpoint;
     std::vector<std::string> tiles;
     bool swap_barrier = false;
     if (!config_path.empty()) {
@@ -199,4 +170,26 @@ int run_main(const std::vector<std::string>& args) {
     return failed ? 1 : 0;
 }
 
-}  // namespace glcast
+}  // namespace
+
+Command add_run(CLI::App& glcast) {
+    auto a = std::make_shared<RunArgs>();
+    CLI::App* app = glcast.add_subcommand("run", "run a program on a wall: the shim, and one local slave per tile");
+    app->footer("PROGRAM and its arguments follow '--'; glcast reads none of them. Slaves on other machines run\n"
+                "glcast slave with the endpoints this prints.");
+    app->add_option("--config", a->config_path, "a display config: one local slave per tile (default: one slave\n"
+                                                "showing the whole window)")
+        ->type_name("FILE");
+    app->add_option("--backend", a->backend,
+                    "the slaves' backend (default: window with $DISPLAY, else egl)")
+        ->type_name("egl|osmesa|window");
+    app->add_option("--out", a->out_dir, "write each tile's frames to DIR/TILE/")->type_name("DIR");
+    add_u64(*app, "--frames", a->frames, 1, UINT32_MAX, "end the program after N frames");
+    app->add_option("--endpoint", a->endpoint, "publish on TCP for slaves on other machines (tcp://*:PORT)")
+        ->type_name("ENDPOINT");
+    app->add_flag("--lockstep", a->lockstep, "hold the program at each swap until every slave has replayed the frame");
+    add_effect_options(*app, a->effects, &a->effect_args);
+    return {app, [a](const std::vector<std::string>& program) { return run(*a, program); }, true};
+}
+
+}  // namespace glcast::cli

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-namespace glcast {
+namespace glcast::cli {
 
 // Path of libglcast.so: $GLCAST_SHIM, else beside the glcast executable, else the build dir.
 std::string shim_path();
@@ -14,4 +14,4 @@ std::string shim_path();
 // (128 + signal when it was killed), or -1 when it could not be started.
 int run_with_shim(const std::vector<std::string>& argv, const std::map<std::string, std::string>& env);
 
-}  // namespace glcast
+}  // namespace glcast::cli

@@ -8,7 +8,7 @@
 #include <string>
 #include <thread>
 
-namespace glcast {
+namespace glcast::cli {
 
 class SwapBarrier {
 public:
@@ -25,4 +25,4 @@ private:
     std::unique_ptr<Sockets> sockets_;
 };
 
-}  // namespace glcast
+}  // namespace glcast::cli

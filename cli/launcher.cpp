@@ -1,4 +1,4 @@
-#include "master/launcher.h"
+#include "cli/launcher.h"
 
 #include <sys/wait.h>
 #include <unistd.h>
@@ -10,7 +10,7 @@
 #include <cstdlib>
 #include <cstring>
 
-namespace glcast {
+namespace glcast::cli {
 
 static bool readable(const std::string& p) { return access(p.c_str(), R_OK) == 0; }
 
@@ -61,4 +61,4 @@ int run_with_shim(const std::vector<std::string>& argv, const std::map<std::stri
     return -1;
 }
 
-}  // namespace glcast
+}  // namespace glcast::cli
