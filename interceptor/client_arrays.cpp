@@ -5,6 +5,7 @@
 // (max index + 1, honouring base vertex and primitive restart), never from the index count.
 #include "interceptor/client_arrays.h"
 #include "glcast_synthetic_encode.h"
+#include "glcast_gl_api.h"
 
 #include <algorithm>
 #include <atomic>
@@ -102,9 +103,6 @@ uint32_t kinds_for(uint32_t opcode) {
     }
 }
 
-template <class Fn>
-Fn real(uint32_t op) { return reinterpret_cast<Fn>(real_proc(op)); }
-
 struct ArrayState {
     ClientSlot slot;
     uint32_t index;
@@ -157,12 +155,11 @@ const FixedSlot kFixed[] = {
 };
 
 bool read_fixed(const FixedSlot& f, uint32_t index, ArrayState& a) {
-    static const auto is_enabled = real<decltype(&::glIsEnabled)>(OP_glIsEnabled);
-    static const auto get_pointer = real<decltype(&::glGetPointerv)>(OP_glGetPointerv);
-    if (!is_enabled || !get_pointer || !is_enabled(f.cap)) return false;
+    const GlApi& gl = real_gl();
+    if (!gl.has(OP_glIsEnabled) || !gl.has(OP_glGetPointerv) || !gl.glIsEnabled(f.cap)) return false;
     if (real_get_integer(f.binding) != 0) return false;  // a buffer object: its data already travelled
     void* p = nullptr;
-    get_pointer(f.pointer, &p);
+    gl.glGetPointerv(f.pointer, &p);
     a = ArrayState{f.slot, index, f.size ? real_get_integer(f.size) : f.fixed_size,
                    f.type ? uint32_t(real_get_integer(f.type)) : f.fixed_type, real_get_integer(f.stride),
                    uint8_t(f.slot == ClientSlot::Color || f.slot == ClientSlot::SecondaryColor ||
@@ -171,16 +168,16 @@ bool read_fixed(const FixedSlot& f, uint32_t index, ArrayState& a) {
 }
 
 bool read_attrib(uint32_t index, ArrayState& a) {
-    static const auto get = real<PFNGLGETVERTEXATTRIBIVPROC>(OP_glGetVertexAttribiv);
-    static const auto get_pointer = real<PFNGLGETVERTEXATTRIBPOINTERVPROC>(OP_glGetVertexAttribPointerv);
-    if (!get || !get_pointer) return false;
+    const GlApi& gl = real_gl();
+    if (!gl.has(OP_glGetVertexAttribiv) || !gl.has(OP_glGetVertexAttribPointerv)) return false;
+    auto get = [&gl](GLuint i, GLenum pname, GLint* v) { gl.glGetVertexAttribiv(i, pname, v); };
     GLint v = 0;
     get(index, GL_VERTEX_ATTRIB_ARRAY_ENABLED, &v);
     if (!v) return false;
     get(index, GL_VERTEX_ATTRIB_ARRAY_BUFFER_BINDING, &v);
     if (v) return false;
     void* p = nullptr;
-    get_pointer(index, GL_VERTEX_ATTRIB_ARRAY_POINTER, &p);
+    gl.glGetVertexAttribPointerv(index, GL_VERTEX_ATTRIB_ARRAY_POINTER, &p);
     GLint size = 4, type = GL_FLOAT, stride = 0, normalized = 0, integer = 0, divisor = 0;
     get(index, GL_VERTEX_ATTRIB_ARRAY_SIZE, &size);
     get(index, GL_VERTEX_ATTRIB_ARRAY_TYPE, &type);
@@ -202,14 +199,15 @@ std::vector<ArrayState> enabled_client_arrays(uint32_t kinds) {
             if (read_fixed(f, 0, a)) out.push_back(a);
             continue;
         }
-        static const auto active = real<decltype(&::glClientActiveTexture)>(OP_glClientActiveTexture);
+        const GlApi& gl = real_gl();
+        const bool active = gl.has(OP_glClientActiveTexture);
         const GLint units = active ? real_get_integer(GL_MAX_TEXTURE_COORDS) : 1;
         const GLint saved = active ? real_get_integer(GL_CLIENT_ACTIVE_TEXTURE) : GL_TEXTURE0;
         for (GLint u = 0; u < std::max(units, 1); ++u) {
-            if (active) active(GL_TEXTURE0 + u);
+            if (active) gl.glClientActiveTexture(GL_TEXTURE0 + u);
             if (read_fixed(f, uint32_t(u), a)) out.push_back(a);
         }
-        if (active) active(saved);
+        if (active) gl.glClientActiveTexture(saved);
     }
     if (kinds & (1u << unsigned(ClientSlot::Attrib))) {
         const GLint n = std::min(real_get_integer(GL_MAX_VERTEX_ATTRIBS), 64);
@@ -317,13 +315,14 @@ static bool vertex_range(const DrawRange& r, int64_t& lo, int64_t& hi) {
     }
     case DrawRange::Elements: {
         if (r.count <= 0) return false;
-        static const auto is_enabled = real<decltype(&::glIsEnabled)>(OP_glIsEnabled);
+        const GlApi& gl = real_gl();
+        auto is_enabled = [&gl](GLenum cap) { return gl.has(OP_glIsEnabled) && gl.glIsEnabled(cap); };
         bool restart = false;
         uint32_t restart_index = 0;
-        if (is_enabled && is_enabled(GL_PRIMITIVE_RESTART_FIXED_INDEX)) {
+        if (is_enabled(GL_PRIMITIVE_RESTART_FIXED_INDEX)) {
             restart = true;
             restart_index = r.type == GL_UNSIGNED_BYTE ? 0xFFu : r.type == GL_UNSIGNED_SHORT ? 0xFFFFu : 0xFFFFFFFFu;
-        } else if (is_enabled && is_enabled(GL_PRIMITIVE_RESTART)) {
+        } else if (is_enabled(GL_PRIMITIVE_RESTART)) {
             restart = true;
             restart_index = uint32_t(real_get_integer(GL_PRIMITIVE_RESTART_INDEX));
         }
@@ -331,10 +330,9 @@ static bool vertex_range(const DrawRange& r, int64_t& lo, int64_t& hi) {
         if (real_get_integer(GL_ELEMENT_ARRAY_BUFFER_BINDING) == 0)
             return index_range(r.indices, r.type, r.count, r.basevertex, restart, restart_index, lo, hi);
         // Indices in a buffer object, vertices in client memory: read the indices back.
-        static const auto get_sub = real<PFNGLGETBUFFERSUBDATAPROC>(OP_glGetBufferSubData);
-        if (!get_sub) return false;
+        if (!gl.has(OP_glGetBufferSubData)) return false;
         std::vector<uint8_t> tmp(size_t(r.count) * bytes);
-        get_sub(GL_ELEMENT_ARRAY_BUFFER, GLintptr(reinterpret_cast<uintptr_t>(r.indices)), GLsizeiptr(tmp.size()),
+        gl.glGetBufferSubData(GL_ELEMENT_ARRAY_BUFFER, GLintptr(reinterpret_cast<uintptr_t>(r.indices)), GLsizeiptr(tmp.size()),
                 tmp.data());
         return index_range(tmp.data(), r.type, r.count, r.basevertex, restart, restart_index, lo, hi);
     }

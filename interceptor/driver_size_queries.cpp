@@ -2,15 +2,15 @@
 
 #include "common/gl_headers.h"
 #include "glcast_commands.h"
+#include "glcast_gl_api.h"
 #include "interceptor/client_arrays.h"
 #include "interceptor/shim.h"
 
 namespace glcast {
 
 int32_t real_get_integer(uint32_t pname) {
-    static const auto get = reinterpret_cast<decltype(&::glGetIntegerv)>(real_proc(OP_glGetIntegerv));
     GLint v = 0;
-    if (get) get(pname, &v);
+    if (real_gl().has(OP_glGetIntegerv)) real_gl().glGetIntegerv(pname, &v);
     return v;
 }
 
@@ -31,10 +31,8 @@ bool DriverSizeQueries::bound(uint32_t binding_query) { return real_get_integer(
 int64_t DriverSizeQueries::driver_count(uint32_t pname) { return real_get_integer(pname); }
 
 int64_t DriverSizeQueries::tex_level(uint32_t target, int32_t level, uint32_t pname) {
-    static const auto get =
-        reinterpret_cast<decltype(&::glGetTexLevelParameteriv)>(real_proc(OP_glGetTexLevelParameteriv));
     GLint v = 0;
-    if (get) get(target, level, pname, &v);
+    if (real_gl().has(OP_glGetTexLevelParameteriv)) real_gl().glGetTexLevelParameteriv(target, level, pname, &v);
     return v;
 }
 

@@ -11,6 +11,7 @@
 #include "glcast_commands.h"
 #include "interceptor/dl_hooks.h"
 #include "interceptor/shim.h"
+#include "glcast_gl_api.h"
 #include "protocol/command_info.h"
 
 namespace glcast {
@@ -79,6 +80,11 @@ void* real_proc(uint32_t opcode) {
     }
     g_real[opcode].store(p ? p : kMissing, std::memory_order_release);
     return p;
+}
+
+const GlApi& real_gl() {
+    static const GlApi gl([](void*, uint32_t opcode) { return real_proc(opcode); }, nullptr);
+    return gl;
 }
 
 }  // namespace glcast

@@ -16,6 +16,8 @@ namespace glcast {
 struct DrawRange;
 
 void* real_proc(uint32_t opcode);               // the driver's function, or nullptr
+class GlApi;
+const GlApi& real_gl();                         // the same, typed (glcast_gl_api.h)
 void* real_proc_by_name(const char* name);      // same, for names the registry lacks
 extern void* const kEntryPoints[];              // generated: our wrapper per opcode
 extern bool g_recording;                        // a consumer is configured and not finished

@@ -16,11 +16,6 @@
 
 namespace glcast {
 
-// The real driver's functions, as the shim resolves them.
-static const GlApi& real_gl() {
-    static const GlApi gl([](void*, uint32_t opcode) { return real_proc(opcode); }, nullptr);
-    return gl;
-}
 
 void snapshot_back_buffer(int width, int height) {
     static std::atomic<uint64_t> frame{0};

@@ -35,7 +35,6 @@ Replayer::Replayer(std::unique_ptr<Backend> backend, ReplayOptions options)
 
 Replayer::~Replayer() {
     std::string ignored;
-    recorder_.reset();  // its GL objects go with the contexts, before them
     if (current_) backend_->make_current(0, 0, 0, ignored);
     for (auto& [id, ctx] : contexts_) backend_->destroy_context(id);
 }
@@ -170,7 +169,7 @@ void Replayer::replay(MessageSource& reader) {
             } catch (const ReplayError& e) {
                 report(e.what());
             } catch (const GlMissing& e) {
-                report(std::string("the slave's ") + e.what());
+                report(std::string("the slave's ") + e.what());  // "driver has no glX"
             }
             call_index_++;
             stats_.calls++;
@@ -191,7 +190,7 @@ void Replayer::dispatch(const Call& c, const uint8_t* tuple, size_t bytes) {
     const uint8_t mask = synthetic_tuple ? synth_interest_[c.opcode - kSynthBase] : interest_[c.opcode];
     // Window-system calls name contexts themselves; only a swap acts on the calling thread's.
     const bool follows = synthetic_tuple ? c.opcode != kSynthContext
-                                         : c.info->sem.context == ContextOp::Nothing ||
+                                         : kReplayKind[c.opcode] != ReplayKind::WindowSystem ||
                                                c.info->sem.context == ContextOp::Swap;
     if (follows) follow_context(c);
     if (!mask) {
@@ -214,6 +213,7 @@ void Replayer::redispatch(const Call& c) {
         synthetic(c);
         return;
     }
+    if (!kReplay[c.opcode]) return;  // recorded inside glBegin/glEnd, but not repeated by a slave
     tile_->before_call(c, nullptr, 0);
     if (!tile_->replace_call(c)) kReplay[c.opcode](*this, c);
     tile_->after_call(c);

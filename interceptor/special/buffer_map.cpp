@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "glcast_commands.h"
+#include "glcast_gl_api.h"
 #include "glcast_synthetic_encode.h"
 #include "glcast_encode.h"
 #include "glcast_special.h"
@@ -66,9 +67,8 @@ GLuint bound_buffer(GLenum target) {
 }
 
 int64_t buffer_size(GLenum target) {
-    static const auto get = reinterpret_cast<PFNGLGETBUFFERPARAMETERI64VPROC>(real_proc(OP_glGetBufferParameteri64v));
     GLint64 v = 0;
-    if (get) get(target, GL_BUFFER_SIZE, &v);
+    if (real_gl().has(OP_glGetBufferParameteri64v)) real_gl().glGetBufferParameteri64v(target, GL_BUFFER_SIZE, &v);
     return v;
 }
 
@@ -186,10 +186,9 @@ void* special::glMapNamedBuffer(glMapNamedBuffer_fn real, CallScope& scope, GLui
     void* ret = real(buffer, access);
     if (!scope.recording()) return ret;
     scope.record([&](Encoder& e, SizeQueries& sz) { encode_glMapNamedBuffer(e, sz, buffer, access, ret); });
-    static const auto get = reinterpret_cast<PFNGLGETNAMEDBUFFERPARAMETERI64VPROC>(
-        real_proc(OP_glGetNamedBufferParameteri64v));
     GLint64 size = 0;
-    if (get) get(buffer, GL_BUFFER_SIZE, &size);
+    if (real_gl().has(OP_glGetNamedBufferParameteri64v))
+        real_gl().glGetNamedBufferParameteri64v(buffer, GL_BUFFER_SIZE, &size);
     mapped(scope, buffer, ret, 0, size, access_bits(access));
     return ret;
 }
