@@ -1,4 +1,4 @@
-// The glcast command: one binary with subcommands, like git and apitrace (design.md 8). Each
+// The glcast command: one binary with subcommands, like git and apitrace. Each
 // subcommand is a file of cli/ that declares its options on CLI11; this file dispatches, prints
 // help (exit 0), and turns every command-line error into one line on stderr and exit 2.
 #include <CLI/CLI.hpp>

@@ -1,4 +1,4 @@
-// The swap barrier of a wall (design.md 7): each tile's slave says "READY n" before it
+// The swap barrier of a wall (docs/wall.md): each tile's slave says "READY n" before it
 // presents frame n and waits for "GO n", sent once every tile has said it. Served by
 // `glcast run`, which outlives the program (slaves still present frames after it ended).
 #pragma once

@@ -57,6 +57,17 @@ static int app_parse_int(const char *s, long lo, long hi, int *out)
 }
 
 /* Parses argv; on error prints a message naming the argument and exits 2. */
+/* A program's own first argument (e.g. --plain), taken off before app_parse_args: 1 if it was there. */
+static int app_take_flag(int *argc, char ***argv, const char *flag)
+{
+    if (*argc < 2 || strcmp((*argv)[1], flag) != 0)
+        return 0;
+    (*argv)[1] = (*argv)[0];
+    (*argv)++;
+    (*argc)--;
+    return 1;
+}
+
 static void app_parse_args(const char *prog, int argc, char **argv, struct app_args *a)
 {
     int i;

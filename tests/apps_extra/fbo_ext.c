@@ -29,6 +29,7 @@
 #include <string.h>
 
 #include "../apps/app_common.h"
+#include "glx_screenshot.h"
 
 #define TEX 256
 
@@ -75,31 +76,10 @@ static void draw_offscreen(int f)
     glEnd();
 }
 
-/* --screenshot: the last frame's back buffer, before the swap */
-static int screenshot(const struct app_args *a)
-{
-    unsigned char *rgb = malloc((size_t)a->width * (size_t)a->height * 3u);
-    if (!rgb)
-        return -1;
-    glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    glReadBuffer(GL_BACK);
-    glReadPixels(0, 0, a->width, a->height, GL_RGB, GL_UNSIGNED_BYTE, rgb);
-    const int r = app_write_ppm(a->screenshot, a->width, a->height, rgb);
-    free(rgb);
-    if (r != 0)
-        fprintf(stderr, "fbo_ext: cannot write %s\n", a->screenshot);
-    return r;
-}
-
 int main(int argc, char **argv)
 {
     struct app_args a;
-    core_bind = argc > 1 && strcmp(argv[1], "--core-bind") == 0;
-    if (core_bind) {
-        argv[1] = argv[0];
-        argv++;
-        argc--;
-    }
+    core_bind = app_take_flag(&argc, &argv, "--core-bind");
     app_parse_args("fbo_ext", argc, argv, &a);
     Display *dpy = XOpenDisplay(NULL);
     if (!dpy) {
@@ -173,7 +153,7 @@ int main(int argc, char **argv)
         glVertex2f(0.5f, -0.5f); glVertex2f(0.9f, -0.5f); glVertex2f(0.7f, 0.5f);
         glEnd();
 
-        if (a.screenshot && f == a.frames - 1 && screenshot(&a) != 0)
+        if (a.screenshot && f == a.frames - 1 && app_screenshot("fbo_ext", &a) != 0)
             return 1;
         glXSwapBuffers(dpy, win);
         const GLenum err = glGetError();

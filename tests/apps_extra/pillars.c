@@ -25,12 +25,7 @@
 int main(int argc, char **argv)
 {
     struct app_args a;
-    const int shader = argc > 1 && strcmp(argv[1], "--shader") == 0;
-    if (shader) {
-        argv[1] = argv[0];
-        argv++;
-        argc--;
-    }
+    const int shader = app_take_flag(&argc, &argv, "--shader");
     app_parse_args("pillars", argc, argv, &a);
     Display *dpy = XOpenDisplay(NULL);
     if (!dpy) {

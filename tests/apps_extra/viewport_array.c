@@ -34,6 +34,7 @@
 #include <string.h>
 
 #include "../apps/app_common.h"
+#include "glx_screenshot.h"
 
 static const char *PROG = "viewport_array";
 
@@ -118,31 +119,10 @@ static void draw(GLint mode, GLint angle, GLint scale, GLint only, int index, in
     glDrawArrays(GL_TRIANGLES, 6, 3);
 }
 
-/* --screenshot: the last frame's back buffer, before the swap */
-static int screenshot(const struct app_args *a)
-{
-    unsigned char *rgb = malloc((size_t)a->width * (size_t)a->height * 3u);
-    if (!rgb)
-        return -1;
-    glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    glReadBuffer(GL_BACK);
-    glReadPixels(0, 0, a->width, a->height, GL_RGB, GL_UNSIGNED_BYTE, rgb);
-    const int r = app_write_ppm(a->screenshot, a->width, a->height, rgb);
-    free(rgb);
-    if (r != 0)
-        fprintf(stderr, "viewport_array: cannot write %s\n", a->screenshot);
-    return r;
-}
-
 int main(int argc, char **argv)
 {
     struct app_args a;
-    const int plain = argc > 1 && strcmp(argv[1], "--plain") == 0;
-    if (plain) {
-        argv[1] = argv[0];
-        argv++;
-        argc--;
-    }
+    const int plain = app_take_flag(&argc, &argv, "--plain");
     app_parse_args(PROG, argc, argv, &a);
     Display *dpy = XOpenDisplay(NULL);
     if (!dpy) {
@@ -262,7 +242,7 @@ int main(int argc, char **argv)
             draw(mode, angle, scale, only, -1, f);
         }
 
-        if (a.screenshot && f == a.frames - 1 && screenshot(&a) != 0)
+        if (a.screenshot && f == a.frames - 1 && app_screenshot("viewport_array", &a) != 0)
             return 1;
         glXSwapBuffers(dpy, win);
         const GLenum err = glGetError();
