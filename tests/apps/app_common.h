@@ -58,7 +58,7 @@ static int app_parse_int(const char *s, long lo, long hi, int *out)
 
 /* Parses argv; on error prints a message naming the argument and exits 2. */
 /* A program's own first argument (e.g. --plain), taken off before app_parse_args: 1 if it was there. */
-static int app_take_flag(int *argc, char ***argv, const char *flag)
+__attribute__((unused)) static int app_take_flag(int *argc, char ***argv, const char *flag)
 {
     if (*argc < 2 || strcmp((*argv)[1], flag) != 0)
         return 0;
