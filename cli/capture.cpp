@@ -8,6 +8,7 @@
 #include "cli/commands.h"
 #include "cli/launcher.h"
 #include "cli/options.h"
+#include "cli/paths.h"
 
 namespace glcast::cli {
 
@@ -19,14 +20,16 @@ struct CaptureArgs {
 };
 
 int capture(const CaptureArgs& a, const std::vector<std::string>& program) {
-    std::map<std::string, std::string> env{{"GLCAST_CAPTURE", a.output}};
+    // Absolute: the program may change directory before its first GL call opens the file.
+    const std::string output = absolute_path(a.output);
+    std::map<std::string, std::string> env{{"GLCAST_CAPTURE", output}};
     if (a.frames) {
         env["GLCAST_FRAMES"] = std::to_string(a.frames);
         env["GLCAST_EXIT_AFTER_FRAMES"] = "1";
     }
     const int status = run_with_shim(program, env);
     if (status < 0) return 1;
-    if (FILE* f = std::fopen(a.output.c_str(), "rb")) std::fclose(f);
+    if (FILE* f = std::fopen(output.c_str(), "rb")) std::fclose(f);
     else std::fprintf(stderr, "glcast: %s made no GL calls; no capture written\n", program[0].c_str());
     return status;
 }

@@ -11,6 +11,7 @@
 
 #include "cli/commands.h"
 #include "cli/options.h"
+#include "cli/paths.h"
 #include "cli/tile_options.h"
 #include "protocol/decoder.h"
 #include "common/image.h"
@@ -57,8 +58,9 @@ int replay(ReplayArgs& a) {
         t.place_x = t.x, t.place_y = t.y;
         t.place_canvas_width = t.canvas_width, t.place_canvas_height = t.canvas_height;
     }
-    if (!out_dir.empty() && mkdir(out_dir.c_str(), 0755) != 0 && errno != EEXIST) {
-        std::fprintf(stderr, "glcast replay: cannot create %s: %s\n", out_dir.c_str(), std::strerror(errno));
+    std::string mkdir_error;
+    if (!out_dir.empty() && !make_directories(out_dir, mkdir_error)) {
+        std::fprintf(stderr, "glcast replay: --out: %s\n", mkdir_error.c_str());
         return 1;
     }
     std::string error;

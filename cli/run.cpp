@@ -20,6 +20,7 @@
 #include "cli/commands.h"
 #include "cli/launcher.h"
 #include "cli/options.h"
+#include "cli/paths.h"
 #include "cli/swap_barrier.h"
 #include "display_configs/display_config.h"
 #include "slave/effects/effect_params.h"
@@ -102,7 +103,11 @@ int run(const RunArgs& a, const std::vector<std::string>& program) {
     if (endpoint.empty()) endpoint = std::string("ipc://") + dir + "/stream";
     const std::string journal = journal_endpoint(endpoint);
     std::fprintf(stderr, "glcast run: stream on %s, journal on %s\n", endpoint.c_str(), journal.c_str());
-    if (!out_dir.empty()) ::mkdir(out_dir.c_str(), 0755);
+    std::string mkdir_error;
+    if (!out_dir.empty() && !make_directories(out_dir, mkdir_error)) {
+        std::fprintf(stderr, "glcast run: --out: %s\n", mkdir_error.c_str());
+        return 1;
+    }
 
     // The swap barrier outlives the program: slaves may present its last frames after it ended.
     const std::string barrier_endpoint = std::string("ipc://") + dir + "/barrier";

@@ -12,6 +12,7 @@
 
 #include "cli/commands.h"
 #include "cli/options.h"
+#include "cli/paths.h"
 #include "cli/tile_options.h"
 #include "common/image.h"
 #include "slave/network_source.h"
@@ -42,8 +43,8 @@ int slave(SlaveArgs& a) {
             return 1;
         }
     }
-    if (!out_dir.empty() && mkdir(out_dir.c_str(), 0755) != 0 && errno != EEXIST) {
-        std::fprintf(stderr, "glcast slave: cannot create %s: %s\n", out_dir.c_str(), std::strerror(errno));
+    if (!out_dir.empty() && !make_directories(out_dir, error)) {
+        std::fprintf(stderr, "glcast slave: --out: %s\n", error.c_str());
         return 1;
     }
     std::unique_ptr<Backend> backend = make_backend(a.backend_kind, error);

@@ -208,6 +208,28 @@ def case_children():
     common(dump(p), 3)
 
 
+def case_relative_paths():
+    # `-o rel.glcs` means rel.glcs where glcast was started, even when the program changes
+    # directory first; `replay --out a/b` makes a/ too
+    work = os.path.join(OUT, "relative")
+    sub = os.path.join(work, "sub")
+    subprocess.run(["rm", "-rf", work], check=True)
+    os.makedirs(sub)
+    r = subprocess.run([GLCAST, "capture", "-o", "rel.glcs", "--frames", "2", "--", "sh", "-c", "cd sub && glxgears"],
+                       cwd=work, capture_output=True, text=True, timeout=120)
+    check(r.returncode == 0, f"capture: {r.stderr}")
+    check(os.path.exists(os.path.join(work, "rel.glcs")), "rel.glcs not written where glcast was started")
+    check(not os.path.exists(os.path.join(sub, "rel.glcs")), "rel.glcs written where the program went")
+    out = os.path.join(work, "a", "b")
+    r = subprocess.run([GLCAST, "replay", os.path.join(work, "rel.glcs"), "--backend", "egl", "--out", out],
+                       capture_output=True, text=True, timeout=120)
+    check(r.returncode == 0, f"replay --out a/b: {r.stderr}")
+    check(os.path.exists(os.path.join(out, "frame-000001.png")), "replay --out a/b wrote no frames")
+    r = subprocess.run([GLCAST, "replay", os.path.join(work, "rel.glcs"), "--backend", "egl", "--out",
+                        os.path.join(work, "rel.glcs", "x")], capture_output=True, text=True, timeout=120)
+    check(r.returncode == 1 and "--out" in r.stderr, f"replay --out under a file: {r.returncode} {r.stderr}")
+
+
 if __name__ == "__main__":
     with Xvfb():
         globals()["case_" + sys.argv[1]]()
