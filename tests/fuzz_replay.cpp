@@ -62,7 +62,16 @@ std::vector<Capture> g_captures;
 std::unique_ptr<slave::Replayer> g_replayer;
 bool g_verbose = false;
 
+// Only the first frames of each capture: they hold the set-up (contexts, objects, shaders, the
+// first draws) where nearly every kind of call happens once, and later frames repeat them;
+// whole captures would run at a few inputs per second.
+uint32_t frame_limit() {
+    const char* env = std::getenv("GLCAST_FUZZ_FRAMES");
+    return env && *env ? uint32_t(std::strtoul(env, nullptr, 10)) : 3;
+}
+
 void load_captures() {
+    const uint32_t frames = frame_limit();
     const char* env = std::getenv("GLCAST_FUZZ_DATA");
     const std::string dir = env && *env ? env : GLCAST_FUZZ_DATA_DIR;
     std::vector<std::string> names;
@@ -80,7 +89,7 @@ void load_captures() {
         cap.name = n;
         CaptureReader reader(open_file_source(dir + "/" + n));
         Message m;
-        while (reader.next(m)) {
+        while (reader.next(m) && m.header.frame < frames) {
             ByteReader r(m.payload.data(), m.payload.size(), 0);
             Call c;
             while (r.remaining()) {
@@ -493,6 +502,7 @@ void apply(FuzzedDataProvider& in, std::vector<Tuple>& tuples) {
     if (tuples.empty()) return;
     const size_t index = in.ConsumeIntegral<uint16_t>() % tuples.size();
     Tuple& t = tuples[index];
+    const uint32_t opcode = t.opcode;  // `t` dangles once a tuple is inserted or erased
     std::string what;
     switch (kind) {
     case kDuplicate: tuples.insert(tuples.begin() + long(index), Tuple(t)); what = "duplicated"; break;
@@ -570,7 +580,7 @@ void apply(FuzzedDataProvider& in, std::vector<Tuple>& tuples) {
         break;
     }
     }
-    if (g_verbose) std::fprintf(stderr, "fuzz_replay: tuple %zu %s: %s\n", index, opcode_name(t.opcode), what.c_str());
+    if (g_verbose) std::fprintf(stderr, "fuzz_replay: tuple %zu %s: %s\n", index, opcode_name(opcode), what.c_str());
 }
 
 // Framed messages straight to the replayer: no header checks, CRC or zstd in the way.
