@@ -61,6 +61,9 @@ struct Capture {
 std::vector<Capture> g_captures;
 std::unique_ptr<slave::Replayer> g_replayer;
 bool g_verbose = false;
+// GLCAST_FUZZ_SKIP=null: no Null tags on inputs. A crash class found within seconds (GL
+// handed NULL where it reads an array) would otherwise be all a run finds.
+bool g_skip_null = false;
 
 // Only the first frames of each capture: they hold the set-up (contexts, objects, shaders, the
 // first draws) where nearly every kind of call happens once, and later frames repeat them;
@@ -323,7 +326,9 @@ void resize_record(FuzzedDataProvider& in, Record& r, size_t elem) {
 void retag(FuzzedDataProvider& in, Record& r, size_t elem, bool output) {
     static const uint64_t offsets[] = {0, 4, 0x10000, 0x7FFFFFFF, 0x80000000u, ~uint64_t(0), uint64_t(1) << 40};
     switch (in.ConsumeIntegral<uint8_t>() % 5) {
-    case 0: r = Record{}; break;
+    case 0:
+        if (!g_skip_null || output) r = Record{};
+        break;
     case 1:
         if (r.tag != PtrTag::Data) r.count = 0, r.data.clear();
         resize_record(in, r, elem);
@@ -601,6 +606,8 @@ private:
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
     g_verbose = std::getenv("GLCAST_FUZZ_VERBOSE") != nullptr;
+    const char* skip = std::getenv("GLCAST_FUZZ_SKIP");
+    g_skip_null = skip && std::strstr(skip, "null");
     // llvmpipe's rasterizer threads would take the cores other jobs share, and make a run's
     // scheduling (and a crash's reproduction) depend on the machine.
     setenv("LP_NUM_THREADS", "0", 0);
