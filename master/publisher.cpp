@@ -247,7 +247,7 @@ void PublisherSink::serve_snapshots() {
             std::string_view views[kMaxPartsRead];
             const size_t kept = std::min(count, kMaxPartsRead);
             for (size_t i = 0; i < kept; i++) views[i] = std::string_view(parts[i].data<char>(), parts[i].size());
-            handle_request(router, views, count, seconds_now());
+            handle_request(views, count, seconds_now());
             progress = true;
         }
         const double now = seconds_now();
@@ -278,7 +278,7 @@ void PublisherSink::serve_snapshots() {
     }
 }
 
-void PublisherSink::handle_request(zmq::socket_t&, const std::string_view* parts, size_t count, double now) {
+void PublisherSink::handle_request(const std::string_view* parts, size_t count, double now) {
     using namespace journal_limits;
     const JournalRequest r = classify_journal_request(parts, count);
     auto drop = [&](JournalDrop why) { drops_[size_t(why)]++; };
@@ -360,9 +360,11 @@ bool PublisherSink::serve(zmq::socket_t& router, Session& s, double now) {
     }
 full:
     if (now - s.last_progress > kStallSeconds) {
+        // Said for the first few only: peers that keep doing it could fill the program's stderr.
         stalled_++;
-        if (verbose_)
-            std::fprintf(stderr, "glcast: journal: a peer took nothing for %.0f s; no longer serving it\n", kStallSeconds);
+        if (verbose_ && stalled_ <= 8)
+            std::fprintf(stderr, "glcast: journal: a peer took nothing for %.0f s; no longer serving it%s\n", kStallSeconds,
+                         stalled_ == 8 ? " (further ones are only counted)" : "");
         return true;
     }
     return false;

@@ -130,7 +130,7 @@ private:
         bool started = false;
     };
     void serve_snapshots();
-    void handle_request(zmq::socket_t& router, const std::string_view* parts, size_t count, double now);
+    void handle_request(const std::string_view* parts, size_t count, double now);
     bool serve(zmq::socket_t& router, Session& s, double now);  // true: finished or given up
 
     PublisherOptions options_;
