@@ -308,13 +308,12 @@ void PublisherSink::handle_request(const std::string_view* parts, size_t count, 
     pending_.push_back(std::move(s));
 }
 
-// Sends what the peer's queue takes now; never waits.
+// Sends what the peer's queue takes now, at most 256 messages a turn so that requests (DONE
+// for lockstep among them) are read between; never waits. True: finished, or given up.
 bool PublisherSink::serve(zmq::socket_t& router, Session& s, double now) {
     using namespace journal_limits;
-    bool complete;
     if (!s.started) {
         std::lock_guard lock(journal_mutex_);
-        complete = journal_complete_;
         s.next = 0;
         s.end = journal_.size();  // holds the first live message the slave saw: the snapshot covers it
         s.started = true;
@@ -328,44 +327,42 @@ bool PublisherSink::serve(zmq::socket_t& router, Session& s, double now) {
             return -1;  // EHOSTUNREACH: disconnected
         }
     };
-    Shared batch[32];
-    for (;;) {
-        size_t n = 0;
-        {
-            std::lock_guard lock(journal_mutex_);
-            complete = journal_complete_;
-            if (complete)
-                for (; n < 32 && s.next + n < s.end; n++) batch[n] = journal_[s.next + n];
-        }
-        if (!complete || n == 0) {
-            zmq::message_t last(complete ? std::string_view("END") : std::string_view("GONE"));
-            const int r = send_part(last);
-            if (r == 0) break;
-            if (r > 0) served_++;
-            return true;
-        }
-        for (size_t i = 0; i < n; i++) {
-            Shared& m = batch[i];
-            zmq::message_t body(const_cast<uint8_t*>(m->data()), m->size(), release_shared, new Shared(m));
-            const int r = send_part(body);
-            if (r < 0) return true;
-            if (r == 0) {
-                for (; i < n; i++) batch[i].reset();
-                goto full;
-            }
-            s.next++;
-            s.last_progress = now;
-            m.reset();
-        }
-    }
-full:
-    if (now - s.last_progress > kStallSeconds) {
+    auto queue_full = [&] {
+        if (now - s.last_progress <= kStallSeconds) return false;
         // Said for the first few only: peers that keep doing it could fill the program's stderr.
         stalled_++;
         if (verbose_ && stalled_ <= 8)
             std::fprintf(stderr, "glcast: journal: a peer took nothing for %.0f s; no longer serving it%s\n", kStallSeconds,
                          stalled_ == 8 ? " (further ones are only counted)" : "");
         return true;
+    };
+    constexpr size_t kBatch = 32;
+    for (int turn = 0; turn < 8; turn++) {
+        Shared batch[kBatch];
+        size_t n = 0;
+        bool complete;
+        {
+            std::lock_guard lock(journal_mutex_);
+            complete = journal_complete_;
+            if (complete)
+                for (; n < kBatch && s.next + n < s.end; n++) batch[n] = journal_[s.next + n];
+        }
+        if (!complete || n == 0) {
+            zmq::message_t last(complete ? std::string_view("END") : std::string_view("GONE"));
+            const int r = send_part(last);
+            if (r == 0) return queue_full();
+            if (r > 0) served_++;
+            return true;
+        }
+        for (size_t i = 0; i < n; i++) {
+            const Shared& m = batch[i];
+            zmq::message_t body(const_cast<uint8_t*>(m->data()), m->size(), release_shared, new Shared(m));
+            const int r = send_part(body);
+            if (r < 0) return true;
+            if (r == 0) return queue_full();
+            s.next++;
+            s.last_progress = now;
+        }
     }
     return false;
 }
