@@ -6,14 +6,124 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <algorithm>
+#include <functional>
 #include <map>
 
 #include "protocol/format.h"
 
 namespace glcast {
 
+namespace {
+
+double seconds_now() {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+// The zero-copy send's hint: a reference to the journal message, released by libzmq (from its
+// I/O thread) once the message is on the wire or dropped.
+void release_shared(void*, void* hint) { delete static_cast<std::shared_ptr<const std::vector<uint8_t>>*>(hint); }
+
+}  // namespace
+
+const char* journal_drop_name(JournalDrop d) {
+    switch (d) {
+    case JournalDrop::none: return "none";
+    case JournalDrop::parts: return "parts";
+    case JournalDrop::identity: return "identity";
+    case JournalDrop::size: return "size";
+    case JournalDrop::unknown: return "unknown";
+    case JournalDrop::rate: return "rate";
+    case JournalDrop::busy: return "busy";
+    case JournalDrop::no_lockstep: return "no-lockstep";
+    case JournalDrop::window: return "window";
+    case JournalDrop::count_: break;
+    }
+    return "?";
+}
+
+JournalRequest classify_journal_request(const std::string_view* parts, size_t count) {
+    using namespace journal_limits;
+    JournalRequest r;
+    if (count != 2) {
+        r.drop = JournalDrop::parts;
+        return r;
+    }
+    if (parts[0].empty() || parts[0].size() > kMaxIdentityBytes) {
+        r.drop = JournalDrop::identity;
+        return r;
+    }
+    const std::string_view body = parts[1];
+    if (body.size() > kMaxRequestBytes) {
+        r.drop = JournalDrop::size;
+        return r;
+    }
+    if (body == "SNAPSHOT") {
+        r.kind = JournalRequestKind::snapshot;
+        return r;
+    }
+    r.drop = JournalDrop::unknown;
+    constexpr std::string_view done = "DONE ";
+    if (body.size() <= done.size() || body.substr(0, done.size()) != done) return r;
+    const std::string_view digits = body.substr(done.size());
+    if (digits.size() > 10 || (digits.size() > 1 && digits[0] == '0')) return r;
+    uint64_t n = 0;
+    for (char c : digits) {
+        if (c < '0' || c > '9') return r;
+        n = n * 10 + uint64_t(c - '0');
+    }
+    if (n > UINT32_MAX) return r;
+    r.kind = JournalRequestKind::done;
+    r.drop = JournalDrop::none;
+    r.frame = n;
+    return r;
+}
+
+bool JournalAdmission::Bucket::full(double burst, double rate, double now) const {
+    return tokens < 0 || tokens + (now - last) * rate >= burst;
+}
+
+bool JournalAdmission::Bucket::take(double burst, double rate, double now) {
+    if (tokens < 0) {
+        tokens = burst;
+        last = now;
+    }
+    if (now > last) tokens = std::min(burst, tokens + (now - last) * rate);
+    last = std::max(last, now);  // a clock that goes back refills nothing
+    if (tokens < 1) return false;
+    tokens -= 1;
+    return true;
+}
+
+bool JournalAdmission::admit(std::string_view identity, JournalRequestKind kind, double now) {
+    using namespace journal_limits;
+    if (kind == JournalRequestKind::invalid) return false;
+    auto it = peers_.find(std::string(identity));
+    if (it == peers_.end()) {
+        if (peers_.size() >= kMaxPeers) {
+            // A peer whose buckets have refilled is the same as one never seen: forget it.
+            for (auto p = peers_.begin(); p != peers_.end();)
+                p = p->second.snapshot.full(kSnapshotBurstPerPeer, kSnapshotRatePerPeer, now) &&
+                            p->second.done.full(kDoneBurstPerPeer, kDoneRatePerPeer, now)
+                        ? peers_.erase(p)
+                        : std::next(p);
+            if (peers_.size() >= kMaxPeers) return false;
+        }
+        it = peers_.emplace(std::string(identity), Peer{}).first;
+    }
+    // The peer's bucket first, so that one peer's flood does not drain everyone's.
+    if (kind == JournalRequestKind::snapshot)
+        return it->second.snapshot.take(kSnapshotBurstPerPeer, kSnapshotRatePerPeer, now) &&
+               snapshot_total_.take(kSnapshotBurstTotal, kSnapshotRateTotal, now);
+    return it->second.done.take(kDoneBurstPerPeer, kDoneRatePerPeer, now) &&
+           done_total_.take(kDoneBurstTotal, kDoneRateTotal, now);
+}
+
+
 PublisherSink::PublisherSink(PublisherOptions options)
     : options_(std::move(options)), context_(std::make_unique<zmq::context_t>(1)) {
+    const char* v = std::getenv("GLCAST_VERBOSE");
+    verbose_ = v && std::strcmp(v, "1") == 0;
     try {
         // XPUB: a PUB socket that also reports subscriptions, for the start-up wait below.
         pub_ = std::make_unique<zmq::socket_t>(*context_, zmq::socket_type::xpub);
@@ -49,16 +159,28 @@ PublisherSink::PublisherSink(PublisherOptions options)
 PublisherSink::~PublisherSink() { close(); }
 
 void PublisherSink::write(const std::vector<uint8_t>& message) {
-    {
-        std::lock_guard lock(journal_mutex_);
-        if (journal_complete_ && !options_.snapshot_endpoint.empty()) {
-            if (journal_bytes_ + message.size() > options_.journal_limit_bytes) {
+    MessageHeader h{};
+    if (message.size() >= sizeof h) std::memcpy(&h, message.data(), sizeof h);
+    if (h.frame > frame_.load(std::memory_order_relaxed)) frame_.store(h.frame, std::memory_order_relaxed);
+    if (!options_.snapshot_endpoint.empty()) {
+        // The copy is made outside the lock: the serving thread waits for it at most for an append.
+        Shared kept;
+        bool keep;
+        {
+            std::lock_guard lock(journal_mutex_);
+            keep = journal_complete_;
+        }
+        if (keep) kept = std::make_shared<const std::vector<uint8_t>>(message);
+        std::deque<Shared> gone;  // freed after the lock is released
+        {
+            std::lock_guard lock(journal_mutex_);
+            if (journal_complete_ && journal_bytes_ + message.size() > options_.journal_limit_bytes) {
                 journal_complete_ = false;
-                journal_.clear();
-                journal_.shrink_to_fit();
+                gone.swap(journal_);
+                journal_bytes_ = 0;
                 std::fprintf(stderr, "glcast: the stream passed GLCAST_JOURNAL_MB; slaves can no longer join late\n");
-            } else {
-                journal_.push_back(message);
+            } else if (journal_complete_ && kept) {
+                journal_.push_back(std::move(kept));
                 journal_bytes_ += message.size();
             }
         }
@@ -70,65 +192,179 @@ void PublisherSink::write(const std::vector<uint8_t>& message) {
     // Never wait for a subscriber: a full queue loses the message, the slave sees the gap.
     if (!pub_->send(zmq::buffer(message), zmq::send_flags::dontwait)) dropped_++;
     // Lockstep (asked for): the frame this message ends must be replayed by every slave first.
-    MessageHeader h;
-    std::memcpy(&h, message.data(), sizeof h);
     if (options_.lockstep > 0 && (h.flags & kMsgFrameEnd)) {
         std::unique_lock lock(done_mutex_);
-        if (!done_changed_.wait_for(lock, std::chrono::seconds(10), [&] { return done_[h.frame] >= options_.lockstep; }))
+        if (!done_changed_.wait_for(lock, std::chrono::seconds(10), [&] {
+                auto it = done_.find(h.frame);
+                return it != done_.end() && int(it->second.size()) >= options_.lockstep;
+            }))
             std::fprintf(stderr, "glcast: lockstep: frame %u not replayed by %d slaves within 10 s; going on\n", h.frame,
                          options_.lockstep);
         done_.erase(done_.begin(), done_.upper_bound(h.frame));
+        done_floor_ = std::max<uint64_t>(done_floor_, uint64_t(h.frame) + 1);
     }
 }
 
-// ROUTER side channel. A request is one frame "SNAPSHOT"; the answer is every journaled
-// message, one frame each, then "END". A journal that passed its limit answers "GONE".
+// ROUTER side channel. A request is one part "SNAPSHOT"; the answer is every journaled
+// message, one part each, then "END". A journal that passed its limit answers "GONE". "DONE n"
+// says a slave replayed frame n (lockstep). Anything else is dropped and counted; limits in
+// master/publisher.h, reasons in docs/security.md.
 void PublisherSink::serve_snapshots() {
+    using namespace journal_limits;
     zmq::socket_t router(*context_, zmq::socket_type::router);
-    router.set(zmq::sockopt::sndhwm, 0);
-    router.set(zmq::sockopt::linger, 0);
     try {
+        // A peer that never reads fills its queue to the mark; then sends to it fail at once
+        // (mandatory: EAGAIN rather than a silent drop) and its session waits, then ends.
+        router.set(zmq::sockopt::sndhwm, kSendHwm);
+        router.set(zmq::sockopt::router_mandatory, 1);
+        router.set(zmq::sockopt::maxmsgsize, int64_t(kMaxFrameBytes));
+        router.set(zmq::sockopt::rcvhwm, 1000);
+        router.set(zmq::sockopt::linger, 0);
         router.bind(options_.snapshot_endpoint);
     } catch (const zmq::error_t& e) {
         std::fprintf(stderr, "glcast: cannot serve snapshots on %s: %s\n", options_.snapshot_endpoint.c_str(), e.what());
         return;
     }
+    zmq::message_t parts[kMaxPartsRead];
     while (!stopping_) {
-        zmq::pollitem_t item{router.handle(), 0, ZMQ_POLLIN, 0};
-        zmq::poll(&item, 1, std::chrono::milliseconds(100));
-        if (!(item.revents & ZMQ_POLLIN)) continue;
-        std::vector<zmq::message_t> request;
-        zmq::message_t part;
-        do {
-            if (!router.recv(part)) break;
-            request.push_back(std::move(part));
-        } while (router.get(zmq::sockopt::rcvmore));
-        if (request.size() < 2) continue;
-        const std::string identity = request.front().to_string();
-        const std::string what = request.back().to_string();
-        if (what.rfind("DONE ", 0) == 0) {  // lockstep: a slave has replayed a frame
-            std::lock_guard lock(done_mutex_);
-            done_[std::strtoull(what.c_str() + 5, nullptr, 10)]++;
-            done_changed_.notify_all();
-            continue;
+        bool progress = false;
+        // A bounded number of requests per turn, so sessions are served during a flood too.
+        for (int n = 0; n < 1024; n++) {
+            size_t count = 0;
+            try {
+                if (!router.recv(parts[0], zmq::recv_flags::dontwait)) break;
+                count = 1;
+                for (zmq::message_t* last = &parts[0]; last->more(); count++) {
+                    // Parts past the last slot are read into it and forgotten: a message
+                    // with that many parts is dropped anyway. libzmq delivers a message's
+                    // parts together, so these never wait.
+                    last = &parts[std::min(count, kMaxPartsRead - 1)];
+                    if (!router.recv(*last, zmq::recv_flags::dontwait)) break;
+                }
+            } catch (const zmq::error_t&) {
+                break;
+            }
+            std::string_view views[kMaxPartsRead];
+            const size_t kept = std::min(count, kMaxPartsRead);
+            for (size_t i = 0; i < kept; i++) views[i] = std::string_view(parts[i].data<char>(), parts[i].size());
+            handle_request(views, count, seconds_now());
+            progress = true;
         }
-        if (what != "SNAPSHOT") continue;
-        std::vector<std::vector<uint8_t>> copy;
+        const double now = seconds_now();
+        for (auto it = active_.begin(); it != active_.end();) {
+            const size_t before = it->next;
+            const bool started = it->started;
+            const bool finished = serve(router, *it, now);
+            progress |= it->next != before || started != it->started || finished;
+            it = finished ? active_.erase(it) : std::next(it);
+        }
+        while (active_.size() < kMaxActiveSnapshots && !pending_.empty()) {
+            active_.push_back(std::move(pending_.front()));
+            pending_.pop_front();
+            active_.back().last_progress = now;
+        }
+        if (progress) continue;
+        zmq::pollitem_t item{router.handle(), 0, ZMQ_POLLIN, 0};
+        // Sessions waiting for a full peer queue are looked at again soon; ROUTER's POLLOUT
+        // says nothing about one peer.
+        zmq::poll(&item, 1, std::chrono::milliseconds(active_.empty() ? 100 : 5));
+    }
+    if (verbose_) {
+        std::string counts;
+        for (size_t d = 1; d < size_t(JournalDrop::count_); d++)
+            if (drops_[d]) counts += " " + std::string(journal_drop_name(JournalDrop(d))) + "=" + std::to_string(drops_[d]);
+        std::fprintf(stderr, "glcast: journal: %llu snapshots served, %llu peers stopped for not reading, dropped requests:%s\n",
+                     (unsigned long long)served_, (unsigned long long)stalled_, counts.empty() ? " none" : counts.c_str());
+    }
+}
+
+void PublisherSink::handle_request(const std::string_view* parts, size_t count, double now) {
+    using namespace journal_limits;
+    const JournalRequest r = classify_journal_request(parts, count);
+    auto drop = [&](JournalDrop why) { drops_[size_t(why)]++; };
+    if (r.kind == JournalRequestKind::invalid) return drop(r.drop);
+    if (r.kind == JournalRequestKind::done && options_.lockstep <= 0) return drop(JournalDrop::no_lockstep);
+    if (!admission_.admit(parts[0], r.kind, now)) return drop(JournalDrop::rate);
+    if (r.kind == JournalRequestKind::done) {
+        const uint64_t current = frame_.load(std::memory_order_relaxed);
+        const size_t who = std::hash<std::string_view>{}(parts[0]);
+        std::lock_guard lock(done_mutex_);
+        const uint64_t low = std::max(done_floor_, current > kDoneWindowFrames ? current - kDoneWindowFrames : 0);
+        if (r.frame < low || r.frame > current + 1) return drop(JournalDrop::window);
+        auto& slaves = done_[r.frame];
+        // Distinct identities, at most the number waited for: one peer cannot stand for all.
+        if (int(slaves.size()) < options_.lockstep && std::find(slaves.begin(), slaves.end(), who) == slaves.end())
+            slaves.push_back(who);
+        done_changed_.notify_all();
+        return;
+    }
+    auto same = [&](const Session& s) { return s.identity == parts[0]; };
+    if (std::any_of(active_.begin(), active_.end(), same) || std::any_of(pending_.begin(), pending_.end(), same) ||
+        pending_.size() >= kMaxPendingSnapshots)
+        return drop(JournalDrop::busy);
+    Session s;
+    s.identity = std::string(parts[0]);
+    s.last_progress = now;
+    pending_.push_back(std::move(s));
+}
+
+// Sends what the peer's queue takes now, at most 256 messages a turn so that requests (DONE
+// for lockstep among them) are read between; never waits. True: finished, or given up.
+bool PublisherSink::serve(zmq::socket_t& router, Session& s, double now) {
+    using namespace journal_limits;
+    if (!s.started) {
+        std::lock_guard lock(journal_mutex_);
+        s.next = 0;
+        s.end = journal_.size();  // holds the first live message the slave saw: the snapshot covers it
+        s.started = true;
+    }
+    auto send_part = [&](zmq::message_t& body) -> int {  // 1 sent, 0 queue full, -1 peer gone
+        try {
+            if (!router.send(zmq::buffer(s.identity), zmq::send_flags::sndmore | zmq::send_flags::dontwait)) return 0;
+            router.send(body, zmq::send_flags::dontwait);
+            return 1;
+        } catch (const zmq::error_t&) {
+            return -1;  // EHOSTUNREACH: disconnected
+        }
+    };
+    auto queue_full = [&] {
+        if (now - s.last_progress <= kStallSeconds) return false;
+        // Said for the first few only: peers that keep doing it could fill the program's stderr.
+        stalled_++;
+        if (verbose_ && stalled_ <= 8)
+            std::fprintf(stderr, "glcast: journal: a peer took nothing for %.0f s; no longer serving it%s\n", kStallSeconds,
+                         stalled_ == 8 ? " (further ones are only counted)" : "");
+        return true;
+    };
+    constexpr size_t kBatch = 32;
+    for (int turn = 0; turn < 8; turn++) {
+        Shared batch[kBatch];
+        size_t n = 0;
         bool complete;
         {
             std::lock_guard lock(journal_mutex_);
-            copy = journal_;
             complete = journal_complete_;
+            if (complete)
+                for (; n < kBatch && s.next + n < s.end; n++) batch[n] = journal_[s.next + n];
         }
-        if (complete)
-            for (const auto& message : copy) {
-                router.send(zmq::buffer(identity), zmq::send_flags::sndmore);
-                router.send(zmq::buffer(message), zmq::send_flags::none);
-            }
-        router.send(zmq::buffer(identity), zmq::send_flags::sndmore);
-        const std::string answer = complete ? "END" : "GONE";
-        router.send(zmq::buffer(answer), zmq::send_flags::none);
+        if (!complete || n == 0) {
+            zmq::message_t last(complete ? std::string_view("END") : std::string_view("GONE"));
+            const int r = send_part(last);
+            if (r == 0) return queue_full();
+            if (r > 0) served_++;
+            return true;
+        }
+        for (size_t i = 0; i < n; i++) {
+            const Shared& m = batch[i];
+            zmq::message_t body(const_cast<uint8_t*>(m->data()), m->size(), release_shared, new Shared(m));
+            const int r = send_part(body);
+            if (r < 0) return true;
+            if (r == 0) return queue_full();
+            s.next++;
+            s.last_progress = now;
+        }
     }
+    return false;
 }
 
 void PublisherSink::close() {
