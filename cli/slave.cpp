@@ -72,7 +72,7 @@ int slave(SlaveArgs& a) {
             if (present_log)
                 std::fprintf(present_log, "%" PRIu64 " %.6f\n", frame,
                              std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count());
-            if (lockstep && source.live()) source.done(frame);
+            if (lockstep && source.caught_up()) source.done(frame);
         };
         auto last = std::chrono::steady_clock::now();
         uint64_t frames_at_last = 0, bytes_at_last = 0;

@@ -31,6 +31,9 @@ public:
     std::function<void()> on_restart;
 
     bool live() const { return live_; }              // the last message came from the live stream
+    // ... or was the last of a snapshot: the newest frame the master has, which a master in
+    // lockstep waits for (the live message that showed a gap is in the snapshot, not replayed again)
+    bool caught_up() const { return live_ || snapshot_.empty(); }
     // Swap barrier: tells the master this tile has frame `frame` and waits (at most `timeout_ms`)
     // until every tile has it. False on a timeout.
     bool barrier(const std::string& endpoint, uint64_t frame, int timeout_ms);

@@ -20,8 +20,9 @@ bezel: every tile of wall-3x2-bezel.json equals its rectangle of the canvas (the
   between them are not shown by any tile).
 late_join: a slave started after the program has run 100 frames, and the same slave killed
   with SIGKILL and started again, show the frames of a slave that ran from the start.
-loss: with every 7th message dropped on purpose, the slave notices, starts over from the
-  journal, and its frames still equal the program's own.
+loss: with every 29th message dropped on purpose, the slave notices, starts over from the
+  journal, and its frames still equal the program's own (in lockstep, so that the journal is
+  still there for a slave that fell behind).
 sigstop: a slave stopped with SIGSTOP does not hold the program back.
 
 Tolerance of the mosaic: llvmpipe evaluates interpolants relative to the framebuffer's
@@ -341,9 +342,9 @@ def start_program(out, frames, extra_env=None):
     return subprocess.Popen(hack, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True), stream
 
 
-def start_slave(stream, out_dir):
+def start_slave(stream, out_dir, extra=()):
     return subprocess.Popen([GLCAST, "slave", "--connect", stream, "--journal", stream + "-journal", "--backend", "egl",
-                             "--out", out_dir, "--wait", "120", "--quiet"], stderr=subprocess.PIPE, text=True)
+                             "--out", out_dir, "--wait", "120", "--quiet", *extra], stderr=subprocess.PIPE, text=True)
 
 
 def wait_for(path, timeout=120):
@@ -387,8 +388,11 @@ def case_loss():
     out = os.path.join(OUT, "loss")
     shutil.rmtree(out, ignore_errors=True)
     os.makedirs(out)
-    program, stream = start_program(out, 120, {"GLCAST_TEST_DROP_EVERY": "29", "GLCAST_WAIT_SUBSCRIBERS": "1"})
-    slave = start_slave(stream, os.path.join(out, "slave"))
+    # In lockstep, so that the program (and the journal with it) is still there when a slave that
+    # fell behind on a loaded machine asks for its last recovery.
+    program, stream = start_program(out, 120, {"GLCAST_TEST_DROP_EVERY": "29", "GLCAST_WAIT_SUBSCRIBERS": "1",
+                                               "GLCAST_LOCKSTEP": "1"})
+    slave = start_slave(stream, os.path.join(out, "slave"), ["--lockstep"])
     program.wait(timeout=300)
     rc = slave.wait(timeout=300)
     log = slave.stderr.read()
