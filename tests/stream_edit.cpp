@@ -12,6 +12,8 @@
 //   client_arrays.first_byte=V        a field of every array of the tuple
 //   drawable_size.width=V, drawable_size.height=V
 //   context:repeat=N                  N more context tuples after it, with new ids
+//   stream:repeat=N                   every message after the first N more times (a longer
+//                                     stream for timing replays)
 //   glClear:after=glDeleteLists(1,0x7fffffff)
 //                                     a new tuple after it; each argument is a number (a Value),
 //                                     o:N (an Offset record), d:HEX (a Data record of those
@@ -284,6 +286,11 @@ int main(int argc, char** argv) {
     CaptureReader reader(memory_source(file.data(), file.size()));
     std::vector<uint8_t> result(file.begin(), file.begin() + sizeof(FileHeader));
     std::vector<int> seen(edits.size(), 0);
+    uint64_t repeat = 0;
+    for (auto it = edits.begin(); it != edits.end();)
+        if (it->target == "stream" && it->field == ":repeat") repeat = it->value, it = edits.erase(it);
+        else ++it;
+    std::vector<std::pair<MessageHeader, std::vector<uint8_t>>> messages;
     Message m;
     Call c;
     while (reader.next(m)) {
@@ -320,9 +327,20 @@ int main(int argc, char** argv) {
         h.flags &= ~uint32_t(kMsgCompressed);
         h.stored_bytes = h.raw_bytes = uint32_t(payload.b.size());
         h.crc32 = uint32_t(crc32(0, payload.b.data(), uInt(payload.b.size())));
-        const auto* hp = reinterpret_cast<const uint8_t*>(&h);
-        result.insert(result.end(), hp, hp + sizeof h);
-        result.insert(result.end(), payload.b.begin(), payload.b.end());
+        messages.emplace_back(h, payload.b);
+    }
+    uint64_t sequence = 0;
+    uint32_t frame = 0;
+    for (uint64_t round = 0; round <= repeat; ++round) {
+        for (size_t k = round ? 1 : 0; k < messages.size(); ++k) {
+            MessageHeader h = messages[k].first;
+            h.sequence = sequence++;
+            h.frame = frame;
+            if (h.flags & kMsgFrameEnd) frame++;
+            const auto* hp = reinterpret_cast<const uint8_t*>(&h);
+            result.insert(result.end(), hp, hp + sizeof h);
+            result.insert(result.end(), messages[k].second.begin(), messages[k].second.end());
+        }
     }
     for (const Edit& e : edits)
         if (!e.done) die("no tuple " + e.target + "#" + std::to_string(e.nth));

@@ -12,6 +12,7 @@ import re
 import resource
 import subprocess
 import sys
+import tempfile
 import time
 
 # name: (capture, edits, what the refusal message says)
@@ -58,9 +59,11 @@ MAX_RSS_KIB = 1536 * 1024
 def run(cmd):
     """(rc or -signal, stderr, max RSS in KiB, seconds, timed out)"""
     start = time.time()
-    p = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    # stderr into a file, read when the child is done: wait4 reaps it with its rusage, and a
+    # pipe nobody reads would block a child that reports thousands of refusals
+    log = tempfile.TemporaryFile()
+    p = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=log)
     timed_out = False
-    # stderr is small; read it when the child is done so wait4 gets its rusage
     while True:
         pid, status, usage = os.wait4(p.pid, os.WNOHANG)
         if pid:
@@ -71,7 +74,8 @@ def run(cmd):
             pid, status, usage = os.wait4(p.pid, 0)
             break
         time.sleep(0.05)
-    err = p.stderr.read().decode(errors="replace")
+    log.seek(0)
+    err = log.read().decode(errors="replace")
     p.returncode = 0  # reaped by wait4
     rc = -os.WTERMSIG(status) if os.WIFSIGNALED(status) else os.WEXITSTATUS(status)
     return rc, err, usage.ru_maxrss, time.time() - start, timed_out
