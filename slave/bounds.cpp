@@ -108,18 +108,21 @@ std::string str(int64_t v) { return std::to_string(v); }
 
 void Replayer::build_bounds_table() {
     bounds_.assign(kOpcodeCount, 0);
+    for (uint8_t k = 0; k < sizeof kFamilies / sizeof kFamilies[0]; ++k) {
+        const int op = opcode_by_name(kFamilies[k].name);
+        if (op >= 0) bounds_[size_t(op)] = uint8_t(k + 1);
+    }
+    // Twins (ARB/EXT names of the same command) with the core command's parameters.
     for (uint32_t op = 0; op < kOpcodeCount; ++op) {
         const CommandInfo* info = command_info(op);
-        if (!info) continue;
+        if (!info || bounds_[op] || info->sem.twin == op || info->sem.twin >= kOpcodeCount) continue;
         const CommandInfo* core = command_info(info->sem.twin);
-        for (uint8_t k = 0; k < sizeof kFamilies / sizeof kFamilies[0]; ++k) {
-            const bool same = !std::strcmp(kFamilies[k].name, info->name);
-            const bool twin = core && core->param_count == info->param_count && !std::strcmp(kFamilies[k].name, core->name);
-            // Per-instance client arrays hold instances, not vertices (their divisor is not in
-            // the stream): instanced draws are not checked against the vertex range.
-            if (same || twin) bounds_[op] = uint8_t(k + 1) | (std::strstr(info->name, "Instanced") ? 0x80 : 0);
-        }
+        if (core && core->param_count == info->param_count) bounds_[op] = bounds_[info->sem.twin];
     }
+    // Per-instance client arrays hold instances, not vertices (their divisor is not in the
+    // stream): instanced draws are not checked against the vertex range.
+    for (uint32_t op = 0; op < kOpcodeCount; ++op)
+        if (bounds_[op] && std::strstr(command_info(op)->name, "Instanced")) bounds_[op] |= 0x80;
 }
 
 void Replayer::check_bounds(const Call& c) {

@@ -90,7 +90,9 @@ const void* Replayer::in(const Call& c, int i, uint32_t binding) {
     switch (r.tag) {
     case PtrTag::Data: {
         const size_t bytes = r.count * element_bytes(c, i);
-        void* p = arena(bytes + 1);  // + NUL: text arrays are used as C strings by some calls
+        // + NUL: text arrays are used as C strings by some calls. + 64: arrays sized by a pname
+        // (glLightfv, glTexParameterfv: at most 16 values) are not checked against it here.
+        void* p = arena(bytes + 64);
         std::memcpy(p, r.data, bytes);
         return p;
     }

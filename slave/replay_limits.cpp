@@ -16,7 +16,6 @@ struct LimitSpec {
 
 constexpr LimitSpec kLimits[] = {
     {"list_range", &ReplayLimits::list_range},
-    {"names_per_call", &ReplayLimits::names_per_call},
     {"texture_dimension", &ReplayLimits::texture_dimension},
     {"buffer_bytes", &ReplayLimits::buffer_bytes},
     {"client_array_bytes", &ReplayLimits::client_array_bytes},

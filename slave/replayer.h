@@ -77,7 +77,6 @@ struct SlaveContext {
 // programs use, and far below what exhausts a slave.
 struct ReplayLimits {
     uint64_t list_range = 1u << 20;          // glGenLists / glDeleteLists range
-    uint64_t names_per_call = 1u << 20;      // n of glGen* / glDelete* / glCallLists / glDrawBuffers
     uint64_t texture_dimension = 16384;      // width, height, depth of one texture image
     uint64_t buffer_bytes = 1ull << 30;      // size of one buffer's data store
     uint64_t client_array_bytes = 256u << 20;  // client-array copies kept per context
