@@ -192,6 +192,10 @@ void Replayer::check_client_draw(const Call& c) {
     const Family& f = kFamilies[(bounds_[c.opcode] & 0x7f) - 1];
     SlaveContext* ctx = current_;
     const bool client = ctx && ctx->client_range_pending && !(bounds_[c.opcode] & 0x80);
+    if (ctx && ctx->client_arrays_refused) {
+        ctx->client_arrays_refused = false;
+        throw ReplayError("the client arrays of the draw were refused");
+    }
     if (ctx) ctx->client_range_pending = false;
     auto i32 = [&c](int i) { return int64_t(int32_t(uint32_t(c.args[size_t(i)].bits))); };
     auto in_range = [&](int64_t first, int64_t end) {

@@ -34,6 +34,8 @@ static int64_t client_element_bytes(ClientSlot slot, int32_t size, GLenum type) 
 // client-active unit. Both are restored.
 void Replayer::client_arrays(const Call& c) {
     SlaveContext& ctx = current();
+    ctx.client_range_pending = false;
+    ctx.client_arrays_refused = true;  // until every array is in place
     SynthClientArrays t;
     read_synthetic(c, t);
     GLint array_buffer = 0;
@@ -55,7 +57,6 @@ void Replayer::client_arrays(const Call& c) {
             it = ctx.client_arrays.erase(it);
         }
     }
-    ctx.client_range_pending = false;
     int64_t range_first = 0, range_end = INT64_MAX;
     bind(GL_ARRAY_BUFFER, 0);
     for (const SynthClientArrays::Item& a : t.arrays) {
@@ -117,6 +118,7 @@ void Replayer::client_arrays(const Call& c) {
         }
     }
     bind(GL_ARRAY_BUFFER, GLuint(array_buffer));
+    ctx.client_arrays_refused = false;
     ctx.client_range_pending = !t.arrays.empty();
     ctx.client_first = range_first;
     ctx.client_end = std::max(range_first, range_end);

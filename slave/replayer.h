@@ -67,6 +67,9 @@ struct SlaveContext {
     // The vertices [client_first, client_end) that every client array of the last
     // glcast.client_arrays tuple holds: the draw that follows it may read only those.
     bool client_range_pending = false;
+    // The last glcast.client_arrays tuple was refused: the arrays may point at copies that are
+    // gone, so the draw after it is refused too.
+    bool client_arrays_refused = false;
     int64_t client_first = 0, client_end = 0;
     std::vector<uint8_t> select_buffer, feedback_buffer;
 };

@@ -261,7 +261,7 @@ void apply(const Edit& e, Call& c, Out& o) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    if (argc < 4) die("usage: glcast_stream_edit IN OUT EDIT...");
+    if (argc < 3) die("usage: glcast_stream_edit IN OUT [EDIT...]");
     std::vector<Edit> edits;
     for (int i = 3; i < argc; ++i) {
         const std::string s = argv[i];

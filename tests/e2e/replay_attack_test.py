@@ -15,7 +15,7 @@ import sys
 import tempfile
 import time
 
-# name: (capture, edits, what the refusal message says)
+# name: (capture, edits, what the refusal message says[, more replay options])
 CASES = {
     # reads past the arrays the stream shipped
     "buffer_data_size": ("core_scene", ["glBufferData.arg1=0x30000000"], r"glBufferData: data has \d+ elements"),
@@ -49,6 +49,9 @@ CASES = {
     "drawable_size": ("glxgears", ["drawable_size.width=30000", "drawable_size.height=30000"],
                       r"glcast.drawable_size: drawable of 30000x30000 is over"),
     "contexts": ("glxgears", ["context:repeat=3000"], r"glcast.context: context \d+ would be one more than the limit"),
+    # a copy evicted under a small cache: the draw after the refused tuple must not read it
+    "client_cache_evicted": ("ff_scene", [], r"glDrawElements: the client arrays of the draw were refused",
+                             ["--limit", "client_array_bytes=30000"]),
 }
 
 BACKENDS = ["egl", "osmesa"]
@@ -89,11 +92,12 @@ def main():
     os.makedirs(out_dir, exist_ok=True)
     failures = 0
     for name in names:
-        capture, edits, expected = CASES[name]
+        capture, edits, expected = CASES[name][:3]
+        extra = CASES[name][3] if len(CASES[name]) > 3 else []
         edited = os.path.join(out_dir, name + ".glcs")
         subprocess.run([edit, os.path.join(data_dir, capture + ".glcs"), edited] + edits, check=True)
         for backend in BACKENDS:
-            rc, err, rss, secs, timed_out = run([glcast, "replay", edited, "--backend", backend])
+            rc, err, rss, secs, timed_out = run([glcast, "replay", edited, "--backend", backend] + extra)
             outcome = ("timeout after %ds" % TIMEOUT_S if timed_out else
                        "signal %d" % -rc if rc < 0 else "exit %d" % rc)
             line = "%-22s %-7s %-18s rss %7d MiB %6.1fs" % (name, backend, outcome, rss // 1024, secs)
