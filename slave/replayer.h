@@ -177,7 +177,7 @@ public:
     void need(const Call& c, int i, int64_t elements) const;
     void need_reply(const Call& c, int i, int64_t elements) const;
     // An offset record of argument i is used as a pointer only inside the buffer bound at
-    // `binding`; returns the buffer's size.
+    // `binding`; returns the buffer's size (0 for offset 0, which it does not ask).
     int64_t check_offset(const Call& c, int i, uint32_t binding, uint64_t offset);
     const char* string(const Call& c, int i);
     const char* const* strings(const Call& c, int i);
