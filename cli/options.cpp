@@ -5,6 +5,7 @@
 #include <functional>
 
 #include "slave/effects/effect_params.h"
+#include "slave/replayer.h"
 
 namespace glcast::cli {
 
@@ -208,6 +209,16 @@ void add_effect_options(CLI::App& app, slave::effects::EffectsSettings& effects,
                     std::string error;
                     if (!effects.params.set_assignment(assignment, error)) usage_error(name, error);
                     if (forwarded) forwarded->insert(forwarded->end(), {name, assignment});
+                });
+}
+
+void add_limit_option(CLI::App& app, slave::ReplayLimits& limits) {
+    add_checked(app, "--limit", "NAME=VALUE",
+                "a bound on what the stream may make the slave allocate, repeatable\n(defaults: " +
+                    slave::replay_limit_names() + ")",
+                [&limits](const std::string& name, const std::string& assignment) {
+                    std::string error;
+                    if (!slave::set_replay_limit(limits, assignment, error)) usage_error(name, error);
                 });
 }
 

@@ -11,6 +11,9 @@
 #include <string>
 #include <vector>
 
+namespace glcast::slave {
+struct ReplayLimits;
+}  // namespace glcast::slave
 namespace glcast::slave::effects {
 struct EffectsSettings;
 }
@@ -64,5 +67,9 @@ CLI::Option* add_ints(CLI::App& app, const std::string& names, size_t count, int
 // command-line arguments (glcast run passes them to its slaves).
 void add_effect_options(CLI::App& app, slave::effects::EffectsSettings& effects,
                         std::vector<std::string>* forwarded = nullptr);
+
+// --limit NAME=VALUE, repeatable: the slave's bounds on what a stream may make it allocate
+// (docs/slave.md "Limits of a stream").
+void add_limit_option(CLI::App& app, slave::ReplayLimits& limits);
 
 }  // namespace glcast::cli

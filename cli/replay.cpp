@@ -151,6 +151,7 @@ Command add_replay(CLI::App& glcast) {
     add_ints(*app, "--tile-rect", 4, 0, 65536, "X,Y,W,H", a->tile_rect,
              "show one rectangle of the canvas (pixels from the top left), as one tile of a wall does");
     add_effect_options(*app, a->opt.effects);
+    add_limit_option(*app, a->opt.limits);
     return {app, [a](const std::vector<std::string>&) { return replay(*a); }};
 }
 

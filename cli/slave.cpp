@@ -142,6 +142,7 @@ Command add_slave(CLI::App& glcast) {
         ->type_name("ENDPOINT");
     app->add_flag("--lockstep", a->lockstep, "report each replayed frame to a master that waits for its slaves");
     add_effect_options(*app, a->opt.effects);  // a display config's "effects" add to them
+    add_limit_option(*app, a->opt.limits);
     return {app, [a](const std::vector<std::string>&) { return slave(*a); }};
 }
 

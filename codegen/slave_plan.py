@@ -35,6 +35,16 @@ class SlavePlanner:
         return [(ns_id(n), bool((spec or {}).get("per_context"))) for n, spec in self.namespaces.items()
                 if not (spec or {}).get("same_as")]
 
+    @staticmethod
+    def need(role, w):
+        """The element count the driver reads from (or, for a generator, writes to) the array,
+        as a C++ expression of the replay function's locals: the slave refuses a record that
+        is shorter. None where the count needs the driver's state (`sz.`, the master's size
+        queries); slave/bounds.cpp checks the families of those that matter by hand."""
+        if role not in ("in", "names_in", "names_delete", "gen_out") or not w.len or "sz." in w.len:
+            return None
+        return w.len
+
     def plan(self, p):
         """Adds p.replay (how, or None when not replayed), p.replay_fn and p.replay_params.
         Reads p.sem (semantics.py): a twin of a hand-written command shares its function."""
@@ -77,7 +87,7 @@ class SlavePlanner:
             elif role in ("name_delete", "names_delete"):
                 use = "Delete"
             p.replay_params.append({"role": role, "ns": ns, "ctype": q.ctype, "name": q.name, "base": q.base,
-                                    "use": use})
+                                    "use": use, "source": w.source, "need": self.need(role, w)})
         if p.ret and cmd.ret_class:
             p.replay_ret = self.namespace(self.name_classes.get(f"{cmd.name}.return", cmd.ret_class))
         has_program = "program" in [q.name for q in cmd.params]

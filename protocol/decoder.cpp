@@ -50,7 +50,7 @@ static void read_value(ByteReader& r, const ParamInfo& info, Arg& a) {
     }
 }
 
-void decode_tuple(ByteReader& r, Call& call) {
+void decode_tuple(ByteReader& r, Call& call, const DecodeLimits& limits) {
     call.offset = r.offset();
     call.opcode = r.get<uint32_t>();
     call.context = r.get<uint32_t>();
@@ -91,6 +91,9 @@ void decode_tuple(ByteReader& r, Call& call) {
             const uint32_t n = b.get<uint32_t>();
             if (n > b.remaining())  // every record takes at least one byte
                 throw DecodeError(b.offset(), "array list of " + std::to_string(n) + " entries runs past the tuple");
+            if (n > limits.list_entries)
+                throw DecodeError(b.offset(), "array list of " + std::to_string(n) + " entries is over the limit of " +
+                                                  std::to_string(limits.list_entries));
             a.strings.reserve(n);
             for (uint32_t k = 0; k < n; ++k) a.strings.push_back(read_pointer(b, p.wire, false));
             break;

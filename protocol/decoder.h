@@ -80,8 +80,14 @@ struct Call {
     uint32_t body_bytes = 0;
 };
 
+// What one tuple may make the decoder allocate beyond its own bytes: each pointer record of a
+// string or index-array list takes one byte on the wire and a PtrRecord (24 bytes) decoded.
+struct DecodeLimits {
+    uint32_t list_entries = 1u << 20;
+};
+
 // Decodes one tuple at the reader's position.
-void decode_tuple(ByteReader& r, Call& call);
+void decode_tuple(ByteReader& r, Call& call, const DecodeLimits& limits = DecodeLimits{});
 
 struct Message {
     MessageHeader header{};

@@ -1,21 +1,63 @@
 // Client-memory vertex arrays and mapped-buffer writes, as the master shipped them
 // (protocol/format.h: kSynthClientArrays, kSynthBufferWrite).
+#include <algorithm>
+#include <cstdint>
+
 #include "common/gl_headers.h"
 #include "protocol/format.h"
 #include "slave/replayer.h"
 
 namespace glcast::slave {
 
+// Bytes of one vertex's element of a client array; 0 for a type GL does not take there.
+static int64_t client_element_bytes(ClientSlot slot, int32_t size, GLenum type) {
+    if (slot == ClientSlot::EdgeFlag) return 1;  // GLboolean, whatever `type` says
+    int64_t comps = size == GL_BGRA ? 4 : size;
+    switch (slot) {
+    case ClientSlot::Normal: comps = 3; break;
+    case ClientSlot::FogCoord: case ClientSlot::Index: case ClientSlot::EdgeFlag: comps = 1; break;
+    default: break;
+    }
+    if (comps < 1 || comps > 4) return 0;
+    switch (type) {
+    case GL_BYTE: case GL_UNSIGNED_BYTE: case GL_BOOL: return comps;
+    case GL_SHORT: case GL_UNSIGNED_SHORT: case GL_HALF_FLOAT: return 2 * comps;
+    case GL_INT: case GL_UNSIGNED_INT: case GL_FLOAT: case GL_FIXED: return 4 * comps;
+    case GL_DOUBLE: return 8 * comps;
+    case GL_INT_2_10_10_10_REV: case GL_UNSIGNED_INT_2_10_10_10_REV: case GL_UNSIGNED_INT_10F_11F_11F_REV: return 4;
+    default: return 0;
+    }
+}
+
 // Points the array at the slave's copy. The pointer calls must see no GL_ARRAY_BUFFER, or
 // they would take the address for a buffer offset; texture-coordinate arrays need their
 // client-active unit. Both are restored.
 void Replayer::client_arrays(const Call& c) {
     SlaveContext& ctx = current();
+    ctx.client_range_pending = false;
+    ctx.client_arrays_refused = true;  // until every array is in place
     SynthClientArrays t;
     read_synthetic(c, t);
     GLint array_buffer = 0;
     api_.glGetIntegerv(GL_ARRAY_BUFFER_BINDING, &array_buffer);
     auto bind = [this](GLenum target, GLuint buffer) { api_.glBindBuffer(target, buffer); };
+    // The copies this tuple refers to stay; older ones go when the cache is over its limit
+    // (the master then sends them again only if it thinks them current: "never sent").
+    uint64_t incoming = 0;
+    for (const SynthClientArrays::Item& a : t.arrays) incoming += a.cached ? 0 : a.data_bytes;
+    if (incoming > options_.limits.client_array_bytes)
+        throw ReplayError("client arrays of " + std::to_string(incoming) + " bytes are over the limit client_array_bytes=" +
+                          std::to_string(options_.limits.client_array_bytes));
+    if (ctx.client_array_bytes + incoming > options_.limits.client_array_bytes) {
+        for (auto it = ctx.client_arrays.begin(); it != ctx.client_arrays.end();) {
+            const bool used = std::any_of(t.arrays.begin(), t.arrays.end(),
+                                          [&](const SynthClientArrays::Item& a) { return a.handle == it->first; });
+            if (used) { ++it; continue; }
+            ctx.client_array_bytes -= it->second.size();
+            it = ctx.client_arrays.erase(it);
+        }
+    }
+    int64_t range_first = 0, range_end = INT64_MAX;
     bind(GL_ARRAY_BUFFER, 0);
     for (const SynthClientArrays::Item& a : t.arrays) {
         const auto slot = ClientSlot(a.slot);
@@ -30,9 +72,22 @@ void Replayer::client_arrays(const Call& c) {
                 throw ReplayError("a draw uses client array " + std::to_string(handle) + ", which was never sent");
             }
         } else {
+            ctx.client_array_bytes -= copy.size();
             copy.assign(a.data, a.data + a.data_bytes);
             if (copy.empty()) copy.push_back(0);
+            ctx.client_array_bytes += copy.size();
         }
+        // The vertices whose elements lie wholly in the copy: e * stride >= first_byte and
+        // e * stride + element <= first_byte + copy size.
+        const int64_t element = client_element_bytes(slot, size, type);
+        if (stride <= 0 || !element) {
+            bind(GL_ARRAY_BUFFER, GLuint(array_buffer));
+            throw ReplayError("client array " + std::to_string(handle) + " has stride " + std::to_string(stride) +
+                              " and element type " + std::to_string(type));
+        }
+        const int64_t start = int64_t(first_byte), stop = start + int64_t(copy.size());
+        range_first = std::max(range_first, (start + stride - 1) / stride);
+        range_end = std::min(range_end, stop >= element ? (stop - element) / stride + 1 : 0);
         // GL adds first * stride itself: hand it the address the master's range started from.
         const void* p = copy.data() - first_byte;
         switch (slot) {
@@ -63,6 +118,10 @@ void Replayer::client_arrays(const Call& c) {
         }
     }
     bind(GL_ARRAY_BUFFER, GLuint(array_buffer));
+    ctx.client_arrays_refused = false;
+    ctx.client_range_pending = !t.arrays.empty();
+    ctx.client_first = range_first;
+    ctx.client_end = std::max(range_first, range_end);
 }
 
 // Written through a mapped range on the master. The slave never maps the program's buffers

@@ -1,5 +1,6 @@
 #include "slave/replayer.h"
 
+#include <algorithm>
 #include <cinttypes>
 #include <cstdio>
 
@@ -19,6 +20,7 @@ void* Replayer::resolve(void* self, uint32_t opcode) {
 Replayer::Replayer(std::unique_ptr<Backend> backend, ReplayOptions options)
     : backend_(std::move(backend)), options_(options), api_(&Replayer::resolve, this),
       interest_(kOpcodeCount, 0), synth_interest_(kSynthCount, 0) {
+    build_bounds_table();
     window_system_ = std::make_unique<WindowSystem>(*this);
     tile_ = std::make_unique<TileAdapter>(*this);
     add_observer(window_system_.get());
@@ -75,6 +77,9 @@ SlaveContext& Replayer::add_context(uint32_t id, uint64_t handle, uint32_t share
     if (share_id && !contexts_.count(share_id))
         throw ReplayError("context " + std::to_string(id) + " shares with context " + std::to_string(share_id) +
                           ", which does not exist");
+    if (contexts_.size() >= options_.limits.contexts && !contexts_.count(id))
+        throw ReplayError("context " + std::to_string(id) + " would be one more than the limit contexts=" +
+                          std::to_string(options_.limits.contexts));
     std::string error;
     if (!backend_->create_context(id, share_id, request, error)) throw ReplayError(error);
     auto ctx = std::make_unique<SlaveContext>();
@@ -153,12 +158,14 @@ void Replayer::reset() {
 void Replayer::replay(MessageSource& reader) {
     Message m;
     Call c;
+    DecodeLimits decode_limits;
+    decode_limits.list_entries = uint32_t(std::min<uint64_t>(options_.limits.list_entries, UINT32_MAX));
     while (frame_ <= options_.last_frame && reader.next(m)) {
         ByteReader r(m.payload.data(), m.payload.size(), 0);
         while (r.remaining() && frame_ <= options_.last_frame) {
             const uint64_t tuple_start = r.offset();
             try {
-                decode_tuple(r, c);
+                decode_tuple(r, c, decode_limits);
             } catch (const DecodeError& e) {
                 throw DecodeError(m.offset, "message " + std::to_string(m.header.sequence) + ", payload byte " +
                                                 std::to_string(e.offset()) + ": " + e.what());
@@ -167,10 +174,12 @@ void Replayer::replay(MessageSource& reader) {
             try {
                 dispatch(c, m.payload.data() + tuple_start, size_t(r.offset() - tuple_start));
             } catch (const ReplayError& e) {
-                report(e.what());
+                const char* name = c.info ? c.info->name : synthetic_name(c.opcode);
+                report(std::string(name ? name : "?") + ": " + e.what());
             } catch (const GlMissing& e) {
                 report(std::string("the slave's ") + e.what());  // "driver has no glX"
             }
+            if (arena_grown_) release_arena();
             call_index_++;
             stats_.calls++;
         }
@@ -228,6 +237,7 @@ void Replayer::run_default(const Call& c) {
     case ReplayKind::Generated:
     case ReplayKind::Handwritten:
         current();  // a GL call needs a current context
+        if (bounds_[c.opcode]) check_bounds(c);
         kReplay[c.opcode](*this, c);
         stats_.replayed++;
         if (c.info->sem.program_use >= 0) current().current_program = c.args[size_t(c.info->sem.program_use)].bits;
@@ -236,10 +246,14 @@ void Replayer::run_default(const Call& c) {
         stats_.reply_only++;
         // An answer written into a buffer object (glReadPixels into a pixel-pack buffer) is state
         // the slave needs; every other answer is only compared, by the Verifier.
+        // Whether the offset may be one, and lies in a bound buffer, is Replayer::out's check.
         bool into_buffer = false;
         for (uint16_t i = 0; i < c.info->param_count; ++i)
-            into_buffer |= (c.info->params[i].kind == ArgKind::Out) && c.args[i].ptr.tag == PtrTag::Offset;
-        if (into_buffer && kVerify[c.opcode]) {
+            into_buffer |= (c.info->params[i].kind == ArgKind::Out || c.info->params[i].kind == ArgKind::OutString) &&
+                           c.args[i].ptr.tag == PtrTag::Offset;
+        if (into_buffer && !kVerify[c.opcode])
+            throw ReplayError("the call's output is a buffer offset, which the slave cannot repeat");
+        if (into_buffer) {
             current();
             kVerify[c.opcode](*this, c);
         }

@@ -63,8 +63,36 @@ struct SlaveContext {
     uint64_t current_program = 0;   // master name, for glUniform* locations
     uint32_t list_base = 0;         // glListBase, applied to glCallLists on the slave side
     std::map<uint32_t, std::vector<uint8_t>> client_arrays;  // by cache handle
+    uint64_t client_array_bytes = 0;  // in client_arrays
+    // The vertices [client_first, client_end) that every client array of the last
+    // glcast.client_arrays tuple holds: the draw that follows it may read only those.
+    bool client_range_pending = false;
+    // The last glcast.client_arrays tuple was refused: the arrays may point at copies that are
+    // gone, so the draw after it is refused too.
+    bool client_arrays_refused = false;
+    int64_t client_first = 0, client_end = 0;
     std::vector<uint8_t> select_buffer, feedback_buffer;
 };
+
+// What one stream may make the slave allocate or loop over (docs/slave.md "Limits of a
+// stream", docs/security.md). A call over a limit is refused like any bad call: reported,
+// counted, skipped. The defaults are far above what the committed captures and the test
+// programs use, and far below what exhausts a slave.
+struct ReplayLimits {
+    uint64_t list_range = 1u << 20;          // glGenLists / glDeleteLists range
+    uint64_t texture_dimension = 16384;      // width, height, depth of one texture image
+    uint64_t buffer_bytes = 1ull << 30;      // size of one buffer's data store
+    uint64_t client_array_bytes = 256u << 20;  // client-array copies kept per context
+    uint64_t arena_retain_bytes = 16u << 20; // scratch blocks above this are freed after their call
+    uint64_t drawable_dimension = 16384;     // width, height of a window framebuffer
+    uint64_t contexts = 256;                 // contexts alive at once
+    uint64_t list_entries = 1u << 20;        // pointer records of one string or index-array list
+};
+
+// Sets one limit from "NAME=VALUE" (--limit); false with a message naming the limits, or the
+// closest name, on an unknown NAME or a bad VALUE.
+bool set_replay_limit(ReplayLimits& limits, const std::string& spec, std::string& error);
+std::string replay_limit_names();  // "list_range=1048576, ..." with the current values' defaults
 
 struct ReplayOptions {
     uint64_t first_frame = 0, last_frame = UINT64_MAX;
@@ -73,6 +101,7 @@ struct ReplayOptions {
     TileMapping tile;               // show one tile of a wall instead of the whole window
     ViewCorrection view;            // a rotated or asymmetric tile
     effects::EffectsSettings effects;  // injected passes run before each present (docs/effects.md)
+    ReplayLimits limits;
 };
 
 struct ReplayStats {
@@ -139,8 +168,17 @@ public:
     int32_t uniform_location(const Call& c, int i, uint64_t master_program);
     void set_uniform_location(uint64_t master_program, int32_t master, int32_t slave);
 
-    const void* in(const Call& c, int i);
-    void* out(const Call& c, int i);
+    // `binding` is the buffer binding query of a parameter that may be an offset into a bound
+    // buffer (commands.yaml `source`); 0: it may not, and an Offset record is refused.
+    const void* in(const Call& c, int i, uint32_t binding = 0);
+    void* out(const Call& c, int i, uint32_t binding = 0);
+    // The driver will read `elements` from argument i (or, for a generator, write): a shorter
+    // record is refused.
+    void need(const Call& c, int i, int64_t elements) const;
+    void need_reply(const Call& c, int i, int64_t elements) const;
+    // An offset record of argument i is used as a pointer only inside the buffer bound at
+    // `binding`; returns the buffer's size (0 for offset 0, which it does not ask).
+    int64_t check_offset(const Call& c, int i, uint32_t binding, uint64_t offset);
     const char* string(const Call& c, int i);
     const char* const* strings(const Call& c, int i);
     const void* const* index_arrays(const Call& c, int i);
@@ -185,6 +223,13 @@ private:
     void client_arrays(const Call& c);
     void buffer_write(const Call& c);
     void* arena(size_t bytes);
+    void release_arena();
+    // The checks of slave/bounds.cpp: what the call's values say the driver reads must be in
+    // the stream; counts and sizes within options_.limits.
+    void check_bounds(const Call& c);
+    void check_client_draw(const Call& c);
+    void build_bounds_table();
+    uint8_t bounds_kind(uint32_t opcode) const { return bounds_[opcode]; }
     static void* resolve(void* self, uint32_t opcode);
 
     std::unique_ptr<Backend> backend_;
@@ -193,6 +238,8 @@ private:
     GlApi api_;
     std::vector<std::vector<uint64_t>> arena_;  // per-call scratch, 8-byte aligned
     size_t arena_used_ = 0;
+    bool arena_grown_ = false;          // a block above limits.arena_retain_bytes was used
+    std::vector<uint8_t> bounds_;       // by opcode: the family slave/bounds.cpp checks, 0: none
     std::map<uint32_t, std::unique_ptr<SlaveContext>> contexts_;
     SlaveContext* current_ = nullptr;
     uint64_t frame_ = 0, call_index_ = 0;

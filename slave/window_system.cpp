@@ -66,6 +66,10 @@ bool WindowSystem::replace_call(const Call& c) {
     if (c.opcode == kSynthDrawableSize) {
         SynthDrawableSize t;
         read_synthetic(c, t);
+        const uint64_t limit = core_.options().limits.drawable_dimension;
+        if (t.width < 0 || t.height < 0 || uint64_t(t.width) > limit || uint64_t(t.height) > limit)
+            throw ReplayError("drawable of " + std::to_string(t.width) + "x" + std::to_string(t.height) +
+                              " is over the limit drawable_dimension=" + std::to_string(limit));
         drawable_sizes_[t.drawable] = {t.width, t.height};  // used at the next make-current or swap
         return true;
     }

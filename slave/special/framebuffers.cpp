@@ -39,7 +39,9 @@ void glReadBuffer(Replayer& r, const Call& c) {
 
 void glDrawBuffers(Replayer& r, const Call& c) {
     const GLsizei n = r.value<GLsizei>(c, 0);
+    r.need(c, 1, n);
     const auto* bufs = static_cast<const GLenum*>(r.in(c, 1));
+    if (!bufs && n > 0) throw ReplayError("glDrawBuffers of " + std::to_string(n) + " buffers without the array");
     std::vector<GLenum> mapped(bufs ? bufs : nullptr, bufs ? bufs + std::max(n, 0) : nullptr);
     if (window_bound(r, GL_DRAW_FRAMEBUFFER_BINDING))
         for (GLenum& b : mapped) b = window_buffer(r, b);

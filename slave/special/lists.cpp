@@ -5,8 +5,20 @@
 
 namespace glcast::slave::replay_special {
 
+namespace {
+
+// Each name of a range is one map entry, and glDeleteLists looks each up.
+void check_range(Replayer& r, int64_t range) {
+    if (range > 0 && uint64_t(range) > r.options().limits.list_range)
+        throw ReplayError("list range " + std::to_string(range) + " is over the limit list_range=" +
+                          std::to_string(r.options().limits.list_range));
+}
+
+}  // namespace
+
 void glGenLists(Replayer& r, const Call& c) {
     const GLsizei range = r.value<GLsizei>(c, 0);
+    check_range(r, range);
     const GLuint slave = r.api().glGenLists(range);
     const uint64_t master = c.ret.bits;
     if (!master || !slave) return;
@@ -16,6 +28,7 @@ void glGenLists(Replayer& r, const Call& c) {
 void glDeleteLists(Replayer& r, const Call& c) {
     const uint64_t master = c.args[0].bits;
     const GLsizei range = r.value<GLsizei>(c, 1);
+    check_range(r, range);
     NameMap& map = r.current().names.map(Ns::display_list);
     const GlApi& gl = r.api();
     for (GLsizei i = 0; i < range; ++i) {
@@ -34,6 +47,14 @@ void glCallLists(Replayer& r, const Call& c) {
     const GLenum type = r.value<GLenum>(c, 1);
     const PtrRecord& lists = c.args[2].ptr;
     if (n <= 0 || lists.tag != PtrTag::Data) return;
+    // Every name is read from the stream: n may not say more than it holds.
+    const int64_t bytes_per = type == GL_2_BYTES || type == GL_SHORT || type == GL_UNSIGNED_SHORT ? 2
+                              : type == GL_3_BYTES                                              ? 3
+                              : type == GL_BYTE || type == GL_UNSIGNED_BYTE                     ? 1
+                                                                                                : 4;
+    if (int64_t(n) * bytes_per > int64_t(lists.count))
+        throw ReplayError("glCallLists of " + std::to_string(n) + " lists, the stream has " +
+                          std::to_string(lists.count / bytes_per));
     SlaveContext& ctx = r.current();
     NameMap& map = ctx.names.map(Ns::display_list);
     std::vector<GLuint> names(static_cast<size_t>(n));

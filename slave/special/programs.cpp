@@ -23,6 +23,11 @@ void glGetUniformLocation(Replayer& r, const Call& c) {
 void glShaderSource(Replayer& r, const Call& c) {
     const GLuint shader = r.name<GLuint>(Ns::program, c, 0);
     const GLsizei count = r.value<GLsizei>(c, 1);
+    // The driver reads count strings and, when there are lengths, count lengths.
+    if (count < 0 || size_t(count) > c.args[2].strings.size())
+        throw ReplayError("glShaderSource of " + std::to_string(count) + " strings, the stream has " +
+                          std::to_string(c.args[2].strings.size()));
+    r.need(c, 3, count);
     const char* const* strings = r.strings(c, 2);
     const auto* lengths = static_cast<const GLint*>(r.in(c, 3));
     auto source = [&r](GLuint s, GLsizei n, const char* const* text, const GLint* lengths) {

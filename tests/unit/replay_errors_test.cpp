@@ -116,3 +116,18 @@ TEST(ReplayErrors, ReportedCountedAndSkipped) {
     EXPECT_EQ(frames, 1);
     EXPECT_EQ(red, 255);  // the calls after the errors still ran
 }
+
+// --limit NAME=VALUE: a typo is refused with the closest name, a bad value with the limit's.
+TEST(ReplayLimits, SetByName) {
+    glcast::slave::ReplayLimits limits;
+    std::string error;
+    EXPECT_TRUE(glcast::slave::set_replay_limit(limits, "list_range=4096", error)) << error;
+    EXPECT_EQ(limits.list_range, 4096u);
+    EXPECT_TRUE(glcast::slave::set_replay_limit(limits, "buffer_bytes=0x1000", error)) << error;
+    EXPECT_EQ(limits.buffer_bytes, 4096u);
+    EXPECT_FALSE(glcast::slave::set_replay_limit(limits, "list_rang=1", error));
+    EXPECT_NE(error.find("did you mean \"list_range\""), std::string::npos) << error;
+    EXPECT_FALSE(glcast::slave::set_replay_limit(limits, "contexts=-1", error));
+    EXPECT_NE(error.find("contexts"), std::string::npos) << error;
+    EXPECT_FALSE(glcast::slave::set_replay_limit(limits, "contexts=", error));
+}
