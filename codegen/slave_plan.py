@@ -21,6 +21,7 @@ class SlavePlanner:
         self.uniform_patterns = s.get("uniform_locations") or []
         self.handwritten = set(s.get("handwritten") or [])
         self.skip = s.get("skip") or []
+        self.never_null = s.get("never_null") or []
 
     def namespace(self, cls):
         """gl.xml class -> the name map it lives in (shader names share the program map)."""
@@ -87,7 +88,8 @@ class SlavePlanner:
             elif role in ("name_delete", "names_delete"):
                 use = "Delete"
             p.replay_params.append({"role": role, "ns": ns, "ctype": q.ctype, "name": q.name, "base": q.base,
-                                    "use": use, "source": w.source, "need": self.need(role, w)})
+                                    "use": use, "source": w.source, "need": self.need(role, w),
+                                    "null_ok": not any(fnmatch.fnmatchcase(cmd.name, pat) for pat in self.never_null)})
         if p.ret and cmd.ret_class:
             p.replay_ret = self.namespace(self.name_classes.get(f"{cmd.name}.return", cmd.ret_class))
         has_program = "program" in [q.name for q in cmd.params]

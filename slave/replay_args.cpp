@@ -66,8 +66,11 @@ int64_t Replayer::check_offset(const Call& c, int i, uint32_t binding, uint64_t 
     return size;
 }
 
-void Replayer::need(const Call& c, int i, int64_t elements) const {
+void Replayer::need(const Call& c, int i, int64_t elements, bool null_ok) const {
     const PtrRecord& r = c.args[size_t(i)].ptr;
+    if (r.tag == PtrTag::Null && !null_ok && elements > 0)
+        throw ReplayError(std::string(param_name(c, i)) + " is NULL, the call reads " + std::to_string(elements) +
+                          " elements");
     if (r.tag == PtrTag::Data && elements > int64_t(r.count))
         throw ReplayError(std::string(param_name(c, i)) + " has " + std::to_string(r.count) + " elements, the call reads " +
                           std::to_string(elements));

@@ -174,7 +174,9 @@ public:
     void* out(const Call& c, int i, uint32_t binding = 0);
     // The driver will read `elements` from argument i (or, for a generator, write): a shorter
     // record is refused.
-    void need(const Call& c, int i, int64_t elements) const;
+    // Refuses an input record shorter than `elements`, and a NULL one where the driver always
+    // reads (commands.yaml slave.never_null).
+    void need(const Call& c, int i, int64_t elements, bool null_ok = true) const;
     void need_reply(const Call& c, int i, int64_t elements) const;
     // An offset record of argument i is used as a pointer only inside the buffer bound at
     // `binding`; returns the buffer's size (0 for offset 0, which it does not ask).
