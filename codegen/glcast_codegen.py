@@ -87,8 +87,12 @@ class Model:
         except SemanticsError as e:
             sys.exit(f"glcast-codegen: {e}")
         self.slave = SlavePlanner(self.annotations)
-        for p in self.plans:
-            self.slave.plan(p)
+        try:
+            for p in self.plans:
+                self.slave.plan(p)
+            self.slave.check_limits()
+        except ValueError as e:
+            sys.exit(f"glcast-codegen: {e}")
         self.check_annotations()
         self.check_slave_handwritten()
 

@@ -22,6 +22,9 @@ class SlavePlanner:
         self.handwritten = set(s.get("handwritten") or [])
         self.skip = s.get("skip") or []
         self.never_null = s.get("never_null") or []
+        self.limits = s.get("limits") or {}
+        self.stores = s.get("stores") or {}
+        self.used_limit_patterns = set()
 
     def namespace(self, cls):
         """gl.xml class -> the name map it lives in (shader names share the program map)."""
@@ -39,10 +42,10 @@ class SlavePlanner:
     @staticmethod
     def need(role, w):
         """The element count the driver reads from (or, for a generator, writes to) the array,
-        as a C++ expression of the replay function's locals: the slave refuses a record that
-        is shorter. None where the count needs the driver's state (`sz.`, the master's size
-        queries); slave/bounds.cpp checks the families of those that matter by hand."""
-        if role not in ("in", "names_in", "names_delete", "gen_out") or not w.len or "sz." in w.len:
+        as a C++ expression of the replay function's locals: the shim's length expression, its
+        `sz.` answered by the slave's own driver (slave/replay_sizes.h). The slave refuses a
+        record that is shorter and sizes outputs by it."""
+        if role not in ("in", "names_in", "names_delete", "gen_out", "out", "out_string") or not w.len:
             return None
         return w.len
 
@@ -66,6 +69,9 @@ class SlavePlanner:
             p.replay = "reply_only"
         p.replay_params = []
         p.replay_ret = None
+        p.replay_limits = []
+        p.replay_store = None
+        p.replay_sized = False
         if p.replay not in ("generated", "reply_only"):
             return
         deleting = p.sem["deletes"]
@@ -89,8 +95,52 @@ class SlavePlanner:
                 use = "Delete"
             p.replay_params.append({"role": role, "ns": ns, "ctype": q.ctype, "name": q.name, "base": q.base,
                                     "use": use, "source": w.source, "need": self.need(role, w),
+                                    "count": w.count, "lengths": w.lengths,
                                     "null_ok": not any(fnmatch.fnmatchcase(cmd.name, pat) for pat in self.never_null)})
+        p.replay_limits = self.limits_of(p)
+        p.replay_store = self.store_of(p)
+        p.replay_sized = (any("sz." in (a["need"] or "") for a in p.replay_params) or bool(p.draw)
+                          or "sz." in ((p.replay_store or {}).get("bytes") or ""))
         if p.ret and cmd.ret_class:
             p.replay_ret = self.namespace(self.name_classes.get(f"{cmd.name}.return", cmd.ret_class))
         has_program = "program" in [q.name for q in cmd.params]
         p.uniform_program = "program" if (uniform and has_program) else None
+
+    def limits_of(self, p):
+        """[(parameter index, limit)] from commands.yaml slave.limits: values the slave checks
+        against ReplayLimits before the call. A twin is matched by its core command's name."""
+        out = []
+        names = [q.name for q in p.cmd.params]
+        candidates = [p.cmd.name] + ([p.sem["twin"]] if p.sem.get("twin") else [])
+        for limit, table in self.limits.items():
+            for pattern, params in table.items():
+                if not any(fnmatch.fnmatchcase(n, pattern) for n in candidates):
+                    continue
+                self.used_limit_patterns.add(pattern)
+                for q in params:
+                    if q not in names:
+                        raise ValueError(f"commands.yaml slave.limits.{limit}: {p.cmd.name} has no parameter '{q}'")
+                    out.append((names.index(q), limit))
+        return out
+
+    def check_limits(self):
+        unused = sorted({pat for t in self.limits.values() for pat in t} - self.used_limit_patterns)
+        if unused:
+            raise ValueError("commands.yaml slave.limits: patterns that match no replayed command: " + ", ".join(unused))
+
+    def store_of(self, p):
+        """commands.yaml slave.stores for this command or its twin: {bytes, key} as C++, where key
+        names the image the call replaces (kWholeStore: the object's whole store)."""
+        names = [p.cmd.name] + ([p.sem["twin"]] if p.sem.get("twin") else [])
+        spec = next((self.stores[n] for n in names if n in self.stores), None)
+        if spec is None:
+            return None
+        if p.sem.get("writes") is None:
+            raise ValueError(f"commands.yaml slave.stores: {p.cmd.name} writes no object in semantics.yaml writes")
+        params = [q.name for q in p.cmd.params]
+        image = spec.get("image") or []
+        for q in image:
+            if q not in params:
+                raise ValueError(f"commands.yaml slave.stores: {p.cmd.name} has no parameter '{q}'")
+        key = f"store_key({image[0]}, {image[1]})" if image else "kWholeStore"
+        return {"bytes": str(spec["bytes"]), "key": key}

@@ -20,7 +20,6 @@
 #include "interceptor/driver_size_queries.h"
 #include "interceptor/shim.h"
 #include "interceptor/shim_internal.h"
-#include "master/index_range.h"
 #include "master/stream.h"
 #include "protocol/format.h"
 
@@ -219,48 +218,6 @@ std::vector<ArrayState> enabled_client_arrays(uint32_t kinds) {
 
 }  // namespace
 
-DrawRange DrawRange::arrays(int64_t first, int64_t count, int64_t instances) {
-    DrawRange r;
-    r.kind = Arrays;
-    r.first = first;
-    r.count = count;
-    r.instances = instances;
-    return r;
-}
-
-DrawRange DrawRange::elements(const void* indices, uint32_t type, int64_t count, int64_t basevertex,
-                              int64_t instances) {
-    DrawRange r;
-    r.kind = Elements;
-    r.indices = indices;
-    r.type = type;
-    r.count = count;
-    r.basevertex = basevertex;
-    r.instances = instances;
-    return r;
-}
-
-DrawRange DrawRange::multi_arrays(const int32_t* firsts, const int32_t* counts, int64_t drawcount) {
-    DrawRange r;
-    r.kind = MultiArrays;
-    r.firsts = firsts;
-    r.counts = counts;
-    r.drawcount = drawcount;
-    return r;
-}
-
-DrawRange DrawRange::multi_elements(const void* const* indices, uint32_t type, const int32_t* counts,
-                                    int64_t drawcount, const int32_t* basevertices) {
-    DrawRange r;
-    r.kind = MultiElements;
-    r.index_arrays = indices;
-    r.type = type;
-    r.counts = counts;
-    r.drawcount = drawcount;
-    r.basevertices = basevertices;
-    return r;
-}
-
 void note_client_pointer(uint32_t opcode) {
     g_client_arrays_seen.store(true, std::memory_order_relaxed);
     std::lock_guard lock(g_mutex);
@@ -282,64 +239,6 @@ void unlock_client_arrays() {
     arrays_of_current().locked = false;
 }
 
-// The vertex range [lo, hi] a draw reads; false when it reads none.
-static bool vertex_range(const DrawRange& r, int64_t& lo, int64_t& hi) {
-    switch (r.kind) {
-    case DrawRange::Arrays:
-        if (r.count <= 0) return false;
-        lo = r.first;
-        hi = r.first + r.count - 1;
-        return true;
-    case DrawRange::MultiArrays: {
-        bool any = false;
-        for (int64_t i = 0; r.firsts && r.counts && i < r.drawcount; ++i) {
-            if (r.counts[i] <= 0) continue;
-            lo = any ? std::min<int64_t>(lo, r.firsts[i]) : r.firsts[i];
-            hi = any ? std::max<int64_t>(hi, r.firsts[i] + r.counts[i] - 1) : r.firsts[i] + r.counts[i] - 1;
-            any = true;
-        }
-        return any;
-    }
-    case DrawRange::MultiElements: {
-        bool any = false;
-        for (int64_t i = 0; r.index_arrays && r.counts && i < r.drawcount; ++i) {
-            int64_t l = 0, h = -1;
-            const DrawRange one = DrawRange::elements(r.index_arrays[i], r.type, r.counts[i],
-                                           r.basevertices ? r.basevertices[i] : 0, 1);
-            if (!vertex_range(one, l, h)) continue;
-            lo = any ? std::min(lo, l) : l;
-            hi = any ? std::max(hi, h) : h;
-            any = true;
-        }
-        return any;
-    }
-    case DrawRange::Elements: {
-        if (r.count <= 0) return false;
-        const GlApi& gl = real_gl();
-        auto is_enabled = [&gl](GLenum cap) { return gl.has(OP_glIsEnabled) && gl.glIsEnabled(cap); };
-        bool restart = false;
-        uint32_t restart_index = 0;
-        if (is_enabled(GL_PRIMITIVE_RESTART_FIXED_INDEX)) {
-            restart = true;
-            restart_index = r.type == GL_UNSIGNED_BYTE ? 0xFFu : r.type == GL_UNSIGNED_SHORT ? 0xFFFFu : 0xFFFFFFFFu;
-        } else if (is_enabled(GL_PRIMITIVE_RESTART)) {
-            restart = true;
-            restart_index = uint32_t(real_get_integer(GL_PRIMITIVE_RESTART_INDEX));
-        }
-        const int bytes = r.type == GL_UNSIGNED_BYTE ? 1 : r.type == GL_UNSIGNED_SHORT ? 2 : 4;
-        if (real_get_integer(GL_ELEMENT_ARRAY_BUFFER_BINDING) == 0)
-            return index_range(r.indices, r.type, r.count, r.basevertex, restart, restart_index, lo, hi);
-        // Indices in a buffer object, vertices in client memory: read the indices back.
-        if (!gl.has(OP_glGetBufferSubData)) return false;
-        std::vector<uint8_t> tmp(size_t(r.count) * bytes);
-        gl.glGetBufferSubData(GL_ELEMENT_ARRAY_BUFFER, GLintptr(reinterpret_cast<uintptr_t>(r.indices)), GLsizeiptr(tmp.size()),
-                tmp.data());
-        return index_range(tmp.data(), r.type, r.count, r.basevertex, restart, restart_index, lo, hi);
-    }
-    }
-    return false;
-}
-
 void CallScope::ship_client_arrays(const DrawRange& range) {
     ship_mapped_writes(*this);
     if (!g_client_arrays_seen.load(std::memory_order_relaxed)) return;
@@ -358,7 +257,8 @@ void CallScope::ship_client_arrays(const DrawRange& range) {
     const std::vector<ArrayState> arrays = enabled_client_arrays(kinds);
     if (arrays.empty()) return;
     int64_t lo = 0, hi = -1;
-    const bool any = vertex_range(range, lo, hi);
+    DriverSizeQueries sz;
+    const bool any = vertex_range(range, sz, lo, hi);
     if (locked) {
         lo = any ? std::min(lo, lock_first) : lock_first;
         hi = any ? std::max(hi, lock_first + lock_count - 1) : lock_first + lock_count - 1;
@@ -376,9 +276,9 @@ void CallScope::ship_client_arrays(const DrawRange& range) {
         const int32_t elem = element_bytes(a);
         const int64_t stride = a.stride ? a.stride : elem;
         int64_t first = lo, last = hi;
-        if (a.divisor) {  // per-instance array: instances / divisor elements from 0
+        if (a.divisor) {  // per-instance array: from element 0 to the last instance's
             first = 0;
-            last = (std::max<int64_t>(range.instances, 1) - 1) / a.divisor;
+            last = std::max<int64_t>(last_instance_element(range, a.divisor), 0);
         }
         const int64_t bytes = elem ? (last - first) * stride + elem : 0;
         if (bytes < 0 || bytes > kMaxArrayBytes) {

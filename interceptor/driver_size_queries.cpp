@@ -42,4 +42,14 @@ bool DriverSizeQueries::client_pointer(const void*) {
     return in_buffer;
 }
 
+bool DriverSizeQueries::enabled(uint32_t cap) {
+    return real_gl().has(OP_glIsEnabled) && real_gl().glIsEnabled(cap);
+}
+
+bool DriverSizeQueries::read_buffer(uint32_t target, int64_t offset, int64_t bytes, void* out) {
+    if (!real_gl().has(OP_glGetBufferSubData)) return false;
+    real_gl().glGetBufferSubData(target, GLintptr(offset), GLsizeiptr(bytes), out);
+    return true;
+}
+
 }  // namespace glcast

@@ -3,7 +3,7 @@
 // recorded and cannot recurse.
 #pragma once
 
-#include "master/size_queries.h"
+#include "protocol/size_queries.h"
 
 namespace glcast {
 
@@ -14,6 +14,8 @@ public:
     int64_t driver_count(uint32_t pname) override;
     int64_t tex_level(uint32_t target, int32_t level, uint32_t pname) override;
     bool client_pointer(const void* pointer) override;
+    bool enabled(uint32_t cap) override;
+    bool read_buffer(uint32_t target, int64_t offset, int64_t bytes, void* out) override;
 };
 
 // The real driver's glGetIntegerv for one value, 0 when there is no such function.

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "master/encoder.h"
-#include "master/size_queries.h"
+#include "protocol/size_queries.h"
 
 namespace glcast {
 

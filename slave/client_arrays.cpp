@@ -58,6 +58,7 @@ void Replayer::client_arrays(const Call& c) {
         }
     }
     int64_t range_first = 0, range_end = INT64_MAX;
+    ctx.client_instances.clear();
     bind(GL_ARRAY_BUFFER, 0);
     for (const SynthClientArrays::Item& a : t.arrays) {
         const auto slot = ClientSlot(a.slot);
@@ -86,8 +87,18 @@ void Replayer::client_arrays(const Call& c) {
                               " and element type " + std::to_string(type));
         }
         const int64_t start = int64_t(first_byte), stop = start + int64_t(copy.size());
-        range_first = std::max(range_first, (start + stride - 1) / stride);
-        range_end = std::min(range_end, stop >= element ? (stop - element) / stride + 1 : 0);
+        const int64_t held_first = (start + stride - 1) / stride, held_end = stop >= element ? (stop - element) / stride + 1 : 0;
+        // A per-instance array holds instances, not vertices: its divisor is the slave's own
+        // state (the stream replayed glVertexAttribDivisor).
+        GLint divisor = 0;
+        if (slot == ClientSlot::Attrib && api_.has(OP_glGetVertexAttribiv))
+            api_.glGetVertexAttribiv(index, GL_VERTEX_ATTRIB_ARRAY_DIVISOR, &divisor);
+        if (divisor > 0) {
+            ctx.client_instances.push_back({uint32_t(divisor), held_first, std::max(held_first, held_end)});
+        } else {
+            range_first = std::max(range_first, held_first);
+            range_end = std::min(range_end, held_end);
+        }
         // GL adds first * stride itself: hand it the address the master's range started from.
         const void* p = copy.data() - first_byte;
         switch (slot) {

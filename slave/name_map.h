@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <map>
 #include <unordered_map>
 
 #include "glcast_slave_dispatch.h"
@@ -35,6 +36,10 @@ struct ShareGroup {
     // Rotated tiles: glcast_clip's location in each slave program (-1: not patched) and whether
     // it now holds the correction (window) or the identity (the program's own FBOs).
     std::unordered_map<uint32_t, std::pair<int32_t, int>> clip_uniforms;
+    // The data stores of its textures, buffers and renderbuffers, for the limit object_bytes
+    // (Replayer::store): (namespace, slave name) -> (image key -> bytes), and their sum.
+    std::map<std::pair<int, uint64_t>, std::unordered_map<uint64_t, uint64_t>> stores;
+    uint64_t store_bytes = 0;
 };
 
 struct ContextNames {

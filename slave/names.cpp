@@ -57,7 +57,10 @@ void Replayer::map_created(Ns ns, uint64_t master, uint64_t slave) {
     if (master) current().names.map(ns).set(master, slave);
 }
 
-void Replayer::forget(Ns ns, uint64_t master) { current().names.map(ns).erase(master); }
+void Replayer::forget(Ns ns, uint64_t master) {
+    release_store(current(), ns, master);
+    current().names.map(ns).erase(master);
+}
 
 void Replayer::forget_names(Ns ns, const Call& c, int i) {
     const PtrRecord& r = c.args[size_t(i)].ptr;
@@ -66,6 +69,7 @@ void Replayer::forget_names(Ns ns, const Call& c, int i) {
     for (uint32_t k = 0; k < r.count; ++k) {
         uint32_t master;
         std::memcpy(&master, r.data + 4 * k, 4);
+        release_store(current(), ns, master);
         map.erase(master);
     }
 }

@@ -29,66 +29,6 @@ static size_t element_bytes(const Call& c, int i) { return wire_bytes(c.info->pa
 
 static const char* param_name(const Call& c, int i) { return c.info->params[i].name; }
 
-static uint32_t binding_target(uint32_t binding) {
-    switch (binding) {
-    case GL_ARRAY_BUFFER_BINDING: return GL_ARRAY_BUFFER;
-    case GL_ELEMENT_ARRAY_BUFFER_BINDING: return GL_ELEMENT_ARRAY_BUFFER;
-    case GL_PIXEL_PACK_BUFFER_BINDING: return GL_PIXEL_PACK_BUFFER;
-    case GL_PIXEL_UNPACK_BUFFER_BINDING: return GL_PIXEL_UNPACK_BUFFER;
-    case GL_DRAW_INDIRECT_BUFFER_BINDING: return GL_DRAW_INDIRECT_BUFFER;
-    case GL_DISPATCH_INDIRECT_BUFFER_BINDING: return GL_DISPATCH_INDIRECT_BUFFER;
-    case GL_PARAMETER_BUFFER_BINDING: return GL_PARAMETER_BUFFER;
-    case GL_QUERY_BUFFER_BINDING: return GL_QUERY_BUFFER;
-    case GL_COPY_READ_BUFFER_BINDING: return GL_COPY_READ_BUFFER;
-    case GL_COPY_WRITE_BUFFER_BINDING: return GL_COPY_WRITE_BUFFER;
-    case GL_TEXTURE_BUFFER_BINDING: return GL_TEXTURE_BUFFER;
-    default: return 0;
-    }
-}
-
-// Without a buffer bound the driver takes an offset for a client address: the stream would
-// choose where the driver reads or writes.
-int64_t Replayer::check_offset(const Call& c, int i, uint32_t binding, uint64_t offset) {
-    if (!binding)
-        throw ReplayError(std::string(param_name(c, i)) + " is a buffer offset, but it takes none");
-    GLint buffer = 0;
-    api_.glGetIntegerv(binding, &buffer);
-    const uint32_t target = binding_target(binding);
-    if (!buffer || !target)
-        throw ReplayError(std::string(param_name(c, i)) + " is buffer offset " + std::to_string(offset) +
-                          " with no buffer bound (" + (enum_name(binding) ? enum_name(binding) : "?") + ")");
-    GLint size = 0;
-    if (!offset) return 0;  // inside any buffer; most draws start there, and a query per draw costs
-    api_.glGetBufferParameteriv(target, GL_BUFFER_SIZE, &size);
-    if (offset > uint64_t(size))
-        throw ReplayError(std::string(param_name(c, i)) + " is buffer offset " + std::to_string(offset) +
-                          " past the end of the bound buffer (" + std::to_string(size) + " bytes)");
-    return size;
-}
-
-void Replayer::need(const Call& c, int i, int64_t elements, bool null_ok) const {
-    const PtrRecord& r = c.args[size_t(i)].ptr;
-    if (r.tag == PtrTag::Null && !null_ok && elements > 0)
-        throw ReplayError(std::string(param_name(c, i)) + " is NULL, the call reads " + std::to_string(elements) +
-                          " elements");
-    if (r.tag == PtrTag::Data && elements > int64_t(r.count))
-        throw ReplayError(std::string(param_name(c, i)) + " has " + std::to_string(r.count) + " elements, the call reads " +
-                          std::to_string(elements));
-}
-
-// A generator writes as many names as it is asked for, whatever the master's reply holds.
-void Replayer::need_reply(const Call& c, int i, int64_t elements) const {
-    const Arg& a = c.args[size_t(i)];
-    if (a.ptr.tag != PtrTag::Reply) {
-        if (a.ptr.tag != PtrTag::Null || elements > 0)
-            throw ReplayError(std::string(param_name(c, i)) + ": a generator's output must be a reply");
-        return;
-    }
-    if (elements != int64_t(a.reply.count))
-        throw ReplayError(std::string(param_name(c, i)) + ": the call generates " + std::to_string(elements) +
-                          " names, the reply has " + std::to_string(a.reply.count));
-}
-
 const void* Replayer::in(const Call& c, int i, uint32_t binding) {
     const PtrRecord& r = c.args[size_t(i)].ptr;
     switch (r.tag) {
@@ -100,26 +40,28 @@ const void* Replayer::in(const Call& c, int i, uint32_t binding) {
         std::memcpy(p, r.data, bytes);
         return p;
     }
-    case PtrTag::Offset:
-        check_offset(c, i, binding, r.value);
+    case PtrTag::Offset:  // its range: Replayer::need, with the size the call reads
+        if (!binding) throw ReplayError(std::string(param_name(c, i)) + " is a buffer offset, but it takes none");
         return reinterpret_cast<const void*>(uintptr_t(r.value));
     default: return nullptr;
     }
 }
 
-void* Replayer::out(const Call& c, int i, uint32_t binding) {
+void* Replayer::out(const Call& c, int i, uint32_t binding, int64_t elements) {
     const Arg& a = c.args[size_t(i)];
-    switch (a.ptr.tag) {
-    case PtrTag::Reply: {
-        const ArgKind kind = c.info->params[i].kind;
-        const size_t bytes = a.reply.count * (kind == ArgKind::OutString ? 1 : element_bytes(c, i));
-        return arena(bytes + 4096);  // outputs the master sized by its own state: some slack
-    }
-    case PtrTag::Offset:
-        check_offset(c, i, binding, a.ptr.value);
+    if (a.ptr.tag != PtrTag::Reply && a.ptr.tag != PtrTag::Offset) return nullptr;
+    const ArgKind kind = c.info->params[i].kind;
+    const int64_t unit = kind == ArgKind::OutString ? 1 : int64_t(element_bytes(c, i));
+    if (elements < 0)
+        throw ReplayError(std::string(param_name(c, i)) + ": the slave cannot compute how much the call writes");
+    if (a.ptr.tag == PtrTag::Offset) {
+        check_offset(c, i, binding, a.ptr.value, elements * unit);
         return reinterpret_cast<void*>(uintptr_t(a.ptr.value));
-    default: return nullptr;
     }
+    if (uint64_t(elements) > options_.limits.buffer_bytes / uint64_t(unit))
+        throw ReplayError(std::string(param_name(c, i)) + ": the call writes " + std::to_string(elements) +
+                          " elements, over the limit buffer_bytes=" + std::to_string(options_.limits.buffer_bytes));
+    return arena(size_t(elements * unit) + 1);  // + 1: a string's NUL where bufSize is 0
 }
 
 const char* Replayer::string(const Call& c, int i) {
@@ -147,8 +89,7 @@ const void* const* Replayer::index_arrays(const Call& c, int i) {
     const auto& list = c.args[size_t(i)].strings;
     auto out = static_cast<const void**>(arena(sizeof(void*) * (list.size() + 1)));
     for (size_t k = 0; k < list.size(); ++k) {
-        if (list[k].tag == PtrTag::Offset) {
-            check_offset(c, i, GL_ELEMENT_ARRAY_BUFFER_BINDING, list[k].value);
+        if (list[k].tag == PtrTag::Offset) {  // its range: Replayer::need_lists
             out[k] = reinterpret_cast<const void*>(uintptr_t(list[k].value));
         } else if (list[k].tag == PtrTag::Data) {
             void* p = arena(list[k].count);

@@ -23,6 +23,7 @@ constexpr LimitSpec kLimits[] = {
     {"drawable_dimension", &ReplayLimits::drawable_dimension},
     {"contexts", &ReplayLimits::contexts},
     {"list_entries", &ReplayLimits::list_entries},
+    {"object_bytes", &ReplayLimits::object_bytes},
 };
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include "common/gl_headers.h"
 #include "common/window_readback.h"
 #include "slave/frame_recorder.h"
+#include "slave/replay_sizes.h"
 #include "slave/tile_adapter.h"
 #include "slave/verifier.h"
 #include "slave/window_system.h"
@@ -20,7 +21,7 @@ void* Replayer::resolve(void* self, uint32_t opcode) {
 Replayer::Replayer(std::unique_ptr<Backend> backend, ReplayOptions options)
     : backend_(std::move(backend)), options_(options), api_(&Replayer::resolve, this),
       interest_(kOpcodeCount, 0), synth_interest_(kSynthCount, 0) {
-    build_bounds_table();
+    sizes_ = std::make_unique<ReplaySizeQueries>(api_);
     window_system_ = std::make_unique<WindowSystem>(*this);
     tile_ = std::make_unique<TileAdapter>(*this);
     add_observer(window_system_.get());
@@ -237,7 +238,6 @@ void Replayer::run_default(const Call& c) {
     case ReplayKind::Generated:
     case ReplayKind::Handwritten:
         current();  // a GL call needs a current context
-        if (bounds_[c.opcode]) check_bounds(c);
         kReplay[c.opcode](*this, c);
         stats_.replayed++;
         if (c.info->sem.program_use >= 0) current().current_program = c.args[size_t(c.info->sem.program_use)].bits;
@@ -286,8 +286,8 @@ void Replayer::synthetic(const Call& c) {
     }
 }
 
-void Replayer::check_reply(const Call& c, int i, const void* slave_output) {
-    if (verifier_) verifier_->check_reply(c, i, slave_output);
+void Replayer::check_reply(const Call& c, int i, const void* slave_output, int64_t slave_elements) {
+    if (verifier_) verifier_->check_reply(c, i, slave_output, slave_elements);
 }
 void Replayer::check_return(const Call& c, uint64_t slave_value) {
     if (verifier_) verifier_->check_return(c, slave_value);

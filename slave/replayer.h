@@ -27,6 +27,8 @@
 #include "glcast_gl_api.h"
 #include "glcast_slave_dispatch.h"
 #include "protocol/decoder.h"
+#include "protocol/draw_range.h"
+#include "protocol/size_queries.h"
 #include "slave/backend.h"
 #include "slave/effects/effect_params.h"
 #include "slave/name_map.h"
@@ -47,6 +49,13 @@ class Verifier;
 class ReplayError : public std::runtime_error {
 public:
     using std::runtime_error::runtime_error;
+};
+
+// The elements [first, end) a per-instance client array (divisor > 0) of the last
+// glcast.client_arrays tuple holds.
+struct ClientInstanceRange {
+    uint32_t divisor = 1;
+    int64_t first = 0, end = 0;
 };
 
 // One of the master's contexts on the slave: its names and what its window framebuffer is.
@@ -71,6 +80,7 @@ struct SlaveContext {
     // gone, so the draw after it is refused too.
     bool client_arrays_refused = false;
     int64_t client_first = 0, client_end = 0;
+    std::vector<ClientInstanceRange> client_instances;  // its per-instance arrays
     std::vector<uint8_t> select_buffer, feedback_buffer;
 };
 
@@ -87,7 +97,12 @@ struct ReplayLimits {
     uint64_t drawable_dimension = 16384;     // width, height of a window framebuffer
     uint64_t contexts = 256;                 // contexts alive at once
     uint64_t list_entries = 1u << 20;        // pointer records of one string or index-array list
+    uint64_t object_bytes = 4ull << 30;      // data stores of all live textures, buffers, renderbuffers
 };
+
+// The image of a texture a call replaces (commands.yaml slave.stores `image`), or its whole store.
+constexpr uint64_t kWholeStore = ~0ull;
+inline uint64_t store_key(uint32_t target, int32_t level) { return uint64_t(target) << 32 | uint32_t(level); }
 
 // Sets one limit from "NAME=VALUE" (--limit); false with a message naming the limits, or the
 // closest name, on an unknown NAME or a bad VALUE.
@@ -171,16 +186,36 @@ public:
     // `binding` is the buffer binding query of a parameter that may be an offset into a bound
     // buffer (commands.yaml `source`); 0: it may not, and an Offset record is refused.
     const void* in(const Call& c, int i, uint32_t binding = 0);
-    void* out(const Call& c, int i, uint32_t binding = 0);
-    // The driver will read `elements` from argument i (or, for a generator, write): a shorter
-    // record is refused.
-    // Refuses an input record shorter than `elements`, and a NULL one where the driver always
-    // reads (commands.yaml slave.never_null).
-    void need(const Call& c, int i, int64_t elements, bool null_ok = true) const;
+    // An output the driver writes `elements` to, as the slave computes them (never the
+    // stream's count): scratch memory of that size, or a range of the bound buffer.
+    void* out(const Call& c, int i, uint32_t binding, int64_t elements);
+
+    // -- checks before the call (slave/replay_checks.cpp), generated from the length
+    // expressions the shim encodes with (codegen/annotations/commands.yaml) -----------------
+    // The slave's answers to `sz.` (its own driver's state); failures are collected until
+    // sized() refuses the call.
+    SizeQueries& sizes();
+    void sized(const Call& c);
+    // Refuses an input record shorter than `elements`, a NULL one where the driver always
+    // reads (commands.yaml slave.never_null), and an offset range outside the buffer bound at
+    // `binding`.
+    void need(const Call& c, int i, int64_t elements, bool null_ok = true, uint32_t binding = 0);
+    // A generator writes `elements` names: the reply must hold exactly those.
     void need_reply(const Call& c, int i, int64_t elements) const;
+    // A multi-draw's index arrays: drawcount of them, entry k holding bytes(k).
+    void need_lists(const Call& c, int i, int64_t drawcount, const std::function<int64_t(int64_t)>& bytes);
+    // A value over one of options().limits (commands.yaml slave.limits) is refused.
+    void within(const Call& c, int i, uint64_t ReplayLimits::*limit, const char* limit_name) const;
+    // The call (re)creates a data store of `bytes` for the object semantics.yaml `writes` names
+    // (the image `key` of it, or kWholeStore): refused when the live objects' stores would pass
+    // the limit object_bytes.
+    void store(const Call& c, int64_t bytes, uint64_t key);
+    // A draw over client arrays reads only the ranges the glcast.client_arrays tuple shipped.
+    void check_draw(const Call& c, const DrawRange& range);
     // An offset record of argument i is used as a pointer only inside the buffer bound at
-    // `binding`; returns the buffer's size (0 for offset 0, which it does not ask).
-    int64_t check_offset(const Call& c, int i, uint32_t binding, uint64_t offset);
+    // `binding`, [offset, offset + bytes) within its size.
+    void check_offset(const Call& c, int i, uint32_t binding, uint64_t offset, int64_t bytes);
+
     const char* string(const Call& c, int i);
     const char* const* strings(const Call& c, int i);
     const void* const* index_arrays(const Call& c, int i);
@@ -188,7 +223,7 @@ public:
 
     // --verify: compare what the slave's call produced with the master's reply (no-ops unless
     // the Verifier is checking this call).
-    void check_reply(const Call& c, int i, const void* slave_output);
+    void check_reply(const Call& c, int i, const void* slave_output, int64_t slave_elements);
     void check_return(const Call& c, uint64_t slave_value);
     void check_return_string(const Call& c, const char* slave_value);
 
@@ -223,25 +258,21 @@ private:
     void follow_context(const Call& c);
     void synthetic(const Call& c);
     void client_arrays(const Call& c);
+    void release_store(SlaveContext& ctx, Ns ns, uint64_t master);  // the object is deleted
+    uint64_t live_store_bytes() const;
     void buffer_write(const Call& c);
     void* arena(size_t bytes);
     void release_arena();
-    // The checks of slave/bounds.cpp: what the call's values say the driver reads must be in
-    // the stream; counts and sizes within options_.limits.
-    void check_bounds(const Call& c);
-    void check_client_draw(const Call& c);
-    void build_bounds_table();
-    uint8_t bounds_kind(uint32_t opcode) const { return bounds_[opcode]; }
     static void* resolve(void* self, uint32_t opcode);
 
     std::unique_ptr<Backend> backend_;
     ReplayOptions options_;
     ReplayStats stats_;
     GlApi api_;
+    std::unique_ptr<SizeQueries> sizes_;  // ReplaySizeQueries over api_
     std::vector<std::vector<uint64_t>> arena_;  // per-call scratch, 8-byte aligned
     size_t arena_used_ = 0;
     bool arena_grown_ = false;          // a block above limits.arena_retain_bytes was used
-    std::vector<uint8_t> bounds_;       // by opcode: the family slave/bounds.cpp checks, 0: none
     std::map<uint32_t, std::unique_ptr<SlaveContext>> contexts_;
     SlaveContext* current_ = nullptr;
     uint64_t frame_ = 0, call_index_ = 0;

@@ -33,7 +33,7 @@ void Verifier::mismatch(const Call& c, const std::string& what) {
                  c.info->name, what.c_str());
 }
 
-void Verifier::check_reply(const Call& c, int i, const void* slave_output) {
+void Verifier::check_reply(const Call& c, int i, const void* slave_output, int64_t slave_elements) {
     const Arg& a = c.args[size_t(i)];
     if (!checking_ || a.ptr.tag != PtrTag::Reply || !slave_output) return;
     // A headless slave's window framebuffer is single-buffered: these answers describe the
@@ -43,7 +43,16 @@ void Verifier::check_reply(const Call& c, int i, const void* slave_output) {
         return;
     core_.stats().verified++;
     const ParamInfo& p = c.info->params[i];
-    const size_t bytes = a.reply.count * (p.kind == ArgKind::OutString ? 1 : wire_bytes(p.wire));
+    const size_t unit = p.kind == ArgKind::OutString ? 1 : wire_bytes(p.wire);
+    // The slave's output holds what the slave computed the call writes; a reply that says more
+    // is compared no further than that.
+    if (p.kind != ArgKind::OutString && int64_t(a.reply.count) != slave_elements)
+        return mismatch(c, std::string(p.name) + ": the master's reply has " + std::to_string(a.reply.count) +
+                               " elements, the slave's state says the call writes " + std::to_string(slave_elements));
+    if (int64_t(a.reply.count) > slave_elements)
+        return mismatch(c, std::string(p.name) + ": the master's reply has " + std::to_string(a.reply.count) +
+                               " bytes, more than the " + std::to_string(slave_elements) + " the call may write");
+    const size_t bytes = a.reply.count * unit;
     if (std::memcmp(slave_output, a.reply.data, bytes) == 0) return;
     size_t first = 0;
     const auto* s = static_cast<const uint8_t*>(slave_output);

@@ -20,7 +20,7 @@ public:
     bool replace_call(const Call& c) override;
 
     // Called by the generated verify functions with what the slave's call produced.
-    void check_reply(const Call& c, int i, const void* slave_output);
+    void check_reply(const Call& c, int i, const void* slave_output, int64_t slave_elements);
     void check_return(const Call& c, uint64_t slave_value);
     void check_return_string(const Call& c, const char* slave_value);
 

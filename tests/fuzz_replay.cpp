@@ -85,8 +85,15 @@ void load_captures() {
         }
         closedir(d);
     }
-    // Sorted: byte 0 of a saved input must name the same capture on every machine.
-    std::sort(names.begin(), names.end());
+    // Sorted, the captures of the first saved inputs first: byte 0 of a saved input must name
+    // the same capture on every machine, and a capture committed later must not move them.
+    static const std::vector<std::string> kFirst = {"core_scene.glcs", "ff_scene.glcs", "glfw_dynamic.glcs",
+                                                    "glxgears.glcs"};
+    auto rank = [](const std::string& n) {
+        const auto it = std::find(kFirst.begin(), kFirst.end(), n);
+        return std::make_pair(it - kFirst.begin(), n);
+    };
+    std::sort(names.begin(), names.end(), [&](const std::string& a, const std::string& b) { return rank(a) < rank(b); });
     for (const std::string& n : names) {
         Capture cap;
         cap.name = n;

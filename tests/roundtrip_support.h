@@ -12,7 +12,7 @@
 #include "glcast_commands.h"
 #include "glcast_encode.h"
 #include "master/encoder.h"
-#include "master/size_queries.h"
+#include "protocol/size_queries.h"
 
 namespace glcast::roundtrip {
 

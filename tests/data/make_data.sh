@@ -25,4 +25,5 @@ capture ff_scene 3 "$apps/ff_scene" --size 160x120 --frames 3
 capture core_scene 3 "$apps/core_scene" --size 160x120 --frames 3
 capture glfw_dynamic 3 "$apps/glfw_dynamic" --size 128x96 --frames 3
 capture glxgears 3 glxgears -geometry 128x128
+capture client_draws 3 "$apps/client_draws" --size 160x120 --frames 3
 du -sh "$data"

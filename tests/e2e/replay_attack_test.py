@@ -19,9 +19,19 @@ import time
 CASES = {
     # reads past the arrays the stream shipped
     "buffer_data_size": ("core_scene", ["glBufferData.arg1=0x30000000"], r"glBufferData: data has \d+ elements"),
-    "buffer_data_huge": ("core_scene", ["glBufferData.arg1=0x100000000"], r"glBufferData: buffer of \d+ bytes is over"),
+    "buffer_data_huge": ("core_scene", ["glBufferData.arg1=0x100000000"], r"glBufferData: size \d+ is over the limit buffer_bytes"),
     "buffer_subdata_size": ("core_scene", ["glBufferSubData.arg2=0x10000000"], r"glBufferSubData: data has \d+ elements"),
-    "tex_image_size": ("ff_scene", ["glTexImage2D.arg3=4096", "glTexImage2D.arg4=4096"], r"glTexImage2D: image of 4096x4096"),
+    "tex_image_size": ("ff_scene", ["glTexImage2D.arg3=4096", "glTexImage2D.arg4=4096"],
+                       r"glTexImage2D: pixels has 12288 elements, the call reads 50331648"),
+    # the slave's own pixel-store state makes the upload read more than shipped
+    "tex_image_row_length": ("ff_scene", ["glBindTexture:after=glPixelStorei(0x0cf2,100000)"],
+                             r"glTexImage2D: pixels has 12288 elements, the call reads \d+"),
+    # an array sized by its pname (4 floats for GL_POSITION), one shipped
+    "light_params_short": ("ff_scene", ["glClear:after=glLightfv(0x4000,0x1203,d:0000803f)"],
+                           r"glLightfv: params has 1 elements, the call reads 4"),
+    # indices in the element buffer, past its end
+    "draw_elements_buffer_end": ("core_scene", ["glDrawElements.arg1=1000000"],
+                                 r"glDrawElements: indices reads or writes bytes 72\.\.2000072 of the bound buffer, which has \d+"),
     "draw_arrays_count": ("ff_scene", ["glDrawArrays.arg2=1000000"], r"glDrawArrays: the draw reads vertices"),
     "draw_arrays_first": ("ff_scene", ["glDrawArrays.arg1=1000000"], r"glDrawArrays: the draw reads vertices"),
     "draw_elements_indices": ("ff_scene", ["glDrawElements.arg3:fill=0x7f"], r"glDrawElements: the draw reads vertices"),
@@ -39,8 +49,27 @@ CASES = {
                            r"glReadPixels: pixels is buffer offset \d+ with no buffer bound"),
     "get_buffer_subdata_offset": ("core_scene", ["glClear:after=glGetBufferSubData(0x8892,0,64,o:0x414141410000)"],
                                   r"glGetBufferSubData: data is a buffer offset, but it takes none"),
+    # an answer larger than the master's reply: the slave sizes it by its own state (--verify
+    # executes reply-only calls)
+    "get_tex_image_reply": ("ff_scene", ["glTexImage2D:after=glGetTexImage(0x0de1,0,0x1908,0x1401,r:16)"],
+                            r"glGetTexImage: pixels: the master's reply has 16 elements, the slave's state says the call writes 16384",
+                            ["--verify"]),
     "gen_textures_n": ("ff_scene", ["glGenTextures.arg0=100000"], r"glGenTextures: textures: the call generates 100000"),
     "gen_buffers_n": ("core_scene", ["glGenBuffers.arg0=100000"], r"glGenBuffers: buffers: the call generates 100000"),
+    # tests/apps_extra/client_draws.c: instanced draws with a per-instance client array, indices in an
+    # element buffer over client vertices, multi-draws
+    "instance_count": ("client_draws", ["glDrawElementsInstanced.arg4=1000"],
+                       r"glDrawElementsInstanced: the draw reads elements 0\.\.999 of a per-instance array"),
+    "base_instance": ("client_draws", ["glDrawArraysInstancedBaseInstance.arg4=100000"],
+                      r"glDrawArraysInstancedBaseInstance: the draw reads elements 100000\.\.100001 of a per-instance array"),
+    "element_buffer_indices": ("client_draws", ["glBufferData.arg2:fill=0x7f"],
+                               r"glDrawElements: the draw reads vertices 32639\.\.32639, the client arrays shipped hold 0\.\.9"),
+    "multi_draw_drawcount": ("client_draws", ["glMultiDrawElements.arg4=1000"],
+                             r"glMultiDrawElements: count has 2 elements, the call reads 1000"),
+    "multi_draw_index_count": ("client_draws", ["glMultiDrawElements.arg1:fill=0x7f"],
+                               r"glMultiDrawElements: index array 0 has 24 bytes, the draw reads \d+"),
+    "multi_draw_arrays_count": ("client_draws", ["glMultiDrawArrays.arg2:fill=0x01"],
+                                r"glMultiDrawArrays: the draw reads vertices 0\.\.16843008"),
     "client_first_byte": ("ff_scene", ["client_arrays#1.first_byte=0x40000000"], r"glDrawArrays: the draw reads vertices"),
     # allocations and loops without bound
     "gen_lists_range": ("ff_scene", ["glGenLists.arg0=0x10000000"], r"glGenLists: list range \d+ is over"),
@@ -49,6 +78,12 @@ CASES = {
     "drawable_size": ("glxgears", ["drawable_size.width=30000", "drawable_size.height=30000"],
                       r"glcast.drawable_size: drawable of 30000x30000 is over"),
     "contexts": ("glxgears", ["context:repeat=3000"], r"glcast.context: context \d+ would be one more than the limit"),
+    # data stores: one texture of 4 GiB, and a limit below what the capture's textures take
+    "texture_store": ("ff_scene", ["glClear:after=glTexImage2D(0x0de1,0,0x8814,16384,16384,0,0x1908,0x1406,n)"],
+                      r"glTexImage2D: a data store of 4294967296 bytes would bring the live objects' stores to \d+ "
+                      r"bytes, over the limit object_bytes=4294967296"),
+    "object_bytes_limit": ("ff_scene", [], r"glTexImage2D: a data store of \d+ bytes would bring the live objects' "
+                           r"stores to \d+ bytes, over the limit object_bytes=20000", ["--limit", "object_bytes=20000"]),
     # a copy evicted under a small cache: the draw after the refused tuple must not read it
     "client_cache_evicted": ("ff_scene", [], r"glDrawElements: the client arrays of the draw were refused",
                              ["--limit", "client_array_bytes=30000"]),

@@ -29,6 +29,7 @@ CASES = {
     "threads_buffers": (lambda: [os.path.join(APPS, "threads_buffers"), "--frames", "6"], None),
     "fbo_ext": (lambda: [os.path.join(APPS, "fbo_ext"), "--frames", "8"], 8),
     "viewport_array": (lambda: [os.path.join(APPS, "viewport_array"), "--frames", "8"], 8),
+    "client_draws": (lambda: [os.path.join(APPS, "client_draws"), "--frames", "8"], 8),
 }
 
 

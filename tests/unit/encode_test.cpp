@@ -8,7 +8,7 @@
 
 #include "glcast_encode.h"
 #include "master/encoder.h"
-#include "master/index_range.h"
+#include "protocol/draw_range.h"
 #include "protocol/decoder.h"
 #include "tests/roundtrip_support.h"
 

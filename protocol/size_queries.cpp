@@ -1,4 +1,4 @@
-#include "master/size_queries.h"
+#include "protocol/size_queries.h"
 
 #include <cstdio>
 #include <cstring>
@@ -213,6 +213,51 @@ int64_t SizeQueries::renderer_integer_count(int32_t attribute) {
 int64_t SizeQueries::map_query(uint32_t target, uint32_t query) {
     const bool two_d = target >= GL_MAP2_COLOR_4 && target <= GL_MAP2_VERTEX_4;
     return pname_count(two_d ? PnameTable::map2_query : PnameTable::map1_query, query);
+}
+
+static int64_t texel_bytes(uint32_t internalformat) {
+    switch (internalformat) {
+    case GL_R8: case GL_R8_SNORM: case GL_R8I: case GL_R8UI: case GL_ALPHA8: case GL_LUMINANCE8: case GL_INTENSITY8:
+    case GL_ALPHA: case GL_LUMINANCE: case GL_INTENSITY: case GL_RED: case GL_STENCIL_INDEX8: case 1:
+        return 1;
+    case GL_RG8: case GL_RG8_SNORM: case GL_RG8I: case GL_RG8UI: case GL_R16: case GL_R16F: case GL_R16I: case GL_R16UI:
+    case GL_LUMINANCE8_ALPHA8: case GL_LUMINANCE_ALPHA: case GL_RG: case GL_DEPTH_COMPONENT16: case GL_RGB565:
+    case GL_RGB5_A1: case GL_RGBA4: case 2:
+        return 2;
+    case GL_RGB8: case GL_SRGB8: case GL_RGB: case GL_DEPTH_COMPONENT24: case 3:
+        return 4;  // drivers keep RGB8 as RGBX8
+    case GL_RGBA8: case GL_SRGB8_ALPHA8: case GL_RGBA: case GL_RGBA8I: case GL_RGBA8UI: case GL_RGB10_A2:
+    case GL_RG16: case GL_RG16F: case GL_R32F: case GL_R32I: case GL_R32UI: case GL_R11F_G11F_B10F: case GL_RGB9_E5:
+    case GL_DEPTH_COMPONENT32: case GL_DEPTH_COMPONENT32F: case GL_DEPTH24_STENCIL8: case GL_DEPTH_COMPONENT: case GL_DEPTH_STENCIL:
+    case 4:
+        return 4;
+    case GL_RGBA16: case GL_RGBA16F: case GL_RGBA16I: case GL_RGBA16UI: case GL_RGB16F: case GL_RG32F: case GL_RG32I:
+    case GL_RG32UI: case GL_DEPTH32F_STENCIL8:
+        return 8;
+    default:
+        return 16;
+    }
+}
+
+int64_t SizeQueries::texture_bytes(uint32_t internalformat, int64_t width, int64_t height, int64_t depth) {
+    if (width <= 0 || height <= 0 || depth <= 0) return 0;
+    // Each factor is at most the texture_dimension limit (16384 by default), checked first:
+    // the product stays far inside int64_t.
+    return texel_bytes(internalformat) * width * height * depth;
+}
+
+int64_t SizeQueries::storage_bytes(uint32_t target, uint32_t internalformat, int64_t levels, int64_t width,
+                                   int64_t height, int64_t depth) {
+    int64_t total = 0;
+    const bool halve_depth = target == GL_TEXTURE_3D;
+    const int64_t faces = target == GL_TEXTURE_CUBE_MAP ? 6 : 1;
+    for (int64_t l = 0; l < levels && l < 32; ++l) {
+        total += faces * texture_bytes(internalformat, width, height, depth);
+        width = width > 1 ? width / 2 : 1;
+        height = height > 1 ? height / 2 : 1;
+        if (halve_depth) depth = depth > 1 ? depth / 2 : 1;
+    }
+    return total;
 }
 
 }  // namespace glcast
