@@ -75,6 +75,17 @@ void Replayer::need(const Call& c, int i, int64_t elements, bool null_ok, uint32
         throw ReplayError(std::string(param_name(c, i)) + " has " + std::to_string(r.count) + " elements, the call reads " +
                           std::to_string(elements));
     if (r.tag == PtrTag::Offset) check_offset(c, i, binding, r.value, elements * int64_t(element_bytes(c, i)));
+    if (r.tag == PtrTag::Data && binding) refuse_data_under_buffer(c, i, binding);
+}
+
+// With a buffer bound at the parameter's binding the driver takes the pointer for an offset into
+// it: the slave's copy of shipped data would become an offset the stream's bindings chose.
+void Replayer::refuse_data_under_buffer(const Call& c, int i, uint32_t binding) {
+    GLint buffer = 0;
+    api_.glGetIntegerv(binding, &buffer);
+    if (buffer)
+        throw ReplayError(std::string(param_name(c, i)) + " is data from the stream, but a buffer is bound (" +
+                          (enum_name(binding) ? enum_name(binding) : "?") + "): GL would read it as an offset");
 }
 
 // A generator writes as many names as it is asked for, whatever the master's reply holds.
@@ -98,6 +109,8 @@ void Replayer::need_lists(const Call& c, int i, int64_t drawcount, const std::fu
     if (drawcount > int64_t(list.size()))
         throw ReplayError("drawcount " + str(drawcount) + " is more than the " + str(int64_t(list.size())) +
                           " index arrays of the stream");
+    if (std::any_of(list.begin(), list.begin() + drawcount, [](const PtrRecord& r) { return r.tag == PtrTag::Data; }))
+        refuse_data_under_buffer(c, i, GL_ELEMENT_ARRAY_BUFFER_BINDING);
     for (int64_t k = 0; k < drawcount; ++k) {
         const PtrRecord& r = list[size_t(k)];
         const int64_t n = bytes(k);

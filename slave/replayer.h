@@ -215,6 +215,7 @@ public:
     // An offset record of argument i is used as a pointer only inside the buffer bound at
     // `binding`, [offset, offset + bytes) within its size.
     void check_offset(const Call& c, int i, uint32_t binding, uint64_t offset, int64_t bytes);
+    void refuse_data_under_buffer(const Call& c, int i, uint32_t binding);
 
     const char* string(const Call& c, int i);
     const char* const* strings(const Call& c, int i);

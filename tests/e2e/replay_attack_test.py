@@ -64,6 +64,10 @@ CASES = {
                       r"glDrawArraysInstancedBaseInstance: the draw reads elements 100000\.\.100001 of a per-instance array"),
     "element_buffer_indices": ("client_draws", ["glBufferData.arg2:fill=0x7f"],
                                r"glDrawElements: the draw reads vertices 32639\.\.32639, the client arrays shipped hold 0\.\.9"),
+    # an element buffer left bound (the unbind's target edited away): the client index arrays
+    # shipped as data would be taken for offsets into it (found by the replay fuzzer)
+    "index_data_under_buffer": ("client_draws", ["glBindBuffer#3.arg0=0"],
+                                r"glMultiDrawElements: indices is data from the stream, but a buffer is bound"),
     "multi_draw_drawcount": ("client_draws", ["glMultiDrawElements.arg4=1000"],
                              r"glMultiDrawElements: count has 2 elements, the call reads 1000"),
     "multi_draw_index_count": ("client_draws", ["glMultiDrawElements.arg1:fill=0x7f"],
