@@ -14,20 +14,6 @@ int32_t real_get_integer(uint32_t pname) {
     return v;
 }
 
-PixelStore DriverSizeQueries::pixel_store(Dir dir) {
-    PixelStore ps;
-    const bool in = dir == Dir::In;
-    ps.row_length = real_get_integer(in ? GL_UNPACK_ROW_LENGTH : GL_PACK_ROW_LENGTH);
-    ps.image_height = real_get_integer(in ? GL_UNPACK_IMAGE_HEIGHT : GL_PACK_IMAGE_HEIGHT);
-    ps.skip_pixels = real_get_integer(in ? GL_UNPACK_SKIP_PIXELS : GL_PACK_SKIP_PIXELS);
-    ps.skip_rows = real_get_integer(in ? GL_UNPACK_SKIP_ROWS : GL_PACK_SKIP_ROWS);
-    ps.skip_images = real_get_integer(in ? GL_UNPACK_SKIP_IMAGES : GL_PACK_SKIP_IMAGES);
-    ps.alignment = real_get_integer(in ? GL_UNPACK_ALIGNMENT : GL_PACK_ALIGNMENT);
-    return ps;
-}
-
-bool DriverSizeQueries::bound(uint32_t binding_query) { return real_get_integer(binding_query) != 0; }
-
 int64_t DriverSizeQueries::driver_count(uint32_t pname) { return real_get_integer(pname); }
 
 int64_t DriverSizeQueries::tex_level(uint32_t target, int32_t level, uint32_t pname) {

@@ -9,8 +9,6 @@ namespace glcast {
 
 class DriverSizeQueries : public SizeQueries {
 public:
-    PixelStore pixel_store(Dir dir) override;
-    bool bound(uint32_t binding_query) override;
     int64_t driver_count(uint32_t pname) override;
     int64_t tex_level(uint32_t target, int32_t level, uint32_t pname) override;
     bool client_pointer(const void* pointer) override;

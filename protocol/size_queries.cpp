@@ -61,6 +61,18 @@ int type_bytes_or_zero(uint32_t type) {
     }
 }
 
+PixelStore SizeQueries::pixel_store(Dir dir) {
+    const bool in = dir == Dir::In;
+    PixelStore ps;
+    ps.row_length = int32_t(driver_count(in ? GL_UNPACK_ROW_LENGTH : GL_PACK_ROW_LENGTH));
+    ps.image_height = int32_t(driver_count(in ? GL_UNPACK_IMAGE_HEIGHT : GL_PACK_IMAGE_HEIGHT));
+    ps.skip_pixels = int32_t(driver_count(in ? GL_UNPACK_SKIP_PIXELS : GL_PACK_SKIP_PIXELS));
+    ps.skip_rows = int32_t(driver_count(in ? GL_UNPACK_SKIP_ROWS : GL_PACK_SKIP_ROWS));
+    ps.skip_images = int32_t(driver_count(in ? GL_UNPACK_SKIP_IMAGES : GL_PACK_SKIP_IMAGES));
+    ps.alignment = int32_t(driver_count(in ? GL_UNPACK_ALIGNMENT : GL_PACK_ALIGNMENT));
+    return ps;
+}
+
 // The span of client memory a pixel transfer touches (OpenGL 4.6 compatibility, 8.4.4.1).
 int64_t SizeQueries::image(Dir dir, uint32_t format, uint32_t type, int64_t width, int64_t height,
                            int64_t depth) {

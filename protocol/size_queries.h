@@ -29,9 +29,10 @@ public:
     virtual ~SizeQueries() = default;
 
     // -- what the driver knows -------------------------------------------------------
-    virtual PixelStore pixel_store(Dir dir) = 0;
-    virtual bool bound(uint32_t binding_query) = 0;           // glGetIntegerv(query) != 0
     virtual int64_t driver_count(uint32_t pname) = 0;          // glGetIntegerv(pname)
+    // From driver_count unless a test gives them another way.
+    virtual PixelStore pixel_store(Dir dir);
+    virtual bool bound(uint32_t binding_query) { return driver_count(binding_query) != 0; }
     virtual int64_t tex_level(uint32_t target, int32_t level, uint32_t pname) = 0;
     // A vertex-array pointer call: true when it is an offset into GL_ARRAY_BUFFER; the
     // implementation also notes that client arrays are in use.

@@ -161,19 +161,7 @@ void Replayer::check_draw(const Call& c, const DrawRange& range) {
 // nothing (proxies) or that the stores of commands.yaml do not name.
 static uint32_t binding_of(Ns ns, uint32_t target) {
     if (ns == Ns::renderbuffer) return target == GL_RENDERBUFFER ? GL_RENDERBUFFER_BINDING : 0;
-    if (ns == Ns::buffer) {
-        for (uint32_t b : {GL_ARRAY_BUFFER_BINDING, GL_ELEMENT_ARRAY_BUFFER_BINDING, GL_PIXEL_PACK_BUFFER_BINDING,
-                           GL_PIXEL_UNPACK_BUFFER_BINDING, GL_DRAW_INDIRECT_BUFFER_BINDING, GL_DISPATCH_INDIRECT_BUFFER_BINDING,
-                           GL_PARAMETER_BUFFER_BINDING, GL_QUERY_BUFFER_BINDING, GL_COPY_READ_BUFFER_BINDING,
-                           GL_COPY_WRITE_BUFFER_BINDING, GL_TEXTURE_BUFFER_BINDING, GL_UNIFORM_BUFFER_BINDING,
-                           GL_SHADER_STORAGE_BUFFER_BINDING, GL_TRANSFORM_FEEDBACK_BUFFER_BINDING, GL_ATOMIC_COUNTER_BUFFER_BINDING})
-            if (binding_target(b) == target || (b == GL_UNIFORM_BUFFER_BINDING && target == GL_UNIFORM_BUFFER) ||
-                (b == GL_SHADER_STORAGE_BUFFER_BINDING && target == GL_SHADER_STORAGE_BUFFER) ||
-                (b == GL_TRANSFORM_FEEDBACK_BUFFER_BINDING && target == GL_TRANSFORM_FEEDBACK_BUFFER) ||
-                (b == GL_ATOMIC_COUNTER_BUFFER_BINDING && target == GL_ATOMIC_COUNTER_BUFFER))
-                return b;
-        return 0;
-    }
+    if (ns == Ns::buffer) return buffer_binding(target);
     switch (target) {
     case GL_TEXTURE_1D: return GL_TEXTURE_BINDING_1D;
     case GL_TEXTURE_2D: return GL_TEXTURE_BINDING_2D;

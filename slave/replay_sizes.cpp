@@ -4,27 +4,11 @@
 
 namespace glcast::slave {
 
-int32_t ReplaySizeQueries::integer(uint32_t pname) const {
+int64_t ReplaySizeQueries::driver_count(uint32_t pname) {
     GLint v = 0;
     api_.glGetIntegerv(pname, &v);
     return v;
 }
-
-PixelStore ReplaySizeQueries::pixel_store(Dir dir) {
-    const bool in = dir == Dir::In;
-    PixelStore ps;
-    ps.row_length = integer(in ? GL_UNPACK_ROW_LENGTH : GL_PACK_ROW_LENGTH);
-    ps.image_height = integer(in ? GL_UNPACK_IMAGE_HEIGHT : GL_PACK_IMAGE_HEIGHT);
-    ps.skip_pixels = integer(in ? GL_UNPACK_SKIP_PIXELS : GL_PACK_SKIP_PIXELS);
-    ps.skip_rows = integer(in ? GL_UNPACK_SKIP_ROWS : GL_PACK_SKIP_ROWS);
-    ps.skip_images = integer(in ? GL_UNPACK_SKIP_IMAGES : GL_PACK_SKIP_IMAGES);
-    ps.alignment = integer(in ? GL_UNPACK_ALIGNMENT : GL_PACK_ALIGNMENT);
-    return ps;
-}
-
-bool ReplaySizeQueries::bound(uint32_t binding_query) { return integer(binding_query) != 0; }
-
-int64_t ReplaySizeQueries::driver_count(uint32_t pname) { return integer(pname); }
 
 int64_t ReplaySizeQueries::tex_level(uint32_t target, int32_t level, uint32_t pname) {
     GLint v = 0;
@@ -42,21 +26,42 @@ bool ReplaySizeQueries::read_buffer(uint32_t target, int64_t offset, int64_t byt
     return true;
 }
 
+namespace {
+
+struct BufferBinding {
+    uint32_t target, binding;
+};
+
+constexpr BufferBinding kBufferBindings[] = {
+    {GL_ARRAY_BUFFER, GL_ARRAY_BUFFER_BINDING},
+    {GL_ELEMENT_ARRAY_BUFFER, GL_ELEMENT_ARRAY_BUFFER_BINDING},
+    {GL_PIXEL_PACK_BUFFER, GL_PIXEL_PACK_BUFFER_BINDING},
+    {GL_PIXEL_UNPACK_BUFFER, GL_PIXEL_UNPACK_BUFFER_BINDING},
+    {GL_DRAW_INDIRECT_BUFFER, GL_DRAW_INDIRECT_BUFFER_BINDING},
+    {GL_DISPATCH_INDIRECT_BUFFER, GL_DISPATCH_INDIRECT_BUFFER_BINDING},
+    {GL_PARAMETER_BUFFER, GL_PARAMETER_BUFFER_BINDING},
+    {GL_QUERY_BUFFER, GL_QUERY_BUFFER_BINDING},
+    {GL_COPY_READ_BUFFER, GL_COPY_READ_BUFFER_BINDING},
+    {GL_COPY_WRITE_BUFFER, GL_COPY_WRITE_BUFFER_BINDING},
+    {GL_TEXTURE_BUFFER, GL_TEXTURE_BUFFER_BINDING},
+    {GL_UNIFORM_BUFFER, GL_UNIFORM_BUFFER_BINDING},
+    {GL_SHADER_STORAGE_BUFFER, GL_SHADER_STORAGE_BUFFER_BINDING},
+    {GL_TRANSFORM_FEEDBACK_BUFFER, GL_TRANSFORM_FEEDBACK_BUFFER_BINDING},
+    {GL_ATOMIC_COUNTER_BUFFER, GL_ATOMIC_COUNTER_BUFFER_BINDING},
+};
+
+}  // namespace
+
 uint32_t binding_target(uint32_t binding) {
-    switch (binding) {
-    case GL_ARRAY_BUFFER_BINDING: return GL_ARRAY_BUFFER;
-    case GL_ELEMENT_ARRAY_BUFFER_BINDING: return GL_ELEMENT_ARRAY_BUFFER;
-    case GL_PIXEL_PACK_BUFFER_BINDING: return GL_PIXEL_PACK_BUFFER;
-    case GL_PIXEL_UNPACK_BUFFER_BINDING: return GL_PIXEL_UNPACK_BUFFER;
-    case GL_DRAW_INDIRECT_BUFFER_BINDING: return GL_DRAW_INDIRECT_BUFFER;
-    case GL_DISPATCH_INDIRECT_BUFFER_BINDING: return GL_DISPATCH_INDIRECT_BUFFER;
-    case GL_PARAMETER_BUFFER_BINDING: return GL_PARAMETER_BUFFER;
-    case GL_QUERY_BUFFER_BINDING: return GL_QUERY_BUFFER;
-    case GL_COPY_READ_BUFFER_BINDING: return GL_COPY_READ_BUFFER;
-    case GL_COPY_WRITE_BUFFER_BINDING: return GL_COPY_WRITE_BUFFER;
-    case GL_TEXTURE_BUFFER_BINDING: return GL_TEXTURE_BUFFER;
-    default: return 0;
-    }
+    for (const BufferBinding& b : kBufferBindings)
+        if (b.binding == binding) return b.target;
+    return 0;
+}
+
+uint32_t buffer_binding(uint32_t target) {
+    for (const BufferBinding& b : kBufferBindings)
+        if (b.target == target) return b.binding;
+    return 0;
 }
 
 }  // namespace glcast::slave

@@ -13,8 +13,6 @@ class ReplaySizeQueries : public SizeQueries {
 public:
     explicit ReplaySizeQueries(const GlApi& api) : api_(api) {}
 
-    PixelStore pixel_store(Dir dir) override;
-    bool bound(uint32_t binding_query) override;
     int64_t driver_count(uint32_t pname) override;
     int64_t tex_level(uint32_t target, int32_t level, uint32_t pname) override;
     bool client_pointer(const void* pointer) override;
@@ -22,12 +20,12 @@ public:
     bool read_buffer(uint32_t target, int64_t offset, int64_t bytes, void* out) override;
 
 private:
-    int32_t integer(uint32_t pname) const;
     const GlApi& api_;
 };
 
 // The buffer target whose binding query is `binding` (GL_ARRAY_BUFFER_BINDING ->
 // GL_ARRAY_BUFFER); 0 for a query that names no buffer binding.
 uint32_t binding_target(uint32_t binding);
+uint32_t buffer_binding(uint32_t target);  // the other way round
 
 }  // namespace glcast::slave
