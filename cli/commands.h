@@ -27,5 +27,6 @@ Command add_run(CLI::App& glcast);      // cli/run.cpp
 Command add_slave(CLI::App& glcast);    // cli/slave.cpp
 Command add_image(CLI::App& glcast);    // cli/image.cpp
 Command add_effects(CLI::App& glcast);  // cli/effects.cpp
+Command add_trim(CLI::App& glcast);     // cli/trim.cpp
 
 }  // namespace glcast::cli

@@ -27,6 +27,7 @@ from classify import Classifier, WIRE_BYTES
 import synthetic
 from semantics import Semantics, SemanticsError
 from slave_plan import SlavePlanner, ns_id
+from snapshot import SnapshotModel, SnapshotError
 
 REGISTRY_DIR = os.environ.get("GLCAST_REGISTRY_DIR", "/usr/share/khronos-api")
 TEMPLATES = os.path.join(HERE, "templates")
@@ -47,6 +48,8 @@ OUTPUTS = {  # template -> generated file
     "synthetic.h.j2": "glcast_synthetic.h",
     "synthetic.cpp.j2": "glcast_synthetic.cpp",
     "synthetic_encode.h.j2": "glcast_synthetic_encode.h",
+    "snapshot_state.h.j2": "glcast_snapshot_state.h",
+    "snapshot_state.cpp.j2": "glcast_snapshot_state.cpp",
 }
 
 
@@ -95,6 +98,26 @@ class Model:
             sys.exit(f"glcast-codegen: {e}")
         self.check_annotations()
         self.check_slave_handwritten()
+        with open(os.path.join(ann_dir, "snapshot.yaml")) as f:
+            try:
+                self.snapshot = SnapshotModel(yaml.safe_load(f), self.commands, self.enums, self.get_counts())
+            except SnapshotError as e:
+                sys.exit(f"glcast-codegen: {e}")
+        serializable = {p.cmd.name for p in self.plans if p.serializable}
+        for section in self.snapshot.values.values():
+            for r in section:
+                if r["set"] not in serializable:
+                    sys.exit(f"glcast-codegen: snapshot.yaml: {r['set']} is not serializable")
+        for pair in self.snapshot.pairs:
+            if pair["setter"] not in serializable:
+                sys.exit(f"glcast-codegen: snapshot.yaml: {pair['set']} is not serializable")
+
+    def get_counts(self):
+        """pname -> values of glGet (pnames.yaml `get`; 1 for the rest of its groups)."""
+        spec = self.pnames["get"]
+        counts = {e: 1 for g in spec.get("groups_default_1") or [] for e in self.groups.get(g, [])}
+        counts.update(spec.get("counts") or {})
+        return counts
 
     def add_sample_pnames(self, classifier):
         """For the round-trip test: a pname each table knows, so enum-sized arrays encode."""
@@ -308,7 +331,8 @@ def main():
            "opcodes": {p.cmd.name: p.opcode for p in model.plans},
            "generators": model.semantics.generators(),
            "window_system_pnames": model.semantics.window_system_pnames(),
-           "state_groups": model.semantics.state_groups, "synthetic": model.synthetic}
+           "state_groups": model.semantics.state_groups, "synthetic": model.synthetic,
+           "snapshot": model.snapshot}
     os.makedirs(args.out, exist_ok=True)
     for template, name in OUTPUTS.items():
         text = env.get_template(template).render(**ctx)

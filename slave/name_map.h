@@ -23,6 +23,10 @@ public:
     void set(uint64_t master, uint64_t slave) { map_[master] = slave; }
     void erase(uint64_t master) { map_.erase(master); }
     size_t size() const { return map_.size(); }
+    template <class F>
+    void each(F&& f) const {  // f(master, slave), in no particular order
+        for (const auto& [master, slave] : map_) f(master, slave);
+    }
 
 private:
     std::unordered_map<uint64_t, uint64_t> map_;

@@ -143,6 +143,9 @@ public:
     std::function<void(const effects::FrameView& view)> after_effects;
 
     void replay(MessageSource& source);  // throws DecodeError on a bad stream
+    // Adds an observer after the slave's own (at most 8 in all): a keeper's (keeper/kept_calls.h).
+    void watch(ReplayObserver* observer) { add_observer(observer); }
+    const std::map<uint32_t, std::unique_ptr<SlaveContext>>& contexts() const { return contexts_; }
     // Forgets every context and name: the state of a slave that has seen nothing yet (a slave
     // that lost messages starts over from the master's snapshot).
     void reset();

@@ -1,0 +1,107 @@
+#include "keeper/kept_calls.h"
+
+#include "protocol/decoder.h"
+#include "protocol/format.h"
+#include "slave/replayer.h"
+
+namespace glcast::keeper {
+
+// Every tuple: one compiled into a display list can be any call.
+bool KeptCalls::wants(uint32_t, const CommandInfo*) const { return true; }
+
+void KeptCalls::before_call(const Call& c, const uint8_t* tuple, size_t bytes) {
+    last_tuple_ = tuple;
+    last_bytes_ = bytes;
+    const CommandInfo* info = c.info;
+    if (c.opcode == kSynthContext) {
+        SynthContext t;
+        read_synthetic(c, t);
+        ContextCalls& calls = contexts_[t.id];
+        auto create = pending_create_.find(t.handle);
+        if (create != pending_create_.end()) {
+            calls.create = std::move(create->second);
+            pending_create_.erase(create);
+        }
+        calls.context.assign(tuple, tuple + bytes);
+        calls.handle = t.handle;
+        return;
+    }
+    if (c.opcode == kSynthDrawableSize) {
+        SynthDrawableSize t;
+        read_synthetic(c, t);
+        drawable_sizes_[t.drawable].assign(tuple, tuple + bytes);
+        return;
+    }
+    if (info && info->sem.context == ContextOp::Create) {
+        if (c.ret.bits) pending_create_[c.ret.bits].assign(tuple, tuple + bytes);
+        return;
+    }
+    auto rec = recording_.find(c.context);
+    if (rec == recording_.end()) return;
+    if (info && info->sem.redraw == RedrawKind::EndList) return;  // after_call files the body
+    rec->second.body.insert(rec->second.body.end(), tuple, tuple + bytes);
+}
+
+void KeptCalls::after_call(const Call& c) {
+    const CommandInfo* info = c.info;
+    if (!info) return;
+    if (info->sem.context == ContextOp::MakeCurrent) {
+        slave::SlaveContext* ctx = core_.current_or_null();
+        if (ctx && contexts_.count(ctx->id)) contexts_[ctx->id].make_current.assign(last_tuple_, last_tuple_ + last_bytes_);
+        return;
+    }
+    if (info->sem.context == ContextOp::Destroy) {
+        for (auto it = contexts_.begin(); it != contexts_.end();)
+            it = core_.context(it->first) ? std::next(it) : contexts_.erase(it);
+        for (auto it = lists_.begin(); it != lists_.end();)
+            it = it->first.use_count() == 1 ? lists_.erase(it) : std::next(it);
+        for (auto it = recording_.begin(); it != recording_.end();)
+            it = core_.context(it->first) ? std::next(it) : recording_.erase(it);
+        return;
+    }
+    slave::SlaveContext* ctx = core_.current_or_null();
+    if (!ctx) return;
+    if (info->sem.redraw == RedrawKind::NewList) {
+        recording_[ctx->id] = Recording{c.args[0].bits, {}};
+    } else if (info->sem.redraw == RedrawKind::EndList) {
+        auto rec = recording_.find(ctx->id);
+        if (rec == recording_.end()) return;
+        uint64_t slave_name = 0;
+        if (ctx->names.map(Ns::display_list).find(rec->second.list, slave_name))
+            lists_[ctx->names.shared][rec->second.list] = std::move(rec->second.body);
+        recording_.erase(rec);
+    } else if (info->sem.flags & kSemDeletes) {
+        auto group = lists_.find(ctx->names.shared);
+        if (group == lists_.end()) return;
+        const slave::NameMap& live = ctx->names.map(Ns::display_list);
+        uint64_t ignored = 0;
+        for (auto it = group->second.begin(); it != group->second.end();)
+            it = live.find(it->first, ignored) ? std::next(it) : group->second.erase(it);
+    }
+}
+
+void KeptCalls::reset() {
+    contexts_.clear();
+    pending_create_.clear();
+    drawable_sizes_.clear();
+    lists_.clear();
+    recording_.clear();
+}
+
+const ListBodies* KeptCalls::lists(const slave::ShareGroup* group) const {
+    for (const auto& [g, bodies] : lists_)
+        if (g.get() == group) return &bodies;
+    return nullptr;
+}
+
+uint64_t KeptCalls::bytes() const {
+    uint64_t n = 0;
+    for (const auto& [id, c] : contexts_) n += c.create.size() + c.context.size() + c.make_current.size();
+    for (const auto& [d, t] : drawable_sizes_) n += t.size();
+    for (const auto& [g, bodies] : lists_)
+        for (const auto& [name, body] : bodies) n += body.size();
+    for (const auto& [id, r] : recording_) n += r.body.size();
+    return n;
+}
+
+}  // namespace glcast::keeper

@@ -1,0 +1,303 @@
+// The objects of a share group, read back from the keeper's driver and written as the calls
+// that make them: buffers, textures (every target, level, face and layer, contents made by
+// rendering included), renderbuffers, samplers, shaders and programs with their uniforms, and
+// display lists from the tuples that compiled them (keeper/kept_calls.h).
+#include <algorithm>
+#include <cstring>
+
+#include "glcast_encode.h"
+#include "glcast_snapshot_state.h"
+#include "keeper/snapshot_writer.h"
+
+namespace glcast::keeper {
+
+namespace {
+
+constexpr GLenum kTextureTargets[][2] = {
+    {GL_TEXTURE_2D, GL_TEXTURE_BINDING_2D},
+    {GL_TEXTURE_CUBE_MAP, GL_TEXTURE_BINDING_CUBE_MAP},
+    {GL_TEXTURE_3D, GL_TEXTURE_BINDING_3D},
+    {GL_TEXTURE_2D_ARRAY, GL_TEXTURE_BINDING_2D_ARRAY},
+    {GL_TEXTURE_1D, GL_TEXTURE_BINDING_1D},
+    {GL_TEXTURE_1D_ARRAY, GL_TEXTURE_BINDING_1D_ARRAY},
+    {GL_TEXTURE_RECTANGLE, GL_TEXTURE_BINDING_RECTANGLE},
+    {GL_TEXTURE_CUBE_MAP_ARRAY, GL_TEXTURE_BINDING_CUBE_MAP_ARRAY},
+    {GL_TEXTURE_BUFFER, GL_TEXTURE_BINDING_BUFFER},
+    {GL_TEXTURE_2D_MULTISAMPLE, GL_TEXTURE_BINDING_2D_MULTISAMPLE},
+    {GL_TEXTURE_2D_MULTISAMPLE_ARRAY, GL_TEXTURE_BINDING_2D_MULTISAMPLE_ARRAY},
+};
+
+GLenum binding_of(GLenum target) {
+    for (const auto& t : kTextureTargets)
+        if (t[0] == target) return t[1];
+    return 0;
+}
+
+int dimensions(GLenum target) {
+    switch (target) {
+    case GL_TEXTURE_1D: return 1;
+    case GL_TEXTURE_3D: case GL_TEXTURE_2D_ARRAY: case GL_TEXTURE_CUBE_MAP_ARRAY: return 3;
+    default: return 2;
+    }
+}
+
+struct Transfer {
+    GLenum format = GL_RGBA, type = GL_UNSIGNED_BYTE;
+};
+
+}  // namespace
+
+void SnapshotWriter::share_group(slave::SlaveContext& ctx) {
+    buffers(ctx);
+    textures(ctx);
+    renderbuffers(ctx);
+    samplers(ctx);
+    programs(ctx);
+    lists(ctx);
+}
+
+// --- buffers -------------------------------------------------------------------------------
+
+void SnapshotWriter::buffers(slave::SlaveContext& ctx) {
+    if (!gl_.has(OP_glBindBuffer)) return;
+    const GLint was = integer(GL_COPY_READ_BUFFER_BINDING);
+    ctx.names.map(Ns::buffer).each([&](uint64_t master, uint64_t slave_name) {
+        GLuint name = GLuint(master);
+        encode_glGenBuffers(e_, sz_, 1, &name);
+        report_.objects++;
+        if (!gl_.glIsBuffer(GLuint(slave_name))) return;  // generated, never bound
+        gl_.glBindBuffer(GL_COPY_READ_BUFFER, GLuint(slave_name));
+        GLint64 size = 0;
+        GLint usage = GL_STATIC_DRAW, immutable = GL_FALSE, flags = 0;
+        gl_.glGetBufferParameteri64v(GL_COPY_READ_BUFFER, GL_BUFFER_SIZE, &size);
+        gl_.glGetBufferParameteriv(GL_COPY_READ_BUFFER, GL_BUFFER_USAGE, &usage);
+        if (gl_.has(OP_glBufferStorage)) {
+            gl_.glGetBufferParameteriv(GL_COPY_READ_BUFFER, GL_BUFFER_IMMUTABLE_STORAGE, &immutable);
+            gl_.glGetBufferParameteriv(GL_COPY_READ_BUFFER, GL_BUFFER_STORAGE_FLAGS, &flags);
+        }
+        std::vector<uint8_t> data(size_t(std::max<GLint64>(size, 0)));
+        if (size > 0) gl_.glGetBufferSubData(GL_COPY_READ_BUFFER, 0, GLsizeiptr(size), data.data());
+        encode_glBindBuffer(e_, sz_, GL_COPY_WRITE_BUFFER, GLuint(master));
+        if (immutable)
+            encode_glBufferStorage(e_, sz_, GL_COPY_WRITE_BUFFER, GLsizeiptr(size), data.data(), GLbitfield(flags));
+        else
+            encode_glBufferData(e_, sz_, GL_COPY_WRITE_BUFFER, GLsizeiptr(size), data.data(), GLenum(usage));
+        flush();
+    });
+    gl_.glBindBuffer(GL_COPY_READ_BUFFER, GLuint(was));
+    encode_glBindBuffer(e_, sz_, GL_COPY_WRITE_BUFFER, 0);
+}
+
+// --- textures ------------------------------------------------------------------------------
+
+void SnapshotWriter::textures(slave::SlaveContext& ctx) {
+    const GLint unit = integer(GL_ACTIVE_TEXTURE);
+    if (gl_.has(OP_glActiveTexture)) {
+        gl_.glActiveTexture(GL_TEXTURE0);
+        encode_glActiveTexture(e_, sz_, GL_TEXTURE0);
+    }
+    ctx.names.map(Ns::texture).each([&](uint64_t master, uint64_t slave_name) {
+        GLuint name = GLuint(master);
+        encode_glGenTextures(e_, sz_, 1, &name);
+        report_.objects++;
+        if (!gl_.glIsTexture(GLuint(slave_name))) return;  // generated, never bound
+        // Its target: the one it binds to without an error (binding to its own target changes nothing).
+        GLenum target = 0;
+        for (const auto& t : kTextureTargets) {
+            const GLint was = integer(t[1]);
+            if (!asked()) continue;
+            gl_.glBindTexture(t[0], GLuint(slave_name));
+            const bool fits = asked();
+            gl_.glBindTexture(t[0], GLuint(was));
+            if (fits) {
+                target = t[0];
+                break;
+            }
+        }
+        if (!target) {
+            missing("texture " + std::to_string(master) + ": its target");
+            return;
+        }
+        texture_targets_[{ctx.names.shared.get(), GLuint(slave_name)}] = target;
+        const GLint was = integer(binding_of(target));
+        gl_.glBindTexture(target, GLuint(slave_name));
+        encode_glBindTexture(e_, sz_, target, GLuint(master));
+        texture_images(GLuint(slave_name), target, master);
+        if (target != GL_TEXTURE_BUFFER) {
+            snapshot_texture_parameters_int(gl_, e_, sz_, target, target);
+            if (target != GL_TEXTURE_2D_MULTISAMPLE && target != GL_TEXTURE_2D_MULTISAMPLE_ARRAY)
+                snapshot_texture_parameters_float(gl_, e_, sz_, target, target);
+        }
+        gl_.glBindTexture(target, GLuint(was));
+        flush();
+    });
+    if (gl_.has(OP_glActiveTexture)) gl_.glActiveTexture(GLenum(unit));
+}
+
+void SnapshotWriter::texture_images(GLuint slave_name, GLenum target, uint64_t master) {
+    (void)slave_name;
+    auto level_value = [&](GLenum face, GLint level, GLenum pname) {
+        GLint v = 0;
+        gl_.glGetTexLevelParameteriv(face, level, pname, &v);
+        return asked() ? v : 0;
+    };
+    if (target == GL_TEXTURE_BUFFER) {
+        const GLint buffer = level_value(target, 0, GL_TEXTURE_BUFFER_DATA_STORE_BINDING);
+        const GLint format = level_value(target, 0, GL_TEXTURE_INTERNAL_FORMAT);
+        (void)buffer;
+        missing("texture " + std::to_string(master) + ": a buffer texture (" + std::to_string(format) + ")");
+        return;
+    }
+    if (target == GL_TEXTURE_2D_MULTISAMPLE || target == GL_TEXTURE_2D_MULTISAMPLE_ARRAY) {
+        missing("texture " + std::to_string(master) + ": multisampled contents");
+        return;
+    }
+    GLint immutable = GL_FALSE, immutable_levels = 0;
+    gl_.glGetTexParameteriv(target, GL_TEXTURE_IMMUTABLE_FORMAT, &immutable);
+    if (!asked()) immutable = GL_FALSE;
+    if (immutable) gl_.glGetTexParameteriv(target, GL_TEXTURE_IMMUTABLE_LEVELS, &immutable_levels);
+    const bool cube = target == GL_TEXTURE_CUBE_MAP;
+    const int dims = dimensions(target);
+    const GLenum first_face = cube ? GL_TEXTURE_CUBE_MAP_POSITIVE_X : target;
+    if (immutable) {
+        const GLint w = level_value(first_face, 0, GL_TEXTURE_WIDTH), h = level_value(first_face, 0, GL_TEXTURE_HEIGHT),
+                    d = level_value(first_face, 0, GL_TEXTURE_DEPTH);
+        const GLenum internal = GLenum(level_value(first_face, 0, GL_TEXTURE_INTERNAL_FORMAT));
+        if (dims == 1) encode_glTexStorage1D(e_, sz_, target, immutable_levels, internal, w);
+        else if (dims == 2) encode_glTexStorage2D(e_, sz_, target, immutable_levels, internal, w, h);
+        else encode_glTexStorage3D(e_, sz_, target, immutable_levels, internal, w, h, d);
+    }
+    const int levels = immutable ? immutable_levels : target == GL_TEXTURE_RECTANGLE ? 1 : 16;
+    std::vector<uint8_t> pixels;
+    for (GLint level = 0; level < levels; ++level) {
+        for (int f = 0; f < (cube ? 6 : 1); ++f) {
+            const GLenum face = cube ? GLenum(GL_TEXTURE_CUBE_MAP_POSITIVE_X + f) : target;
+            const GLint w = level_value(face, level, GL_TEXTURE_WIDTH), h = level_value(face, level, GL_TEXTURE_HEIGHT),
+                        d = level_value(face, level, GL_TEXTURE_DEPTH);
+            if (w <= 0 || h <= 0 || d <= 0) continue;
+            const GLenum internal = GLenum(level_value(face, level, GL_TEXTURE_INTERNAL_FORMAT));
+            if (level_value(face, level, GL_TEXTURE_COMPRESSED)) {
+                const GLint bytes = level_value(face, level, GL_TEXTURE_COMPRESSED_IMAGE_SIZE);
+                pixels.assign(size_t(std::max(bytes, 0)), 0);
+                gl_.glGetCompressedTexImage(face, level, pixels.data());
+                if (dims == 1 && !immutable)
+                    encode_glCompressedTexImage1D(e_, sz_, face, level, internal, w, 0, bytes, pixels.data());
+                else if (dims == 1)
+                    encode_glCompressedTexSubImage1D(e_, sz_, face, level, 0, w, internal, bytes, pixels.data());
+                else if (dims == 2 && !immutable)
+                    encode_glCompressedTexImage2D(e_, sz_, face, level, internal, w, h, 0, bytes, pixels.data());
+                else if (dims == 2)
+                    encode_glCompressedTexSubImage2D(e_, sz_, face, level, 0, 0, w, h, internal, bytes, pixels.data());
+                else if (!immutable)
+                    encode_glCompressedTexImage3D(e_, sz_, face, level, internal, w, h, d, 0, bytes, pixels.data());
+                else
+                    encode_glCompressedTexSubImage3D(e_, sz_, face, level, 0, 0, 0, w, h, d, internal, bytes, pixels.data());
+                flush();
+                continue;
+            }
+            Transfer t;
+            const GLint depth_bits = level_value(face, level, GL_TEXTURE_DEPTH_SIZE);
+            const GLint stencil_bits = level_value(face, level, GL_TEXTURE_STENCIL_SIZE);
+            GLint component = 0;
+            for (GLenum pname : {GL_TEXTURE_RED_TYPE, GL_TEXTURE_ALPHA_TYPE, GL_TEXTURE_LUMINANCE_TYPE,
+                                 GL_TEXTURE_INTENSITY_TYPE})
+                if (!component) component = level_value(face, level, pname);
+            GLint bits = 0;
+            for (GLenum pname : {GL_TEXTURE_RED_SIZE, GL_TEXTURE_GREEN_SIZE, GL_TEXTURE_BLUE_SIZE, GL_TEXTURE_ALPHA_SIZE,
+                                 GL_TEXTURE_LUMINANCE_SIZE, GL_TEXTURE_INTENSITY_SIZE})
+                bits = std::max(bits, level_value(face, level, pname));
+            if (depth_bits && stencil_bits) {
+                const bool float_depth = level_value(face, level, GL_TEXTURE_DEPTH_TYPE) == GL_FLOAT;
+                t = {GL_DEPTH_STENCIL, GLenum(float_depth ? GL_FLOAT_32_UNSIGNED_INT_24_8_REV : GL_UNSIGNED_INT_24_8)};
+            } else if (depth_bits) {
+                const bool float_depth = level_value(face, level, GL_TEXTURE_DEPTH_TYPE) == GL_FLOAT;
+                t = {GL_DEPTH_COMPONENT, GLenum(float_depth ? GL_FLOAT : GL_UNSIGNED_INT)};
+            } else if (stencil_bits) {
+                t = {GL_STENCIL_INDEX, GL_UNSIGNED_BYTE};
+            } else if (component == GL_INT || component == GL_UNSIGNED_INT) {
+                t = {GL_RGBA_INTEGER, GLenum(component)};
+            } else if (component == GL_FLOAT || component == GL_SIGNED_NORMALIZED) {
+                t = {GL_RGBA, GL_FLOAT};
+            } else {
+                t = {GL_RGBA, GLenum(bits > 8 ? GL_UNSIGNED_SHORT : GL_UNSIGNED_BYTE)};
+            }
+            const int64_t bytes = sz_.image(Dir::Out, t.format, t.type, w, h, d);
+            if (bytes <= 0) {
+                missing("texture " + std::to_string(master) + " level " + std::to_string(level) + ": format " +
+                        std::to_string(internal));
+                continue;
+            }
+            pixels.assign(size_t(bytes), 0);
+            gl_.glGetTexImage(face, level, t.format, t.type, pixels.data());
+            if (!asked()) {
+                missing("texture " + std::to_string(master) + " level " + std::to_string(level) + ": its image");
+                continue;
+            }
+            const void* p = pixels.data();
+            if (immutable) {
+                if (dims == 1) encode_glTexSubImage1D(e_, sz_, face, level, 0, w, t.format, t.type, p);
+                else if (dims == 2) encode_glTexSubImage2D(e_, sz_, face, level, 0, 0, w, h, t.format, t.type, p);
+                else encode_glTexSubImage3D(e_, sz_, face, level, 0, 0, 0, w, h, d, t.format, t.type, p);
+            } else {
+                if (dims == 1) encode_glTexImage1D(e_, sz_, face, level, GLint(internal), w, 0, t.format, t.type, p);
+                else if (dims == 2) encode_glTexImage2D(e_, sz_, face, level, GLint(internal), w, h, 0, t.format, t.type, p);
+                else encode_glTexImage3D(e_, sz_, face, level, GLint(internal), w, h, d, 0, t.format, t.type, p);
+            }
+            flush();
+        }
+    }
+}
+
+// --- renderbuffers and samplers --------------------------------------------------------------
+
+void SnapshotWriter::renderbuffers(slave::SlaveContext& ctx) {
+    if (!gl_.has(OP_glBindRenderbuffer)) return;
+    const GLint was = integer(GL_RENDERBUFFER_BINDING);
+    ctx.names.map(Ns::renderbuffer).each([&](uint64_t master, uint64_t slave_name) {
+        GLuint name = GLuint(master);
+        encode_glGenRenderbuffers(e_, sz_, 1, &name);
+        report_.objects++;
+        if (!gl_.glIsRenderbuffer(GLuint(slave_name))) return;
+        gl_.glBindRenderbuffer(GL_RENDERBUFFER, GLuint(slave_name));
+        GLint w = 0, h = 0, format = 0, samples = 0;
+        gl_.glGetRenderbufferParameteriv(GL_RENDERBUFFER, GL_RENDERBUFFER_WIDTH, &w);
+        gl_.glGetRenderbufferParameteriv(GL_RENDERBUFFER, GL_RENDERBUFFER_HEIGHT, &h);
+        gl_.glGetRenderbufferParameteriv(GL_RENDERBUFFER, GL_RENDERBUFFER_INTERNAL_FORMAT, &format);
+        gl_.glGetRenderbufferParameteriv(GL_RENDERBUFFER, GL_RENDERBUFFER_SAMPLES, &samples);
+        encode_glBindRenderbuffer(e_, sz_, GL_RENDERBUFFER, GLuint(master));
+        if (w > 0 && h > 0) {
+            if (samples) encode_glRenderbufferStorageMultisample(e_, sz_, GL_RENDERBUFFER, samples, GLenum(format), w, h);
+            else encode_glRenderbufferStorage(e_, sz_, GL_RENDERBUFFER, GLenum(format), w, h);
+        }
+    });
+    gl_.glBindRenderbuffer(GL_RENDERBUFFER, GLuint(was));
+}
+
+void SnapshotWriter::samplers(slave::SlaveContext& ctx) {
+    ctx.names.map(Ns::sampler).each([&](uint64_t master, uint64_t slave_name) {
+        GLuint name = GLuint(master);
+        encode_glGenSamplers(e_, sz_, 1, &name);
+        report_.objects++;
+        if (!gl_.glIsSampler(GLuint(slave_name))) return;
+        snapshot_sampler_parameters_int(gl_, e_, sz_, GLuint(slave_name), GLuint(master));
+        snapshot_sampler_parameters_float(gl_, e_, sz_, GLuint(slave_name), GLuint(master));
+    });
+}
+
+// --- display lists ----------------------------------------------------------------------------
+
+void SnapshotWriter::lists(slave::SlaveContext& ctx) {
+    const ListBodies* bodies = kept_.lists(ctx.names.shared.get());
+    ctx.names.map(Ns::display_list).each([&](uint64_t master, uint64_t) {
+        encode_glGenLists(e_, sz_, 1, GLuint(master));
+        report_.lists++;
+        auto body = bodies ? bodies->find(master) : ListBodies::const_iterator();
+        if (!bodies || body == bodies->end()) return;  // generated, never compiled
+        encode_glNewList(e_, sz_, GLuint(master), GL_COMPILE);
+        raw(body->second, ctx.id);
+        encode_glEndList(e_, sz_);
+        flush();
+    });
+}
+
+}  // namespace glcast::keeper

@@ -1,0 +1,52 @@
+#include "keeper/trim.h"
+
+#include <cstring>
+
+#include "keeper/kept_calls.h"
+#include "master/stream.h"
+#include "protocol/decoder.h"
+#include "protocol/format.h"
+#include "slave/replayer.h"
+
+namespace glcast::keeper {
+
+TrimResult trim_capture(MessageSource& in, uint64_t first, uint64_t last, std::unique_ptr<slave::Backend> backend,
+                        const std::string& out_path) {
+    TrimResult result;
+    slave::ReplayOptions options;
+    options.last_frame = first ? first - 1 : 0;
+    slave::Replayer keeper(std::move(backend), options);
+    KeptCalls kept(keeper);
+    keeper.watch(&kept);
+    if (first) keeper.replay(in);  // stops after the swap that ends frame first - 1
+    result.replayed_frames = keeper.stats().frames;
+    result.keeper_errors = keeper.stats().errors;
+
+    std::vector<std::unique_ptr<MessageSink>> sinks;
+    sinks.push_back(std::make_unique<CaptureFileSink>(out_path));
+    Stream out(std::move(sinks), 1, 4);
+    result.snapshot = write_snapshot(keeper, kept, [&](const uint8_t* t, size_t n) { out.append(t, n); });
+    Message m;
+    while (in.next(m)) {
+        if (m.header.frame > last) break;
+        const uint8_t* p = m.payload.data();
+        size_t at = 0;
+        while (at + kTupleHeaderBytes <= m.payload.size()) {
+            uint32_t body = 0;
+            std::memcpy(&body, p + at + 8, 4);
+            if (body > m.payload.size() - at - kTupleHeaderBytes)
+                throw DecodeError(m.offset, "message " + std::to_string(m.header.sequence) + ": a tuple runs past its end");
+            out.append(p + at, kTupleHeaderBytes + body);
+            at += kTupleHeaderBytes + body;
+        }
+        if (m.header.flags & kMsgFrameEnd) {
+            out.end_frame();
+            result.frames++;
+            if (m.header.frame >= last) break;
+        }
+    }
+    out.close();
+    return result;
+}
+
+}  // namespace glcast::keeper
