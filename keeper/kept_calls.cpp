@@ -1,5 +1,10 @@
 #include "keeper/kept_calls.h"
 
+#include <algorithm>
+#include <cstring>
+
+#include "common/gl_headers.h"
+
 #include "protocol/decoder.h"
 #include "protocol/format.h"
 #include "slave/replayer.h"
@@ -55,6 +60,8 @@ void KeptCalls::after_call(const Call& c) {
             it = core_.context(it->first) ? std::next(it) : contexts_.erase(it);
         for (auto it = lists_.begin(); it != lists_.end();)
             it = it->first.use_count() == 1 ? lists_.erase(it) : std::next(it);
+        for (auto it = linked_.begin(); it != linked_.end();)
+            it = it->first.use_count() == 1 ? linked_.erase(it) : std::next(it);
         for (auto it = recording_.begin(); it != recording_.end();)
             it = core_.context(it->first) ? std::next(it) : recording_.erase(it);
         return;
@@ -70,13 +77,39 @@ void KeptCalls::after_call(const Call& c) {
         if (ctx->names.map(Ns::display_list).find(rec->second.list, slave_name))
             lists_[ctx->names.shared][rec->second.list] = std::move(rec->second.body);
         recording_.erase(rec);
+    } else if (info->sem.flags & kSemLinksProgram) {
+        uint64_t program = 0;
+        if (!ctx->names.map(Ns::program).find(c.args[0].bits, program)) return;
+        const GlApi& gl = core_.api();
+        GLint count = 0;
+        gl.glGetProgramiv(GLuint(program), GL_ATTACHED_SHADERS, &count);
+        std::vector<GLuint> shaders(size_t(std::clamp(count, 0, 64)));
+        if (!shaders.empty()) gl.glGetAttachedShaders(GLuint(program), GLsizei(shaders.size()), nullptr, shaders.data());
+        std::vector<LinkedShader>& kept = linked_[ctx->names.shared][c.args[0].bits];
+        kept.clear();
+        for (GLuint s : shaders) {
+            GLint type = 0, length = 0;
+            gl.glGetShaderiv(s, GL_SHADER_TYPE, &type);
+            gl.glGetShaderiv(s, GL_SHADER_SOURCE_LENGTH, &length);
+            std::string source(size_t(std::max(length, 1)), '\0');
+            gl.glGetShaderSource(s, GLsizei(source.size()), nullptr, source.data());
+            source.resize(std::strlen(source.c_str()));
+            kept.push_back({uint32_t(type), std::move(source)});
+        }
     } else if (info->sem.flags & kSemDeletes) {
-        auto group = lists_.find(ctx->names.shared);
-        if (group == lists_.end()) return;
-        const slave::NameMap& live = ctx->names.map(Ns::display_list);
         uint64_t ignored = 0;
-        for (auto it = group->second.begin(); it != group->second.end();)
-            it = live.find(it->first, ignored) ? std::next(it) : group->second.erase(it);
+        auto group = lists_.find(ctx->names.shared);
+        if (group != lists_.end()) {
+            const slave::NameMap& live = ctx->names.map(Ns::display_list);
+            for (auto it = group->second.begin(); it != group->second.end();)
+                it = live.find(it->first, ignored) ? std::next(it) : group->second.erase(it);
+        }
+        auto programs = linked_.find(ctx->names.shared);
+        if (programs != linked_.end()) {
+            const slave::NameMap& live = ctx->names.map(Ns::program);
+            for (auto it = programs->second.begin(); it != programs->second.end();)
+                it = live.find(it->first, ignored) ? std::next(it) : programs->second.erase(it);
+        }
     }
 }
 
@@ -85,12 +118,22 @@ void KeptCalls::reset() {
     pending_create_.clear();
     drawable_sizes_.clear();
     lists_.clear();
+    linked_.clear();
     recording_.clear();
 }
 
 const ListBodies* KeptCalls::lists(const slave::ShareGroup* group) const {
     for (const auto& [g, bodies] : lists_)
         if (g.get() == group) return &bodies;
+    return nullptr;
+}
+
+const std::vector<LinkedShader>* KeptCalls::linked(const slave::ShareGroup* group, uint64_t program) const {
+    for (const auto& [g, programs] : linked_) {
+        if (g.get() != group) continue;
+        auto it = programs.find(program);
+        return it == programs.end() ? nullptr : &it->second;
+    }
     return nullptr;
 }
 
@@ -101,6 +144,9 @@ uint64_t KeptCalls::bytes() const {
     for (const auto& [g, bodies] : lists_)
         for (const auto& [name, body] : bodies) n += body.size();
     for (const auto& [id, r] : recording_) n += r.body.size();
+    for (const auto& [g, programs] : linked_)
+        for (const auto& [name, shaders] : programs)
+            for (const LinkedShader& s : shaders) n += s.source.size();
     return n;
 }
 

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "slave/replay_observer.h"
@@ -31,6 +32,14 @@ struct ContextCalls {
 // Display lists of one share group: master name -> the tuples between glNewList and glEndList.
 using ListBodies = std::map<uint64_t, Tuple>;
 
+// The shaders a program was last linked with (type, source): programs often detach or delete
+// their shaders after linking, and GL keeps no source for the executable it linked.
+struct LinkedShader {
+    uint32_t type = 0;
+    std::string source;
+};
+using LinkedPrograms = std::map<uint64_t, std::vector<LinkedShader>>;  // by master program name
+
 class KeptCalls : public slave::ReplayObserver {
 public:
     explicit KeptCalls(slave::Replayer& core) : core_(core) {}
@@ -43,6 +52,7 @@ public:
     const std::map<uint32_t, ContextCalls>& contexts() const { return contexts_; }
     const std::map<uint64_t, Tuple>& drawable_sizes() const { return drawable_sizes_; }
     const ListBodies* lists(const slave::ShareGroup* group) const;
+    const std::vector<LinkedShader>* linked(const slave::ShareGroup* group, uint64_t program) const;
     uint64_t bytes() const;  // held for the snapshot
 
 private:
@@ -55,6 +65,7 @@ private:
     std::map<uint64_t, Tuple> pending_create_;  // by the driver handle it returned
     std::map<uint64_t, Tuple> drawable_sizes_;  // by drawable
     std::map<std::shared_ptr<slave::ShareGroup>, ListBodies> lists_;
+    std::map<std::shared_ptr<slave::ShareGroup>, LinkedPrograms> linked_;
     std::map<uint32_t, Recording> recording_;   // by context id: a list being compiled
     const uint8_t* last_tuple_ = nullptr;
     size_t last_bytes_ = 0;

@@ -90,25 +90,40 @@ void SnapshotWriter::program(slave::SlaveContext& ctx, GLuint slave_name, uint64
     gl_.glGetProgramiv(slave_name, GL_LINK_STATUS, &linked);
     std::vector<GLuint> shaders(size_t(std::max(attached, 0)));
     if (attached > 0) gl_.glGetAttachedShaders(slave_name, attached, nullptr, shaders.data());
+    // Linked: the shaders it was linked with, whatever is attached now; then what is attached.
+    const std::vector<LinkedShader>* kept = linked ? kept_.linked(ctx.names.shared.get(), master) : nullptr;
     std::vector<GLuint> temporary;
-    for (GLuint s : shaders) {
-        GLuint m = GLuint(master_name(ctx, Ns::program, s));
-        if (!m) {  // deleted by the program while attached: made again under a name of the snapshot's
-            m = kTemporaryNameBase + next_temporary_++;
-            GLint type = 0, length = 0;
-            gl_.glGetShaderiv(s, GL_SHADER_TYPE, &type);
-            gl_.glGetShaderiv(s, GL_SHADER_SOURCE_LENGTH, &length);
-            std::string source(size_t(std::max(length, 1)), '\0');
-            gl_.glGetShaderSource(s, GLsizei(source.size()), nullptr, source.data());
-            source.resize(std::strlen(source.c_str()));
-            const char* text = source.c_str();
-            const GLint text_length = GLint(source.size());
-            encode_glCreateShader(e_, sz_, GLenum(type), m);
-            encode_glShaderSource(e_, sz_, m, 1, &text, &text_length);
-            encode_glCompileShader(e_, sz_, m);
-            temporary.push_back(m);
-        }
+    auto make_temporary = [&](GLenum type, const std::string& source) {
+        const GLuint m = kTemporaryNameBase + next_temporary_++;
+        const char* text = source.c_str();
+        const GLint text_length = GLint(source.size());
+        encode_glCreateShader(e_, sz_, type, m);
+        encode_glShaderSource(e_, sz_, m, 1, &text, &text_length);
+        encode_glCompileShader(e_, sz_, m);
         encode_glAttachShader(e_, sz_, GLuint(master), m);
+        temporary.push_back(m);
+    };
+    auto current_source = [&](GLuint s) {
+        GLint length = 0;
+        gl_.glGetShaderiv(s, GL_SHADER_SOURCE_LENGTH, &length);
+        std::string source(size_t(std::max(length, 1)), '\0');
+        gl_.glGetShaderSource(s, GLsizei(source.size()), nullptr, source.data());
+        source.resize(std::strlen(source.c_str()));
+        return source;
+    };
+    if (kept) {
+        for (const LinkedShader& s : *kept) make_temporary(GLenum(s.type), s.source);
+    } else {
+        for (GLuint s : shaders) {
+            const GLuint m = GLuint(master_name(ctx, Ns::program, s));
+            if (m) {
+                encode_glAttachShader(e_, sz_, GLuint(master), m);
+                continue;
+            }
+            GLint type = 0;  // deleted by the program while attached
+            gl_.glGetShaderiv(s, GL_SHADER_TYPE, &type);
+            make_temporary(GLenum(type), current_source(s));
+        }
     }
     if (linked) {
         // The locations the linker chose on the keeper, bound before the slave links: the same
@@ -155,6 +170,9 @@ void SnapshotWriter::program(slave::SlaveContext& ctx, GLuint slave_name, uint64
         encode_glDetachShader(e_, sz_, GLuint(master), m);
         encode_glDeleteShader(e_, sz_, m);
     }
+    if (kept)
+        for (GLuint s : shaders)
+            if (const GLuint m = GLuint(master_name(ctx, Ns::program, s))) encode_glAttachShader(e_, sz_, GLuint(master), m);
     flush();
 }
 

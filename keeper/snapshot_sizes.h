@@ -17,8 +17,9 @@ public:
         return bound_.count(pname) ? 1 : 0;
     }
     int64_t tex_level(uint32_t, int32_t, uint32_t) override { return 0; }
-    // Every pointer a snapshot passes holds data, except the offsets of arrays in buffers.
-    bool client_pointer(const void*) override { return !array_offsets_; }
+    // True: a vertex-array pointer is an offset into the bound GL_ARRAY_BUFFER (the snapshot
+    // writes only those; arrays in client memory come with the next draw's client_arrays tuple).
+    bool client_pointer(const void*) override { return array_offsets_; }
 
     void set_bound(uint32_t binding_query, bool bound) {
         if (bound) bound_.insert(binding_query);
