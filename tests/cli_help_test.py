@@ -31,8 +31,9 @@ OPTIONS = {
     ("image", "pixel"): ["IMAGE", "POINT"],
     ("image", "motion"): ["--crop", "--radius", "--without"],
     ("effects",): [],
+    ("trim",): ["IN", "--frames", "-o", "--output", "--backend"],
 }
-COMMANDS = ["capture", "dump", "replay", "run", "slave", "image", "effects", "help"]
+COMMANDS = ["capture", "dump", "replay", "run", "slave", "image", "effects", "trim", "help"]
 
 # (arguments, the option the one-line message must name); all exit 2
 BAD_VALUES = [
@@ -54,6 +55,9 @@ BAD_VALUES = [
     (["replay", "x.glcs", "--effects", "hail"], "--effects"),
     (["replay", "x.glcs", "--effect-param", "snow.size"], "--effect-param"),
     (["replay"], "FILE"),
+    (["trim", "x.glcs", "-o", "y.glcs"], "--frames"),
+    (["trim", "x.glcs", "--frames", "2:1", "-o", "y.glcs"], "--frames"),
+    (["trim", "x.glcs", "--frames", "1:2"], "--output"),
     (["run", "--frames", "x", "--", "true"], "--frames"),
     (["run", "--effects", "hail", "--", "true"], "--effects"),
     (["run", "--effect-param", "snow.nothing=1", "--", "true"], "snow.nothing"),

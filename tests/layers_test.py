@@ -4,6 +4,7 @@
     cli -> anything
     interceptor -> master -> protocol -> common
     display_configs -> slave -> protocol -> common
+    keeper -> master, slave (snapshots: the slave's replay read back, written with the encoders)
 
 Every .h/.cpp/.c under the layer folders is read for #include "folder/..." lines; an include of
 a folder its layer may not use fails the test, named as file:line. A folder may always include
@@ -28,6 +29,7 @@ ALLOWED = {
     "interceptor": {"master", "protocol", "common"},
     "slave": {"protocol", "common"},
     "display_configs": {"slave", "protocol", "common"},
+    "keeper": {"master", "slave", "protocol", "common"},
     "cli": None,  # the command line sits on top: anything
 }
 LAYERS = list(ALLOWED)
