@@ -8,6 +8,7 @@
 //   glGenLists.ret=1                  the return value
 //   glDrawElements.arg3:fill=0xff     every byte of a Data record
 //   glGetIntegerv.arg1:offset=0x41    the pointer record becomes an Offset
+//   glDrawElements.arg3:null=0        the pointer record becomes Null
 //   glShaderSource.arg2:nulls=N       a string list becomes N Null records
 //   client_arrays.first_byte=V        a field of every array of the tuple
 //   drawable_size.width=V, drawable_size.height=V
@@ -249,6 +250,8 @@ void apply(const Edit& e, Call& c, Out& o) {
             a.ptr = PtrRecord{};
             a.ptr.tag = PtrTag::Offset;
             a.ptr.value = e.value;
+        } else if (op == "null") {
+            a.ptr = PtrRecord{};  // tag Null
         } else if (op == "nulls") {
             a.strings.assign(size_t(e.value), PtrRecord{});
         } else {

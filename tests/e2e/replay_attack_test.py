@@ -68,6 +68,10 @@ CASES = {
     # shipped as data would be taken for offsets into it (found by the replay fuzzer)
     "index_data_under_buffer": ("client_draws", ["glBindBuffer#3.arg0=0"],
                                 r"glMultiDrawElements: indices is data from the stream, but a buffer is bound"),
+    # indices retagged NULL with no element buffer bound: GL reads client memory at address 0
+    # (found by the replay fuzzer)
+    "null_indices_no_buffer": ("client_draws", ["glDrawElementsInstanced.arg3:null=0"],
+                               r"glDrawElementsInstanced: indices is NULL and no buffer is bound"),
     "multi_draw_drawcount": ("client_draws", ["glMultiDrawElements.arg4=1000"],
                              r"glMultiDrawElements: count has 2 elements, the call reads 1000"),
     "multi_draw_index_count": ("client_draws", ["glMultiDrawElements.arg1:fill=0x7f"],
