@@ -43,9 +43,9 @@ int trim(const TrimArgs& a) {
         return 1;
     }
     std::printf("%s: snapshot of frame %" PRIu64 " (%" PRIu64 " contexts, %" PRIu64 " objects, %" PRIu64
-                " display lists: %" PRIu64 " tuples, %" PRIu64 " bytes), then %" PRIu64 " frames\n",
+                " display lists: %" PRIu64 " tuples, %" PRIu64 " bytes, %.1f ms), then %" PRIu64 " frames\n",
                 a.out.c_str(), a.first, r.snapshot.contexts, r.snapshot.objects, r.snapshot.lists, r.snapshot.tuples,
-                r.snapshot.bytes, r.frames);
+                r.snapshot.bytes, r.snapshot_seconds * 1e3, r.frames);
     for (const std::string& m : r.snapshot.missing) std::printf("not in the snapshot: %s\n", m.c_str());
     if (r.keeper_errors)
         std::printf("the keeper refused %" PRIu64 " calls before frame %" PRIu64 " (see above)\n", r.keeper_errors, a.first);

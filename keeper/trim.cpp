@@ -1,5 +1,6 @@
 #include "keeper/trim.h"
 
+#include <chrono>
 #include <cstring>
 
 #include "keeper/kept_calls.h"
@@ -25,7 +26,9 @@ TrimResult trim_capture(MessageSource& in, uint64_t first, uint64_t last, std::u
     std::vector<std::unique_ptr<MessageSink>> sinks;
     sinks.push_back(std::make_unique<CaptureFileSink>(out_path));
     Stream out(std::move(sinks), 1, 4);
+    const auto start = std::chrono::steady_clock::now();
     result.snapshot = write_snapshot(keeper, kept, [&](const uint8_t* t, size_t n) { out.append(t, n); });
+    result.snapshot_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     Message m;
     while (in.next(m)) {
         if (m.header.frame > last) break;

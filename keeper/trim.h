@@ -24,6 +24,7 @@ struct TrimResult {
     uint64_t frames = 0;            // written after the snapshot
     uint64_t replayed_frames = 0;   // replayed by the keeper before it
     uint64_t keeper_errors = 0;     // calls the keeper refused while replaying
+    double snapshot_seconds = 0;    // reading the keeper's state back and encoding it
     SnapshotReport snapshot;
 };
 

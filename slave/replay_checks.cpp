@@ -76,17 +76,6 @@ void Replayer::need(const Call& c, int i, int64_t elements, bool null_ok, uint32
                           std::to_string(elements));
     if (r.tag == PtrTag::Offset) check_offset(c, i, binding, r.value, elements * int64_t(element_bytes(c, i)));
     if (r.tag == PtrTag::Data && binding) refuse_data_under_buffer(c, i, binding);
-    // NULL where an offset may stand: offset 0 into the bound buffer, or, with none bound, a
-    // read of client memory at address 0.
-    if (r.tag == PtrTag::Null && binding && elements > 0) {
-        GLint buffer = 0;
-        api_.glGetIntegerv(binding, &buffer);
-        if (!buffer)
-            throw ReplayError(std::string(param_name(c, i)) + " is NULL and no buffer is bound (" +
-                              (enum_name(binding) ? enum_name(binding) : "?") + "): GL would read " +
-                              std::to_string(elements) + " elements at address 0");
-        check_offset(c, i, binding, 0, elements * int64_t(element_bytes(c, i)));
-    }
 }
 
 // With a buffer bound at the parameter's binding the driver takes the pointer for an offset into

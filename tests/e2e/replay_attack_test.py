@@ -71,7 +71,7 @@ CASES = {
     # indices retagged NULL with no element buffer bound: GL reads client memory at address 0
     # (found by the replay fuzzer)
     "null_indices_no_buffer": ("client_draws", ["glDrawElementsInstanced.arg3:null=0"],
-                               r"glDrawElementsInstanced: indices is NULL and no buffer is bound"),
+                               r"glDrawElementsInstanced: indices is NULL, the call reads 48 elements"),
     "multi_draw_drawcount": ("client_draws", ["glMultiDrawElements.arg4=1000"],
                              r"glMultiDrawElements: count has 2 elements, the call reads 1000"),
     "multi_draw_index_count": ("client_draws", ["glMultiDrawElements.arg1:fill=0x7f"],
