@@ -28,5 +28,6 @@ Command add_slave(CLI::App& glcast);    // cli/slave.cpp
 Command add_image(CLI::App& glcast);    // cli/image.cpp
 Command add_effects(CLI::App& glcast);  // cli/effects.cpp
 Command add_trim(CLI::App& glcast);     // cli/trim.cpp
+Command add_keeper(CLI::App& glcast);   // cli/keeper.cpp
 
 }  // namespace glcast::cli

@@ -25,7 +25,7 @@ using namespace glcast::slave;
 namespace {
 
 struct SlaveArgs {
-    std::string endpoint, journal, backend_kind = "egl", out_dir, config_path, tile_name, barrier_endpoint;
+    std::string endpoint, journal, keeper, backend_kind = "egl", out_dir, config_path, tile_name, barrier_endpoint;
     ReplayOptions opt;
     int wait_seconds = 60;
     bool quiet = false, lockstep = false;
@@ -56,12 +56,29 @@ int slave(SlaveArgs& a) {
     if (opt.tile.enabled && !opt.view.enabled)  // a window at its tile's place on the canvas
         backend->set_position(opt.tile.x, opt.tile.canvas_height - opt.tile.y - opt.tile.height);
     try {
-        NetworkSource source(endpoint, journal, a.wait_seconds);
+        NetworkSource source(endpoint, journal, a.wait_seconds, a.keeper);
         Replayer replayer(std::move(backend), opt);
+        replayer.set_frame(source.joined_frame());
+        auto say_join = [&] {
+            const NetworkSource::JoinCost& j = source.join_cost();
+            if (j.state_messages || j.journal_messages)
+                std::fprintf(stderr, "glcast slave %s: joined at frame %" PRIu64 ": %" PRIu64 " snapshot and %" PRIu64
+                                     " journal messages, %" PRIu64 " bytes, in %.3f s\n",
+                             label.c_str(), source.joined_frame(), j.state_messages, j.journal_messages, j.bytes, j.seconds);
+        };
+        say_join();
         source.on_restart = [&] {
-            std::fprintf(stderr, "glcast slave %s: messages lost (%s); starting over from the master's journal\n",
-                         label.c_str(), source.gap().c_str());
+            std::fprintf(stderr, "glcast slave %s: the journal no longer holds them; starting over from %s\n",
+                         label.c_str(), a.keeper.empty() ? "the master's journal" : "the keeper");
             replayer.reset();
+        };
+        source.on_joined = [&](uint64_t frame) {
+            replayer.set_frame(frame);
+            say_join();
+        };
+        source.on_gap = [&] {
+            std::fprintf(stderr, "glcast slave %s: messages lost (%s); asking the master's journal for them\n",
+                         label.c_str(), source.gap().c_str());
         };
         // Test hook: the time each frame is presented, one "frame seconds" line per present.
         FILE* present_log = std::getenv("GLCAST_TEST_PRESENT_LOG") ? std::fopen(std::getenv("GLCAST_TEST_PRESENT_LOG"), "w") : nullptr;
@@ -123,6 +140,10 @@ Command add_slave(CLI::App& glcast) {
         ->required()
         ->type_name("ENDPOINT");
     app->add_option("--journal", a->journal, "the master's journal, to join a program already running")
+        ->type_name("ENDPOINT");
+    app->add_option("--keeper", a->keeper,
+                    "a keeper of the master's stream (glcast keeper): join from a snapshot of the live\n"
+                    "state instead of the whole journal")
         ->type_name("ENDPOINT");
     CLI::Option* config = app->add_option("--config", a->config_path, "a display config: with --tile, the tile to show")
                               ->type_name("FILE");

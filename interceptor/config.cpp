@@ -30,6 +30,7 @@ static ShimConfig load() {
     if (const char* p = std::getenv("GLCAST_JOURNAL_ENDPOINT")) c.journal_endpoint = p;
     if (const char* p = std::getenv("GLCAST_TEST_SWAP_LOG")) c.swap_log = p;
     ok &= read_uint("GLCAST_JOURNAL_MB", 0, 1 << 20, c.journal_mb);
+    ok &= read_uint("GLCAST_SNAPSHOT_FROM", 0, UINT32_MAX, c.snapshot_from);
     ok &= read_uint("GLCAST_TEST_DROP_EVERY", 0, UINT32_MAX, c.drop_every);
     ok &= read_uint("GLCAST_WAIT_SUBSCRIBERS", 0, 1024, c.wait_subscribers);
     ok &= read_uint("GLCAST_LOCKSTEP", 0, 1024, c.lockstep);

@@ -15,9 +15,10 @@ struct ShimConfig {
     int zstd_level = 1;         // GLCAST_ZSTD_LEVEL: 0 stores messages uncompressed
     bool verbose = false;       // GLCAST_VERBOSE=1: summary on stderr at exit
     std::string snapshot_dir;   // GLCAST_SNAPSHOT_DIR: the program's own frames as PNGs (tests)
+    uint64_t snapshot_from = 0; // GLCAST_SNAPSHOT_FROM: ... from this frame on
     std::string publish;        // GLCAST_PUBLISH: ZeroMQ endpoint the stream is published on
     std::string journal_endpoint;  // GLCAST_JOURNAL_ENDPOINT: ROUTER serving late joiners
-    uint64_t journal_mb = 1024;    // GLCAST_JOURNAL_MB: journal limit; past it, no late join
+    uint64_t journal_mb = 64;      // GLCAST_JOURNAL_MB: the journal keeps the newest messages up to this
     uint64_t drop_every = 0;       // GLCAST_TEST_DROP_EVERY: lose every Nth message (tests)
     uint64_t wait_subscribers = 0; // GLCAST_WAIT_SUBSCRIBERS: slaves to wait for at start
     uint64_t lockstep = 0;         // GLCAST_LOCKSTEP: slaves that must replay each frame before the next

@@ -21,7 +21,7 @@ void snapshot_back_buffer(int width, int height) {
     static std::atomic<uint64_t> frame{0};
     const uint64_t n = frame++;
     const std::string& dir = shim_config().snapshot_dir;
-    if (width <= 0 || height <= 0) return;
+    if (width <= 0 || height <= 0 || n < shim_config().snapshot_from) return;
     const GlApi& gl = real_gl();
     for (uint32_t op : {OP_glGetIntegerv, OP_glReadBuffer, OP_glPixelStorei, OP_glReadPixels})
         if (!gl.has(op)) return;

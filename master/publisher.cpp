@@ -63,6 +63,21 @@ JournalRequest classify_journal_request(const std::string_view* parts, size_t co
         return r;
     }
     r.drop = JournalDrop::unknown;
+    constexpr std::string_view since = "SINCE ";
+    if (body.size() > since.size() && body.substr(0, since.size()) == since) {
+        const std::string_view digits = body.substr(since.size());
+        if (digits.size() > 20 || (digits.size() > 1 && digits[0] == '0')) return r;
+        uint64_t n = 0;
+        for (char c : digits) {
+            if (c < '0' || c > '9') return r;
+            if (n > (UINT64_MAX - uint64_t(c - '0')) / 10) return r;  // past 2^64-1
+            n = n * 10 + uint64_t(c - '0');
+        }
+        r.kind = JournalRequestKind::since;
+        r.drop = JournalDrop::none;
+        r.sequence = n;
+        return r;
+    }
     constexpr std::string_view done = "DONE ";
     if (body.size() <= done.size() || body.substr(0, done.size()) != done) return r;
     const std::string_view digits = body.substr(done.size());
@@ -111,8 +126,9 @@ bool JournalAdmission::admit(std::string_view identity, JournalRequestKind kind,
         }
         it = peers_.emplace(std::string(identity), Peer{}).first;
     }
-    // The peer's bucket first, so that one peer's flood does not drain everyone's.
-    if (kind == JournalRequestKind::snapshot)
+    // The peer's bucket first, so that one peer's flood does not drain everyone's. SINCE
+    // sends messages as SNAPSHOT does, and shares its buckets.
+    if (kind == JournalRequestKind::snapshot || kind == JournalRequestKind::since)
         return it->second.snapshot.take(kSnapshotBurstPerPeer, kSnapshotRatePerPeer, now) &&
                snapshot_total_.take(kSnapshotBurstTotal, kSnapshotRateTotal, now);
     return it->second.done.take(kDoneBurstPerPeer, kDoneRatePerPeer, now) &&
@@ -164,26 +180,26 @@ void PublisherSink::write(const std::vector<uint8_t>& message) {
     if (h.frame > frame_.load(std::memory_order_relaxed)) frame_.store(h.frame, std::memory_order_relaxed);
     if (!options_.snapshot_endpoint.empty()) {
         // The copy is made outside the lock: the serving thread waits for it at most for an append.
-        Shared kept;
-        bool keep;
-        {
-            std::lock_guard lock(journal_mutex_);
-            keep = journal_complete_;
-        }
-        if (keep) kept = std::make_shared<const std::vector<uint8_t>>(message);
+        Shared kept = std::make_shared<const std::vector<uint8_t>>(message);
         std::deque<Shared> gone;  // freed after the lock is released
+        bool first_loss = false;
         {
             std::lock_guard lock(journal_mutex_);
-            if (journal_complete_ && journal_bytes_ + message.size() > options_.journal_limit_bytes) {
-                journal_complete_ = false;
-                gone.swap(journal_);
-                journal_bytes_ = 0;
-                std::fprintf(stderr, "glcast: the stream passed GLCAST_JOURNAL_MB; slaves can no longer join late\n");
-            } else if (journal_complete_ && kept) {
-                journal_.push_back(std::move(kept));
-                journal_bytes_ += message.size();
+            if (journal_.empty()) journal_first_ = h.sequence;
+            journal_.push_back(std::move(kept));
+            journal_bytes_ += message.size();
+            // A ring: the oldest go first; the newest message always stays.
+            while (journal_bytes_ > options_.journal_limit_bytes && journal_.size() > 1) {
+                first_loss |= journal_first_ == 0;
+                journal_bytes_ -= journal_.front()->size();
+                gone.push_back(std::move(journal_.front()));
+                journal_.pop_front();
+                journal_first_++;
             }
         }
+        if (first_loss && verbose_)
+            std::fprintf(stderr, "glcast: the journal passed GLCAST_JOURNAL_MB and keeps only the newest messages; "
+                                 "slaves join late through a keeper (glcast keeper) from now on\n");
     }
     if (options_.drop_every && ++sent_ % options_.drop_every == 0) {
         dropped_++;  // the test hook: lost on the way
@@ -205,9 +221,10 @@ void PublisherSink::write(const std::vector<uint8_t>& message) {
     }
 }
 
-// ROUTER side channel. A request is one part "SNAPSHOT"; the answer is every journaled
-// message, one part each, then "END". A journal that passed its limit answers "GONE". "DONE n"
-// says a slave replayed frame n (lockstep). Anything else is dropped and counted; limits in
+// ROUTER side channel. A request is one part "SNAPSHOT"; the answer is every message from the
+// first, one part each, then "END". "SINCE n": the messages from sequence n on, then "END". A
+// journal that no longer holds the first message asked for answers "GONE". "DONE n" says a slave
+// replayed frame n (lockstep). Anything else is dropped and counted; limits in
 // master/publisher.h, reasons in docs/security.md.
 void PublisherSink::serve_snapshots() {
     using namespace journal_limits;
@@ -304,6 +321,8 @@ void PublisherSink::handle_request(const std::string_view* parts, size_t count, 
         return drop(JournalDrop::busy);
     Session s;
     s.identity = std::string(parts[0]);
+    s.whole = r.kind == JournalRequestKind::snapshot;
+    s.next = r.sequence;
     s.last_progress = now;
     pending_.push_back(std::move(s));
 }
@@ -314,8 +333,10 @@ bool PublisherSink::serve(zmq::socket_t& router, Session& s, double now) {
     using namespace journal_limits;
     if (!s.started) {
         std::lock_guard lock(journal_mutex_);
-        s.next = 0;
-        s.end = journal_.size();  // holds the first live message the slave saw: the snapshot covers it
+        if (s.whole) s.next = 0;
+        // Up to the newest message: it holds the first live message the slave saw, so the
+        // answer covers everything before.
+        s.end = journal_first_ + journal_.size();
         s.started = true;
     }
     auto send_part = [&](zmq::message_t& body) -> int {  // 1 sent, 0 queue full, -1 peer gone
@@ -343,9 +364,10 @@ bool PublisherSink::serve(zmq::socket_t& router, Session& s, double now) {
         bool complete;
         {
             std::lock_guard lock(journal_mutex_);
-            complete = journal_complete_;
+            // GONE: the journal no longer holds the next message asked for (or never will).
+            complete = s.next >= journal_first_ && s.next <= s.end;
             if (complete)
-                for (; n < kBatch && s.next + n < s.end; n++) batch[n] = journal_[s.next + n];
+                for (; n < kBatch && s.next + n < s.end; n++) batch[n] = journal_[size_t(s.next + n - journal_first_)];
         }
         if (!complete || n == 0) {
             zmq::message_t last(complete ? std::string_view("END") : std::string_view("GONE"));

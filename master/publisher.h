@@ -35,7 +35,7 @@ namespace glcast {
 
 // The limits of the journal channel; docs/security.md gives the reasons for each value.
 namespace journal_limits {
-inline constexpr size_t kMaxRequestBytes = 32;     // "SNAPSHOT", "DONE 4294967295": anything longer is not a request
+inline constexpr size_t kMaxRequestBytes = 32;     // "SNAPSHOT", "SINCE 18446744073709551615": anything longer is not a request
 inline constexpr size_t kMaxFrameBytes = 64;       // ZMQ_MAXMSGSIZE: libzmq disconnects a peer sending more
 inline constexpr size_t kMaxIdentityBytes = 255;   // ZMTP's own limit for a routing id
 inline constexpr size_t kMaxPartsRead = 8;         // parts drained per message before it is dropped unread
@@ -51,7 +51,7 @@ inline constexpr double kStallSeconds = 10;        // a peer that takes nothing 
 inline constexpr uint64_t kDoneWindowFrames = 64;  // lockstep: DONE n only for n in [current - 64, current + 1]
 }  // namespace journal_limits
 
-enum class JournalRequestKind : uint8_t { snapshot, done, invalid };
+enum class JournalRequestKind : uint8_t { snapshot, since, done, invalid };
 
 // Why a request was not acted on; counted, and printed at exit with GLCAST_VERBOSE=1.
 enum class JournalDrop : uint8_t {
@@ -72,11 +72,12 @@ struct JournalRequest {
     JournalRequestKind kind = JournalRequestKind::invalid;
     JournalDrop drop = JournalDrop::none;  // why invalid
     uint64_t frame = 0;                    // DONE n: n
+    uint64_t sequence = 0;                 // SINCE n: n
 };
 
 // The documented forms, as the ROUTER delivers them: parts[0] the peer's identity, parts[1]
-// exactly "SNAPSHOT" or "DONE n" (n decimal as std::to_string writes it, at most 2^32-1, a
-// frame number of protocol/format.h). Looks at no byte past a part's size, and at no body
+// exactly "SNAPSHOT", "SINCE n" (n a message sequence number, decimal as std::to_string writes
+// it) or "DONE n" (at most 2^32-1, a frame number of protocol/format.h). Looks at no byte past a part's size, and at no body
 // longer than kMaxRequestBytes.
 JournalRequest classify_journal_request(const std::string_view* parts, size_t count);
 
@@ -105,7 +106,9 @@ private:
 struct PublisherOptions {
     std::string endpoint;           // PUB: tcp://*:5555, ipc:///tmp/glcast/stream, epgm://...
     std::string snapshot_endpoint;  // ROUTER for the journal; empty: no late join
-    size_t journal_limit_bytes = size_t(1) << 30;
+    // The journal keeps the newest messages up to this many bytes: all of a short run (late
+    // join by replaying it), the recent past of a long one (a keeper's or slave's gap, "SINCE").
+    size_t journal_limit_bytes = size_t(64) << 20;
     uint64_t drop_every = 0;        // test hook: do not send every Nth message (it stays in the journal)
     int send_hwm = 1000;            // messages queued per subscriber before they are dropped
     int wait_subscribers = 0;       // at start, wait (up to 60 s) until this many slaves subscribed
@@ -125,7 +128,8 @@ private:
     using Shared = std::shared_ptr<const std::vector<uint8_t>>;
     struct Session {
         std::string identity;
-        size_t next = 0, end = 0;  // journal indices still to send
+        bool whole = true;         // SNAPSHOT: from message 0; else SINCE `next`
+        uint64_t next = 0, end = 0;  // sequence numbers still to send
         double last_progress = 0;
         bool started = false;
     };
@@ -140,9 +144,9 @@ private:
     // Held by write() (the program's writer thread) and the serving thread only to append or to
     // take a few shared pointers: never while sending.
     std::mutex journal_mutex_;
-    std::deque<Shared> journal_;
+    std::deque<Shared> journal_;    // messages journal_first_, journal_first_ + 1, ...
+    uint64_t journal_first_ = 0;   // 0 while it holds the whole stream
     size_t journal_bytes_ = 0;
-    bool journal_complete_ = true;  // false once the limit was passed: late join refused
     uint64_t sent_ = 0;
     std::atomic<uint64_t> dropped_{0};
     std::atomic<uint64_t> frame_{0};  // the frame being written: the lockstep window's top

@@ -7,9 +7,11 @@
 
 namespace glcast::slave {
 
-NetworkSource::NetworkSource(std::string endpoint, std::string journal_endpoint, int wait_seconds)
+NetworkSource::NetworkSource(std::string endpoint, std::string journal_endpoint, int wait_seconds,
+                             std::string keeper_endpoint)
     : endpoint_(std::move(endpoint)),
       journal_endpoint_(std::move(journal_endpoint)),
+      keeper_endpoint_(std::move(keeper_endpoint)),
       wait_seconds_(wait_seconds),
       context_(std::make_unique<zmq::context_t>(1)) {
     sub_ = std::make_unique<zmq::socket_t>(*context_, zmq::socket_type::sub);
@@ -28,6 +30,17 @@ NetworkSource::NetworkSource(std::string endpoint, std::string journal_endpoint,
 // subscription is live; the snapshot asked for after it covers everything before.
 void NetworkSource::synchronize() {
     first_live_.clear();
+    // From a keeper, no live message is waited for: the journal's answer after the snapshot
+    // reaches some message n, and a first live message after n + 1 is a gap, filled from the
+    // journal like any other.
+    if (!keeper_endpoint_.empty()) {
+        try {
+            fetch_snapshot();
+            return;
+        } catch (const KeeperNotReady&) {
+            // it has received nothing yet: the master's journal holds everything
+        }
+    }
     if (!journal_endpoint_.empty() && !receive_live(first_live_)) return;
     MessageHeader h{};
     if (first_live_.size() >= sizeof h) std::memcpy(&h, first_live_.data(), sizeof h);
@@ -36,7 +49,7 @@ void NetworkSource::synchronize() {
         expected_ = 0;
         return;
     }
-    fetch_snapshot();
+    fetch_snapshot(/*from_journal=*/true);
 }
 
 bool NetworkSource::barrier(const std::string& endpoint, uint64_t frame, int timeout_ms) {
@@ -76,15 +89,22 @@ NetworkSource::~NetworkSource() {
     context_->shutdown();
 }
 
-// Asks the journal for every message so far; the live stream continues after the last one.
-void NetworkSource::fetch_snapshot() {
-    snapshot_.clear();
-    if (journal_endpoint_.empty()) return;  // no late join: live messages only, from sequence 0
+namespace {
+
+uint64_t sequence_of(const std::vector<uint8_t>& message) {
+    MessageHeader h{};
+    if (message.size() >= sizeof h) std::memcpy(&h, message.data(), sizeof h);
+    return h.sequence;
+}
+
+}  // namespace
+
+bool NetworkSource::ask_journal(const std::string& request, const std::function<void(zmq::message_t&)>& take) {
     zmq::socket_t dealer(*context_, zmq::socket_type::dealer);
     dealer.set(zmq::sockopt::linger, 0);
     dealer.set(zmq::sockopt::rcvhwm, 0);
     dealer.connect(journal_endpoint_);
-    dealer.send(zmq::str_buffer("SNAPSHOT"), zmq::send_flags::none);
+    dealer.send(zmq::buffer(request), zmq::send_flags::none);
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(wait_seconds_);
     for (;;) {
         zmq::pollitem_t item{dealer.handle(), 0, ZMQ_POLLIN, 0};
@@ -98,17 +118,98 @@ void NetworkSource::fetch_snapshot() {
         zmq::message_t part;
         if (!dealer.recv(part)) continue;
         const std::string text = part.size() <= 4 ? part.to_string() : std::string();
-        if (text == "END") break;
-        if (text == "GONE")
-            throw std::runtime_error("the master's journal passed GLCAST_JOURNAL_MB: this slave cannot join late");
-        snapshot_.emplace_back(part.data<uint8_t>(), part.data<uint8_t>() + part.size());
+        if (text == "END") return true;
+        if (text == "GONE") return false;
+        take(part);
     }
+}
+
+bool NetworkSource::fetch_since(uint64_t first) {
+    std::deque<std::vector<uint8_t>> got;
+    const bool held = ask_journal("SINCE " + std::to_string(first), [&](zmq::message_t& part) {
+        got.emplace_back(part.data<uint8_t>(), part.data<uint8_t>() + part.size());
+    });
+    if (!held) return false;
+    for (auto& m : got) snapshot_.push_back(std::move(m));
+    return true;
+}
+
+NetworkSource::State NetworkSource::fetch_state(const std::string& endpoint) {
+    zmq::socket_t dealer(*context_, zmq::socket_type::dealer);
+    dealer.set(zmq::sockopt::linger, 0);
+    dealer.set(zmq::sockopt::rcvhwm, 0);
+    dealer.connect(endpoint);
+    dealer.send(zmq::str_buffer("SNAPSHOT"), zmq::send_flags::none);
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(wait_seconds_);
+    State state;
+    bool header = false;
+    for (;;) {
+        zmq::pollitem_t item{dealer.handle(), 0, ZMQ_POLLIN, 0};
+        zmq::poll(&item, 1, std::chrono::milliseconds(200));
+        if (!(item.revents & ZMQ_POLLIN)) {
+            if (std::chrono::steady_clock::now() > deadline)
+                throw std::runtime_error("the keeper at " + endpoint + " did not answer within " +
+                                         std::to_string(wait_seconds_) + " s");
+            continue;
+        }
+        zmq::message_t part;
+        if (!dealer.recv(part)) continue;
+        if (!header) {  // "STATE <sequence> <frame>", or "NONE <why>"
+            const std::string text = part.size() <= 256 ? part.to_string() : std::string();
+            if (text.rfind("NONE", 0) == 0) throw KeeperNotReady("the keeper at " + endpoint + ": " + text.substr(5));
+            unsigned long long sequence = 0, frame = 0;
+            if (std::sscanf(text.c_str(), "STATE %llu %llu", &sequence, &frame) != 2)
+                throw std::runtime_error("the keeper at " + endpoint + " cannot give a snapshot: " +
+                                         (text.empty() ? std::string("an answer glcast does not know") : text));
+            state.sequence = sequence;
+            state.frame = frame;
+            header = true;
+            continue;
+        }
+        if (part.size() == 3 && part.to_string() == "END") return state;
+        state.messages.emplace_back(part.data<uint8_t>(), part.data<uint8_t>() + part.size());
+    }
+}
+
+// Catches up: from a keeper's snapshot and the journal's messages since, or from the journal's
+// every message so far. The live stream continues after the last one.
+void NetworkSource::fetch_snapshot(bool from_journal) {
+    const auto start = std::chrono::steady_clock::now();
+    auto measure = [&] {
+        join_cost_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        join_cost_.state_messages = state_left_;
+        join_cost_.journal_messages = snapshot_.size() - state_left_;
+        join_cost_.bytes = 0;
+        for (const auto& m : snapshot_) join_cost_.bytes += m.size();
+    };
+    snapshot_.clear();
+    state_left_ = 0;
+    joined_frame_ = 0;
     expected_ = 0;
-    if (!snapshot_.empty()) {
-        MessageHeader h;
-        std::memcpy(&h, snapshot_.back().data(), sizeof h);
-        expected_ = h.sequence + 1;
+    if (!keeper_endpoint_.empty() && !from_journal) {
+        State state = fetch_state(keeper_endpoint_);
+        snapshot_ = std::move(state.messages);
+        state_left_ = snapshot_.size();
+        after_state_ = expected_ = state.sequence + 1;
+        joined_frame_ = state.frame;
+        // The messages between the keeper's boundary and the first live one this slave holds.
+        if (!journal_endpoint_.empty() && !fetch_since(state.sequence + 1))
+            throw std::runtime_error("the master's journal no longer holds message " + std::to_string(state.sequence + 1) +
+                                     ", where the keeper's snapshot ends (the keeper is behind)");
+        if (snapshot_.size() > state_left_) expected_ = sequence_of(snapshot_.back()) + 1;
+        measure();
+        if (on_joined) on_joined(joined_frame_);
+        return;
     }
+    if (journal_endpoint_.empty()) return;  // no late join: live messages only, from sequence 0
+    const bool whole = ask_journal("SNAPSHOT", [&](zmq::message_t& part) {
+        snapshot_.emplace_back(part.data<uint8_t>(), part.data<uint8_t>() + part.size());
+    });
+    if (!whole)
+        throw std::runtime_error("the master's journal no longer holds the stream's first messages (GLCAST_JOURNAL_MB): "
+                                 "this slave can join only through a keeper (--keeper)");
+    if (!snapshot_.empty()) expected_ = sequence_of(snapshot_.back()) + 1;
+    measure();
 }
 
 bool NetworkSource::receive_live(std::vector<uint8_t>& bytes) {
@@ -116,6 +217,7 @@ bool NetworkSource::receive_live(std::vector<uint8_t>& bytes) {
         zmq::pollitem_t item{sub_->handle(), 0, ZMQ_POLLIN, 0};
         zmq::poll(&item, 1, std::chrono::milliseconds(200));
         if (item.revents & ZMQ_POLLIN) break;
+        if (on_idle) on_idle();
         if (wait_seconds_ && waited_ms > wait_seconds_ * 1000)
             throw std::runtime_error("no message from " + endpoint_ + " for " + std::to_string(wait_seconds_) + " s");
     }
@@ -128,10 +230,13 @@ bool NetworkSource::receive_live(std::vector<uint8_t>& bytes) {
 bool NetworkSource::next(Message& m) {
     std::vector<uint8_t> bytes;
     for (;;) {
+        bool state = false;
         if (!snapshot_.empty()) {
             bytes = std::move(snapshot_.front());
             snapshot_.pop_front();
             live_ = false;
+            state = state_left_ > 0;
+            if (state) state_left_--;
         } else if (!first_live_.empty()) {
             bytes = std::move(first_live_);
             first_live_.clear();
@@ -147,21 +252,25 @@ bool NetworkSource::next(Message& m) {
         if (live_) {
             master_frame_ = std::max<uint64_t>(master_frame_, h.frame);
             if (h.sequence < expected_) continue;  // already in the snapshot
-            if (h.sequence > expected_) {           // lost messages: start over from a snapshot
+            if (h.sequence > expected_) {  // lost messages: from the journal, or start over from a snapshot
                 if (journal_endpoint_.empty())
                     throw std::runtime_error("messages " + std::to_string(expected_) + " to " +
                                              std::to_string(h.sequence - 1) + " were lost and no journal was given");
                 recoveries_++;
                 gap_ = "expected message " + std::to_string(expected_) + ", got " + std::to_string(h.sequence);
+                first_live_ = bytes;  // live, so what the journal answers now covers all before it
+                if (on_gap) on_gap();
+                if (fetch_since(expected_)) continue;
                 if (on_restart) on_restart();
-                first_live_ = bytes;  // live, so the snapshot asked for now covers all before it
                 fetch_snapshot();
                 continue;
             }
         }
         bytes_ += bytes.size();
         decode_message(bytes.data(), bytes.size(), 0, m);
-        expected_ = m.header.sequence + 1;
+        // A keeper's state messages count on their own; the master's sequence resumes after them.
+        if (!state) expected_ = m.header.sequence + 1;
+        else if (!state_left_ && expected_ < after_state_) expected_ = after_state_;
         return true;
     }
 }

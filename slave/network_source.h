@@ -1,13 +1,16 @@
 // A slave's subscription to a live master (docs/wall.md; the Clone pattern of the ZeroMQ guide): subscribe
-// first, then ask the master's journal for every message so far, replay that, and go on with
-// the live messages after it. A gap in the sequence numbers (a dropped message, a slave that
-// fell behind) makes the slave start over from a fresh snapshot.
+// first, then catch up, replay that, and go on with the live messages after it. Catching up is
+// asking a keeper (docs/keeper.md) for a snapshot of the live state and the master's journal for
+// the few messages since, or, without a keeper, the journal for every message so far. A gap in
+// the sequence numbers (a dropped message, a slave that fell behind) is filled from the journal
+// ("SINCE n"); when the journal no longer holds it, the slave starts over from a snapshot.
 #pragma once
 
 #include <cstdint>
 #include <deque>
 #include <functional>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -16,19 +19,32 @@
 namespace zmq {
 class context_t;
 class socket_t;
+class message_t;
 }  // namespace zmq
 
 namespace glcast::slave {
 
+// A keeper that has received nothing of the stream yet (the journal has it all).
+class KeeperNotReady : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
 class NetworkSource : public MessageSource {
 public:
-    NetworkSource(std::string endpoint, std::string journal_endpoint, int wait_seconds);
+    NetworkSource(std::string endpoint, std::string journal_endpoint, int wait_seconds, std::string keeper_endpoint = "");
     ~NetworkSource() override;
 
     bool next(Message& m) override;  // false when the program has ended
 
     // Called before the snapshot of a recovery is replayed: the replay must start from nothing.
     std::function<void()> on_restart;
+    // Called when a gap in the sequence numbers is found, before it is filled (gap() says which).
+    std::function<void()> on_gap;
+    // Called when a keeper's snapshot was fetched on a recovery, with joined_frame().
+    std::function<void(uint64_t frame)> on_joined;
+    // Called about every 200 ms while no live message arrives (a keeper answers requests then).
+    std::function<void()> on_idle;
 
     bool live() const { return live_; }              // the last message came from the live stream
     // ... or was the last of a snapshot: the newest frame the master has, which a master in
@@ -42,18 +58,43 @@ public:
     uint64_t recoveries() const { return recoveries_; }
     uint64_t bytes() const { return bytes_; }
     uint64_t master_frame() const { return master_frame_; }  // the newest frame the master sent
+    // The master's frame the last snapshot of a keeper begins at (0: none, or a journal replay
+    // from the first message): the replay's frame counter starts there.
+    uint64_t joined_frame() const { return joined_frame_; }
+    // The last catching up: messages and bytes fetched, and how long it took.
+    struct JoinCost {
+        uint64_t state_messages = 0, journal_messages = 0, bytes = 0;
+        double seconds = 0;
+    };
+    const JoinCost& join_cost() const { return join_cost_; }
+    // Asks `endpoint` (a keeper, or anything that answers as one) for a snapshot: the state
+    // messages in order, the last master sequence and the frame they stand for. Throws on no
+    // answer within `wait_seconds` or a refusal. (glcast record and the tests use it too.)
+    struct State {
+        std::deque<std::vector<uint8_t>> messages;
+        uint64_t sequence = 0, frame = 0;
+    };
+    State fetch_state(const std::string& endpoint);
     const std::string& gap() const { return gap_; }          // the last gap, for messages
 
 private:
     void synchronize();  // waits for the subscription to be live, then fetches the snapshot
-    void fetch_snapshot();
+    void fetch_snapshot(bool from_journal = false);
+    // Appends the journal's messages from sequence `first` on to snapshot_; false: GONE.
+    bool fetch_since(uint64_t first);
+    // Asks the journal `request`; each message part to `take`; false on GONE.
+    bool ask_journal(const std::string& request, const std::function<void(zmq::message_t&)>& take);
     bool receive_live(std::vector<uint8_t>& bytes);
 
-    std::string endpoint_, journal_endpoint_;
+    std::string endpoint_, journal_endpoint_, keeper_endpoint_;
     int wait_seconds_;
     std::unique_ptr<zmq::context_t> context_;
     std::unique_ptr<zmq::socket_t> sub_;
     std::deque<std::vector<uint8_t>> snapshot_;
+    size_t state_left_ = 0;      // the first messages of snapshot_ are a keeper's state messages
+    uint64_t after_state_ = 0;   // the master's sequence that follows them
+    uint64_t joined_frame_ = 0;
+    JoinCost join_cost_;
     std::vector<uint8_t> first_live_;  // received before the snapshot was asked for
     uint64_t expected_ = 0;
     bool live_ = false;

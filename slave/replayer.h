@@ -246,6 +246,9 @@ public:
     // slave's names differ from the master's from then on (tests of the name maps).
     void keep_own_objects(int n);
     uint64_t frame() const { return frame_; }
+    // The frame the next swap ends: a slave that joined from a snapshot of the master's frame N
+    // counts from N, as the master does.
+    void set_frame(uint64_t frame) { frame_ = frame; }
     uint64_t call_index() const { return call_index_; }
     void report(const std::string& what);
 

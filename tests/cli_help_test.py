@@ -23,7 +23,7 @@ OPTIONS = {
     ("replay",): ["--frames", "--backend", "--out", "--compare", "--size", "--offset-names", "--verify", "--config",
                   "--tile", "--canvas", "--tile-rect", "--effects", "--effect-param"],
     ("run",): ["--config", "--backend", "--out", "--frames", "--endpoint", "--lockstep", "--effects", "--effect-param"],
-    ("slave",): ["--connect", "--journal", "--config", "--tile", "--backend", "--out", "--frames", "--wait", "--quiet",
+    ("slave",): ["--connect", "--journal", "--keeper", "--config", "--tile", "--backend", "--out", "--frames", "--wait", "--quiet",
                  "--swap-barrier", "--lockstep", "--effects", "--effect-param"],
     ("image",): ["mosaic", "compare", "pixel", "motion"],
     ("image", "mosaic"): ["COLSxROWS", "OUT", "TILES"],

@@ -1,0 +1,28 @@
+// `glcast keeper`: the state server slaves join from (keeper/keeper_service.h, docs/keeper.md).
+#include "cli/commands.h"
+#include "cli/options.h"
+#include "keeper/keeper_service.h"
+
+namespace glcast::cli {
+
+Command add_keeper(CLI::App& glcast) {
+    auto o = std::make_shared<keeper::KeeperOptions>();
+    CLI::App* app = glcast.add_subcommand("keeper", "keep the live state of a master's stream, for slaves that join late");
+    app->footer("Start it while the master's journal still holds the stream's start (GLCAST_JOURNAL_MB);\n"
+                "slaves then join at any time with glcast slave --keeper ENDPOINT.");
+    app->add_option("--connect", o->connect, "the master's stream (tcp://HOST:PORT, ipc://PATH, epgm://...)")
+        ->required()
+        ->type_name("ENDPOINT");
+    app->add_option("--journal", o->journal, "the master's journal")->required()->type_name("ENDPOINT");
+    app->add_option("--bind", o->bind, "where slaves ask for snapshots (tcp://*:PORT, ipc://PATH)")
+        ->required()
+        ->type_name("ENDPOINT");
+    app->add_option("--backend", o->backend, "the keeper's context: egl (headless, the default) or osmesa")
+        ->type_name("egl|osmesa");
+    add_int(*app, "--wait", o->wait_seconds, 1, 86400, "how long to wait for the master (default 86400)")
+        ->type_name("SECONDS");
+    app->add_flag("--verbose", o->verbose, "a line per snapshot served");
+    return {app, [o](const std::vector<std::string>&) { return keeper::run_keeper(*o); }};
+}
+
+}  // namespace glcast::cli

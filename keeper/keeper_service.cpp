@@ -1,0 +1,178 @@
+#include "keeper/keeper_service.h"
+
+#include <zmq.hpp>
+
+#include <chrono>
+#include <cinttypes>
+#include <cstdio>
+
+#include "keeper/kept_calls.h"
+#include "keeper/snapshot.h"
+#include "master/publisher.h"
+#include "master/stream.h"
+#include "protocol/format.h"
+#include "slave/backend.h"
+#include "slave/network_source.h"
+#include "slave/replayer.h"
+
+namespace glcast::keeper {
+
+namespace {
+
+double seconds_now() {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+// Holds the messages of one snapshot as the master's Stream frames and compresses them.
+class CollectSink : public MessageSink {
+public:
+    explicit CollectSink(std::vector<std::vector<uint8_t>>& out) : out_(out) {}
+    void write(const std::vector<uint8_t>& message) override { out_.push_back(message); }
+
+private:
+    std::vector<std::vector<uint8_t>>& out_;
+};
+
+constexpr size_t kMaxWaiting = 64;  // requests answered at one boundary; more wait for the next
+
+// The keeper's stream: the master's messages, and between two of them, when the last one ended
+// a frame (or while none arrives), the requests waiting on the ROUTER socket answered.
+class KeeperSource : public MessageSource {
+public:
+    KeeperSource(slave::NetworkSource& live, slave::Replayer& keeper, KeptCalls& kept, zmq::socket_t& router,
+                 bool verbose)
+        : live_(live), keeper_(keeper), kept_(kept), router_(router), verbose_(verbose) {
+        live_.on_idle = [this] {
+            if (at_boundary_) serve();
+        };
+    }
+
+    bool next(Message& m) override {
+        if (at_boundary_) serve();
+        if (!live_.next(m)) return false;
+        last_sequence_ = m.header.sequence;
+        at_boundary_ = (m.header.flags & kMsgFrameEnd) != 0;
+        started_ = true;
+        return true;
+    }
+
+private:
+    void serve() {
+        std::vector<std::string> waiting;
+        const double now = seconds_now();
+        for (size_t n = 0; n < 1024; ++n) {
+            zmq::message_t parts[3];
+            size_t count = 0;
+            try {
+                if (!router_.recv(parts[0], zmq::recv_flags::dontwait)) break;
+                count = 1;
+                while (parts[std::min<size_t>(count - 1, 2)].more() && count < 64) {
+                    if (!router_.recv(parts[std::min<size_t>(count, 2)], zmq::recv_flags::dontwait)) break;
+                    count++;
+                }
+            } catch (const zmq::error_t&) {
+                break;
+            }
+            std::string_view views[2] = {std::string_view(parts[0].data<char>(), parts[0].size()),
+                                         count > 1 ? std::string_view(parts[1].data<char>(), parts[1].size())
+                                                   : std::string_view()};
+            const JournalRequest r = classify_journal_request(views, count);
+            if (r.kind != JournalRequestKind::snapshot || !admission_.admit(views[0], r.kind, now)) continue;
+            if (waiting.size() < kMaxWaiting) waiting.emplace_back(views[0]);
+        }
+        if (waiting.empty()) return;
+        if (!started_) {  // nothing replayed yet: the master's journal has it all
+            for (const std::string& who : waiting) send(who, "NONE the keeper has not received the stream yet");
+            return;
+        }
+        const auto start = std::chrono::steady_clock::now();
+        std::vector<std::vector<uint8_t>> messages;
+        SnapshotReport report;
+        {
+            std::vector<std::unique_ptr<MessageSink>> sinks;
+            sinks.push_back(std::make_unique<CollectSink>(messages));
+            Stream stream(std::move(sinks), 1, 4);
+            report = write_snapshot(keeper_, kept_, [&](const uint8_t* t, size_t n) { stream.append(t, n); });
+            stream.close();
+        }
+        const std::string header = "STATE " + std::to_string(last_sequence_) + " " + std::to_string(keeper_.frame());
+        size_t bytes = 0;
+        for (const auto& m : messages) bytes += m.size();
+        for (const std::string& who : waiting) {
+            if (!send(who, header)) continue;
+            for (const auto& m : messages)
+                if (!send(who, std::string_view(reinterpret_cast<const char*>(m.data()), m.size()))) break;
+            send(who, "END");
+        }
+        const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+        if (verbose_ || !report.missing.empty()) {
+            std::fprintf(stderr, "glcast keeper: snapshot of frame %" PRIu64 " for %zu slaves: %zu messages, %zu bytes, "
+                                 "%.1f ms\n", keeper_.frame(), waiting.size(), messages.size(), bytes, ms);
+            for (const std::string& what : report.missing)
+                std::fprintf(stderr, "glcast keeper: not in the snapshot: %s\n", what.c_str());
+        }
+    }
+
+    bool send(const std::string& who, std::string_view body) {
+        try {
+            if (!router_.send(zmq::buffer(who), zmq::send_flags::sndmore | zmq::send_flags::dontwait)) return false;
+            return router_.send(zmq::buffer(body.data(), body.size()), zmq::send_flags::dontwait).has_value();
+        } catch (const zmq::error_t&) {
+            return false;  // the peer is gone
+        }
+    }
+
+    slave::NetworkSource& live_;
+    slave::Replayer& keeper_;
+    KeptCalls& kept_;
+    zmq::socket_t& router_;
+    bool verbose_;
+    bool at_boundary_ = false, started_ = false;
+    uint64_t last_sequence_ = 0;
+    JournalAdmission admission_;
+};
+
+}  // namespace
+
+int run_keeper(const KeeperOptions& o) {
+    std::string error;
+    std::unique_ptr<slave::Backend> backend = slave::make_backend(o.backend, error);
+    if (!backend) {
+        std::fprintf(stderr, "glcast keeper: %s\n", error.c_str());
+        return 1;
+    }
+    zmq::context_t context(1);
+    zmq::socket_t router(context, zmq::socket_type::router);
+    try {
+        // A snapshot is sent whole to each slave that asked (at most kMaxWaiting at a time,
+        // admitted by rate as the journal's requests): its queue holds one snapshot.
+        router.set(zmq::sockopt::sndhwm, 0);
+        router.set(zmq::sockopt::router_mandatory, 1);
+        router.set(zmq::sockopt::maxmsgsize, int64_t(journal_limits::kMaxFrameBytes));
+        router.set(zmq::sockopt::linger, 0);
+        router.bind(o.bind);
+    } catch (const zmq::error_t& e) {
+        std::fprintf(stderr, "glcast keeper: cannot serve snapshots on %s: %s\n", o.bind.c_str(), e.what());
+        return 1;
+    }
+    try {
+        slave::NetworkSource live(o.connect, o.journal, o.wait_seconds);
+        slave::Replayer keeper(std::move(backend), slave::ReplayOptions{});
+        KeptCalls kept(keeper);
+        keeper.watch(&kept);
+        live.on_restart = [&] {
+            throw std::runtime_error("the keeper lost messages the master's journal no longer holds (" + live.gap() +
+                                     "): its state is gone; restart it while the journal holds the stream's start");
+        };
+        KeeperSource source(live, keeper, kept, router, o.verbose);
+        keeper.replay(source);
+        std::fprintf(stderr, "glcast keeper: the program ended after %" PRIu64 " frames (%" PRIu64 " calls refused)\n",
+                     keeper.stats().frames, keeper.stats().errors);
+        return 0;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "glcast keeper: %s\n", e.what());
+        return 1;
+    }
+}
+
+}  // namespace glcast::keeper

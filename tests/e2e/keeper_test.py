@@ -1,0 +1,141 @@
+#!/usr/bin/env python3
+"""Late join from a keeper (docs/keeper.md): a program publishes with a journal of a few MiB,
+a keeper replays its stream from the start, and a slave that starts long after the journal
+stopped holding the stream's start joins from the keeper's snapshot plus the journal's last
+messages. Its frames must equal the program's own from the first one it shows, and its join
+must not depend on how long the program has run.
+
+    keeper_test.py CASE      with GLCAST, GLCAST_SHIM, APPS_DIR, OUT_DIR in the environment
+
+Cases: a program (or mode of tests/apps_extra/live_state.c) run for FRAMES frames, a slave
+joining at JOIN. Long runs (20,000 frames) are for scripts/keeper_join_runs.sh; CI runs shorter ones.
+"""
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from png import read_png  # noqa: E402
+from xvfb import Xvfb  # noqa: E402
+
+GLCAST = os.environ["GLCAST"]
+APPS = os.environ.get("APPS_DIR", "")
+OUT = os.path.join(os.environ.get("OUT_DIR", "/tmp/glcast-e2e"), "keeper")
+
+
+def check(cond, msg):
+    """msg: a string, or a function that makes it (for messages that read a process's output)."""
+    if not cond:
+        raise AssertionError(msg() if callable(msg) else msg)
+
+
+def rss_mib(pid):
+    with open(f"/proc/{pid}/status") as f:
+        for line in f:
+            if line.startswith("VmRSS:"):
+                return int(line.split()[1]) / 1024
+    return 0.0
+
+
+def frame_of(out, n):
+    return os.path.join(out, f"frame-{n:06d}.png")
+
+
+def join(name, program, frames, join_at, journal_mb=2, size=None):
+    out = os.path.join(OUT, name)
+    shutil.rmtree(out, ignore_errors=True)
+    os.makedirs(out)
+    stream = f"ipc://{out}/stream"
+    env = dict(os.environ, GLCAST_PUBLISH=stream, GLCAST_JOURNAL_ENDPOINT=stream + "-journal",
+               GLCAST_JOURNAL_MB=str(journal_mb), GLCAST_SNAPSHOT_DIR=os.path.join(out, "program"),
+               GLCAST_SNAPSHOT_FROM=str(join_at), GLCAST_FRAMES=str(frames), GLCAST_EXIT_AFTER_FRAMES="1",
+               GLCAST_WAIT_SUBSCRIBERS="1", GLCAST_TEST_SWAP_LOG=os.path.join(out, "swaps.log"),
+               LD_PRELOAD=os.environ["GLCAST_SHIM"])
+    swap_log = os.path.join(out, "swaps.log")
+    keeper_log = os.path.join(out, "keeper.log")
+    with open(keeper_log, "w") as log:
+        keeper = subprocess.Popen([GLCAST, "keeper", "--connect", stream, "--journal", stream + "-journal",
+                                   "--bind", stream + "-keeper", "--verbose"], stderr=log, text=True)
+    proc = subprocess.Popen(program, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    rss = {}
+    # The program's memory while it publishes, at frame 1000 (or half the join), and at the join.
+    for mark in sorted({min(1000, join_at // 2), join_at}):
+        while program_frame(swap_log) < mark:
+            check(proc.poll() is None, lambda: f"the program ended early: {proc.stderr.read()[-2000:]}")
+            check(keeper.poll() is None, lambda: f"the keeper ended: {open(keeper_log).read()[-2000:]}")
+            time.sleep(0.01)
+        rss[mark] = rss_mib(proc.pid)
+    # The program is stopped while the slave joins, so that the join happens at this frame
+    # whatever the machine's speed; it goes on once the slave has the snapshot.
+    os.kill(proc.pid, signal.SIGSTOP)
+    rss[join_at] = rss_mib(proc.pid)
+    slave_log = os.path.join(out, "slave.log")
+    with open(slave_log, "w") as log:
+        slave = subprocess.Popen([GLCAST, "slave", "--connect", stream, "--journal", stream + "-journal",
+                                  "--keeper", stream + "-keeper", "--backend", "egl", "--out",
+                                  os.path.join(out, "slave"), "--wait", "120", "--quiet"], stderr=log, text=True)
+    t0 = time.monotonic()
+    # The keeper answers at the frame the program stopped at; the journal (the program's own
+    # thread) answers the rest once it runs again.
+    while "snapshot of frame" not in open(keeper_log).read():
+        check(slave.poll() is None, lambda: f"the slave ended early: {open(slave_log).read()[-3000:]}")
+        check(time.monotonic() - t0 < 120, lambda: f"the keeper gave no snapshot within 120 s: {open(keeper_log).read()[-3000:]}")
+        time.sleep(0.01)
+    os.kill(proc.pid, signal.SIGCONT)
+    while "joined at frame" not in open(slave_log).read():
+        check(slave.poll() is None, lambda: f"the slave ended early: {open(slave_log).read()[-3000:]}")
+        check(time.monotonic() - t0 < 120, lambda: f"the slave did not join within 120 s: {open(slave_log).read()[-3000:]}")
+        time.sleep(0.01)
+    joined = [l for l in open(slave_log).read().splitlines() if "joined at frame" in l][0]
+    join_seconds = float(joined.rsplit(" in ", 1)[1].split()[0])
+    proc.wait(timeout=900)
+    check(slave.wait(timeout=300) == 0, lambda: f"slave failed: {open(slave_log).read()[-3000:]}")
+    keeper.wait(timeout=300)
+    keeper_log = open(keeper_log).read()
+    shown = sorted(f for f in os.listdir(os.path.join(out, "slave")) if f.endswith(".png"))
+    check(shown, "the slave wrote no frame")
+    first_frame = int(shown[0][6:12])
+    check(first_frame >= join_at, f"the slave's first frame {first_frame} is before the join at {join_at}: "
+                                  "it replayed the journal instead of joining from the keeper")
+    compared = 0
+    for f in shown:
+        ref = os.path.join(out, "program", f)
+        if not os.path.exists(ref):
+            continue
+        a, b = read_png(ref), read_png(os.path.join(out, "slave", f))
+        check(a == b, f"{name}: the slave's {f} differs from the program's")
+        compared += 1
+    check(compared > 0, "no frame to compare")
+    check("not in the snapshot" not in keeper_log, f"the keeper's snapshot misses state: {keeper_log[-2000:]}")
+    snapshot_line = [l for l in keeper_log.splitlines() if "snapshot of frame" in l]
+    print(f"{name}: {joined.split(': ', 1)[1]}; first frame shown {first_frame} of {frames}; {compared} frames equal to the "
+          f"program's; program RSS {', '.join(f'{v:.1f} MiB at frame {k}' for k, v in rss.items())}; "
+          f"{snapshot_line[-1] if snapshot_line else ''}")
+    return join_seconds, rss
+
+
+def program_frame(swap_log):
+    """The program's last swapped frame, from its GLCAST_TEST_SWAP_LOG (a line per swap)."""
+    try:
+        with open(swap_log, "rb") as f:
+            f.seek(0, 2)
+            size = f.tell()
+            f.seek(max(0, size - 64))
+            lines = f.read().split(b"\n")
+        complete = [l for l in lines[:-1] if l.strip()]
+        return int(complete[-1].split()[0]) if complete else -1
+    except (OSError, ValueError, IndexError):
+        return -1
+
+
+def case_glxgears():
+    join("glxgears", ["glxgears", "-geometry", "128x128"], 3000, 2500)
+
+
+if __name__ == "__main__":
+    with Xvfb():
+        globals()["case_" + sys.argv[1]]()
+    print("PASS")
