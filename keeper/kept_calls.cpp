@@ -47,9 +47,86 @@ void KeptCalls::before_call(const Call& c, const uint8_t* tuple, size_t bytes) {
     rec->second.body.insert(rec->second.body.end(), tuple, tuple + bytes);
 }
 
+namespace {
+
+constexpr size_t kMaxRecipeBytes = 4096;  // a stack entry built by more calls is read back instead
+
+// Whether the tuples of a list body change a matrix when the list is called.
+bool touches_matrices(const Tuple& body) {
+    for (size_t at = 0; at + kTupleHeaderBytes <= body.size();) {
+        uint32_t opcode = 0, bytes = 0;
+        std::memcpy(&opcode, body.data() + at, 4);
+        std::memcpy(&bytes, body.data() + at + 8, 4);
+        const CommandInfo* info = command_info(opcode);
+        if (info && info->sem.matrix != MatrixOp::Nothing) return true;
+        at += kTupleHeaderBytes + bytes;
+    }
+    return false;
+}
+
+}  // namespace
+
+void KeptCalls::follow_matrices(const Call& c, uint32_t context) {
+    Matrices& m = matrices_[context];
+    const MatrixOp op = c.info->sem.matrix;
+    if (op == MatrixOp::Mode) {
+        m.mode = uint32_t(c.args[0].bits);
+        return;
+    }
+    std::vector<MatrixRecipe>* stack = m.stack();
+    if (!stack || stack->empty()) return;
+    switch (op) {
+    case MatrixOp::Push:
+        if (stack->size() < 64) stack->push_back(stack->back());
+        break;
+    case MatrixOp::Pop:
+        if (stack->size() > 1) stack->pop_back();
+        break;
+    case MatrixOp::Load:
+        stack->back() = MatrixRecipe{};
+        if (c.opcode != OP_glLoadIdentity) stack->back().calls.assign(last_tuple_, last_tuple_ + last_bytes_);
+        break;
+    case MatrixOp::Multiply: {
+        MatrixRecipe& r = stack->back();
+        if (!r.known) break;
+        if (r.calls.size() + last_bytes_ > kMaxRecipeBytes) {
+            r = MatrixRecipe{{}, false};
+            break;
+        }
+        r.calls.insert(r.calls.end(), last_tuple_, last_tuple_ + last_bytes_);
+        break;
+    }
+    default: break;
+    }
+}
+
 void KeptCalls::after_call(const Call& c) {
     const CommandInfo* info = c.info;
     if (!info) return;
+    if (info->sem.matrix != MatrixOp::Nothing) {
+        slave::SlaveContext* ctx = core_.current_or_null();
+        auto rec = ctx ? recording_.find(ctx->id) : recording_.end();
+        if (ctx && (rec == recording_.end() || rec->second.execute)) follow_matrices(c, ctx->id);
+        return;
+    }
+    if (c.opcode == OP_glCallList || c.opcode == OP_glCallLists) {
+        slave::SlaveContext* ctx = core_.current_or_null();
+        if (!ctx) return;
+        const auto& touching = list_matrices_[ctx->names.shared];
+        bool touches = false;
+        if (c.opcode == OP_glCallList) {
+            auto it = touching.find(c.args[0].bits);
+            touches = it != touching.end() && it->second;
+        } else {
+            for (const auto& [name, t] : touching) touches |= t;
+        }
+        if (touches) {
+            Matrices& m = matrices_[ctx->id];
+            m.modelview.back() = MatrixRecipe{{}, false};
+            m.projection.back() = MatrixRecipe{{}, false};
+        }
+        return;
+    }
     if (info->sem.context == ContextOp::MakeCurrent) {
         slave::SlaveContext* ctx = core_.current_or_null();
         if (ctx && contexts_.count(ctx->id)) contexts_[ctx->id].make_current.assign(last_tuple_, last_tuple_ + last_bytes_);
@@ -60,6 +137,10 @@ void KeptCalls::after_call(const Call& c) {
             it = core_.context(it->first) ? std::next(it) : contexts_.erase(it);
         for (auto it = lists_.begin(); it != lists_.end();)
             it = it->first.use_count() == 1 ? lists_.erase(it) : std::next(it);
+        for (auto it = list_matrices_.begin(); it != list_matrices_.end();)
+            it = it->first.use_count() == 1 ? list_matrices_.erase(it) : std::next(it);
+        for (auto it = matrices_.begin(); it != matrices_.end();)
+            it = core_.context(it->first) ? std::next(it) : matrices_.erase(it);
         for (auto it = linked_.begin(); it != linked_.end();)
             it = it->first.use_count() == 1 ? linked_.erase(it) : std::next(it);
         for (auto it = recording_.begin(); it != recording_.end();)
@@ -69,13 +150,15 @@ void KeptCalls::after_call(const Call& c) {
     slave::SlaveContext* ctx = core_.current_or_null();
     if (!ctx) return;
     if (info->sem.redraw == RedrawKind::NewList) {
-        recording_[ctx->id] = Recording{c.args[0].bits, {}};
+        recording_[ctx->id] = Recording{c.args[0].bits, c.args[1].bits == 0x1301 /* GL_COMPILE_AND_EXECUTE */, {}};
     } else if (info->sem.redraw == RedrawKind::EndList) {
         auto rec = recording_.find(ctx->id);
         if (rec == recording_.end()) return;
         uint64_t slave_name = 0;
-        if (ctx->names.map(Ns::display_list).find(rec->second.list, slave_name))
+        if (ctx->names.map(Ns::display_list).find(rec->second.list, slave_name)) {
+            list_matrices_[ctx->names.shared][rec->second.list] = touches_matrices(rec->second.body);
             lists_[ctx->names.shared][rec->second.list] = std::move(rec->second.body);
+        }
         recording_.erase(rec);
     } else if (info->sem.flags & kSemLinksProgram) {
         uint64_t program = 0;
@@ -103,6 +186,9 @@ void KeptCalls::after_call(const Call& c) {
             const slave::NameMap& live = ctx->names.map(Ns::display_list);
             for (auto it = group->second.begin(); it != group->second.end();)
                 it = live.find(it->first, ignored) ? std::next(it) : group->second.erase(it);
+            auto& touching = list_matrices_[ctx->names.shared];
+            for (auto it = touching.begin(); it != touching.end();)
+                it = live.find(it->first, ignored) ? std::next(it) : touching.erase(it);
         }
         auto programs = linked_.find(ctx->names.shared);
         if (programs != linked_.end()) {
@@ -118,6 +204,8 @@ void KeptCalls::reset() {
     pending_create_.clear();
     drawable_sizes_.clear();
     lists_.clear();
+    list_matrices_.clear();
+    matrices_.clear();
     linked_.clear();
     recording_.clear();
 }
@@ -137,6 +225,12 @@ const std::vector<LinkedShader>* KeptCalls::linked(const slave::ShareGroup* grou
     return nullptr;
 }
 
+const std::vector<MatrixRecipe>* KeptCalls::matrices(uint32_t context, uint32_t mode) const {
+    auto it = matrices_.find(context);
+    if (it == matrices_.end()) return nullptr;
+    return mode == 0x1700 ? &it->second.modelview : mode == 0x1701 ? &it->second.projection : nullptr;
+}
+
 uint64_t KeptCalls::bytes() const {
     uint64_t n = 0;
     for (const auto& [id, c] : contexts_) n += c.create.size() + c.context.size() + c.make_current.size();
@@ -144,6 +238,9 @@ uint64_t KeptCalls::bytes() const {
     for (const auto& [g, bodies] : lists_)
         for (const auto& [name, body] : bodies) n += body.size();
     for (const auto& [id, r] : recording_) n += r.body.size();
+    for (const auto& [id, m] : matrices_)
+        for (const auto* stack : {&m.modelview, &m.projection})
+            for (const MatrixRecipe& r : *stack) n += r.calls.size();
     for (const auto& [g, programs] : linked_)
         for (const auto& [name, shaders] : programs)
             for (const LinkedShader& s : shaders) n += s.source.size();

@@ -40,6 +40,15 @@ struct LinkedShader {
 };
 using LinkedPrograms = std::map<uint64_t, std::vector<LinkedShader>>;  // by master program name
 
+// The calls since the last glLoadIdentity or glLoadMatrix that made one entry of a matrix
+// stack: replayed after glLoadIdentity they give the same numbers and, for a driver that keeps
+// what kind of matrix it holds (Mesa multiplies rotations, perspectives and general matrices
+// by different code, rounding differently), the same kind; glLoadMatrix would not.
+struct MatrixRecipe {
+    Tuple calls;
+    bool known = true;  // false: a display list changed it, or too many calls to keep
+};
+
 class KeptCalls : public slave::ReplayObserver {
 public:
     explicit KeptCalls(slave::Replayer& core) : core_(core) {}
@@ -53,13 +62,22 @@ public:
     const std::map<uint64_t, Tuple>& drawable_sizes() const { return drawable_sizes_; }
     const ListBodies* lists(const slave::ShareGroup* group) const;
     const std::vector<LinkedShader>* linked(const slave::ShareGroup* group, uint64_t program) const;
+    // The modelview or projection stack of a context, bottom first; null: not followed.
+    const std::vector<MatrixRecipe>* matrices(uint32_t context, uint32_t mode) const;
     uint64_t bytes() const;  // held for the snapshot
 
 private:
     struct Recording {
         uint64_t list = 0;
+        bool execute = false;  // GL_COMPILE_AND_EXECUTE
         Tuple body;
     };
+    struct Matrices {
+        uint32_t mode = 0x1700;  // GL_MODELVIEW
+        std::vector<MatrixRecipe> modelview = std::vector<MatrixRecipe>(1), projection = std::vector<MatrixRecipe>(1);
+        std::vector<MatrixRecipe>* stack() { return mode == 0x1700 ? &modelview : mode == 0x1701 ? &projection : nullptr; }
+    };
+    void follow_matrices(const Call& c, uint32_t context);
     slave::Replayer& core_;
     std::map<uint32_t, ContextCalls> contexts_;
     std::map<uint64_t, Tuple> pending_create_;  // by the driver handle it returned
@@ -67,6 +85,8 @@ private:
     std::map<std::shared_ptr<slave::ShareGroup>, ListBodies> lists_;
     std::map<std::shared_ptr<slave::ShareGroup>, LinkedPrograms> linked_;
     std::map<uint32_t, Recording> recording_;   // by context id: a list being compiled
+    std::map<uint32_t, Matrices> matrices_;     // by context id
+    std::map<std::shared_ptr<slave::ShareGroup>, std::map<uint64_t, bool>> list_matrices_;  // lists that touch matrices
     const uint8_t* last_tuple_ = nullptr;
     size_t last_bytes_ = 0;
 };

@@ -146,6 +146,7 @@ SnapshotReport SnapshotWriter::write() {
     for (slave::SlaveContext* ctx : drawn) {
         read_in(*ctx);
         upload_state();
+        window_contents(*ctx);
         context_objects(*ctx);
         context_state(*ctx);
         flush();

@@ -4,9 +4,11 @@
 // client-array copies later draws refer to, and the program's pixel store last.
 #include <algorithm>
 #include <array>
+#include <cstring>
 
 #include "glcast_encode.h"
 #include "glcast_snapshot_state.h"
+#include "common/window_readback.h"
 #include "glcast_synthetic_encode.h"
 #include "keeper/snapshot_writer.h"
 
@@ -58,6 +60,41 @@ constexpr FixedArray kFixedArrays[] = {
 };
 
 }  // namespace
+
+// --- the window's pixels -------------------------------------------------------------------
+
+// What the window framebuffer holds at the boundary: another context's frame half drawn, or the
+// picture of a program that never clears. Written with ordinary calls (a texture of the
+// snapshot's own, a framebuffer reading it, a blit into the window, both deleted), so a tile
+// maps the blit like any other, in the fresh context before its state is set.
+void SnapshotWriter::window_contents(slave::SlaveContext& ctx) {
+    if (ctx.width <= 0 || ctx.height <= 0 || !gl_.has(OP_glBlitFramebuffer) || !gl_.has(OP_glBindFramebuffer)) {
+        missing("context " + std::to_string(ctx.id) + ": the window's pixels");
+        return;
+    }
+    const std::vector<uint8_t> top_down =
+        read_window(gl_, ctx.double_buffered ? GL_BACK : GL_FRONT, ctx.width, ctx.height);
+    const size_t row = size_t(ctx.width) * 4;
+    std::vector<uint8_t> pixels(top_down.size());
+    for (int y = 0; y < ctx.height; ++y)  // GL's rows go up
+        std::memcpy(pixels.data() + size_t(y) * row, top_down.data() + size_t(ctx.height - 1 - y) * row, row);
+    GLuint texture = kTemporaryNameBase + next_temporary_++, framebuffer = kTemporaryNameBase + next_temporary_++;
+    encode_glGenTextures(e_, sz_, 1, &texture);
+    encode_glBindTexture(e_, sz_, GL_TEXTURE_2D, texture);
+    encode_glTexImage2D(e_, sz_, GL_TEXTURE_2D, 0, GL_RGBA8, ctx.width, ctx.height, 0, GL_RGBA, GL_UNSIGNED_BYTE,
+                        pixels.data());
+    encode_glGenFramebuffers(e_, sz_, 1, &framebuffer);
+    encode_glBindFramebuffer(e_, sz_, GL_READ_FRAMEBUFFER, framebuffer);
+    encode_glFramebufferTexture2D(e_, sz_, GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, texture, 0);
+    encode_glBindFramebuffer(e_, sz_, GL_DRAW_FRAMEBUFFER, 0);
+    encode_glBlitFramebuffer(e_, sz_, 0, 0, ctx.width, ctx.height, 0, 0, ctx.width, ctx.height, GL_COLOR_BUFFER_BIT,
+                             GL_NEAREST);
+    encode_glBindFramebuffer(e_, sz_, GL_READ_FRAMEBUFFER, 0);
+    encode_glDeleteFramebuffers(e_, sz_, 1, &framebuffer);
+    encode_glBindTexture(e_, sz_, GL_TEXTURE_2D, 0);
+    encode_glDeleteTextures(e_, sz_, 1, &texture);
+    flush();
+}
 
 // --- per-context objects ------------------------------------------------------------------
 
@@ -337,6 +374,18 @@ void SnapshotWriter::matrices(slave::SlaveContext& ctx) {
         gl_.glMatrixMode(s.mode);
         encode_glMatrixMode(e_, sz_, s.mode);
         const GLint depth = std::max(integer(s.depth), 1);
+        // The calls that built each entry, where the stream says: the same numbers, and the same
+        // kind of matrix for a driver that multiplies by kind (Mesa's flags). Nothing is popped.
+        if (const std::vector<MatrixRecipe>* recipes = kept_.matrices(ctx.id, s.mode);
+            recipes && recipes->size() == size_t(depth) &&
+            std::all_of(recipes->begin(), recipes->end(), [](const MatrixRecipe& r) { return r.known; })) {
+            for (size_t i = 0; i < recipes->size(); ++i) {
+                if (i > 0) encode_glPushMatrix(e_, sz_);
+                encode_glLoadIdentity(e_, sz_);
+                raw((*recipes)[i].calls, ctx.id);
+            }
+            continue;
+        }
         std::vector<std::array<GLdouble, 16>> entries;
         entries.resize(size_t(depth));
         for (GLint i = depth - 1; i >= 0; --i) {
@@ -348,8 +397,17 @@ void SnapshotWriter::matrices(slave::SlaveContext& ctx) {
                 gl_.glPushMatrix();
                 encode_glPushMatrix(e_, sz_);
             }
-            gl_.glLoadMatrixd(entries[size_t(i)].data());
-            encode_glLoadMatrixd(e_, sz_, entries[size_t(i)].data());
+            // An identity is loaded as one: GL (Mesa) keeps what kind of matrix it holds, and an
+            // identity loaded as numbers is not known as one.
+            const std::array<GLdouble, 16>& m = entries[size_t(i)];
+            const bool identity = m == std::array<GLdouble, 16>{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+            if (identity) {
+                gl_.glLoadIdentity();
+                encode_glLoadIdentity(e_, sz_);
+            } else {
+                gl_.glLoadMatrixd(m.data());
+                encode_glLoadMatrixd(e_, sz_, m.data());
+            }
         }
     }
     gl_.glActiveTexture(GLenum(unit));

@@ -203,9 +203,31 @@ void SnapshotWriter::texture_images(GLuint slave_name, GLenum target, uint64_t m
                                  GL_TEXTURE_INTENSITY_TYPE})
                 if (!component) component = level_value(face, level, pname);
             GLint bits = 0;
-            for (GLenum pname : {GL_TEXTURE_RED_SIZE, GL_TEXTURE_GREEN_SIZE, GL_TEXTURE_BLUE_SIZE, GL_TEXTURE_ALPHA_SIZE,
-                                 GL_TEXTURE_LUMINANCE_SIZE, GL_TEXTURE_INTENSITY_SIZE})
-                bits = std::max(bits, level_value(face, level, pname));
+            auto size_of = [&](GLenum pname) { return level_value(face, level, pname); };
+            const GLint r = size_of(GL_TEXTURE_RED_SIZE), g = size_of(GL_TEXTURE_GREEN_SIZE),
+                        b = size_of(GL_TEXTURE_BLUE_SIZE), a = size_of(GL_TEXTURE_ALPHA_SIZE),
+                        l = size_of(GL_TEXTURE_LUMINANCE_SIZE), in = size_of(GL_TEXTURE_INTENSITY_SIZE);
+            bits = std::max({r, g, b, a, l, in});
+            // The components the image has, as the program most likely gave them: the driver
+            // may choose its storage by the format of the upload (Mesa does), and another
+            // storage samples with other roundings.
+            const bool integer = component == GL_INT || component == GL_UNSIGNED_INT;
+            GLenum components = GL_RGBA;
+            if (in) components = GL_RED;
+            else if (l) components = a ? GL_LUMINANCE_ALPHA : GL_LUMINANCE;
+            else if (r && g && b) components = a ? GL_RGBA : GL_RGB;
+            else if (r && g) components = GL_RG;
+            else if (r) components = GL_RED;
+            else if (a) components = GL_ALPHA;
+            if (integer) {
+                switch (components) {
+                case GL_RGB: components = GL_RGB_INTEGER; break;
+                case GL_RG: components = GL_RG_INTEGER; break;
+                case GL_RED: components = GL_RED_INTEGER; break;
+                case GL_ALPHA: components = GL_ALPHA_INTEGER; break;
+                default: components = GL_RGBA_INTEGER; break;
+                }
+            }
             if (depth_bits && stencil_bits) {
                 const bool float_depth = level_value(face, level, GL_TEXTURE_DEPTH_TYPE) == GL_FLOAT;
                 t = {GL_DEPTH_STENCIL, GLenum(float_depth ? GL_FLOAT_32_UNSIGNED_INT_24_8_REV : GL_UNSIGNED_INT_24_8)};
@@ -214,12 +236,12 @@ void SnapshotWriter::texture_images(GLuint slave_name, GLenum target, uint64_t m
                 t = {GL_DEPTH_COMPONENT, GLenum(float_depth ? GL_FLOAT : GL_UNSIGNED_INT)};
             } else if (stencil_bits) {
                 t = {GL_STENCIL_INDEX, GL_UNSIGNED_BYTE};
-            } else if (component == GL_INT || component == GL_UNSIGNED_INT) {
-                t = {GL_RGBA_INTEGER, GLenum(component)};
+            } else if (integer) {
+                t = {components, GLenum(component)};
             } else if (component == GL_FLOAT || component == GL_SIGNED_NORMALIZED) {
-                t = {GL_RGBA, GL_FLOAT};
+                t = {components, GL_FLOAT};
             } else {
-                t = {GL_RGBA, GLenum(bits > 8 ? GL_UNSIGNED_SHORT : GL_UNSIGNED_BYTE)};
+                t = {components, GLenum(bits > 8 ? GL_UNSIGNED_SHORT : GL_UNSIGNED_BYTE)};
             }
             const int64_t bytes = sz_.image(Dir::Out, t.format, t.type, w, h, d);
             if (bytes <= 0) {

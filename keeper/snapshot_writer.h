@@ -46,12 +46,14 @@ private:
     void lists(slave::SlaveContext& ctx);
 
     // -- one context (snapshot_context.cpp) -----------------------------------------------
+    void window_contents(slave::SlaveContext& ctx);
     void context_objects(slave::SlaveContext& ctx);
     void framebuffer(slave::SlaveContext& ctx, GLuint slave_name);
     void vertex_arrays(slave::SlaveContext& ctx);  // of the bound vertex array object
     void context_state(slave::SlaveContext& ctx);
     void matrices(slave::SlaveContext& ctx);
     void bindings(slave::SlaveContext& ctx);
+    void window_buffers(slave::SlaveContext& ctx);
     void client_array_cache(slave::SlaveContext& ctx);
     void upload_state();  // the unpack state the snapshot's uploads assume
 

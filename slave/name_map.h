@@ -3,7 +3,9 @@
 // program pipelines) in a map per context, as GL itself scopes them.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
+#include <vector>
 #include <memory>
 #include <map>
 #include <unordered_map>
@@ -24,8 +26,10 @@ public:
     void erase(uint64_t master) { map_.erase(master); }
     size_t size() const { return map_.size(); }
     template <class F>
-    void each(F&& f) const {  // f(master, slave), in no particular order
-        for (const auto& [master, slave] : map_) f(master, slave);
+    void each(F&& f) const {  // f(master, slave), by master name (a snapshot is the same every time)
+        std::vector<std::pair<uint64_t, uint64_t>> sorted(map_.begin(), map_.end());
+        std::sort(sorted.begin(), sorted.end());
+        for (const auto& [master, slave] : sorted) f(master, slave);
     }
 
 private:

@@ -71,6 +71,9 @@ struct SlaveContext {
     bool drawing_to_window = true;  // the draw framebuffer is the window (tracked by TileAdapter)
     uint64_t current_program = 0;   // master name, for glUniform* locations
     uint32_t list_base = 0;         // glListBase, applied to glCallLists on the slave side
+    // The window's draw and read buffers as the master named them (GL_BACK, ...; 0: never set):
+    // the slave's driver holds its own window's (slave/special/framebuffers.cpp).
+    uint32_t window_draw_buffer = 0, window_read_buffer = 0;
     std::map<uint32_t, std::vector<uint8_t>> client_arrays;  // by cache handle
     uint64_t client_array_bytes = 0;  // in client_arrays
     // The vertices [client_first, client_end) that every client array of the last

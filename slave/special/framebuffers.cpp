@@ -27,13 +27,19 @@ bool window_bound(Replayer& r, GLenum binding) {
 
 void glDrawBuffer(Replayer& r, const Call& c) {
     GLenum buf = r.value<GLenum>(c, 0);
-    if (window_bound(r, GL_DRAW_FRAMEBUFFER_BINDING)) buf = window_buffer(r, buf);
+    if (window_bound(r, GL_DRAW_FRAMEBUFFER_BINDING)) {
+        r.current().window_draw_buffer = buf;
+        buf = window_buffer(r, buf);
+    }
     r.api().glDrawBuffer(buf);
 }
 
 void glReadBuffer(Replayer& r, const Call& c) {
     GLenum buf = r.value<GLenum>(c, 0);
-    if (window_bound(r, GL_READ_FRAMEBUFFER_BINDING)) buf = window_buffer(r, buf);
+    if (window_bound(r, GL_READ_FRAMEBUFFER_BINDING)) {
+        r.current().window_read_buffer = buf;
+        buf = window_buffer(r, buf);
+    }
     r.api().glReadBuffer(buf);
 }
 
@@ -43,8 +49,10 @@ void glDrawBuffers(Replayer& r, const Call& c) {
     const auto* bufs = static_cast<const GLenum*>(r.in(c, 1));
     if (!bufs && n > 0) throw ReplayError("glDrawBuffers of " + std::to_string(n) + " buffers without the array");
     std::vector<GLenum> mapped(bufs ? bufs : nullptr, bufs ? bufs + std::max(n, 0) : nullptr);
-    if (window_bound(r, GL_DRAW_FRAMEBUFFER_BINDING))
+    if (window_bound(r, GL_DRAW_FRAMEBUFFER_BINDING)) {
+        if (!mapped.empty()) r.current().window_draw_buffer = mapped[0];
         for (GLenum& b : mapped) b = window_buffer(r, b);
+    }
     r.api().glDrawBuffers(n, mapped.data());
 }
 
@@ -52,7 +60,10 @@ void glNamedFramebufferDrawBuffer(Replayer& r, const Call& c) {
     const bool window = c.args[0].bits == 0;
     const GLuint fb = r.name<GLuint>(Ns::framebuffer, c, 0);
     GLenum buf = r.value<GLenum>(c, 1);
-    if (window) buf = window_buffer(r, buf);
+    if (window) {
+        r.current().window_draw_buffer = buf;
+        buf = window_buffer(r, buf);
+    }
     r.api().glNamedFramebufferDrawBuffer(fb, buf);
 }
 
@@ -60,7 +71,10 @@ void glNamedFramebufferReadBuffer(Replayer& r, const Call& c) {
     const bool window = c.args[0].bits == 0;
     const GLuint fb = r.name<GLuint>(Ns::framebuffer, c, 0);
     GLenum buf = r.value<GLenum>(c, 1);
-    if (window) buf = window_buffer(r, buf);
+    if (window) {
+        r.current().window_read_buffer = buf;
+        buf = window_buffer(r, buf);
+    }
     r.api().glNamedFramebufferReadBuffer(fb, buf);
 }
 
