@@ -168,6 +168,14 @@ def case_threads_buffers():  # two threads, two contexts sharing objects, a pers
     join("threads_buffers", app("threads_buffers", "--frames", str(FRAMES // 2)), FRAMES, JOIN)
 
 
+def case_textures():  # a new texture every frame, the older ones deleted
+    join("textures", app("live_state", "textures", "--size", "160x120", "--frames", str(FRAMES)), FRAMES, JOIN)
+
+
+def case_render_once():  # a texture rendered into once, sampled forever; the window never cleared
+    join("render_once", app("live_state", "render_once", "--size", "160x120", "--frames", str(FRAMES)), FRAMES, JOIN)
+
+
 def case_fbo_ext():  # EXT framebuffer objects, a texture rendered into
     join("fbo_ext", app("fbo_ext", "--frames", str(FRAMES)), FRAMES, JOIN)
 

@@ -1,0 +1,151 @@
+/*
+ * live_state.c - programs whose live state a snapshot must carry over (docs/keeper.md), for the
+ * late-join tests (tests/e2e/keeper_test.py):
+ *   live_state textures      every frame a new texture is made, uploaded with that frame's
+ *                            pattern and drawn beside the last two; the one before is deleted
+ *   live_state render_once   at the start a pattern is rendered into a texture through a
+ *                            framebuffer object; every frame samples it on a turning quad, and
+ *                            the picture is never cleared: each frame draws over the last
+ * Fixed-function GL 1.x-3.0 in a compatibility context, GLX. Everything depends on the frame
+ * index only.
+ *
+ *   live_state MODE [--frames N] [--size WxH] [--screenshot PATH.ppm]
+ */
+#define GL_GLEXT_PROTOTYPES 1
+#include <GL/gl.h>
+#include <GL/glext.h>
+#include <GL/glx.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../apps/app_common.h"
+#include "glx_screenshot.h"
+
+enum { SIZE = 32, KEEP = 3 };
+
+static void pattern(unsigned char *rgba, int frame)
+{
+    for (int y = 0; y < SIZE; y++)
+        for (int x = 0; x < SIZE; x++) {
+            unsigned char *p = rgba + 4 * (y * SIZE + x);
+            p[0] = (unsigned char)(x * 8 + frame * 3);
+            p[1] = (unsigned char)(y * 8 + frame * 5);
+            p[2] = (unsigned char)(((x ^ y) & 4) ? 200 : 40);
+            p[3] = 255;
+        }
+}
+
+static void quad(float cx, float cy, float half, float angle)
+{
+    const float c = cosf(angle) * half, s = sinf(angle) * half;
+    glBegin(GL_QUADS);
+    glTexCoord2f(0, 0); glVertex2f(cx - c + s, cy - s - c);
+    glTexCoord2f(1, 0); glVertex2f(cx + c + s, cy + s - c);
+    glTexCoord2f(1, 1); glVertex2f(cx + c - s, cy + s + c);
+    glTexCoord2f(0, 1); glVertex2f(cx - c - s, cy - s + c);
+    glEnd();
+}
+
+/* The texture rendered into once: a fan of coloured triangles on a dark ground. */
+static GLuint render_into_texture(void)
+{
+    GLuint tex, fbo;
+    glGenTextures(1, &tex);
+    glBindTexture(GL_TEXTURE_2D, tex);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, 64, 64, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glGenFramebuffers(1, &fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, tex, 0);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+        fprintf(stderr, "live_state: framebuffer incomplete\n");
+        exit(1);
+    }
+    glViewport(0, 0, 64, 64);
+    glClearColor(0.1f, 0.1f, 0.2f, 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+    glDisable(GL_TEXTURE_2D);
+    glBegin(GL_TRIANGLES);
+    for (int i = 0; i < 8; i++) {
+        const float a0 = 2 * APP_PI * i / 8, a1 = 2 * APP_PI * (i + 1) / 8;
+        glColor3f(0.5f + 0.5f * cosf(a0), 0.5f + 0.5f * sinf(a0), (float)i / 8);
+        glVertex2f(0, 0);
+        glVertex2f(0.9f * cosf(a0), 0.9f * sinf(a0));
+        glVertex2f(0.9f * cosf(a1), 0.9f * sinf(a1));
+    }
+    glEnd();
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glDeleteFramebuffers(1, &fbo);
+    glColor3f(1, 1, 1);
+    return tex;
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2 || (strcmp(argv[1], "textures") != 0 && strcmp(argv[1], "render_once") != 0)) {
+        fprintf(stderr, "usage: live_state textures|render_once [--frames N] [--size WxH]\n");
+        return 2;
+    }
+    const int textures = strcmp(argv[1], "textures") == 0;
+    argv[1] = argv[0];
+    struct app_args a;
+    app_parse_args("live_state", argc - 1, argv + 1, &a);
+    Display *dpy = XOpenDisplay(NULL);
+    if (!dpy) {
+        fprintf(stderr, "live_state: cannot open display\n");
+        return 1;
+    }
+    int attribs[] = {GLX_RGBA, GLX_DOUBLEBUFFER, GLX_RED_SIZE, 8, GLX_GREEN_SIZE, 8, GLX_BLUE_SIZE, 8, None};
+    XVisualInfo *vi = glXChooseVisual(dpy, DefaultScreen(dpy), attribs);
+    if (!vi) {
+        fprintf(stderr, "live_state: no double-buffered RGB visual\n");
+        return 1;
+    }
+    XSetWindowAttributes swa;
+    swa.colormap = XCreateColormap(dpy, RootWindow(dpy, vi->screen), vi->visual, AllocNone);
+    Window win = XCreateWindow(dpy, RootWindow(dpy, vi->screen), 0, 0, a.width, a.height, 0, vi->depth, InputOutput,
+                               vi->visual, CWColormap, &swa);
+    XMapWindow(dpy, win);
+    GLXContext ctx = glXCreateContext(dpy, vi, NULL, True);
+    glXMakeCurrent(dpy, win, ctx);
+
+    GLuint once = textures ? 0 : render_into_texture();
+    GLuint ring[KEEP] = {0};
+    unsigned char rgba[4 * SIZE * SIZE];
+    glViewport(0, 0, a.width, a.height);
+    glClearColor(0.05f, 0.05f, 0.05f, 1);
+    glClear(GL_COLOR_BUFFER_BIT);  /* render_once never clears again: frames draw over frames */
+    glEnable(GL_TEXTURE_2D);
+    glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_REPLACE);
+    for (int f = 0; f < a.frames; f++) {
+        if (textures) {
+            glClear(GL_COLOR_BUFFER_BIT);
+            const int slot = f % KEEP;
+            if (ring[slot]) glDeleteTextures(1, &ring[slot]);
+            glGenTextures(1, &ring[slot]);
+            glBindTexture(GL_TEXTURE_2D, ring[slot]);
+            pattern(rgba, f);
+            glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, SIZE, SIZE, 0, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
+            glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+            glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+            for (int k = 0; k < KEEP; k++) {  /* the newest and the ones before it */
+                if (!ring[(f - k + KEEP) % KEEP]) continue;
+                glBindTexture(GL_TEXTURE_2D, ring[(f - k + KEEP) % KEEP]);
+                quad(-0.6f + 0.6f * k, 0, 0.25f, 0.02f * f);
+            }
+        } else {
+            glBindTexture(GL_TEXTURE_2D, once);
+            quad(0.5f * cosf(0.05f * f), 0.5f * sinf(0.07f * f), 0.3f, 0.03f * f);
+        }
+        if (a.screenshot && f == a.frames - 1 && app_screenshot("live_state", &a) != 0)
+            return 1;
+        glXSwapBuffers(dpy, win);
+    }
+    glXMakeCurrent(dpy, None, NULL);
+    glXDestroyContext(dpy, ctx);
+    XCloseDisplay(dpy);
+    return 0;
+}
