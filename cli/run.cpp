@@ -72,6 +72,16 @@ std::string journal_endpoint(const std::string& stream) {
     return stream + "-journal";
 }
 
+// The keeper's beside the journal's: the port after it, or a sibling IPC path.
+std::string keeper_endpoint(const std::string& journal) {
+    const size_t colon = journal.rfind(':');
+    if (journal.rfind("tcp://", 0) == 0 && colon != std::string::npos && colon > 6) {
+        const int port = std::atoi(journal.c_str() + colon + 1);
+        if (port > 0 && port < 65535) return journal.substr(0, colon + 1) + std::to_string(port + 1);
+    }
+    return journal + "-keeper";
+}
+
 std::string connectable(const std::string& bound) {  // tcp://*:5555 -> tcp://127.0.0.1:5555
     const size_t star = bound.find("://*");
     return star == std::string::npos ? bound : bound.substr(0, star) + "://127.0.0.1" + bound.substr(star + 4);
@@ -100,9 +110,14 @@ int run(const RunArgs& a, const std::vector<std::string>& program) {
         std::fprintf(stderr, "glcast run: mkdtemp: %s\n", std::strerror(errno));
         return 1;
     }
+    // Slaves elsewhere (--endpoint tcp://) may start at any time: a keeper lets them join from a
+    // snapshot of the live state once the journal no longer holds the stream's start.
+    const bool remote = endpoint.rfind("tcp://", 0) == 0;
     if (endpoint.empty()) endpoint = std::string("ipc://") + dir + "/stream";
     const std::string journal = journal_endpoint(endpoint);
-    std::fprintf(stderr, "glcast run: stream on %s, journal on %s\n", endpoint.c_str(), journal.c_str());
+    const std::string keeper = remote ? keeper_endpoint(journal) : "";
+    std::fprintf(stderr, "glcast run: stream on %s, journal on %s%s%s\n", endpoint.c_str(), journal.c_str(),
+                 remote ? ", keeper on " : "", keeper.c_str());
     std::string mkdir_error;
     if (!out_dir.empty() && !make_directories(out_dir, mkdir_error)) {
         std::fprintf(stderr, "glcast run: --out: %s\n", mkdir_error.c_str());
@@ -133,9 +148,13 @@ int run(const RunArgs& a, const std::vector<std::string>& program) {
             setenv("GLCAST_TEST_PRESENT_LOG", (std::string(log) + "/" + (tile.empty() ? "window" : tile)).c_str(), 1);
         slaves[spawn(argv)] = tile.empty() ? "window" : tile;
     }
+    pid_t keeper_pid = -1;
+    if (remote)
+        keeper_pid = spawn({exe, "keeper", "--connect", connectable(endpoint), "--journal", connectable(journal), "--bind",
+                            keeper, "--wait", "120"});
     std::map<std::string, std::string> env{{"GLCAST_PUBLISH", endpoint},
                                            {"GLCAST_JOURNAL_ENDPOINT", journal},
-                                           {"GLCAST_WAIT_SUBSCRIBERS", std::to_string(slaves.size())},
+                                           {"GLCAST_WAIT_SUBSCRIBERS", std::to_string(slaves.size() + (remote ? 1 : 0))},
                                            {"GLCAST_LOCKSTEP", lockstep ? std::to_string(slaves.size()) : "0"}};
     if (frames) {
         env["GLCAST_FRAMES"] = std::to_string(frames);
@@ -150,6 +169,7 @@ int run(const RunArgs& a, const std::vector<std::string>& program) {
         int st = 0;
         const pid_t pid = waitpid(-1, &st, WNOHANG);
         if (pid > 0) {
+            if (pid == keeper_pid) continue;  // it ends with the stream; a failure is its own message
             if (slaves.count(pid) && !(WIFEXITED(st) && WEXITSTATUS(st) == 0)) {
                 std::fprintf(stderr, "glcast run: slave %s failed\n", slaves[pid].c_str());
                 failed++;
@@ -166,6 +186,10 @@ int run(const RunArgs& a, const std::vector<std::string>& program) {
             break;
         }
         std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    if (keeper_pid > 0 && waitpid(keeper_pid, nullptr, WNOHANG) == 0) {
+        kill(keeper_pid, SIGTERM);
+        waitpid(keeper_pid, nullptr, 0);
     }
     std::string cleanup = std::string(dir);
     barrier.reset();
