@@ -23,6 +23,11 @@ TEST(JournalRequest, TheDocumentedForms) {
     EXPECT_EQ(d.frame, 42u);
     EXPECT_EQ(classify({"id", "DONE 0"}).frame, 0u);
     EXPECT_EQ(classify({"id", "DONE 4294967295"}).frame, 4294967295u);
+    const JournalRequest since = classify({"id", "SINCE 7"});
+    EXPECT_EQ(since.kind, JournalRequestKind::since);
+    EXPECT_EQ(since.sequence, 7u);
+    EXPECT_EQ(classify({"id", "SINCE 0"}).sequence, 0u);
+    EXPECT_EQ(classify({"id", "SINCE 18446744073709551615"}).sequence, UINT64_MAX);
 }
 
 TEST(JournalRequest, EverythingElseIsDroppedWithItsReason) {
@@ -34,7 +39,9 @@ TEST(JournalRequest, EverythingElseIsDroppedWithItsReason) {
     const std::string big = "SNAPSHOT" + std::string(100, ' ');
     EXPECT_EQ(classify({"id", big}).drop, JournalDrop::size);
     for (const char* bad : {"snapshot", "SNAPSHOT ", "SNAPSHO", "", "DONE", "DONE ", "DONE -1", "DONE +1", "DONE 01",
-                            "DONE 1 ", "DONE  1", "DONE 4294967296", "DONE 99999999999", "DONE 1x", "END"})
+                            "DONE 1 ", "DONE  1", "DONE 4294967296", "DONE 99999999999", "DONE 1x", "END", "SINCE",
+                            "SINCE ", "SINCE 01", "SINCE -1", "SINCE 18446744073709551616", "SINCE 99999999999999999999",
+                            "SINCE 1 ", "since 1"})
         EXPECT_EQ(classify({"id", bad}).kind, JournalRequestKind::invalid) << bad;
     const std::string nul("SNAPSHOT\0", 9);
     EXPECT_EQ(classify({"id", nul}).kind, JournalRequestKind::invalid);
