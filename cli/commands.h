@@ -29,5 +29,6 @@ Command add_image(CLI::App& glcast);    // cli/image.cpp
 Command add_effects(CLI::App& glcast);  // cli/effects.cpp
 Command add_trim(CLI::App& glcast);     // cli/trim.cpp
 Command add_keeper(CLI::App& glcast);   // cli/keeper.cpp
+Command add_record(CLI::App& glcast);   // cli/record.cpp
 
 }  // namespace glcast::cli

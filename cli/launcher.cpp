@@ -61,4 +61,23 @@ int run_with_shim(const std::vector<std::string>& argv, const std::map<std::stri
     return -1;
 }
 
+std::string self_exe() {
+    char exe[PATH_MAX] = {};
+    const ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
+    return n > 0 ? std::string(exe, size_t(n)) : "glcast";
+}
+
+int spawn(const std::vector<std::string>& argv) {
+    const pid_t pid = fork();
+    if (pid == 0) {
+        std::vector<char*> args;
+        for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+        args.push_back(nullptr);
+        execv(args[0], args.data());
+        std::fprintf(stderr, "glcast: cannot start %s: %s\n", args[0], std::strerror(errno));
+        _exit(127);
+    }
+    return pid;
+}
+
 }  // namespace glcast::cli

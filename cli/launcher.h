@@ -14,4 +14,9 @@ std::string shim_path();
 // (128 + signal when it was killed), or -1 when it could not be started.
 int run_with_shim(const std::vector<std::string>& argv, const std::map<std::string, std::string>& env);
 
+// The glcast executable itself, for starting its own commands (slaves, a keeper, a recorder).
+std::string self_exe();
+// Starts argv[0] (a path) with argv in a child process; returns its pid.
+int spawn(const std::vector<std::string>& argv);
+
 }  // namespace glcast::cli

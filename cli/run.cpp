@@ -37,25 +37,6 @@ struct RunArgs {
     std::vector<std::string> effect_args;     // passed on to every slave
 };
 
-std::string self_exe() {
-    char exe[PATH_MAX] = {};
-    const ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
-    return n > 0 ? std::string(exe, size_t(n)) : "glcast";
-}
-
-pid_t spawn(const std::vector<std::string>& argv) {
-    const pid_t pid = fork();
-    if (pid == 0) {
-        std::vector<char*> args;
-        for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-        args.push_back(nullptr);
-        execv(args[0], args.data());
-        std::fprintf(stderr, "glcast run: cannot start %s: %s\n", args[0], std::strerror(errno));
-        _exit(127);
-    }
-    return pid;
-}
-
 // The journal's endpoint beside the stream's: the next TCP port (on the multicast interface's
 // address for epgm://ADDRESS;GROUP:PORT), or a sibling IPC path.
 std::string journal_endpoint(const std::string& stream) {

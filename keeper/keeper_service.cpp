@@ -60,6 +60,15 @@ private:
     void serve() {
         std::vector<std::string> waiting;
         const double now = seconds_now();
+        // Requests for a later frame wait until the replay gets there.
+        for (auto it = later_.begin(); it != later_.end();) {
+            if (keeper_.frame() < it->second) {
+                ++it;
+                continue;
+            }
+            waiting.push_back(it->first);
+            it = later_.erase(it);
+        }
         for (size_t n = 0; n < 1024; ++n) {
             zmq::message_t parts[3];
             size_t count = 0;
@@ -77,7 +86,12 @@ private:
                                          count > 1 ? std::string_view(parts[1].data<char>(), parts[1].size())
                                                    : std::string_view()};
             const JournalRequest r = classify_journal_request(views, count);
-            if (r.kind != JournalRequestKind::snapshot || !admission_.admit(views[0], r.kind, now)) continue;
+            const bool at = r.kind == JournalRequestKind::snapshot_at;
+            if ((r.kind != JournalRequestKind::snapshot && !at) || !admission_.admit(views[0], r.kind, now)) continue;
+            if (at && keeper_.frame() < r.frame) {
+                if (later_.size() < kMaxWaiting) later_.emplace_back(std::string(views[0]), r.frame);
+                continue;
+            }
             if (waiting.size() < kMaxWaiting) waiting.emplace_back(views[0]);
         }
         if (waiting.empty()) return;
@@ -130,6 +144,7 @@ private:
     bool at_boundary_ = false, started_ = false;
     uint64_t last_sequence_ = 0;
     JournalAdmission admission_;
+    std::vector<std::pair<std::string, uint64_t>> later_;  // SNAPSHOT AT n: who, n
 };
 
 }  // namespace

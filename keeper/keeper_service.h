@@ -3,7 +3,8 @@
 // of its own, and answers "SNAPSHOT" on a ROUTER socket at the next frame boundary with the
 // snapshot of its live state: "STATE <sequence> <frame>" (the master's last message the
 // snapshot covers, and the frame that follows it), one part per message of the snapshot, then
-// "END". A slave replays those, then the journal's messages after <sequence>, then the live
+// "END"; "SNAPSHOT AT n", the same at the first boundary at or after frame n (a recording that
+// starts at frame n). A slave replays those, then the journal's messages after <sequence>, then the live
 // stream. What a join costs depends on the live state, not on how long the program has run.
 #pragma once
 

@@ -63,6 +63,21 @@ JournalRequest classify_journal_request(const std::string_view* parts, size_t co
         return r;
     }
     r.drop = JournalDrop::unknown;
+    constexpr std::string_view at = "SNAPSHOT AT ";
+    if (body.size() > at.size() && body.substr(0, at.size()) == at) {
+        const std::string_view digits = body.substr(at.size());
+        if (digits.size() > 10 || (digits.size() > 1 && digits[0] == '0')) return r;
+        uint64_t n = 0;
+        for (char c : digits) {
+            if (c < '0' || c > '9') return r;
+            n = n * 10 + uint64_t(c - '0');
+        }
+        if (n > UINT32_MAX) return r;
+        r.kind = JournalRequestKind::snapshot_at;
+        r.drop = JournalDrop::none;
+        r.frame = n;
+        return r;
+    }
     constexpr std::string_view since = "SINCE ";
     if (body.size() > since.size() && body.substr(0, since.size()) == since) {
         const std::string_view digits = body.substr(since.size());
@@ -128,7 +143,8 @@ bool JournalAdmission::admit(std::string_view identity, JournalRequestKind kind,
     }
     // The peer's bucket first, so that one peer's flood does not drain everyone's. SINCE
     // sends messages as SNAPSHOT does, and shares its buckets.
-    if (kind == JournalRequestKind::snapshot || kind == JournalRequestKind::since)
+    if (kind == JournalRequestKind::snapshot || kind == JournalRequestKind::since ||
+        kind == JournalRequestKind::snapshot_at)
         return it->second.snapshot.take(kSnapshotBurstPerPeer, kSnapshotRatePerPeer, now) &&
                snapshot_total_.take(kSnapshotBurstTotal, kSnapshotRateTotal, now);
     return it->second.done.take(kDoneBurstPerPeer, kDoneRatePerPeer, now) &&
@@ -300,6 +316,7 @@ void PublisherSink::handle_request(const std::string_view* parts, size_t count, 
     const JournalRequest r = classify_journal_request(parts, count);
     auto drop = [&](JournalDrop why) { drops_[size_t(why)]++; };
     if (r.kind == JournalRequestKind::invalid) return drop(r.drop);
+    if (r.kind == JournalRequestKind::snapshot_at) return drop(JournalDrop::unknown);  // a keeper's
     if (r.kind == JournalRequestKind::done && options_.lockstep <= 0) return drop(JournalDrop::no_lockstep);
     if (!admission_.admit(parts[0], r.kind, now)) return drop(JournalDrop::rate);
     if (r.kind == JournalRequestKind::done) {

@@ -51,7 +51,9 @@ inline constexpr double kStallSeconds = 10;        // a peer that takes nothing 
 inline constexpr uint64_t kDoneWindowFrames = 64;  // lockstep: DONE n only for n in [current - 64, current + 1]
 }  // namespace journal_limits
 
-enum class JournalRequestKind : uint8_t { snapshot, since, done, invalid };
+// snapshot_at ("SNAPSHOT AT n") is a keeper's request (keeper/keeper_service.h): the journal
+// drops it.
+enum class JournalRequestKind : uint8_t { snapshot, snapshot_at, since, done, invalid };
 
 // Why a request was not acted on; counted, and printed at exit with GLCAST_VERBOSE=1.
 enum class JournalDrop : uint8_t {
@@ -71,7 +73,7 @@ const char* journal_drop_name(JournalDrop d);
 struct JournalRequest {
     JournalRequestKind kind = JournalRequestKind::invalid;
     JournalDrop drop = JournalDrop::none;  // why invalid
-    uint64_t frame = 0;                    // DONE n: n
+    uint64_t frame = 0;                    // DONE n, SNAPSHOT AT n: n
     uint64_t sequence = 0;                 // SINCE n: n
 };
 

@@ -8,21 +8,29 @@
 namespace glcast::slave {
 
 NetworkSource::NetworkSource(std::string endpoint, std::string journal_endpoint, int wait_seconds,
-                             std::string keeper_endpoint)
+                             std::string keeper_endpoint, uint64_t keeper_frame)
     : endpoint_(std::move(endpoint)),
       journal_endpoint_(std::move(journal_endpoint)),
       keeper_endpoint_(std::move(keeper_endpoint)),
+      keeper_frame_(keeper_frame),
       wait_seconds_(wait_seconds),
       context_(std::make_unique<zmq::context_t>(1)) {
     sub_ = std::make_unique<zmq::socket_t>(*context_, zmq::socket_type::sub);
     sub_->set(zmq::sockopt::rcvhwm, 0);  // while the snapshot replays, live messages wait here
     sub_->set(zmq::sockopt::subscribe, "");
+    // Waiting for a later frame, the subscription would queue every message until then: it
+    // starts after the snapshot, and the journal fills what it missed meanwhile.
+    if (!keeper_frame_) subscribe();
+    synchronize();
+    if (keeper_frame_) subscribe();
+}
+
+void NetworkSource::subscribe() {
     try {
         sub_->connect(endpoint_);
     } catch (const zmq::error_t& e) {
         throw std::runtime_error("cannot subscribe to " + endpoint_ + ": " + e.what());
     }
-    synchronize();
 }
 
 // A subscription becomes live some time after connect: a snapshot asked for before then could
@@ -139,7 +147,8 @@ NetworkSource::State NetworkSource::fetch_state(const std::string& endpoint) {
     dealer.set(zmq::sockopt::linger, 0);
     dealer.set(zmq::sockopt::rcvhwm, 0);
     dealer.connect(endpoint);
-    dealer.send(zmq::str_buffer("SNAPSHOT"), zmq::send_flags::none);
+    const std::string request = keeper_frame_ ? "SNAPSHOT AT " + std::to_string(keeper_frame_) : "SNAPSHOT";
+    dealer.send(zmq::buffer(request), zmq::send_flags::none);
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(wait_seconds_);
     State state;
     bool header = false;

@@ -32,7 +32,10 @@ public:
 
 class NetworkSource : public MessageSource {
 public:
-    NetworkSource(std::string endpoint, std::string journal_endpoint, int wait_seconds, std::string keeper_endpoint = "");
+    // keeper_frame > 0: ask the keeper for its state at that frame ("SNAPSHOT AT n"), waiting
+    // until the program gets there (a recording that starts at a frame).
+    NetworkSource(std::string endpoint, std::string journal_endpoint, int wait_seconds, std::string keeper_endpoint = "",
+                  uint64_t keeper_frame = 0);
     ~NetworkSource() override;
 
     bool next(Message& m) override;  // false when the program has ended
@@ -78,6 +81,7 @@ public:
     const std::string& gap() const { return gap_; }          // the last gap, for messages
 
 private:
+    void subscribe();
     void synchronize();  // waits for the subscription to be live, then fetches the snapshot
     void fetch_snapshot(bool from_journal = false);
     // Appends the journal's messages from sequence `first` on to snapshot_; false: GONE.
@@ -87,6 +91,7 @@ private:
     bool receive_live(std::vector<uint8_t>& bytes);
 
     std::string endpoint_, journal_endpoint_, keeper_endpoint_;
+    uint64_t keeper_frame_ = 0;
     int wait_seconds_;
     std::unique_ptr<zmq::context_t> context_;
     std::unique_ptr<zmq::socket_t> sub_;

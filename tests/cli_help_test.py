@@ -18,7 +18,7 @@ GLCAST = sys.argv[1]
 
 # command words -> its options (positionals are in the usage line)
 OPTIONS = {
-    ("capture",): ["-o", "--output", "--frames"],
+    ("capture",): ["-o", "--output", "--frames", "--start-frame"],
     ("dump",): ["--frames", "--summary"],
     ("replay",): ["--frames", "--backend", "--out", "--compare", "--size", "--offset-names", "--verify", "--config",
                   "--tile", "--canvas", "--tile-rect", "--effects", "--effect-param"],
@@ -32,8 +32,10 @@ OPTIONS = {
     ("image", "motion"): ["--crop", "--radius", "--without"],
     ("effects",): [],
     ("trim",): ["IN", "--frames", "-o", "--output", "--backend"],
+    ("keeper",): ["--connect", "--journal", "--bind", "--backend", "--wait", "--verbose"],
+    ("record",): ["--connect", "--journal", "--keeper", "-o", "--output", "--start-frame", "--frames", "--wait"],
 }
-COMMANDS = ["capture", "dump", "replay", "run", "slave", "image", "effects", "trim", "help"]
+COMMANDS = ["capture", "dump", "replay", "run", "slave", "image", "effects", "trim", "keeper", "record", "help"]
 
 # (arguments, the option the one-line message must name); all exit 2
 BAD_VALUES = [
@@ -58,6 +60,9 @@ BAD_VALUES = [
     (["trim", "x.glcs", "-o", "y.glcs"], "--frames"),
     (["trim", "x.glcs", "--frames", "2:1", "-o", "y.glcs"], "--frames"),
     (["trim", "x.glcs", "--frames", "1:2"], "--output"),
+    (["keeper", "--connect", "ipc:///tmp/x", "--journal", "ipc:///tmp/y"], "--bind"),
+    (["record", "--connect", "ipc:///tmp/x", "--journal", "ipc:///tmp/y", "-o", "z.glcs"], "--keeper"),
+    (["capture", "--start-frame", "x", "-o", "x.glcs", "--", "true"], "--start-frame"),
     (["run", "--frames", "x", "--", "true"], "--frames"),
     (["run", "--effects", "hail", "--", "true"], "--effects"),
     (["run", "--effect-param", "snow.nothing=1", "--", "true"], "snow.nothing"),

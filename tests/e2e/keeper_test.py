@@ -180,6 +180,29 @@ def case_fbo_ext():  # EXT framebuffer objects, a texture rendered into
     join("fbo_ext", app("fbo_ext", "--frames", str(FRAMES)), FRAMES, JOIN)
 
 
+def case_capture_start_frame():
+    """glcast capture --start-frame S --frames N: a capture of frames S..S+N-1 that replays on its own,
+    equal to the program's own frames (a keeper and glcast record behind it)."""
+    out = os.path.join(OUT, "capture_start_frame")
+    shutil.rmtree(out, ignore_errors=True)
+    os.makedirs(out)
+    start, n = FRAMES // 2, 20
+    env = dict(os.environ, GLCAST_SNAPSHOT_DIR=os.path.join(out, "program"), GLCAST_SNAPSHOT_FROM=str(start))
+    r = subprocess.run([GLCAST, "capture", "-o", os.path.join(out, "c.glcs"), "--start-frame", str(start), "--frames",
+                        str(n), "--"] + app("ff_scene", "--size", "160x120", "--frames", str(FRAMES)),
+                       env=env, capture_output=True, text=True, timeout=600)
+    check(r.returncode == 0, lambda: f"capture failed: {r.stdout[-1000:]} {r.stderr[-2000:]}")
+    reference = os.path.join(out, "reference")
+    os.makedirs(reference)
+    for k in range(n):
+        shutil.copy(os.path.join(out, "program", f"frame-{start + k:06d}.png"), os.path.join(reference, f"frame-{k:06d}.png"))
+    headless = {k: v for k, v in os.environ.items() if k != "DISPLAY"}
+    r = subprocess.run([GLCAST, "replay", os.path.join(out, "c.glcs"), "--compare", reference], capture_output=True,
+                       text=True, timeout=300, env=headless)
+    check(r.returncode == 0 and f"compared {n} frames: 0 differ" in r.stdout, lambda: f"{r.stdout[-1500:]} {r.stderr[-1500:]}")
+    print(f"capture --start-frame {start} --frames {n}: {r.stdout.strip().splitlines()[-1]}")
+
+
 if __name__ == "__main__":
     with Xvfb():
         globals()["case_" + sys.argv[1]]()
