@@ -18,7 +18,7 @@ class SnapshotModel:
         self.by_name = {c.name: c for c in commands}
         self.enums = enums
         self.get_counts = get_counts  # pname -> values of glGet (pnames.yaml `get`)
-        self.values = {k: [self._value_setter(row, k) for row in spec[k]] for k in ("values", "current", "pixel_store")}
+        self.values = {k: [self._value_setter(row, k) for row in spec[k]] for k in ("values", "values_compatibility", "values_core", "current", "pixel_store")}
         self.enables = {k: [self._enum(e, f"enables.{k}") for e in v] for k, v in spec["enables"].items()}
         self.pairs = [self._pair(name, p) for name, p in spec["pairs"].items()]
 

@@ -183,7 +183,7 @@ void SnapshotWriter::framebuffer(slave::SlaveContext& ctx, GLuint slave_name) {
 // The arrays of the bound vertex array object (0: the context's own). Arrays in client memory
 // are left to the glcast.client_arrays tuple of the next draw that uses them.
 void SnapshotWriter::vertex_arrays(slave::SlaveContext& ctx) {
-    const bool fixed = integer(GL_MAX_TEXTURE_COORDS) > 0;
+    const bool fixed = compatibility();
     const GLint array_buffer = integer(GL_ARRAY_BUFFER_BINDING);
     auto bind_array_buffer = [&](GLuint keeper_name) {
         encode_glBindBuffer(e_, sz_, GL_ARRAY_BUFFER, GLuint(master_name(ctx, Ns::buffer, keeper_name)));
@@ -263,8 +263,17 @@ void SnapshotWriter::vertex_arrays(slave::SlaveContext& ctx) {
 
 // --- context state -------------------------------------------------------------------------
 
+// A compatibility context: fixed-function state exists. A core profile answers some of its
+// queries but refuses every setter.
+bool SnapshotWriter::compatibility() {
+    GLint mask = 0;
+    gl_.glGetIntegerv(GL_CONTEXT_PROFILE_MASK, &mask);
+    const bool asked_ok = asked();
+    return !asked_ok || !(mask & GL_CONTEXT_CORE_PROFILE_BIT);  // before GL 3.2: no profiles, all compatibility
+}
+
 void SnapshotWriter::context_state(slave::SlaveContext& ctx) {
-    const bool fixed = integer(GL_MAX_TEXTURE_COORDS) > 0;
+    const bool fixed = compatibility();
     client_array_cache(ctx);
     if (gl_.has(OP_glBindVertexArray)) {
         const GLint vao = integer(GL_VERTEX_ARRAY_BINDING);
@@ -276,6 +285,9 @@ void SnapshotWriter::context_state(slave::SlaveContext& ctx) {
         vertex_arrays(ctx);
     }
     snapshot_values(gl_, e_, sz_);
+    snapshot_point_parameters(gl_, e_, sz_);
+    if (fixed) snapshot_values_compatibility(gl_, e_, sz_);
+    else snapshot_values_core(gl_, e_, sz_);
     if (fixed) {
         // Positions, directions and planes come back in eye coordinates: set under an identity modelview.
         encode_glMatrixMode(e_, sz_, GL_MODELVIEW);
@@ -285,7 +297,7 @@ void SnapshotWriter::context_state(slave::SlaveContext& ctx) {
         snapshot_materials(gl_, e_, sz_);
         snapshot_light_model(gl_, e_, sz_);
         snapshot_fog(gl_, e_, sz_);
-        snapshot_point_parameters(gl_, e_, sz_);
+        snapshot_point_parameters_compatibility(gl_, e_, sz_);
         snapshot_pixel_transfer(gl_, e_, sz_);
         snapshot_current(gl_, e_, sz_);
     }
@@ -344,6 +356,7 @@ void SnapshotWriter::context_state(slave::SlaveContext& ctx) {
     gl_.glGetIntegerv(GL_SCISSOR_BOX, box);
     encode_glScissor(e_, sz_, box[0], box[1], box[2], box[3]);
     snapshot_enables_global(gl_, e_, sz_);
+    if (fixed) snapshot_enables_compatibility(gl_, e_, sz_);
     bindings(ctx);
     encode_glActiveTexture(e_, sz_, GLenum(unit));
     snapshot_pixel_store(gl_, e_, sz_);
@@ -471,7 +484,8 @@ void SnapshotWriter::client_array_cache(slave::SlaveContext& ctx) {
     for (const auto& [handle, copy] : ctx.client_arrays) {
         e_.begin(kSynthClientArrays);
         encode_synth_client_arrays(e_, 1);
-        encode_synth_client_arrays_item(e_, uint8_t(ClientSlot::Vertex), 0, 4, GL_UNSIGNED_BYTE, 4, 0, 0, handle, 0, 0,
+        // A vertex array of 2 shorts (4 bytes), the form glVertexPointer takes for any bytes.
+        encode_synth_client_arrays_item(e_, uint8_t(ClientSlot::Vertex), 0, 2, GL_SHORT, 4, 0, 0, handle, 0, 0,
                                         copy.data(), int64_t(copy.size()));
         e_.end();
         flush();

@@ -51,6 +51,7 @@ private:
     void framebuffer(slave::SlaveContext& ctx, GLuint slave_name);
     void vertex_arrays(slave::SlaveContext& ctx);  // of the bound vertex array object
     void context_state(slave::SlaveContext& ctx);
+    bool compatibility();
     void matrices(slave::SlaveContext& ctx);
     void bindings(slave::SlaveContext& ctx);
     void window_buffers(slave::SlaveContext& ctx);

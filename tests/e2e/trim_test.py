@@ -1,10 +1,12 @@
 #!/usr/bin/env python3
 """`glcast trim` on the committed captures: a capture cut at frame A begins with a snapshot of
 the live state there, and replays on EGL and OSMesa frame for frame equal to the program's own
-frames A.. (the committed golden PNGs, renumbered from 0). A cut of a cut too, so a snapshot
+frames A.. (the committed golden PNGs, renumbered from 0), and under --verify the slave's
+answers to the snapshot's queries equal the keeper's. A cut of a cut too, so a snapshot
 recreates what an earlier snapshot made. Nothing may be reported missing from a snapshot."""
 import glob
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -47,10 +49,12 @@ for capture in sorted(glob.glob(os.path.join(DATA, "*.glcs"))):
                     failed.append(f"{label}: trim: {r.stdout[-800:]} {r.stderr[-800:]}")
                     continue
                 reference = renumbered(golden, from_frame, last, os.path.join(tmp, os.path.basename(out) + ".ref"))
-                r = run(["replay", out, "--backend", backend, "--compare", reference])
+                # --verify: the snapshot carries the keeper's answers to the queries of its state,
+                # which the replaying slave asks again and compares
+                r = run(["replay", out, "--backend", backend, "--compare", reference, "--verify"])
                 tail = r.stdout.strip().splitlines()[-1] if r.stdout.strip() else ""
                 print(f"{label}: {tail}")
-                if r.returncode != 0:
+                if r.returncode != 0 or not re.search(r"verified [1-9]\d* replies: 0 differ", r.stdout):
                     failed.append(f"{label}: {r.stdout[-1500:]} {r.stderr[-1500:]}")
 shutil.rmtree(tmp, ignore_errors=True)
 if failed:
