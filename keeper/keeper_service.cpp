@@ -45,6 +45,7 @@ public:
         live_.on_idle = [this] {
             if (at_boundary_) serve();
         };
+        live_.set_idle_interval(5);  // a request waits at most this long while the program is idle
     }
 
     bool next(Message& m) override {

@@ -222,9 +222,9 @@ void NetworkSource::fetch_snapshot(bool from_journal) {
 }
 
 bool NetworkSource::receive_live(std::vector<uint8_t>& bytes) {
-    for (int waited_ms = 0;; waited_ms += 200) {
+    for (int waited_ms = 0;; waited_ms += idle_ms_) {
         zmq::pollitem_t item{sub_->handle(), 0, ZMQ_POLLIN, 0};
-        zmq::poll(&item, 1, std::chrono::milliseconds(200));
+        zmq::poll(&item, 1, std::chrono::milliseconds(idle_ms_));
         if (item.revents & ZMQ_POLLIN) break;
         if (on_idle) on_idle();
         if (wait_seconds_ && waited_ms > wait_seconds_ * 1000)

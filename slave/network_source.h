@@ -46,8 +46,10 @@ public:
     std::function<void()> on_gap;
     // Called when a keeper's snapshot was fetched on a recovery, with joined_frame().
     std::function<void(uint64_t frame)> on_joined;
-    // Called about every 200 ms while no live message arrives (a keeper answers requests then).
+    // Called every `idle_ms` (200 by default) while no live message arrives (a keeper answers
+    // requests then, and polls more often).
     std::function<void()> on_idle;
+    void set_idle_interval(int ms) { idle_ms_ = ms; }
 
     bool live() const { return live_; }              // the last message came from the live stream
     // ... or was the last of a snapshot: the newest frame the master has, which a master in
@@ -92,6 +94,7 @@ private:
 
     std::string endpoint_, journal_endpoint_, keeper_endpoint_;
     uint64_t keeper_frame_ = 0;
+    int idle_ms_ = 200;
     int wait_seconds_;
     std::unique_ptr<zmq::context_t> context_;
     std::unique_ptr<zmq::socket_t> sub_;
