@@ -63,8 +63,9 @@ int slave(SlaveArgs& a) {
             const NetworkSource::JoinCost& j = source.join_cost();
             if (j.state_messages || j.journal_messages)
                 std::fprintf(stderr, "glcast slave %s: joined at frame %" PRIu64 ": %" PRIu64 " snapshot and %" PRIu64
-                                     " journal messages, %" PRIu64 " bytes, in %.3f s\n",
-                             label.c_str(), source.joined_frame(), j.state_messages, j.journal_messages, j.bytes, j.seconds);
+                                     " journal messages, %" PRIu64 " bytes, in %.3f s (the keeper's state in %.3f s)\n",
+                             label.c_str(), source.joined_frame(), j.state_messages, j.journal_messages, j.bytes, j.seconds,
+                             j.state_seconds);
         };
         say_join();
         source.on_restart = [&] {

@@ -197,6 +197,7 @@ void NetworkSource::fetch_snapshot(bool from_journal) {
     expected_ = 0;
     if (!keeper_endpoint_.empty() && !from_journal) {
         State state = fetch_state(keeper_endpoint_);
+        join_cost_.state_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         snapshot_ = std::move(state.messages);
         state_left_ = snapshot_.size();
         after_state_ = expected_ = state.sequence + 1;

@@ -69,7 +69,7 @@ public:
     // The last catching up: messages and bytes fetched, and how long it took.
     struct JoinCost {
         uint64_t state_messages = 0, journal_messages = 0, bytes = 0;
-        double seconds = 0;
+        double seconds = 0, state_seconds = 0;  // all of it; the keeper's answer alone
     };
     const JoinCost& join_cost() const { return join_cost_; }
     // Asks `endpoint` (a keeper, or anything that answers as one) for a snapshot: the state

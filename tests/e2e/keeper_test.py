@@ -90,7 +90,7 @@ def join(name, program, frames, join_at, journal_mb=2, size=None):
         check(time.monotonic() - t0 < 120, lambda: f"the slave did not join within 120 s: {open(slave_log).read()[-3000:]}")
         time.sleep(0.01)
     joined = [l for l in open(slave_log).read().splitlines() if "joined at frame" in l][0]
-    join_seconds = float(joined.rsplit(" in ", 1)[1].split()[0])
+    join_seconds = float(joined.split(" in ", 1)[1].split()[0])
     proc.wait(timeout=900)
     check(slave.wait(timeout=300) == 0, lambda: f"slave failed: {open(slave_log).read()[-3000:]}")
     keeper.wait(timeout=300)
