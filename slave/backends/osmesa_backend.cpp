@@ -91,7 +91,15 @@ public:
 
     void* proc_address(const char* name) { return reinterpret_cast<void*>(api_.GetProcAddress(name)); }
 
+    // Nothing swaps an OSMesa buffer: a flush at the end of each frame keeps the driver from
+    // queueing frame after frame (as the EGL backend's pbuffer did).
+    void present() {
+        if (!flush_) flush_ = reinterpret_cast<void (*)()>(api_.GetProcAddress("glFlush"));
+        if (flush_) flush_();
+    }
+
 private:
+    void (*flush_)() = nullptr;
     static bool fail(std::string& error, const std::string& what) {
         error = "osmesa: " + what;
         return false;
