@@ -124,7 +124,18 @@ class Classifier:
         expr = expr.replace("$dir", "Dir::In" if direction == "in" else "Dir::Out")
         expr = expr.replace("$elem_bytes", str(elem))
         self.check_expr(cmd, expr, p.name)
-        return expr
+        return self.widened(cmd, expr)
+
+    @staticmethod
+    def widened(cmd, expr):
+        """Arithmetic of parameters in 64 bits: `count*9` with count 2^31 overflows a GLsizei
+        (undefined behaviour, found by the replay fuzzer), int64_t(count)*9 does not. Expressions
+        that call size queries return int64_t already."""
+        if "sz." in expr or "(" in expr or not re.search(r"[*+\-/]", expr):
+            return expr
+        names = {q.name for q in cmd.params}
+        return re.sub(r"\b[A-Za-z_]\w*\b", lambda m: f"int64_t({m.group(0)})" if m.group(0) in names else m.group(0),
+                      expr)
 
     @staticmethod
     def check_expr(cmd, expr, what, extra=()):

@@ -72,6 +72,10 @@ CASES = {
     # (found by the replay fuzzer)
     "null_indices_no_buffer": ("client_draws", ["glDrawElementsInstanced.arg3:null=0"],
                                r"glDrawElementsInstanced: indices is NULL, the call reads 48 elements"),
+    # a count whose length expression overflowed 32 bits before it was checked (found by the
+    # replay fuzzer; UBSan)
+    "uniform_count_overflow": ("core_scene", ["glUniformMatrix3fv.arg1=0x80000000"],
+                               r"glUniformMatrix3fv: value: the slave cannot compute how much the call reads"),
     "multi_draw_drawcount": ("client_draws", ["glMultiDrawElements.arg4=1000"],
                              r"glMultiDrawElements: count has 2 elements, the call reads 1000"),
     "multi_draw_index_count": ("client_draws", ["glMultiDrawElements.arg1:fill=0x7f"],
