@@ -131,7 +131,8 @@ class Classifier:
         """Arithmetic of parameters in 64 bits: `count*9` with count 2^31 overflows a GLsizei
         (undefined behaviour, found by the replay fuzzer), int64_t(count)*9 does not. Expressions
         that call size queries return int64_t already."""
-        if "sz." in expr or "(" in expr or not re.search(r"[*+\-/]", expr):
+        # only operands joined by binary operators: not `n ? *n : 0`, not calls
+        if not re.fullmatch(r"\s*\w+(\s*[*+\-/]\s*\w+)+\s*", expr):
             return expr
         names = {q.name for q in cmd.params}
         return re.sub(r"\b[A-Za-z_]\w*\b", lambda m: f"int64_t({m.group(0)})" if m.group(0) in names else m.group(0),
