@@ -71,6 +71,12 @@ void Replayer::need(const Call& c, int i, int64_t elements, bool null_ok, uint32
     if (r.tag == PtrTag::Null && !null_ok && elements > 0)
         throw ReplayError(std::string(param_name(c, i)) + " is NULL, the call reads " + std::to_string(elements) +
                           " elements");
+    // A client address or a reply where the call reads: the slave has no data for it (the
+    // pointer becomes NULL), which is what NULL is where NULL is not allowed.
+    if ((r.tag == PtrTag::ClientAddress || r.tag == PtrTag::Reply) && !null_ok && elements > 0)
+        throw ReplayError(std::string(param_name(c, i)) + " is " +
+                          (r.tag == PtrTag::Reply ? "a reply" : "a client address") + ", not data; the call reads " +
+                          std::to_string(elements) + " elements");
     if (r.tag == PtrTag::Data && elements > int64_t(r.count))
         throw ReplayError(std::string(param_name(c, i)) + " has " + std::to_string(r.count) + " elements, the call reads " +
                           std::to_string(elements));

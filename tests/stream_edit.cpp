@@ -9,6 +9,7 @@
 //   glDrawElements.arg3:fill=0xff     every byte of a Data record
 //   glGetIntegerv.arg1:offset=0x41    the pointer record becomes an Offset
 //   glDrawElements.arg3:null=0        the pointer record becomes Null
+//   glUniform4fv.arg2:client=0x41     the pointer record becomes a ClientAddress
 //   glShaderSource.arg2:nulls=N       a string list becomes N Null records
 //   client_arrays.first_byte=V        a field of every array of the tuple
 //   drawable_size.width=V, drawable_size.height=V
@@ -252,6 +253,10 @@ void apply(const Edit& e, Call& c, Out& o) {
             a.ptr.value = e.value;
         } else if (op == "null") {
             a.ptr = PtrRecord{};  // tag Null
+        } else if (op == "client") {
+            a.ptr = PtrRecord{};
+            a.ptr.tag = PtrTag::ClientAddress;
+            a.ptr.value = e.value;
         } else if (op == "nulls") {
             a.strings.assign(size_t(e.value), PtrRecord{});
         } else {

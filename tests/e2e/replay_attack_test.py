@@ -76,6 +76,10 @@ CASES = {
     # replay fuzzer; UBSan)
     "uniform_count_overflow": ("core_scene", ["glUniformMatrix3fv.arg1=0x80000000"],
                                r"glUniformMatrix3fv: value: the slave cannot compute how much the call reads"),
+    # an input array retagged as a client address (data that never travels): GL got NULL
+    # (found by the replay fuzzer)
+    "client_address_input": ("core_scene", ["glUniformMatrix4fv.arg3:client=0xffffffffffffffff"],
+                             r"glUniformMatrix4fv: value is a client address, not data"),
     "multi_draw_drawcount": ("client_draws", ["glMultiDrawElements.arg4=1000"],
                              r"glMultiDrawElements: count has 2 elements, the call reads 1000"),
     "multi_draw_index_count": ("client_draws", ["glMultiDrawElements.arg1:fill=0x7f"],
