@@ -110,6 +110,16 @@ private:
             report = write_snapshot(keeper_, kept_, [&](const uint8_t* t, size_t n) { stream.append(t, n); });
             stream.close();
         }
+        // A snapshot that cannot hold some of the state would show a wrong picture: the slave is
+        // told why and falls back to the journal (docs/keeper.md).
+        if (!report.missing.empty()) {
+            std::string why = "NONE the snapshot cannot hold " + report.missing.front();
+            if (report.missing.size() > 1) why += " (and " + std::to_string(report.missing.size() - 1) + " more)";
+            for (const std::string& who : waiting) send(who, why);
+            for (const std::string& what : report.missing)
+                std::fprintf(stderr, "glcast keeper: not in the snapshot: %s\n", what.c_str());
+            return;
+        }
         const std::string header = "STATE " + std::to_string(last_sequence_) + " " + std::to_string(keeper_.frame());
         size_t bytes = 0;
         for (const auto& m : messages) bytes += m.size();

@@ -3,6 +3,8 @@
 #include <zmq.hpp>
 
 #include <chrono>
+#include <cstdio>
+#include <optional>
 #include <cstring>
 
 namespace glcast::slave {
@@ -38,6 +40,10 @@ void NetworkSource::subscribe() {
 // subscription is live; the snapshot asked for after it covers everything before.
 void NetworkSource::synchronize() {
     first_live_.clear();
+    struct Done {  // from here on a keeper's refusal falls back to the journal inside fetch_snapshot
+        bool& flag;
+        ~Done() { flag = true; }
+    } done{synchronized_};
     // From a keeper, no live message is waited for: the journal's answer after the snapshot
     // reaches some message n, and a first live message after n + 1 is a gap, filled from the
     // journal like any other.
@@ -45,8 +51,10 @@ void NetworkSource::synchronize() {
         try {
             fetch_snapshot();
             return;
-        } catch (const KeeperNotReady&) {
-            // it has received nothing yet: the master's journal holds everything
+        } catch (const KeeperNotReady& e) {
+            // It has received nothing yet (the master's journal holds everything), or its
+            // snapshot cannot hold the program's state: the journal, never a wrong picture.
+            std::fprintf(stderr, "glcast: %s; catching up from the journal instead\n", e.what());
         }
     }
     if (!journal_endpoint_.empty() && !receive_live(first_live_)) return;
@@ -195,8 +203,19 @@ void NetworkSource::fetch_snapshot(bool from_journal) {
     state_left_ = 0;
     joined_frame_ = 0;
     expected_ = 0;
+    std::optional<State> from_keeper;
     if (!keeper_endpoint_.empty() && !from_journal) {
-        State state = fetch_state(keeper_endpoint_);
+        try {
+            from_keeper = fetch_state(keeper_endpoint_);
+        } catch (const KeeperNotReady& e) {
+            // Not there yet, or a snapshot that cannot hold the program's state: the journal,
+            // if it still holds the stream's start, never a wrong picture.
+            if (!synchronized_) throw;
+            std::fprintf(stderr, "glcast: %s; catching up from the journal instead\n", e.what());
+        }
+    }
+    if (from_keeper) {
+        State state = std::move(*from_keeper);
         join_cost_.state_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         snapshot_ = std::move(state.messages);
         state_left_ = snapshot_.size();

@@ -94,6 +94,7 @@ private:
 
     std::string endpoint_, journal_endpoint_, keeper_endpoint_;
     uint64_t keeper_frame_ = 0;
+    bool synchronized_ = false;  // the first catching up is over
     int idle_ms_ = 200;
     int wait_seconds_;
     std::unique_ptr<zmq::context_t> context_;
