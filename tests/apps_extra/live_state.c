@@ -6,6 +6,8 @@
  *   live_state render_once   at the start a pattern is rendered into a texture through a
  *                            framebuffer object; every frame samples it on a turning quad, and
  *                            the picture is never cleared: each frame draws over the last
+ *   live_state pushed        as textures, with an attribute stack pushed at the start and never
+ *                            popped: state no snapshot can read (a slave must join otherwise)
  * Fixed-function GL 1.x-3.0 in a compatibility context, GLX. Everything depends on the frame
  * index only.
  *
@@ -85,11 +87,13 @@ static GLuint render_into_texture(void)
 
 int main(int argc, char **argv)
 {
-    if (argc < 2 || (strcmp(argv[1], "textures") != 0 && strcmp(argv[1], "render_once") != 0)) {
-        fprintf(stderr, "usage: live_state textures|render_once [--frames N] [--size WxH]\n");
+    if (argc < 2 || (strcmp(argv[1], "textures") != 0 && strcmp(argv[1], "render_once") != 0 &&
+                     strcmp(argv[1], "pushed") != 0)) {
+        fprintf(stderr, "usage: live_state textures|render_once|pushed [--frames N] [--size WxH]\n");
         return 2;
     }
-    const int textures = strcmp(argv[1], "textures") == 0;
+    const int pushed = strcmp(argv[1], "pushed") == 0;
+    const int textures = strcmp(argv[1], "textures") == 0 || pushed;
     argv[1] = argv[0];
     struct app_args a;
     app_parse_args("live_state", argc - 1, argv + 1, &a);
@@ -113,6 +117,7 @@ int main(int argc, char **argv)
     glXMakeCurrent(dpy, win, ctx);
 
     GLuint once = textures ? 0 : render_into_texture();
+    if (pushed) glPushAttrib(GL_ENABLE_BIT);
     GLuint ring[KEEP] = {0};
     unsigned char rgba[4 * SIZE * SIZE];
     glViewport(0, 0, a.width, a.height);

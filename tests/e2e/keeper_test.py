@@ -44,7 +44,7 @@ def frame_of(out, n):
     return os.path.join(out, f"frame-{n:06d}.png")
 
 
-def join(name, program, frames, join_at, journal_mb=2, size=None):
+def join(name, program, frames, join_at, journal_mb=2, size=None, fallback=False):
     out = os.path.join(OUT, name)
     shutil.rmtree(out, ignore_errors=True)
     os.makedirs(out)
@@ -80,7 +80,7 @@ def join(name, program, frames, join_at, journal_mb=2, size=None):
     t0 = time.monotonic()
     # The keeper answers at the frame the program stopped at; the journal (the program's own
     # thread) answers the rest once it runs again.
-    while "snapshot of frame" not in open(keeper_log).read():
+    while not any(said in open(keeper_log).read() for said in ("snapshot of frame", "not in the snapshot")):
         check(slave.poll() is None, lambda: f"the slave ended early: {open(slave_log).read()[-3000:]}")
         check(time.monotonic() - t0 < 120, lambda: f"the keeper gave no snapshot within 120 s: {open(keeper_log).read()[-3000:]}")
         time.sleep(0.01)
@@ -98,6 +98,20 @@ def join(name, program, frames, join_at, journal_mb=2, size=None):
     shown = sorted(f for f in os.listdir(os.path.join(out, "slave")) if f.endswith(".png"))
     check(shown, "the slave wrote no frame")
     first_frame = int(shown[0][6:12])
+    if fallback:  # the keeper said its snapshot cannot hold the state: the slave took the journal
+        check("catching up from the journal instead" in open(slave_log).read(),
+              lambda: f"the slave did not fall back to the journal: {open(slave_log).read()[-2000:]}")
+        check(first_frame == 0, f"the slave's first frame is {first_frame}, not 0: it did not replay the journal")
+        compared = 0
+        for f in shown:
+            ref = os.path.join(out, "program", f)
+            if os.path.exists(ref):
+                check(read_png(ref) == read_png(os.path.join(out, "slave", f)), f"{name}: the slave's {f} differs")
+                compared += 1
+        check(compared > 0, "no frame to compare")
+        print(f"{name}: the keeper refused ({[l for l in keeper_log.splitlines() if 'not in' in l][:1]}); "
+              f"the slave replayed the journal from frame 0; {compared} frames equal to the program's")
+        return 0, rss
     # The keeper may be behind the program (it renders too; on a loaded machine by hundreds of
     # frames): the slave joins where the keeper is and takes the rest from the journal.
     check(first_frame >= max(1, join_at // 2), f"the slave's first frame {first_frame} is far before the join at "
@@ -172,6 +186,11 @@ def case_textures():  # a new texture every frame, the older ones deleted
 
 def case_render_once():  # a texture rendered into once, sampled forever; the window never cleared
     join("render_once", app("live_state", "render_once", "--size", "160x120", "--frames", str(FRAMES)), FRAMES, JOIN)
+
+
+def case_fallback():  # an attribute stack left pushed: no snapshot can hold it, the journal can
+    join("fallback", app("live_state", "pushed", "--size", "160x120", "--frames", "600"), 600, 400,
+         journal_mb=64, fallback=True)
 
 
 def case_fbo_ext():  # EXT framebuffer objects, a texture rendered into
