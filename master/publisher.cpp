@@ -63,49 +63,30 @@ JournalRequest classify_journal_request(const std::string_view* parts, size_t co
         return r;
     }
     r.drop = JournalDrop::unknown;
-    constexpr std::string_view at = "SNAPSHOT AT ";
-    if (body.size() > at.size() && body.substr(0, at.size()) == at) {
-        const std::string_view digits = body.substr(at.size());
-        if (digits.size() > 10 || (digits.size() > 1 && digits[0] == '0')) return r;
-        uint64_t n = 0;
-        for (char c : digits) {
-            if (c < '0' || c > '9') return r;
-            n = n * 10 + uint64_t(c - '0');
-        }
-        if (n > UINT32_MAX) return r;
-        r.kind = JournalRequestKind::snapshot_at;
-        r.drop = JournalDrop::none;
-        r.frame = n;
-        return r;
-    }
-    constexpr std::string_view since = "SINCE ";
-    if (body.size() > since.size() && body.substr(0, since.size()) == since) {
-        const std::string_view digits = body.substr(since.size());
+    // "WORD n": n decimal as std::to_string writes it (no sign, no leading zero), at most `max`.
+    struct Form {
+        std::string_view word;
+        JournalRequestKind kind;
+        uint64_t max;
+    };
+    static constexpr Form forms[] = {{"SNAPSHOT AT ", JournalRequestKind::snapshot_at, UINT32_MAX},
+                                     {"SINCE ", JournalRequestKind::since, UINT64_MAX},
+                                     {"DONE ", JournalRequestKind::done, UINT32_MAX}};
+    for (const Form& f : forms) {
+        if (body.size() <= f.word.size() || body.substr(0, f.word.size()) != f.word) continue;
+        const std::string_view digits = body.substr(f.word.size());
         if (digits.size() > 20 || (digits.size() > 1 && digits[0] == '0')) return r;
         uint64_t n = 0;
         for (char c : digits) {
             if (c < '0' || c > '9') return r;
-            if (n > (UINT64_MAX - uint64_t(c - '0')) / 10) return r;  // past 2^64-1
+            if (n > (f.max - uint64_t(c - '0')) / 10) return r;  // past the form's maximum
             n = n * 10 + uint64_t(c - '0');
         }
-        r.kind = JournalRequestKind::since;
+        r.kind = f.kind;
         r.drop = JournalDrop::none;
-        r.sequence = n;
+        (f.kind == JournalRequestKind::since ? r.sequence : r.frame) = n;
         return r;
     }
-    constexpr std::string_view done = "DONE ";
-    if (body.size() <= done.size() || body.substr(0, done.size()) != done) return r;
-    const std::string_view digits = body.substr(done.size());
-    if (digits.size() > 10 || (digits.size() > 1 && digits[0] == '0')) return r;
-    uint64_t n = 0;
-    for (char c : digits) {
-        if (c < '0' || c > '9') return r;
-        n = n * 10 + uint64_t(c - '0');
-    }
-    if (n > UINT32_MAX) return r;
-    r.kind = JournalRequestKind::done;
-    r.drop = JournalDrop::none;
-    r.frame = n;
     return r;
 }
 
