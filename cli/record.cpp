@@ -7,6 +7,7 @@
 
 #include "cli/commands.h"
 #include "cli/options.h"
+#include "keeper/trim.h"
 #include "master/stream.h"
 #include "protocol/decoder.h"
 #include "protocol/format.h"
@@ -31,18 +32,7 @@ int record(const RecordArgs& a) {
         uint64_t frames = 0;
         Message m;
         while ((!a.frames || frames < a.frames) && source.next(m)) {
-            for (size_t at = 0; at + kTupleHeaderBytes <= m.payload.size();) {
-                uint32_t body = 0;
-                std::memcpy(&body, m.payload.data() + at + 8, 4);
-                if (body > m.payload.size() - at - kTupleHeaderBytes)
-                    throw DecodeError(0, "message " + std::to_string(m.header.sequence) + ": a tuple runs past its end");
-                out.append(m.payload.data() + at, kTupleHeaderBytes + body);
-                at += kTupleHeaderBytes + body;
-            }
-            if (m.header.flags & kMsgFrameEnd) {
-                out.end_frame();
-                frames++;
-            }
+            if (keeper::append_message(out, m)) frames++;
         }
         out.close();
         std::printf("%s: %" PRIu64 " frames from frame %" PRIu64 " of the program\n", a.output.c_str(), frames,

@@ -47,6 +47,16 @@ void KeptCalls::before_call(const Call& c, const uint8_t* tuple, size_t bytes) {
     rec->second.body.insert(rec->second.body.end(), tuple, tuple + bytes);
 }
 
+LinkedShader read_shader(const GlApi& gl, uint32_t shader) {
+    GLint type = 0, length = 0;
+    gl.glGetShaderiv(shader, GL_SHADER_TYPE, &type);
+    gl.glGetShaderiv(shader, GL_SHADER_SOURCE_LENGTH, &length);
+    std::string source(size_t(std::max(length, 1)), '\0');
+    gl.glGetShaderSource(shader, GLsizei(source.size()), nullptr, source.data());
+    source.resize(std::strlen(source.c_str()));
+    return {uint32_t(type), std::move(source)};
+}
+
 namespace {
 
 constexpr size_t kMaxRecipeBytes = 4096;  // a stack entry built by more calls is read back instead
@@ -150,7 +160,7 @@ void KeptCalls::after_call(const Call& c) {
     slave::SlaveContext* ctx = core_.current_or_null();
     if (!ctx) return;
     if (info->sem.redraw == RedrawKind::NewList) {
-        recording_[ctx->id] = Recording{c.args[0].bits, c.args[1].bits == 0x1301 /* GL_COMPILE_AND_EXECUTE */, {}};
+        recording_[ctx->id] = Recording{c.args[0].bits, c.args[1].bits == GL_COMPILE_AND_EXECUTE, {}};
     } else if (info->sem.redraw == RedrawKind::EndList) {
         auto rec = recording_.find(ctx->id);
         if (rec == recording_.end()) return;
@@ -170,15 +180,7 @@ void KeptCalls::after_call(const Call& c) {
         if (!shaders.empty()) gl.glGetAttachedShaders(GLuint(program), GLsizei(shaders.size()), nullptr, shaders.data());
         std::vector<LinkedShader>& kept = linked_[ctx->names.shared][c.args[0].bits];
         kept.clear();
-        for (GLuint s : shaders) {
-            GLint type = 0, length = 0;
-            gl.glGetShaderiv(s, GL_SHADER_TYPE, &type);
-            gl.glGetShaderiv(s, GL_SHADER_SOURCE_LENGTH, &length);
-            std::string source(size_t(std::max(length, 1)), '\0');
-            gl.glGetShaderSource(s, GLsizei(source.size()), nullptr, source.data());
-            source.resize(std::strlen(source.c_str()));
-            kept.push_back({uint32_t(type), std::move(source)});
-        }
+        for (GLuint s : shaders) kept.push_back(read_shader(gl, s));
     } else if (info->sem.flags & kSemDeletes) {
         uint64_t ignored = 0;
         auto group = lists_.find(ctx->names.shared);
@@ -228,7 +230,7 @@ const std::vector<LinkedShader>* KeptCalls::linked(const slave::ShareGroup* grou
 const std::vector<MatrixRecipe>* KeptCalls::matrices(uint32_t context, uint32_t mode) const {
     auto it = matrices_.find(context);
     if (it == matrices_.end()) return nullptr;
-    return mode == 0x1700 ? &it->second.modelview : mode == 0x1701 ? &it->second.projection : nullptr;
+    return mode == GL_MODELVIEW ? &it->second.modelview : mode == GL_PROJECTION ? &it->second.projection : nullptr;
 }
 
 uint64_t KeptCalls::bytes() const {

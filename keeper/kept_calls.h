@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "glcast_gl_api.h"
 #include "slave/replay_observer.h"
 
 namespace glcast::slave {
@@ -39,6 +40,9 @@ struct LinkedShader {
     std::string source;
 };
 using LinkedPrograms = std::map<uint64_t, std::vector<LinkedShader>>;  // by master program name
+
+// A shader's type and its source as the driver holds it (for the keeper's own shader names).
+LinkedShader read_shader(const GlApi& gl, uint32_t shader);
 
 // The calls since the last glLoadIdentity or glLoadMatrix that made one entry of a matrix
 // stack: replayed after glLoadIdentity they give the same numbers and, for a driver that keeps
@@ -73,9 +77,9 @@ private:
         Tuple body;
     };
     struct Matrices {
-        uint32_t mode = 0x1700;  // GL_MODELVIEW
+        uint32_t mode = GL_MODELVIEW;
         std::vector<MatrixRecipe> modelview = std::vector<MatrixRecipe>(1), projection = std::vector<MatrixRecipe>(1);
-        std::vector<MatrixRecipe>* stack() { return mode == 0x1700 ? &modelview : mode == 0x1701 ? &projection : nullptr; }
+        std::vector<MatrixRecipe>* stack() { return mode == GL_MODELVIEW ? &modelview : mode == GL_PROJECTION ? &projection : nullptr; }
     };
     void follow_matrices(const Call& c, uint32_t context);
     slave::Replayer& core_;

@@ -72,12 +72,18 @@ void SnapshotWriter::read_in(slave::SlaveContext& ctx) {
 
 bool SnapshotWriter::asked() { return gl_.glGetError() == GL_NO_ERROR; }
 
-GLint SnapshotWriter::integer(GLenum pname) {
-    while (gl_.glGetError() != GL_NO_ERROR) {
+bool SnapshotWriter::query(GLenum pname, GLint& out) {
+    for (int i = 0; i < 16 && gl_.glGetError() != GL_NO_ERROR; ++i) {  // bounded: a lost context errs forever
     }
     GLint v[16] = {};
     gl_.glGetIntegerv(pname, v);
-    return asked() ? v[0] : 0;
+    out = v[0];
+    return asked();
+}
+
+GLint SnapshotWriter::integer(GLenum pname) {
+    GLint v = 0;
+    return query(pname, v) ? v : 0;
 }
 
 uint64_t SnapshotWriter::master_name(slave::SlaveContext& ctx, Ns ns, uint64_t slave_name) {

@@ -121,7 +121,7 @@ void SnapshotWriter::context_objects(slave::SlaveContext& ctx) {
             if (!gl_.glIsFramebuffer(GLuint(slave_name))) return;
             gl_.glBindFramebuffer(GL_FRAMEBUFFER, GLuint(slave_name));
             encode_glBindFramebuffer(e_, sz_, GL_FRAMEBUFFER, GLuint(master));
-            framebuffer(ctx, GLuint(slave_name));
+            framebuffer(ctx);
         });
         gl_.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(draw));
         gl_.glBindFramebuffer(GL_READ_FRAMEBUFFER, GLuint(read));
@@ -132,8 +132,7 @@ void SnapshotWriter::context_objects(slave::SlaveContext& ctx) {
     });
 }
 
-void SnapshotWriter::framebuffer(slave::SlaveContext& ctx, GLuint slave_name) {
-    (void)slave_name;
+void SnapshotWriter::framebuffer(slave::SlaveContext& ctx) {
     const GLint colors = std::min(integer(GL_MAX_COLOR_ATTACHMENTS), 16);
     std::vector<GLenum> points;
     for (GLint i = 0; i < colors; ++i) points.push_back(GLenum(GL_COLOR_ATTACHMENT0 + i));
@@ -308,8 +307,8 @@ void SnapshotWriter::context_state(slave::SlaveContext& ctx) {
         gl_.glActiveTexture(GLenum(GL_TEXTURE0 + u));
         encode_glActiveTexture(e_, sz_, GLenum(GL_TEXTURE0 + u));
         for (const auto& t : kUnitTargets) {
-            const GLint bound = integer(t[1]);
-            if (!asked()) continue;
+            GLint bound = 0;
+            if (!query(t[1], bound)) continue;
             encode_glBindTexture(e_, sz_, t[0], GLuint(master_name(ctx, Ns::texture, GLuint(bound))));
         }
         if (gl_.has(OP_glBindSampler)) {
@@ -368,7 +367,6 @@ void SnapshotWriter::context_state(slave::SlaveContext& ctx) {
 
 // Each stack from the bottom up; the keeper's stacks are popped to be read and pushed back.
 void SnapshotWriter::matrices(slave::SlaveContext& ctx) {
-    (void)ctx;
     const GLint mode = integer(GL_MATRIX_MODE);
     const GLint unit = integer(GL_ACTIVE_TEXTURE);
     struct Stack {
@@ -432,14 +430,14 @@ void SnapshotWriter::bindings(slave::SlaveContext& ctx) {
     auto buffer = [&](GLint keeper_name) { return GLuint(master_name(ctx, Ns::buffer, GLuint(keeper_name))); };
     if (gl_.has(OP_glBindBuffer)) {
         for (const auto& t : kBufferTargets) {
-            const GLint bound = integer(t[1]);
-            if (asked()) encode_glBindBuffer(e_, sz_, t[0], buffer(bound));
+            GLint bound = 0;
+            if (query(t[1], bound)) encode_glBindBuffer(e_, sz_, t[0], buffer(bound));
         }
         for (const auto& t : kIndexedBuffers) {
             GLint count = 0;
-            gl_.glGetIntegerv(t[0] == GL_UNIFORM_BUFFER ? GL_MAX_UNIFORM_BUFFER_BINDINGS : GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS,
-                              &count);
-            if (!asked()) continue;
+            if (!query(t[0] == GL_UNIFORM_BUFFER ? GL_MAX_UNIFORM_BUFFER_BINDINGS : GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS,
+                       count))
+                continue;
             for (GLint i = 0; i < std::min(count, 96); ++i) {
                 GLint name = 0;
                 GLint64 start = 0, size = 0;

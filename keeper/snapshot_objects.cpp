@@ -104,8 +104,8 @@ void SnapshotWriter::textures(slave::SlaveContext& ctx) {
         // Its target: the one it binds to without an error (binding to its own target changes nothing).
         GLenum target = 0;
         for (const auto& t : kTextureTargets) {
-            const GLint was = integer(t[1]);
-            if (!asked()) continue;
+            GLint was = 0;
+            if (!query(t[1], was)) continue;
             gl_.glBindTexture(t[0], GLuint(slave_name));
             const bool fits = asked();
             gl_.glBindTexture(t[0], GLuint(was));
@@ -122,7 +122,7 @@ void SnapshotWriter::textures(slave::SlaveContext& ctx) {
         const GLint was = integer(binding_of(target));
         gl_.glBindTexture(target, GLuint(slave_name));
         encode_glBindTexture(e_, sz_, target, GLuint(master));
-        texture_images(GLuint(slave_name), target, master);
+        texture_images(target, master);
         if (target != GL_TEXTURE_BUFFER) {
             snapshot_texture_parameters_int(gl_, e_, sz_, target, target);
             if (target != GL_TEXTURE_2D_MULTISAMPLE && target != GL_TEXTURE_2D_MULTISAMPLE_ARRAY)
@@ -134,17 +134,14 @@ void SnapshotWriter::textures(slave::SlaveContext& ctx) {
     if (gl_.has(OP_glActiveTexture)) gl_.glActiveTexture(GLenum(unit));
 }
 
-void SnapshotWriter::texture_images(GLuint slave_name, GLenum target, uint64_t master) {
-    (void)slave_name;
+void SnapshotWriter::texture_images(GLenum target, uint64_t master) {
     auto level_value = [&](GLenum face, GLint level, GLenum pname) {
         GLint v = 0;
         gl_.glGetTexLevelParameteriv(face, level, pname, &v);
         return asked() ? v : 0;
     };
     if (target == GL_TEXTURE_BUFFER) {
-        const GLint buffer = level_value(target, 0, GL_TEXTURE_BUFFER_DATA_STORE_BINDING);
         const GLint format = level_value(target, 0, GL_TEXTURE_INTERNAL_FORMAT);
-        (void)buffer;
         missing("texture " + std::to_string(master) + ": a buffer texture (" + std::to_string(format) + ")");
         return;
     }

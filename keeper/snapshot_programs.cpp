@@ -63,14 +63,11 @@ void SnapshotWriter::programs(slave::SlaveContext& ctx) {
             return;
         }
         if (!gl_.glIsShader(GLuint(slave_name))) return;
-        GLint type = 0, length = 0, compiled = 0;
-        gl_.glGetShaderiv(GLuint(slave_name), GL_SHADER_TYPE, &type);
-        gl_.glGetShaderiv(GLuint(slave_name), GL_SHADER_SOURCE_LENGTH, &length);
+        GLint compiled = 0;
         gl_.glGetShaderiv(GLuint(slave_name), GL_COMPILE_STATUS, &compiled);
-        std::string source(size_t(std::max(length, 1)), '\0');
-        gl_.glGetShaderSource(GLuint(slave_name), GLsizei(source.size()), nullptr, source.data());
-        source.resize(std::strlen(source.c_str()));
-        encode_glCreateShader(e_, sz_, GLenum(type), GLuint(master));
+        const LinkedShader shader = read_shader(gl_, GLuint(slave_name));
+        const std::string& source = shader.source;
+        encode_glCreateShader(e_, sz_, GLenum(shader.type), GLuint(master));
         report_.objects++;
         const char* text = source.c_str();
         const GLint text_length = GLint(source.size());
@@ -103,14 +100,6 @@ void SnapshotWriter::program(slave::SlaveContext& ctx, GLuint slave_name, uint64
         encode_glAttachShader(e_, sz_, GLuint(master), m);
         temporary.push_back(m);
     };
-    auto current_source = [&](GLuint s) {
-        GLint length = 0;
-        gl_.glGetShaderiv(s, GL_SHADER_SOURCE_LENGTH, &length);
-        std::string source(size_t(std::max(length, 1)), '\0');
-        gl_.glGetShaderSource(s, GLsizei(source.size()), nullptr, source.data());
-        source.resize(std::strlen(source.c_str()));
-        return source;
-    };
     if (kept) {
         for (const LinkedShader& s : *kept) make_temporary(GLenum(s.type), s.source);
     } else {
@@ -120,9 +109,8 @@ void SnapshotWriter::program(slave::SlaveContext& ctx, GLuint slave_name, uint64
                 encode_glAttachShader(e_, sz_, GLuint(master), m);
                 continue;
             }
-            GLint type = 0;  // deleted by the program while attached
-            gl_.glGetShaderiv(s, GL_SHADER_TYPE, &type);
-            make_temporary(GLenum(type), current_source(s));
+            const LinkedShader deleted = read_shader(gl_, s);  // deleted by the program while attached
+            make_temporary(GLenum(deleted.type), deleted.source);
         }
     }
     if (linked) {

@@ -30,14 +30,15 @@ private:
     // -- the keeper's side ----------------------------------------------------------------
     void read_in(slave::SlaveContext& ctx);  // the keeper reads ctx's state; tuples go to ctx
     uint64_t master_name(slave::SlaveContext& ctx, Ns ns, uint64_t slave_name);  // 0: none
-    GLint integer(GLenum pname);
+    GLint integer(GLenum pname);                // glGetIntegerv; 0 when the driver refuses it
+    bool query(GLenum pname, GLint& out);        // false when the driver refuses it
     bool asked();  // the last query was accepted (clears the error)
 
     // -- objects of a share group (snapshot_objects.cpp) --------------------------------------
     void share_group(slave::SlaveContext& ctx);
     void buffers(slave::SlaveContext& ctx);
     void textures(slave::SlaveContext& ctx);
-    void texture_images(GLuint slave_name, GLenum target, uint64_t master);
+    void texture_images(GLenum target, uint64_t master);  // of the bound texture
     void renderbuffers(slave::SlaveContext& ctx);
     void samplers(slave::SlaveContext& ctx);
     void programs(slave::SlaveContext& ctx);
@@ -48,7 +49,7 @@ private:
     // -- one context (snapshot_context.cpp) -----------------------------------------------
     void window_contents(slave::SlaveContext& ctx);
     void context_objects(slave::SlaveContext& ctx);
-    void framebuffer(slave::SlaveContext& ctx, GLuint slave_name);
+    void framebuffer(slave::SlaveContext& ctx);  // the bound one
     void vertex_arrays(slave::SlaveContext& ctx);  // of the bound vertex array object
     void context_state(slave::SlaveContext& ctx);
     bool compatibility();

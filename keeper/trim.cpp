@@ -11,6 +11,20 @@
 
 namespace glcast::keeper {
 
+bool append_message(Stream& out, const Message& m) {
+    for (size_t at = 0; at + kTupleHeaderBytes <= m.payload.size();) {
+        uint32_t body = 0;
+        std::memcpy(&body, m.payload.data() + at + 8, 4);
+        if (body > m.payload.size() - at - kTupleHeaderBytes)
+            throw DecodeError(m.offset, "message " + std::to_string(m.header.sequence) + ": a tuple runs past its end");
+        out.append(m.payload.data() + at, kTupleHeaderBytes + body);
+        at += kTupleHeaderBytes + body;
+    }
+    if (!(m.header.flags & kMsgFrameEnd)) return false;
+    out.end_frame();
+    return true;
+}
+
 TrimResult trim_capture(MessageSource& in, uint64_t first, uint64_t last, std::unique_ptr<slave::Backend> backend,
                         const std::string& out_path) {
     TrimResult result;
@@ -32,18 +46,7 @@ TrimResult trim_capture(MessageSource& in, uint64_t first, uint64_t last, std::u
     Message m;
     while (in.next(m)) {
         if (m.header.frame > last) break;
-        const uint8_t* p = m.payload.data();
-        size_t at = 0;
-        while (at + kTupleHeaderBytes <= m.payload.size()) {
-            uint32_t body = 0;
-            std::memcpy(&body, p + at + 8, 4);
-            if (body > m.payload.size() - at - kTupleHeaderBytes)
-                throw DecodeError(m.offset, "message " + std::to_string(m.header.sequence) + ": a tuple runs past its end");
-            out.append(p + at, kTupleHeaderBytes + body);
-            at += kTupleHeaderBytes + body;
-        }
-        if (m.header.flags & kMsgFrameEnd) {
-            out.end_frame();
+        if (append_message(out, m)) {
             result.frames++;
             if (m.header.frame >= last) break;
         }

@@ -12,6 +12,8 @@
 
 namespace glcast {
 class MessageSource;
+class Stream;
+struct Message;
 }  // namespace glcast
 
 namespace glcast::slave {
@@ -27,6 +29,10 @@ struct TrimResult {
     double snapshot_seconds = 0;    // reading the keeper's state back and encoding it
     SnapshotReport snapshot;
 };
+
+// Appends each tuple of a decoded message to `out`, and ends the frame there if the message ends
+// one (true). Throws DecodeError on a tuple that runs past the payload.
+bool append_message(Stream& out, const Message& m);
 
 // Throws DecodeError on a bad input, std::runtime_error when the output cannot be written.
 TrimResult trim_capture(MessageSource& in, uint64_t first, uint64_t last, std::unique_ptr<slave::Backend> backend,
