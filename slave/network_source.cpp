@@ -119,6 +119,8 @@ bool NetworkSource::ask_journal(const std::string& request, const std::function<
     zmq::socket_t dealer(*context_, zmq::socket_type::dealer);
     dealer.set(zmq::sockopt::linger, 0);
     dealer.set(zmq::sockopt::rcvhwm, 0);
+    // No part larger than a message may be: libzmq hangs up before it allocates one.
+    dealer.set(zmq::sockopt::maxmsgsize, int64_t(sizeof(MessageHeader)) + kMaxMessageBytes);
     dealer.connect(journal_endpoint_);
     dealer.send(zmq::buffer(request), zmq::send_flags::none);
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(wait_seconds_);
@@ -154,6 +156,8 @@ NetworkSource::State NetworkSource::fetch_state(const std::string& endpoint) {
     zmq::socket_t dealer(*context_, zmq::socket_type::dealer);
     dealer.set(zmq::sockopt::linger, 0);
     dealer.set(zmq::sockopt::rcvhwm, 0);
+    // No part larger than a message may be: libzmq hangs up before it allocates one.
+    dealer.set(zmq::sockopt::maxmsgsize, int64_t(sizeof(MessageHeader)) + kMaxMessageBytes);
     dealer.connect(endpoint);
     const std::string request = keeper_frame_ ? "SNAPSHOT AT " + std::to_string(keeper_frame_) : "SNAPSHOT";
     dealer.send(zmq::buffer(request), zmq::send_flags::none);
