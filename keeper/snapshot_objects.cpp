@@ -287,9 +287,102 @@ void SnapshotWriter::renderbuffers(slave::SlaveContext& ctx) {
         if (w > 0 && h > 0) {
             if (samples) encode_glRenderbufferStorageMultisample(e_, sz_, GL_RENDERBUFFER, samples, GLenum(format), w, h);
             else encode_glRenderbufferStorage(e_, sz_, GL_RENDERBUFFER, GLenum(format), w, h);
+            if (samples) missing("renderbuffer " + std::to_string(master) + ": multisampled contents");
+            else renderbuffer_contents(GLuint(slave_name), GLuint(master), GLenum(format), w, h);
         }
     });
     gl_.glBindRenderbuffer(GL_RENDERBUFFER, GLuint(was));
+}
+
+namespace {
+
+// How a renderbuffer's pixels travel exactly: the attachment point, the blit mask, and the
+// format and type that read them back and upload them again without rounding.
+struct RenderbufferPixels {
+    GLenum attachment, mask, format, type;
+    size_t bytes_per_pixel;
+};
+
+bool integer_color(GLenum internal) {
+    switch (internal) {
+    case GL_R8I: case GL_R8UI: case GL_R16I: case GL_R16UI: case GL_R32I: case GL_R32UI:
+    case GL_RG8I: case GL_RG8UI: case GL_RG16I: case GL_RG16UI: case GL_RG32I: case GL_RG32UI:
+    case GL_RGB8I: case GL_RGB8UI: case GL_RGB16I: case GL_RGB16UI: case GL_RGB32I: case GL_RGB32UI:
+    case GL_RGBA8I: case GL_RGBA8UI: case GL_RGBA16I: case GL_RGBA16UI: case GL_RGBA32I: case GL_RGBA32UI:
+    case GL_RGB10_A2UI: return true;
+    default: return false;
+    }
+}
+
+}  // namespace
+
+// A renderbuffer's contents (drawn into by the program, or blitted): read back through a
+// framebuffer of the keeper's own, and written as a texture of the same format blitted into the
+// renderbuffer, both temporary, so a slave gets what the program drew without drawing it again.
+void SnapshotWriter::renderbuffer_contents(GLuint slave_name, GLuint master, GLenum internal, GLint w, GLint h) {
+    if (!gl_.has(OP_glBlitFramebuffer) || !gl_.has(OP_glFramebufferRenderbuffer)) {
+        missing("renderbuffer " + std::to_string(master) + ": its contents");
+        return;
+    }
+    GLint depth = 0, stencil = 0, red = 0, green = 0, blue = 0, alpha = 0;
+    gl_.glGetRenderbufferParameteriv(GL_RENDERBUFFER, GL_RENDERBUFFER_DEPTH_SIZE, &depth);
+    gl_.glGetRenderbufferParameteriv(GL_RENDERBUFFER, GL_RENDERBUFFER_STENCIL_SIZE, &stencil);
+    gl_.glGetRenderbufferParameteriv(GL_RENDERBUFFER, GL_RENDERBUFFER_RED_SIZE, &red);
+    gl_.glGetRenderbufferParameteriv(GL_RENDERBUFFER, GL_RENDERBUFFER_GREEN_SIZE, &green);
+    gl_.glGetRenderbufferParameteriv(GL_RENDERBUFFER, GL_RENDERBUFFER_BLUE_SIZE, &blue);
+    gl_.glGetRenderbufferParameteriv(GL_RENDERBUFFER, GL_RENDERBUFFER_ALPHA_SIZE, &alpha);
+    const bool float_depth = internal == GL_DEPTH_COMPONENT32F || internal == GL_DEPTH32F_STENCIL8;
+    RenderbufferPixels p{};
+    if (depth && stencil)
+        p = float_depth ? RenderbufferPixels{GL_DEPTH_STENCIL_ATTACHMENT, GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT,
+                                             GL_DEPTH_STENCIL, GL_FLOAT_32_UNSIGNED_INT_24_8_REV, 8}
+                        : RenderbufferPixels{GL_DEPTH_STENCIL_ATTACHMENT, GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT,
+                                             GL_DEPTH_STENCIL, GL_UNSIGNED_INT_24_8, 4};
+    else if (depth)
+        p = {GL_DEPTH_ATTACHMENT, GL_DEPTH_BUFFER_BIT, GL_DEPTH_COMPONENT, float_depth ? GLenum(GL_FLOAT) : GLenum(GL_UNSIGNED_INT), 4};
+    else if (stencil)
+        p = {GL_STENCIL_ATTACHMENT, GL_STENCIL_BUFFER_BIT, GL_STENCIL_INDEX, GL_UNSIGNED_BYTE, 1};
+    else if (integer_color(internal))
+        p = {GL_COLOR_ATTACHMENT0, GL_COLOR_BUFFER_BIT, GL_RGBA_INTEGER, GL_UNSIGNED_INT, 16};
+    else if (std::max({red, green, blue, alpha}) <= 8)
+        p = {GL_COLOR_ATTACHMENT0, GL_COLOR_BUFFER_BIT, GL_RGBA, GL_UNSIGNED_BYTE, 4};
+    else
+        p = {GL_COLOR_ATTACHMENT0, GL_COLOR_BUFFER_BIT, GL_RGBA, GL_FLOAT, 16};
+
+    const GLint read_was = integer(GL_READ_FRAMEBUFFER_BINDING);
+    GLuint reader = 0;
+    gl_.glGenFramebuffers(1, &reader);
+    gl_.glBindFramebuffer(GL_READ_FRAMEBUFFER, reader);
+    gl_.glFramebufferRenderbuffer(GL_READ_FRAMEBUFFER, p.attachment, GL_RENDERBUFFER, slave_name);
+    std::vector<uint8_t> pixels(size_t(w) * size_t(h) * p.bytes_per_pixel);
+    const bool complete = gl_.glCheckFramebufferStatus(GL_READ_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
+    if (complete) gl_.glReadPixels(0, 0, w, h, p.format, p.type, pixels.data());
+    const bool read = complete && asked();
+    gl_.glBindFramebuffer(GL_READ_FRAMEBUFFER, GLuint(read_was));
+    gl_.glDeleteFramebuffers(1, &reader);
+    if (!read) {
+        missing("renderbuffer " + std::to_string(master) + ": its contents (format " + std::to_string(internal) + ")");
+        return;
+    }
+    GLuint texture = kTemporaryNameBase + next_temporary_++;
+    GLuint from = kTemporaryNameBase + next_temporary_++, to = kTemporaryNameBase + next_temporary_++;
+    encode_glGenTextures(e_, sz_, 1, &texture);
+    encode_glBindTexture(e_, sz_, GL_TEXTURE_2D, texture);
+    encode_glTexImage2D(e_, sz_, GL_TEXTURE_2D, 0, GLint(internal), w, h, 0, p.format, p.type, pixels.data());
+    encode_glGenFramebuffers(e_, sz_, 1, &from);
+    encode_glGenFramebuffers(e_, sz_, 1, &to);
+    encode_glBindFramebuffer(e_, sz_, GL_READ_FRAMEBUFFER, from);
+    encode_glFramebufferTexture2D(e_, sz_, GL_READ_FRAMEBUFFER, p.attachment, GL_TEXTURE_2D, texture, 0);
+    encode_glBindFramebuffer(e_, sz_, GL_DRAW_FRAMEBUFFER, to);
+    encode_glFramebufferRenderbuffer(e_, sz_, GL_DRAW_FRAMEBUFFER, p.attachment, GL_RENDERBUFFER, master);
+    encode_glBlitFramebuffer(e_, sz_, 0, 0, w, h, 0, 0, w, h, p.mask, GL_NEAREST);
+    encode_glBindFramebuffer(e_, sz_, GL_READ_FRAMEBUFFER, 0);
+    encode_glBindFramebuffer(e_, sz_, GL_DRAW_FRAMEBUFFER, 0);
+    GLuint framebuffers[2] = {from, to};
+    encode_glDeleteFramebuffers(e_, sz_, 2, framebuffers);
+    encode_glBindTexture(e_, sz_, GL_TEXTURE_2D, 0);
+    encode_glDeleteTextures(e_, sz_, 1, &texture);
+    flush();
 }
 
 void SnapshotWriter::samplers(slave::SlaveContext& ctx) {

@@ -40,6 +40,7 @@ private:
     void textures(slave::SlaveContext& ctx);
     void texture_images(GLenum target, uint64_t master);  // of the bound texture
     void renderbuffers(slave::SlaveContext& ctx);
+    void renderbuffer_contents(GLuint slave_name, GLuint master, GLenum internal, GLint w, GLint h);
     void samplers(slave::SlaveContext& ctx);
     void programs(slave::SlaveContext& ctx);
     void program(slave::SlaveContext& ctx, GLuint slave_name, uint64_t master);

@@ -6,6 +6,9 @@
  *   live_state render_once   at the start a pattern is rendered into a texture through a
  *                            framebuffer object; every frame samples it on a turning quad, and
  *                            the picture is never cleared: each frame draws over the last
+ *   live_state renderbuffer  at the start a fan is drawn into colour and depth renderbuffers;
+ *                            every frame a small quad is drawn into them behind the fan (the
+ *                            depth test keeps the fan) and the colour is blitted to the window
  *   live_state pushed        as textures, with an attribute stack pushed at the start and never
  *                            popped: state no snapshot can read (a slave must join otherwise)
  * Fixed-function GL 1.x-3.0 in a compatibility context, GLX. Everything depends on the frame
@@ -85,15 +88,81 @@ static GLuint render_into_texture(void)
     return tex;
 }
 
+enum { RB_SIZE = 96 };
+
+static void fan(float z)
+{
+    glBegin(GL_TRIANGLES);
+    for (int i = 0; i < 8; i++) {
+        const float a0 = 2 * APP_PI * i / 8, a1 = 2 * APP_PI * (i + 1) / 8;
+        glColor3f(0.5f + 0.5f * cosf(a0), 0.5f + 0.5f * sinf(a0), (float)i / 8);
+        glVertex3f(0, 0, z);
+        glVertex3f(0.6f * cosf(a0), 0.6f * sinf(a0), z);
+        glVertex3f(0.6f * cosf(a1), 0.6f * sinf(a1), z);
+    }
+    glEnd();
+}
+
+/* A framebuffer of colour and depth renderbuffers holding a fan, drawn once. */
+static GLuint render_into_renderbuffers(void)
+{
+    GLuint fbo, rb[2];
+    glGenFramebuffers(1, &fbo);
+    glGenRenderbuffers(2, rb);
+    glBindRenderbuffer(GL_RENDERBUFFER, rb[0]);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, RB_SIZE, RB_SIZE);
+    glBindRenderbuffer(GL_RENDERBUFFER, rb[1]);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, RB_SIZE, RB_SIZE);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, rb[0]);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, rb[1]);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+        fprintf(stderr, "live_state: renderbuffer framebuffer incomplete\n");
+        exit(1);
+    }
+    glViewport(0, 0, RB_SIZE, RB_SIZE);
+    glClearColor(0.1f, 0.2f, 0.1f, 1);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glEnable(GL_DEPTH_TEST);
+    fan(-0.5f);
+    glDisable(GL_DEPTH_TEST);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    return fbo;
+}
+
+/* One frame of renderbuffer mode: a quad behind the fan, then the colour blitted to the window. */
+static void renderbuffer_frame(GLuint fbo, int f, int width, int height)
+{
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glViewport(0, 0, RB_SIZE, RB_SIZE);
+    glEnable(GL_DEPTH_TEST);
+    glDisable(GL_TEXTURE_2D);
+    glColor3f((float)(f % 7) / 7, 0.3f, (float)(f % 11) / 11);
+    const float x = 0.8f * cosf(0.13f * f), y = 0.8f * sinf(0.09f * f);
+    glBegin(GL_QUADS);
+    glVertex3f(x - 0.1f, y - 0.1f, 0); glVertex3f(x + 0.1f, y - 0.1f, 0);
+    glVertex3f(x + 0.1f, y + 0.1f, 0); glVertex3f(x - 0.1f, y + 0.1f, 0);
+    glEnd();
+    glDisable(GL_DEPTH_TEST);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
+    glViewport(0, 0, width, height);
+    glClear(GL_COLOR_BUFFER_BIT);
+    const int dx = (f * 3) % (width > RB_SIZE ? width - RB_SIZE : 1), dy = (height - RB_SIZE) / 2;
+    glBlitFramebuffer(0, 0, RB_SIZE, RB_SIZE, dx, dy > 0 ? dy : 0, dx + RB_SIZE, (dy > 0 ? dy : 0) + RB_SIZE,
+                      GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+}
+
 int main(int argc, char **argv)
 {
     if (argc < 2 || (strcmp(argv[1], "textures") != 0 && strcmp(argv[1], "render_once") != 0 &&
-                     strcmp(argv[1], "pushed") != 0)) {
-        fprintf(stderr, "usage: live_state textures|render_once|pushed [--frames N] [--size WxH]\n");
+                     strcmp(argv[1], "renderbuffer") != 0 && strcmp(argv[1], "pushed") != 0)) {
+        fprintf(stderr, "usage: live_state textures|render_once|renderbuffer|pushed [--frames N] [--size WxH]\n");
         return 2;
     }
     const int pushed = strcmp(argv[1], "pushed") == 0;
     const int textures = strcmp(argv[1], "textures") == 0 || pushed;
+    const int renderbuffer = strcmp(argv[1], "renderbuffer") == 0;
     argv[1] = argv[0];
     struct app_args a;
     app_parse_args("live_state", argc - 1, argv + 1, &a);
@@ -116,7 +185,8 @@ int main(int argc, char **argv)
     GLXContext ctx = glXCreateContext(dpy, vi, NULL, True);
     glXMakeCurrent(dpy, win, ctx);
 
-    GLuint once = textures ? 0 : render_into_texture();
+    GLuint once = textures || renderbuffer ? 0 : render_into_texture();
+    GLuint rb_fbo = renderbuffer ? render_into_renderbuffers() : 0;
     if (pushed) glPushAttrib(GL_ENABLE_BIT);
     GLuint ring[KEEP] = {0};
     unsigned char rgba[4 * SIZE * SIZE];
@@ -126,7 +196,9 @@ int main(int argc, char **argv)
     glEnable(GL_TEXTURE_2D);
     glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_REPLACE);
     for (int f = 0; f < a.frames; f++) {
-        if (textures) {
+        if (renderbuffer) {
+            renderbuffer_frame(rb_fbo, f, a.width, a.height);
+        } else if (textures) {
             glClear(GL_COLOR_BUFFER_BIT);
             const int slot = f % KEEP;
             if (ring[slot]) glDeleteTextures(1, &ring[slot]);

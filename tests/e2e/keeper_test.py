@@ -188,6 +188,10 @@ def case_render_once():  # a texture rendered into once, sampled forever; the wi
     join("render_once", app("live_state", "render_once", "--size", "160x120", "--frames", str(FRAMES)), FRAMES, JOIN)
 
 
+def case_renderbuffer():  # colour and depth renderbuffers drawn into, blitted to the window
+    join("renderbuffer", app("live_state", "renderbuffer", "--size", "160x120", "--frames", str(FRAMES)), FRAMES, JOIN)
+
+
 def case_fallback():  # an attribute stack left pushed: no snapshot can hold it, the journal can
     join("fallback", app("live_state", "pushed", "--size", "160x120", "--frames", "600"), 600, 400,
          journal_mb=64, fallback=True)
