@@ -130,6 +130,28 @@ void SnapshotWriter::context_objects(slave::SlaveContext& ctx) {
         GLuint name = GLuint(master);
         encode_glGenQueries(e_, sz_, 1, &name);
     });
+    objects_not_held(ctx);
+}
+
+// Objects whose state no snapshot here recreates: named so that the keeper refuses to serve the
+// snapshot (docs/keeper.md "What a snapshot cannot hold") rather than let a slave draw without them.
+void SnapshotWriter::objects_not_held(slave::SlaveContext& ctx) {
+    const std::string context = "context " + std::to_string(ctx.id) + ": ";
+    ctx.names.map(Ns::transform_feedback).each([&](uint64_t master, uint64_t) {
+        missing(context + "transform feedback object " + std::to_string(master));
+    });
+    ctx.names.map(Ns::program_pipeline).each([&](uint64_t master, uint64_t) {
+        missing(context + "program pipeline " + std::to_string(master));
+    });
+    if (!gl_.has(OP_glGetQueryiv)) return;
+    for (GLenum target : {GL_SAMPLES_PASSED, GL_ANY_SAMPLES_PASSED, GL_ANY_SAMPLES_PASSED_CONSERVATIVE,
+                          GL_PRIMITIVES_GENERATED, GL_TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN, GL_TIME_ELAPSED}) {
+        GLint active = 0;
+        gl_.glGetQueryiv(target, GL_CURRENT_QUERY, &active);
+        if (asked() && active)
+            missing(context + "query " + std::to_string(master_name(ctx, Ns::query, GLuint(active))) +
+                    " in progress (target " + std::to_string(target) + ")");
+    }
 }
 
 void SnapshotWriter::framebuffer(slave::SlaveContext& ctx) {

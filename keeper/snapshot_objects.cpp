@@ -54,6 +54,7 @@ void SnapshotWriter::share_group(slave::SlaveContext& ctx) {
     samplers(ctx);
     programs(ctx);
     lists(ctx);
+    syncs(ctx);
 }
 
 // --- buffers -------------------------------------------------------------------------------
@@ -409,6 +410,19 @@ void SnapshotWriter::lists(slave::SlaveContext& ctx) {
         raw(body->second, ctx.id);
         encode_glEndList(e_, sz_);
         flush();
+    });
+}
+
+// --- syncs ------------------------------------------------------------------------------------
+
+// A fence the program has not deleted yet: later calls wait on it, ask it or delete it, and the
+// master's answers travel with them, so a fence made at the snapshot (signalled as soon as the
+// snapshot's own commands complete) is all a slave can observe of it.
+void SnapshotWriter::syncs(slave::SlaveContext& ctx) {
+    if (!gl_.has(OP_glFenceSync)) return;
+    ctx.names.map(Ns::sync).each([&](uint64_t master, uint64_t) {
+        encode_glFenceSync(e_, sz_, GL_SYNC_GPU_COMMANDS_COMPLETE, 0, reinterpret_cast<GLsync>(uintptr_t(master)));
+        report_.objects++;
     });
 }
 

@@ -46,10 +46,12 @@ private:
     void program(slave::SlaveContext& ctx, GLuint slave_name, uint64_t master);
     void uniforms(slave::SlaveContext& ctx, GLuint slave_name, uint64_t master);
     void lists(slave::SlaveContext& ctx);
+    void syncs(slave::SlaveContext& ctx);
 
     // -- one context (snapshot_context.cpp) -----------------------------------------------
     void window_contents(slave::SlaveContext& ctx);
     void context_objects(slave::SlaveContext& ctx);
+    void objects_not_held(slave::SlaveContext& ctx);  // reported missing by name
     void framebuffer(slave::SlaveContext& ctx);  // the bound one
     void vertex_arrays(slave::SlaveContext& ctx);  // of the bound vertex array object
     void context_state(slave::SlaveContext& ctx);

@@ -9,6 +9,11 @@
  *   live_state renderbuffer  at the start a fan is drawn into colour and depth renderbuffers;
  *                            every frame a small quad is drawn into them behind the fan (the
  *                            depth test keeps the fan) and the colour is blitted to the window
+ *   live_state fences        as textures, with a fence made every frame and waited on two frames
+ *                            later, and an occlusion query whose count, read a frame later,
+ *                            sets the ground's brightness
+ *   live_state feedback      as textures, with a transform feedback object made at the start
+ *                            and never deleted: an object no snapshot here recreates
  *   live_state pushed        as textures, with an attribute stack pushed at the start and never
  *                            popped: state no snapshot can read (a slave must join otherwise)
  * Fixed-function GL 1.x-3.0 in a compatibility context, GLX. Everything depends on the frame
@@ -156,12 +161,16 @@ static void renderbuffer_frame(GLuint fbo, int f, int width, int height)
 int main(int argc, char **argv)
 {
     if (argc < 2 || (strcmp(argv[1], "textures") != 0 && strcmp(argv[1], "render_once") != 0 &&
-                     strcmp(argv[1], "renderbuffer") != 0 && strcmp(argv[1], "pushed") != 0)) {
-        fprintf(stderr, "usage: live_state textures|render_once|renderbuffer|pushed [--frames N] [--size WxH]\n");
+                     strcmp(argv[1], "renderbuffer") != 0 && strcmp(argv[1], "fences") != 0 &&
+                     strcmp(argv[1], "feedback") != 0 && strcmp(argv[1], "pushed") != 0)) {
+        fprintf(stderr, "usage: live_state textures|render_once|renderbuffer|fences|feedback|pushed [--frames N] "
+                        "[--size WxH]\n");
         return 2;
     }
     const int pushed = strcmp(argv[1], "pushed") == 0;
-    const int textures = strcmp(argv[1], "textures") == 0 || pushed;
+    const int fences = strcmp(argv[1], "fences") == 0;
+    const int feedback = strcmp(argv[1], "feedback") == 0;
+    const int textures = strcmp(argv[1], "textures") == 0 || pushed || fences || feedback;
     const int renderbuffer = strcmp(argv[1], "renderbuffer") == 0;
     argv[1] = argv[0];
     struct app_args a;
@@ -188,7 +197,16 @@ int main(int argc, char **argv)
     GLuint once = textures || renderbuffer ? 0 : render_into_texture();
     GLuint rb_fbo = renderbuffer ? render_into_renderbuffers() : 0;
     if (pushed) glPushAttrib(GL_ENABLE_BIT);
+    if (feedback) {
+        GLuint tf;
+        glGenTransformFeedbacks(1, &tf);
+        glBindTransformFeedback(GL_TRANSFORM_FEEDBACK, tf);
+        glBindTransformFeedback(GL_TRANSFORM_FEEDBACK, 0);
+    }
     GLuint ring[KEEP] = {0};
+    GLsync fence[2] = {0, 0};
+    GLuint occlusion = 0;
+    if (fences) glGenQueries(1, &occlusion);
     unsigned char rgba[4 * SIZE * SIZE];
     glViewport(0, 0, a.width, a.height);
     glClearColor(0.05f, 0.05f, 0.05f, 1);
@@ -199,7 +217,17 @@ int main(int argc, char **argv)
         if (renderbuffer) {
             renderbuffer_frame(rb_fbo, f, a.width, a.height);
         } else if (textures) {
+            if (fences && fence[f % 2]) {
+                glClientWaitSync(fence[f % 2], GL_SYNC_FLUSH_COMMANDS_BIT, 1000000000);
+                glDeleteSync(fence[f % 2]);
+            }
+            if (fences && f > 0) {
+                GLuint passed = 0;
+                glGetQueryObjectuiv(occlusion, GL_QUERY_RESULT, &passed);
+                glClearColor((float)(passed % 97) / 97, 0.05f, 0.05f, 1);
+            }
             glClear(GL_COLOR_BUFFER_BIT);
+            if (fences) glBeginQuery(GL_SAMPLES_PASSED, occlusion);
             const int slot = f % KEEP;
             if (ring[slot]) glDeleteTextures(1, &ring[slot]);
             glGenTextures(1, &ring[slot]);
@@ -212,6 +240,10 @@ int main(int argc, char **argv)
                 if (!ring[(f - k + KEEP) % KEEP]) continue;
                 glBindTexture(GL_TEXTURE_2D, ring[(f - k + KEEP) % KEEP]);
                 quad(-0.6f + 0.6f * k, 0, 0.25f, 0.02f * f);
+            }
+            if (fences) {
+                glEndQuery(GL_SAMPLES_PASSED);
+                fence[f % 2] = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
             }
         } else {
             glBindTexture(GL_TEXTURE_2D, once);

@@ -44,7 +44,8 @@ def frame_of(out, n):
     return os.path.join(out, f"frame-{n:06d}.png")
 
 
-def join(name, program, frames, join_at, journal_mb=2, size=None, fallback=False):
+def join(name, program, frames, join_at, journal_mb=2, size=None, fallback=None):
+    """fallback: what the keeper must name as missing; the slave then takes the journal."""
     out = os.path.join(OUT, name)
     shutil.rmtree(out, ignore_errors=True)
     os.makedirs(out)
@@ -101,6 +102,7 @@ def join(name, program, frames, join_at, journal_mb=2, size=None, fallback=False
     if fallback:  # the keeper said its snapshot cannot hold the state: the slave took the journal
         check("catching up from the journal instead" in open(slave_log).read(),
               lambda: f"the slave did not fall back to the journal: {open(slave_log).read()[-2000:]}")
+        check(fallback in keeper_log, f"the keeper did not name {fallback!r} as missing: {keeper_log[-2000:]}")
         check(first_frame == 0, f"the slave's first frame is {first_frame}, not 0: it did not replay the journal")
         compared = 0
         for f in shown:
@@ -192,9 +194,18 @@ def case_renderbuffer():  # colour and depth renderbuffers drawn into, blitted t
     join("renderbuffer", app("live_state", "renderbuffer", "--size", "160x120", "--frames", str(FRAMES)), FRAMES, JOIN)
 
 
+def case_fences():  # fences waited on two frames after they were made, an occlusion query read a frame later
+    join("fences", app("live_state", "fences", "--size", "160x120", "--frames", str(FRAMES)), FRAMES, JOIN)
+
+
 def case_fallback():  # an attribute stack left pushed: no snapshot can hold it, the journal can
     join("fallback", app("live_state", "pushed", "--size", "160x120", "--frames", "600"), 600, 400,
-         journal_mb=64, fallback=True)
+         journal_mb=64, fallback="attribute stack depth 1")
+
+
+def case_fallback_feedback():  # a transform feedback object: no snapshot here recreates one
+    join("fallback_feedback", app("live_state", "feedback", "--size", "160x120", "--frames", "600"), 600, 400,
+         journal_mb=64, fallback="transform feedback object 1")
 
 
 def case_fbo_ext():  # EXT framebuffer objects, a texture rendered into
