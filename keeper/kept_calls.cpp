@@ -35,6 +35,15 @@ void KeptCalls::before_call(const Call& c, const uint8_t* tuple, size_t bytes) {
         SynthDrawableSize t;
         read_synthetic(c, t);
         drawable_sizes_[t.drawable].assign(tuple, tuple + bytes);
+        // Drawables are never said to be destroyed: past a few, those no live context is on go
+        // (a program that makes a pbuffer a frame would otherwise grow this forever).
+        if (drawable_sizes_.size() > kDrawablesKept) {
+            for (auto it = drawable_sizes_.begin(); it != drawable_sizes_.end();) {
+                bool used = it->first == t.drawable;
+                for (const auto& [id, ctx] : core_.contexts()) used = used || ctx->drawable == it->first;
+                it = used ? std::next(it) : drawable_sizes_.erase(it);
+            }
+        }
         return;
     }
     if (info && info->sem.context == ContextOp::Create) {

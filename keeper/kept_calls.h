@@ -82,6 +82,7 @@ private:
         std::vector<MatrixRecipe>* stack() { return mode == GL_MODELVIEW ? &modelview : mode == GL_PROJECTION ? &projection : nullptr; }
     };
     void follow_matrices(const Call& c, uint32_t context);
+    static constexpr size_t kDrawablesKept = 16;  // sizes kept of drawables no context is on
     slave::Replayer& core_;
     std::map<uint32_t, ContextCalls> contexts_;
     std::map<uint64_t, Tuple> pending_create_;  // by the driver handle it returned

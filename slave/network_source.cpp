@@ -5,9 +5,24 @@
 #include <chrono>
 #include <cstdio>
 #include <optional>
+#include <cstdlib>
 #include <cstring>
 
 namespace glcast::slave {
+
+namespace {
+
+// What one catching up may take from its peers, a journal or a keeper that answers forever being
+// no better than one that never answers: GLCAST_CATCH_UP_MB (2048 by default) in all, and after
+// the first `wait_seconds` at least 1 MiB a second on average.
+uint64_t catch_up_limit_bytes() {
+    const char* mb = std::getenv("GLCAST_CATCH_UP_MB");
+    const unsigned long long v = mb && *mb ? std::strtoull(mb, nullptr, 10) : 0;
+    return uint64_t(v && v < (1ull << 40) ? v : 2048) << 20;
+}
+constexpr double kCatchUpMinBytesPerSecond = 1 << 20;
+
+}  // namespace
 
 NetworkSource::NetworkSource(std::string endpoint, std::string journal_endpoint, int wait_seconds,
                              std::string keeper_endpoint, uint64_t keeper_frame)
@@ -16,6 +31,7 @@ NetworkSource::NetworkSource(std::string endpoint, std::string journal_endpoint,
       keeper_endpoint_(std::move(keeper_endpoint)),
       keeper_frame_(keeper_frame),
       wait_seconds_(wait_seconds),
+      catch_up_limit_(catch_up_limit_bytes()),
       context_(std::make_unique<zmq::context_t>(1)) {
     sub_ = std::make_unique<zmq::socket_t>(*context_, zmq::socket_type::sub);
     sub_->set(zmq::sockopt::rcvhwm, 0);  // while the snapshot replays, live messages wait here
@@ -115,6 +131,36 @@ uint64_t sequence_of(const std::vector<uint8_t>& message) {
 
 }  // namespace
 
+void NetworkSource::receive_parts(zmq::socket_t& dealer, const std::string& peer,
+                                  const std::function<bool(zmq::message_t&)>& take) {
+    const auto start = std::chrono::steady_clock::now();
+    auto silent_until = start + std::chrono::seconds(wait_seconds_);
+    uint64_t received = 0;
+    for (;;) {
+        zmq::pollitem_t item{dealer.handle(), 0, ZMQ_POLLIN, 0};
+        zmq::poll(&item, 1, std::chrono::milliseconds(200));
+        const auto now = std::chrono::steady_clock::now();
+        if (!(item.revents & ZMQ_POLLIN)) {
+            if (now > silent_until)
+                throw std::runtime_error(peer + " did not answer within " + std::to_string(wait_seconds_) + " s");
+            continue;
+        }
+        zmq::message_t part;
+        if (!dealer.recv(part)) continue;
+        received += part.size();
+        catch_up_bytes_ += part.size();
+        if (catch_up_bytes_ > catch_up_limit_)
+            throw std::runtime_error(peer + " sent more than " + std::to_string(catch_up_limit_ >> 20) +
+                                     " MiB to catch up with (GLCAST_CATCH_UP_MB)");
+        const double seconds = std::chrono::duration<double>(now - start).count();
+        if (seconds > wait_seconds_ + double(received) / kCatchUpMinBytesPerSecond)
+            throw std::runtime_error(peer + " sent " + std::to_string(received) + " bytes in " +
+                                     std::to_string(int(seconds)) + " s: slower than 1 MiB a second");
+        silent_until = now + std::chrono::seconds(wait_seconds_);
+        if (!take(part)) return;
+    }
+}
+
 bool NetworkSource::ask_journal(const std::string& request, const std::function<void(zmq::message_t&)>& take) {
     zmq::socket_t dealer(*context_, zmq::socket_type::dealer);
     dealer.set(zmq::sockopt::linger, 0);
@@ -123,23 +169,15 @@ bool NetworkSource::ask_journal(const std::string& request, const std::function<
     dealer.set(zmq::sockopt::maxmsgsize, int64_t(sizeof(MessageHeader)) + kMaxMessageBytes);
     dealer.connect(journal_endpoint_);
     dealer.send(zmq::buffer(request), zmq::send_flags::none);
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(wait_seconds_);
-    for (;;) {
-        zmq::pollitem_t item{dealer.handle(), 0, ZMQ_POLLIN, 0};
-        zmq::poll(&item, 1, std::chrono::milliseconds(200));
-        if (!(item.revents & ZMQ_POLLIN)) {
-            if (std::chrono::steady_clock::now() > deadline)
-                throw std::runtime_error("the master's journal at " + journal_endpoint_ + " did not answer within " +
-                                         std::to_string(wait_seconds_) + " s");
-            continue;
-        }
-        zmq::message_t part;
-        if (!dealer.recv(part)) continue;
+    bool held = true;
+    receive_parts(dealer, "the master's journal at " + journal_endpoint_, [&](zmq::message_t& part) {
         const std::string text = part.size() <= 4 ? part.to_string() : std::string();
-        if (text == "END") return true;
-        if (text == "GONE") return false;
+        if (text == "END") return false;
+        if (text == "GONE") return held = false;
         take(part);
-    }
+        return true;
+    });
+    return held;
 }
 
 bool NetworkSource::fetch_since(uint64_t first) {
@@ -161,20 +199,9 @@ NetworkSource::State NetworkSource::fetch_state(const std::string& endpoint) {
     dealer.connect(endpoint);
     const std::string request = keeper_frame_ ? "SNAPSHOT AT " + std::to_string(keeper_frame_) : "SNAPSHOT";
     dealer.send(zmq::buffer(request), zmq::send_flags::none);
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(wait_seconds_);
     State state;
     bool header = false;
-    for (;;) {
-        zmq::pollitem_t item{dealer.handle(), 0, ZMQ_POLLIN, 0};
-        zmq::poll(&item, 1, std::chrono::milliseconds(200));
-        if (!(item.revents & ZMQ_POLLIN)) {
-            if (std::chrono::steady_clock::now() > deadline)
-                throw std::runtime_error("the keeper at " + endpoint + " did not answer within " +
-                                         std::to_string(wait_seconds_) + " s");
-            continue;
-        }
-        zmq::message_t part;
-        if (!dealer.recv(part)) continue;
+    receive_parts(dealer, "the keeper at " + endpoint, [&](zmq::message_t& part) {
         if (!header) {  // "STATE <sequence> <frame>", or "NONE <why>"
             const std::string text = part.size() <= 256 ? part.to_string() : std::string();
             if (text.rfind("NONE", 0) == 0) throw KeeperNotReady("the keeper at " + endpoint + ": " + text.substr(5));
@@ -185,11 +212,13 @@ NetworkSource::State NetworkSource::fetch_state(const std::string& endpoint) {
             state.sequence = sequence;
             state.frame = frame;
             header = true;
-            continue;
+            return true;
         }
-        if (part.size() == 3 && part.to_string() == "END") return state;
+        if (part.size() == 3 && part.to_string() == "END") return false;
         state.messages.emplace_back(part.data<uint8_t>(), part.data<uint8_t>() + part.size());
-    }
+        return true;
+    });
+    return state;
 }
 
 // Catches up: from a keeper's snapshot and the journal's messages since, or from the journal's
@@ -204,6 +233,7 @@ void NetworkSource::fetch_snapshot(bool from_journal) {
         for (const auto& m : snapshot_) join_cost_.bytes += m.size();
     };
     snapshot_.clear();
+    catch_up_bytes_ = 0;
     state_left_ = 0;
     joined_frame_ = 0;
     expected_ = 0;
@@ -293,6 +323,7 @@ bool NetworkSource::next(Message& m) {
                 gap_ = "expected message " + std::to_string(expected_) + ", got " + std::to_string(h.sequence);
                 first_live_ = bytes;  // live, so what the journal answers now covers all before it
                 if (on_gap) on_gap();
+                catch_up_bytes_ = 0;
                 if (fetch_since(expected_)) continue;
                 if (on_restart) on_restart();
                 fetch_snapshot();

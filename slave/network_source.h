@@ -91,15 +91,21 @@ private:
     // Asks the journal `request`; each message part to `take`; false on GONE.
     bool ask_journal(const std::string& request, const std::function<void(zmq::message_t&)>& take);
     bool receive_live(std::vector<uint8_t>& bytes);
+    // Receives a peer's answer, a part at a time, until `take` returns false; throws when the
+    // peer is silent for wait_seconds_, too slow, or sends more than a catching up may hold.
+    void receive_parts(zmq::socket_t& dealer, const std::string& peer,
+                       const std::function<bool(zmq::message_t&)>& take);
 
     std::string endpoint_, journal_endpoint_, keeper_endpoint_;
     uint64_t keeper_frame_ = 0;
     bool synchronized_ = false;  // the first catching up is over
     int idle_ms_ = 200;
     int wait_seconds_;
+    uint64_t catch_up_limit_;      // bytes one catching up may take (GLCAST_CATCH_UP_MB)
     std::unique_ptr<zmq::context_t> context_;
     std::unique_ptr<zmq::socket_t> sub_;
     std::deque<std::vector<uint8_t>> snapshot_;
+    uint64_t catch_up_bytes_ = 0;  // taken from peers in the catching up under way
     size_t state_left_ = 0;      // the first messages of snapshot_ are a keeper's state messages
     uint64_t after_state_ = 0;   // the master's sequence that follows them
     uint64_t joined_frame_ = 0;
