@@ -93,9 +93,15 @@ int run(const RunArgs& a, const std::vector<std::string>& program) {
     }
     // Slaves elsewhere (--endpoint tcp://) may start at any time: a keeper lets them join from a
     // snapshot of the live state once the journal no longer holds the stream's start.
-    const bool remote = endpoint.rfind("tcp://", 0) == 0;
-    if (endpoint.empty()) endpoint = std::string("ipc://") + dir + "/stream";
+    const bool multicast = endpoint.rfind("epgm://", 0) == 0 || endpoint.rfind("pgm://", 0) == 0;
+    const bool remote = endpoint.rfind("tcp://", 0) == 0 || multicast;
+    const std::string local_stream = std::string("ipc://") + dir + "/stream";
+    if (endpoint.empty()) endpoint = local_stream;
     const std::string journal = journal_endpoint(endpoint);
+    // Multicast does not loop back to the sending machine: the program publishes there too, on
+    // an ipc:// path, for the local slaves and the keeper.
+    const std::string local = multicast ? local_stream : connectable(endpoint);
+    const std::string publish = multicast ? endpoint + "," + local_stream : endpoint;
     const std::string keeper = remote ? keeper_endpoint(journal) : "";
     std::fprintf(stderr, "glcast run: stream on %s, journal on %s%s%s\n", endpoint.c_str(), journal.c_str(),
                  remote ? ", keeper on " : "", keeper.c_str());
@@ -118,7 +124,7 @@ int run(const RunArgs& a, const std::vector<std::string>& program) {
     const std::string exe = self_exe();
     const std::vector<std::string> names = tiles.empty() ? std::vector<std::string>{""} : tiles;
     for (const std::string& tile : names) {
-        std::vector<std::string> argv = {exe, "slave", "--connect", connectable(endpoint), "--journal",
+        std::vector<std::string> argv = {exe, "slave", "--connect", local, "--journal",
                                          connectable(journal), "--backend", backend, "--wait", "120"};
         if (!tile.empty()) argv.insert(argv.end(), {"--config", config_path, "--tile", tile});
         if (!out_dir.empty()) argv.insert(argv.end(), {"--out", out_dir + "/" + (tile.empty() ? "window" : tile)});
@@ -131,9 +137,9 @@ int run(const RunArgs& a, const std::vector<std::string>& program) {
     }
     pid_t keeper_pid = -1;
     if (remote)
-        keeper_pid = spawn({exe, "keeper", "--connect", connectable(endpoint), "--journal", connectable(journal), "--bind",
+        keeper_pid = spawn({exe, "keeper", "--connect", local, "--journal", connectable(journal), "--bind",
                             keeper, "--wait", "120"});
-    std::map<std::string, std::string> env{{"GLCAST_PUBLISH", endpoint},
+    std::map<std::string, std::string> env{{"GLCAST_PUBLISH", publish},
                                            {"GLCAST_JOURNAL_ENDPOINT", journal},
                                            {"GLCAST_WAIT_SUBSCRIBERS", std::to_string(slaves.size() + (remote ? 1 : 0))},
                                            {"GLCAST_LOCKSTEP", lockstep ? std::to_string(slaves.size()) : "0"}};
@@ -195,7 +201,9 @@ Command add_run(CLI::App& glcast) {
         ->type_name("egl|osmesa|window");
     app->add_option("--out", a->out_dir, "write each tile's frames to DIR/TILE/")->type_name("DIR");
     add_u64(*app, "--frames", a->frames, 1, UINT32_MAX, "end the program after N frames");
-    app->add_option("--endpoint", a->endpoint, "publish on TCP for slaves on other machines (tcp://*:PORT)")
+    app->add_option("--endpoint", a->endpoint,
+                    "publish for slaves on other machines: tcp://*:PORT, or multicast epgm://ADDRESS;GROUP:PORT\n"
+                    "(the journal and the keeper on ADDRESS's next TCP ports)")
         ->type_name("ENDPOINT");
     app->add_flag("--lockstep", a->lockstep, "hold the program at each swap until every slave has replayed the frame");
     add_effect_options(*app, a->effects, &a->effect_args);

@@ -142,13 +142,25 @@ PublisherSink::PublisherSink(PublisherOptions options)
         pub_ = std::make_unique<zmq::socket_t>(*context_, zmq::socket_type::xpub);
         pub_->set(zmq::sockopt::sndhwm, options_.send_hwm);
         pub_->set(zmq::sockopt::xpub_verbose, 1);  // every subscription, not only the first of a topic
-        // PGM multicast sends at most ZMQ_RATE kbit/s (default 100): a GL stream needs more.
-        if (options_.endpoint.rfind("epgm://", 0) == 0 || options_.endpoint.rfind("pgm://", 0) == 0)
-            pub_->set(zmq::sockopt::rate, 1000000);
         pub_->set(zmq::sockopt::linger, 1000);
-        pub_->bind(options_.endpoint);
     } catch (const zmq::error_t& e) {
-        throw std::runtime_error("cannot publish on " + options_.endpoint + ": " + e.what());
+        throw std::runtime_error(std::string("cannot make the publishing socket: ") + e.what());
+    }
+    // Several endpoints, comma-separated: a multicast group for the wall and an ipc:// path for
+    // the program's own machine, which multicast does not loop back to (docs/wall.md).
+    for (size_t at = 0; at <= options_.endpoint.size();) {
+        size_t comma = options_.endpoint.find(',', at);
+        if (comma == std::string::npos) comma = options_.endpoint.size();
+        const std::string one = options_.endpoint.substr(at, comma - at);
+        at = comma + 1;
+        if (one.empty()) continue;
+        try {
+            // PGM multicast sends at most ZMQ_RATE kbit/s (default 100): a GL stream needs more.
+            if (one.rfind("epgm://", 0) == 0 || one.rfind("pgm://", 0) == 0) pub_->set(zmq::sockopt::rate, 1000000);
+            pub_->bind(one);
+        } catch (const zmq::error_t& e) {
+            throw std::runtime_error("cannot publish on " + one + ": " + e.what());
+        }
     }
     // `glcast run` starts its local slaves first and asks the program to wait for them, so that
     // a short program is not over before they listen. Only here, once: never during the run.

@@ -106,7 +106,7 @@ private:
 };
 
 struct PublisherOptions {
-    std::string endpoint;           // PUB: tcp://*:5555, ipc:///tmp/glcast/stream, epgm://...
+    std::string endpoint;           // PUB: tcp://*:5555, ipc:///tmp/glcast/stream, epgm://...; several: a,b
     std::string snapshot_endpoint;  // ROUTER for the journal; empty: no late join
     // The journal keeps the newest messages up to this many bytes: all of a short run (late
     // join by replaying it), the recent past of a long one (a keeper's or slave's gap, "SINCE").

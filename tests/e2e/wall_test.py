@@ -31,6 +31,7 @@ few interpolated colours one step differently, and an edge pixel can change cove
 on the test programs: at most 0.002% of the canvas pixels differ; the test allows 0.01%.
 """
 import glob
+import contextlib
 import os
 import re
 import shutil
@@ -261,14 +262,14 @@ def case_swap_barrier():
           f"widest spread within a frame {spread * 1000:.1f} ms")
 
 
-def case_multicast():
-    # epgm:// (PGM over UDP) from one network namespace to another over a veth pair, made here.
+@contextlib.contextmanager
+def two_namespaces(name):
+    """Two network namespaces joined by a veth pair, made here (10.213.0.1 for the program's,
+    10.213.0.2 for a display machine's), with multicast routed; None where they cannot be made."""
     if os.geteuid() != 0 or not shutil.which("ip"):
-        print("SKIP: multicast needs root and iproute2 to make two network namespaces")
+        print(f"SKIP: {name} needs root and iproute2 to make two network namespaces")
+        yield None
         return
-    out = os.path.join(OUT, "multicast")
-    shutil.rmtree(out, ignore_errors=True)
-    os.makedirs(out)
     a, b = f"glcast-m{os.getpid()}", f"glcast-s{os.getpid()}"
     va, vb = f"gcm{os.getpid() % 100000}", f"gcs{os.getpid() % 100000}"
     setup = [["ip", "netns", "add", a], ["ip", "netns", "add", b],
@@ -285,7 +286,23 @@ def case_multicast():
             r = run(cmd)
             if r.returncode != 0:
                 print(f"SKIP: cannot make network namespaces here ({' '.join(cmd)}: {r.stderr.strip()})")
+                yield None
                 return
+        yield a, b
+    finally:
+        run(["ip", "netns", "del", a])
+        run(["ip", "netns", "del", b])
+
+
+def case_multicast():
+    # epgm:// (PGM over UDP) from one network namespace to another over a veth pair.
+    out = os.path.join(OUT, "multicast")
+    shutil.rmtree(out, ignore_errors=True)
+    os.makedirs(out)
+    with two_namespaces("multicast") as ns:
+        if not ns:
+            return
+        a, b = ns
         group = "239.192.7.7:5555"
         slave = subprocess.Popen(["ip", "netns", "exec", b, GLCAST, "slave", "--connect", f"epgm://10.213.0.2;{group}",
                                   "--journal", "tcp://10.213.0.1:5556", "--backend", "egl", "--out",
@@ -299,9 +316,43 @@ def case_multicast():
         check(slave.wait(timeout=120) == 0, f"slave failed: {slave.stderr.read()[-2000:]}")
         n = same_frames(os.path.join(out, "program"), os.path.join(out, "slave"))
         print(f"multicast: {n} frames over epgm:// between two network namespaces equal the program's")
-    finally:
-        run(["ip", "netns", "del", a])
-        run(["ip", "netns", "del", b])
+
+
+def case_multicast_keeper():
+    # glcast run publishing on epgm:// with a slave on another machine that joins late, after the
+    # journal (1 MiB) lost the stream's start: the snapshot comes from the keeper glcast run starts
+    # beside the program, over TCP; glcast run's own slave and the keeper take the stream over
+    # ipc:// (multicast does not loop back).
+    out = os.path.join(OUT, "multicast_keeper")
+    shutil.rmtree(out, ignore_errors=True)
+    os.makedirs(out)
+    with two_namespaces("multicast_keeper") as ns:
+        if not ns:
+            return
+        a, b = ns
+        endpoint, journal, keeper_at = "epgm://10.213.0.1;239.192.7.8:5565", "tcp://10.213.0.1:5566", "tcp://10.213.0.1:5567"
+        env = dict(os.environ, GLCAST_JOURNAL_MB="1", GLCAST_SNAPSHOT_DIR=os.path.join(out, "program"))
+        wall = subprocess.Popen(["ip", "netns", "exec", a, GLCAST, "run", "--endpoint", endpoint, "--backend", "egl",
+                                 "--out", os.path.join(out, "local"), "--frames", "300", "--",
+                                 "/usr/libexec/xscreensaver/gears", "-window", "-geometry", "320x240"],
+                                env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+        wait_for(os.path.join(out, "program", "frame-000150.png"))
+        slave = subprocess.Popen(["ip", "netns", "exec", b, GLCAST, "slave", "--connect", "epgm://10.213.0.2;239.192.7.8:5565",
+                                  "--journal", journal, "--keeper", keeper_at, "--backend", "egl", "--out",
+                                  os.path.join(out, "slave"), "--wait", "60"], stderr=subprocess.PIPE, text=True)
+        rc = wall.wait(timeout=300)
+        check(rc == 0, f"glcast run failed: {wall.stderr.read()[-2000:]}")
+        rc = slave.wait(timeout=300)
+        log = slave.stderr.read()
+        check(rc == 0, f"slave failed: {log[-2000:]}")
+        joined = [l for l in log.splitlines() if "joined at frame" in l]
+        check(joined and "snapshot" in joined[0], f"the slave did not join from the keeper: {log[-2000:]}")
+        first = min(int(f[6:12]) for f in os.listdir(os.path.join(out, "slave")) if f.endswith(".png"))
+        check(first >= 100, f"the slave's first frame is {first}: it did not join late")
+        n = same_frames(os.path.join(out, "program"), os.path.join(out, "slave"))
+        n_local = same_frames(os.path.join(out, "program"), os.path.join(out, "local", "window"))
+        print(f"multicast_keeper: {joined[0].split(': ', 1)[-1]}; {n} frames from frame {first} equal the program's; "
+              f"the local slave's {n_local} frames too")
 
 
 def case_lockstep():
