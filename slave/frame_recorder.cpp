@@ -156,26 +156,56 @@ void FrameRecorder::redraw_main_view(SlaveContext& ctx, const glm::dmat4& correc
 unsigned FrameRecorder::window_copy(SlaveContext& ctx, bool depth) {
     EffectsState& st = state(ctx);
     const GlApi& gl = core_.api();
-    if (st.copies_width != ctx.width || st.copies_height != ctx.height) {
-        GLuint textures[2] = {st.color_texture, st.depth_texture}, fbs[2] = {st.color_fb, st.depth_fb};
-        if (st.color_texture) gl.glDeleteTextures(2, textures), gl.glDeleteFramebuffers(2, fbs);
-        st.color_texture = effects::make_texture(gl, GL_RGBA8, ctx.width, ctx.height);
-        st.depth_texture = effects::make_texture(gl, GL_DEPTH24_STENCIL8, ctx.width, ctx.height);
-        st.color_fb = effects::make_framebuffer(gl, st.color_texture, 0);
-        st.depth_fb = effects::make_framebuffer(gl, 0, st.depth_texture, GL_DEPTH_STENCIL_ATTACHMENT);
-        st.copies_width = ctx.width, st.copies_height = ctx.height;
-    }
+    size_copies(ctx);
     bool& done = depth ? st.depth_copied : st.color_copied;
     if (!done) {
-        effects::StateGuard guard(gl);
-        gl.glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
-        gl.glReadBuffer(ctx.double_buffered ? GL_BACK : GL_FRONT);
-        gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, depth ? st.depth_fb : st.color_fb);
-        gl.glBlitFramebuffer(0, 0, ctx.width, ctx.height, 0, 0, ctx.width, ctx.height,
-                             depth ? GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT : GL_COLOR_BUFFER_BIT, GL_NEAREST);
+        copy_window(ctx, depth ? st.depth_fb : st.color_fb, depth);
         done = true;
     }
     return depth ? st.depth_texture : st.color_texture;
+}
+
+void FrameRecorder::size_copies(SlaveContext& ctx) {
+    EffectsState& st = state(ctx);
+    if (st.copies_width == ctx.width && st.copies_height == ctx.height) return;
+    const GlApi& gl = core_.api();
+    effects::StateGuard guard(gl);  // making them binds textures and framebuffers: the program's
+    GLuint textures[3] = {st.color_texture, st.depth_texture, st.program_image};
+    GLuint fbs[3] = {st.color_fb, st.depth_fb, st.program_image_fb};
+    if (st.color_texture) gl.glDeleteTextures(3, textures), gl.glDeleteFramebuffers(3, fbs);
+    st.color_texture = effects::make_texture(gl, GL_RGBA8, ctx.width, ctx.height);
+    st.depth_texture = effects::make_texture(gl, GL_DEPTH24_STENCIL8, ctx.width, ctx.height);
+    st.program_image = effects::make_texture(gl, GL_RGBA8, ctx.width, ctx.height);
+    st.color_fb = effects::make_framebuffer(gl, st.color_texture, 0);
+    st.depth_fb = effects::make_framebuffer(gl, 0, st.depth_texture, GL_DEPTH_STENCIL_ATTACHMENT);
+    st.program_image_fb = effects::make_framebuffer(gl, st.program_image, 0);
+    st.copies_width = ctx.width, st.copies_height = ctx.height;
+}
+
+// Between the window's colour buffer (the one the program draws to) and one of the copies.
+void FrameRecorder::copy_window(SlaveContext& ctx, GLuint copy_fb, bool depth, bool back) {
+    const GlApi& gl = core_.api();
+    effects::StateGuard guard(gl);
+    const GLenum window = ctx.double_buffered ? GL_BACK : GL_FRONT;
+    gl.glBindFramebuffer(GL_READ_FRAMEBUFFER, back ? copy_fb : 0);
+    gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, back ? 0 : copy_fb);
+    // The window's own draw or read buffer is the program's state: set for the blit, then restored.
+    GLint program_buffer = 0;
+    gl.glGetIntegerv(back ? GL_DRAW_BUFFER : GL_READ_BUFFER, &program_buffer);
+    if (back) gl.glDrawBuffer(window);
+    else gl.glReadBuffer(window);
+    gl.glBlitFramebuffer(0, 0, ctx.width, ctx.height, 0, 0, ctx.width, ctx.height,
+                         depth ? GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT : GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    if (back) gl.glDrawBuffer(GLenum(program_buffer));
+    else gl.glReadBuffer(GLenum(program_buffer));
+}
+
+void FrameRecorder::presented(SlaveContext& ctx) {
+    EffectsState& st = state(ctx);
+    if (!st.program_image_saved) return;
+    st.program_image_saved = false;
+    if (st.copies_width != ctx.width || st.copies_height != ctx.height) return;  // resized: a new picture anyway
+    copy_window(ctx, st.program_image_fb, false, true);
 }
 
 void FrameRecorder::frame_view(SlaveContext& ctx, effects::FrameView& v) {
@@ -255,6 +285,9 @@ void FrameRecorder::run_effects(SlaveContext& ctx) {
         if (!st.pipeline) st.pipeline = std::make_unique<effects::Pipeline>(gl, core_.options().effects);
         effects::FrameView view;
         frame_view(ctx, view);
+        size_copies(ctx);
+        copy_window(ctx, st.program_image_fb, false);
+        st.program_image_saved = true;
         st.pipeline->run(view);
         if (core_.after_effects) core_.after_effects(view);
     } catch (const std::runtime_error& e) {

@@ -54,6 +54,11 @@ struct EffectsState {
     GLuint color_texture = 0, depth_texture = 0, color_fb = 0, depth_fb = 0;
     int copies_width = 0, copies_height = 0;
     bool color_copied = false, depth_copied = false;
+    // The program's own picture of the frame, saved before the passes draw over it and put back
+    // after present: a program that never clears draws its next frame over its own image, not
+    // over the decorated one (which would pile up snow until the window is white).
+    GLuint program_image = 0, program_image_fb = 0;
+    bool program_image_saved = false;
     // The program's vertex-array object and 2D textures (units 0..7) as the frame left them,
     // before any pass: redraw gives them back to the program's draws, whatever a pass bound.
     GLint program_vao = 0, program_active_texture = GL_TEXTURE0, program_textures[8] = {};
@@ -77,6 +82,7 @@ public:
     bool wants(uint32_t opcode, const CommandInfo* info) const override;
     void before_call(const Call& c, const uint8_t* tuple, size_t bytes) override;
     void end_frame(SlaveContext& ctx) override;
+    void presented(SlaveContext& ctx) override;
     void reset() override { states_.clear(); }
 
 private:
@@ -86,6 +92,9 @@ private:
     void redraw_main_view(SlaveContext& ctx, const glm::dmat4& correction);
     void frame_view(SlaveContext& ctx, effects::FrameView& view);
     unsigned window_copy(SlaveContext& ctx, bool depth);  // a GL texture name
+    void size_copies(SlaveContext& ctx);                   // the copies, at the window's size
+    // Blits the window's colour (or depth) into the framebuffer `copy_fb`, or back from it.
+    void copy_window(SlaveContext& ctx, unsigned copy_fb, bool depth, bool back = false);
 
     Replayer& core_;
     TileAdapter& tile_;

@@ -37,6 +37,8 @@ public:
     virtual void made_current(SlaveContext& ctx, bool first) { (void)ctx, (void)first; }
     // The current context's frame is drawn, before it is read back and presented.
     virtual void end_frame(SlaveContext& ctx) { (void)ctx; }
+    // ... and presented: what the window holds now is what the program's next frame draws over.
+    virtual void presented(SlaveContext& ctx) { (void)ctx; }
     // The slave starts over (every context is gone).
     virtual void reset() {}
 };

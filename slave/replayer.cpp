@@ -138,6 +138,7 @@ void Replayer::finish_frame() {
                                                             ctx.height));
     if (before_present) before_present(frame_);
     backend_->present();
+    for (ReplayObserver* o : observers_) o->presented(ctx);
     frame_++;
     stats_.frames++;
 }
