@@ -177,6 +177,26 @@ class Model:
                 if c not in names:
                     sys.exit(f"glcast-codegen: commands.yaml pname_tables.{table}: unknown command {c}")
 
+    def shim_answers(self):
+        """commands.yaml answered_by_shim: [(value, name, count or None for a list)], checked."""
+        spec = self.annotations.get("answered_by_shim") or {}
+        names = {c.name: c for c in self.commands}
+        for c in spec.get("commands") or []:
+            cmd = names.get(c)
+            if not cmd or len(cmd.params) != 2 or cmd.params[0].name != "pname":
+                sys.exit(f"glcast-codegen: commands.yaml answered_by_shim: {c} is not a glGet*(pname, data) command")
+        out = []
+        for e, answer in (spec.get("pnames") or {}).items():
+            if e not in self.enums:
+                sys.exit(f"glcast-codegen: commands.yaml answered_by_shim: unknown enum {e}")
+            if answer != [] and not isinstance(answer, int):
+                sys.exit(f"glcast-codegen: commands.yaml answered_by_shim.{e}: an integer or [], not {answer!r}")
+            out.append((self.enums[e], e, None if answer == [] else answer))
+        return out
+
+    def shim_answer_commands(self):
+        return set((self.annotations.get("answered_by_shim") or {}).get("commands") or [])
+
     # -- derived data for templates ------------------------------------------------------
     def table_hash(self):
         h = hashlib.sha256()
@@ -240,7 +260,11 @@ class Model:
                     q = count[len("query:"):]
                     if q not in self.enums:
                         sys.exit(f"glcast-codegen: pnames.yaml {tname}.{e}: unknown query enum {q}")
-                    rows.setdefault(v, (e, f"sz.driver_count(0x{self.enums[q]:04x} /* {q} */)"))
+                    answered = {name: n for _, name, n in self.shim_answers() if n is not None}
+                    if q in answered:  # the count is the shim's answer, not the driver's
+                        rows.setdefault(v, (e, str(answered[q])))
+                    else:
+                        rows.setdefault(v, (e, f"sz.driver_count(0x{self.enums[q]:04x} /* {q} */)"))
                 elif count == "unknown":
                     rows.setdefault(v, (e, "-1"))
                 else:
@@ -332,7 +356,8 @@ def main():
            "generators": model.semantics.generators(),
            "window_system_pnames": model.semantics.window_system_pnames(),
            "state_groups": model.semantics.state_groups, "synthetic": model.synthetic,
-           "snapshot": model.snapshot}
+           "snapshot": model.snapshot, "shim_answers": model.shim_answers(),
+           "shim_answer_commands": model.shim_answer_commands()}
     os.makedirs(args.out, exist_ok=True)
     for template, name in OUTPUTS.items():
         text = env.get_template(template).render(**ctx)

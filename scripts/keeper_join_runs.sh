@@ -9,7 +9,7 @@ here=$(cd "$(dirname "$0")/.." && pwd)
 build=$(cd "${1:-$here/build}" && pwd)
 shift $(( $# > 0 ? 1 : 0 ))
 cases=("$@")
-[ ${#cases[@]} -gt 0 ] || cases=(glxgears ff_scene core_scene glfw_dynamic client_draws fbo_ext threads_buffers textures render_once)
+[ ${#cases[@]} -gt 0 ] || cases=(glxgears ff_scene core_scene glfw_dynamic client_draws fbo_ext threads_buffers textures render_once renderbuffer fences)
 export GLCAST=$build/glcast GLCAST_SHIM=$build/libglcast.so APPS_DIR=$build/tests/apps OUT_DIR=${OUT_DIR:-/tmp/glcast-keeper-runs}
 for c in "${cases[@]}"; do
     for run in "2000 1000" "20000 19000"; do
