@@ -36,11 +36,8 @@ NetworkSource::NetworkSource(std::string endpoint, std::string journal_endpoint,
     sub_ = std::make_unique<zmq::socket_t>(*context_, zmq::socket_type::sub);
     sub_->set(zmq::sockopt::rcvhwm, 0);  // while the snapshot replays, live messages wait here
     sub_->set(zmq::sockopt::subscribe, "");
-    // Waiting for a later frame, the subscription would queue every message until then: it
-    // starts after the snapshot, and the journal fills what it missed meanwhile.
-    if (!keeper_frame_) subscribe();
+    subscribe();
     synchronize();
-    if (keeper_frame_) subscribe();
 }
 
 void NetworkSource::subscribe() {
@@ -132,13 +129,14 @@ uint64_t sequence_of(const std::vector<uint8_t>& message) {
 }  // namespace
 
 void NetworkSource::receive_parts(zmq::socket_t& dealer, const std::string& peer,
-                                  const std::function<bool(zmq::message_t&)>& take) {
+                                  const std::function<bool(zmq::message_t&)>& take, bool keep_live) {
     const auto start = std::chrono::steady_clock::now();
     auto silent_until = start + std::chrono::seconds(wait_seconds_);
     uint64_t received = 0;
     for (;;) {
         zmq::pollitem_t item{dealer.handle(), 0, ZMQ_POLLIN, 0};
-        zmq::poll(&item, 1, std::chrono::milliseconds(200));
+        zmq::poll(&item, 1, std::chrono::milliseconds(keep_live ? 20 : 200));
+        if (keep_live) keep_live_messages();
         const auto now = std::chrono::steady_clock::now();
         if (!(item.revents & ZMQ_POLLIN)) {
             if (now > silent_until)
@@ -201,6 +199,8 @@ NetworkSource::State NetworkSource::fetch_state(const std::string& endpoint) {
     dealer.send(zmq::buffer(request), zmq::send_flags::none);
     State state;
     bool header = false;
+    early_.clear();
+    early_bytes_ = 0;
     receive_parts(dealer, "the keeper at " + endpoint, [&](zmq::message_t& part) {
         if (!header) {  // "STATE <sequence> <frame>", or "NONE <why>"
             const std::string text = part.size() <= 256 ? part.to_string() : std::string();
@@ -217,8 +217,22 @@ NetworkSource::State NetworkSource::fetch_state(const std::string& endpoint) {
         if (part.size() == 3 && part.to_string() == "END") return false;
         state.messages.emplace_back(part.data<uint8_t>(), part.data<uint8_t>() + part.size());
         return true;
-    });
+    }, /*keep_live=*/true);
     return state;
+}
+
+// While a keeper prepares its snapshot (for a later frame, it may wait long), the live
+// messages are kept, the newest kEarlyLimitBytes of them: those after the snapshot's boundary
+// then need no journal, which a program that has ended no longer serves.
+void NetworkSource::keep_live_messages() {
+    for (zmq::message_t msg; sub_->recv(msg, zmq::recv_flags::dontwait);) {
+        early_bytes_ += msg.size();
+        early_.emplace_back(msg.data<uint8_t>(), msg.data<uint8_t>() + msg.size());
+        while (early_bytes_ > kEarlyLimitBytes && early_.size() > 1) {
+            early_bytes_ -= early_.front().size();
+            early_.pop_front();
+        }
+    }
 }
 
 // Catches up: from a keeper's snapshot and the journal's messages since, or from the journal's
@@ -255,10 +269,16 @@ void NetworkSource::fetch_snapshot(bool from_journal) {
         state_left_ = snapshot_.size();
         after_state_ = expected_ = state.sequence + 1;
         joined_frame_ = state.frame;
-        // The messages between the keeper's boundary and the first live one this slave holds.
-        if (!journal_endpoint_.empty() && !fetch_since(state.sequence + 1))
+        // The messages between the keeper's boundary and the first live one this slave holds:
+        // kept while the keeper worked, or from the journal.
+        if (!early_.empty() && sequence_of(early_.front()) <= state.sequence + 1) {
+            for (auto& m : early_)
+                if (sequence_of(m) > state.sequence) snapshot_.push_back(std::move(m));
+        } else if (!journal_endpoint_.empty() && !fetch_since(state.sequence + 1))
             throw std::runtime_error("the master's journal no longer holds message " + std::to_string(state.sequence + 1) +
                                      ", where the keeper's snapshot ends (the keeper is behind)");
+        early_.clear();
+        early_bytes_ = 0;
         if (snapshot_.size() > state_left_) expected_ = sequence_of(snapshot_.back()) + 1;
         measure();
         if (on_joined) on_joined(joined_frame_);

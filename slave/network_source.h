@@ -93,8 +93,10 @@ private:
     bool receive_live(std::vector<uint8_t>& bytes);
     // Receives a peer's answer, a part at a time, until `take` returns false; throws when the
     // peer is silent for wait_seconds_, too slow, or sends more than a catching up may hold.
+    // keep_live: live messages that arrive meanwhile go to early_.
     void receive_parts(zmq::socket_t& dealer, const std::string& peer,
-                       const std::function<bool(zmq::message_t&)>& take);
+                       const std::function<bool(zmq::message_t&)>& take, bool keep_live = false);
+    void keep_live_messages();
 
     std::string endpoint_, journal_endpoint_, keeper_endpoint_;
     uint64_t keeper_frame_ = 0;
@@ -111,6 +113,9 @@ private:
     uint64_t joined_frame_ = 0;
     JoinCost join_cost_;
     std::vector<uint8_t> first_live_;  // received before the snapshot was asked for
+    std::deque<std::vector<uint8_t>> early_;  // live, while a keeper prepared its snapshot
+    uint64_t early_bytes_ = 0;
+    static constexpr uint64_t kEarlyLimitBytes = 64u << 20;
     uint64_t expected_ = 0;
     bool live_ = false;
     uint64_t recoveries_ = 0, bytes_ = 0, master_frame_ = 0;
