@@ -10,6 +10,7 @@
 #include "protocol/format.h"
 #include "slave/effects/gl_util.h"
 #include "slave/frame_recorder.h"
+#include "slave/program_camera.h"
 #include "slave/replayer.h"
 #include "slave/tile_adapter.h"
 
@@ -48,6 +49,9 @@ void FrameRecord::clear() {
 void FrameRecorder::record(const Call& c, const uint8_t* tuple, size_t tuple_size) {
     if (c.opcode >= kSynthBase && c.opcode != kSynthClientArrays) return;
     SlaveContext& ctx = core_.current();
+    if (c.info && (c.info->sem.flags & kSemLinksProgram))  // which matrices a program has may change
+        for (auto& [id, st] : states_)
+            if (st->program_cameras) st->program_cameras->forget();
     FrameRecord& rec = state(ctx).record;
     const RedrawKind kind = c.opcode >= kSynthBase ? RedrawKind::State : c.info->sem.redraw;
     if (kind == RedrawKind::NewList || kind == RedrawKind::EndList) {  // never re-executed
@@ -70,6 +74,16 @@ void FrameRecorder::record(const Call& c, const uint8_t* tuple, size_t tuple_siz
         e.draw = e.opens = true;
         if (program) {
             rec.shader_draws = true;
+            // The main view of a shader program: from its matrices, unless the display config
+            // states its projection (program_projection).
+            ProgramCamera camera;
+            if (!rec.main_known && !core_.options().view.program_fov_y_deg &&
+                state(ctx).cameras(gl).find(GLuint(program), camera)) {
+                rec.main_known = true;
+                rec.projection = camera.projection;
+                rec.modelview = camera.modelview;
+                tile_.program_viewport(rec.viewport);
+            }
         } else {
             const glm::dmat4 app = tile_.program_projection_now();
             if (!rec.main_known && is_perspective(app)) {
@@ -227,6 +241,12 @@ void FrameRecorder::frame_view(SlaveContext& ctx, effects::FrameView& v) {
         rec.projection = options.view.program_projection(double(ctx.master_width) / std::max(1, ctx.master_height));
         rec.viewport[0] = rec.viewport[1] = 0;
         rec.viewport[2] = ctx.master_width, rec.viewport[3] = ctx.master_height;
+    }
+    if (!v.view_known && rec.shader_draws && !warned_no_camera_) {
+        warned_no_camera_ = true;
+        std::fprintf(stderr, "glcast: effects: no draw with a perspective projection among the shader programs' "
+                             "matrices in frame %" PRIu64 ": passes that need the scene's view skip such frames "
+                             "(program_projection in the display config states it)\n", core_.frame());
     }
     if (v.view_known) {
         v.projection = rec.projection;

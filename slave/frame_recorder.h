@@ -13,6 +13,7 @@
 
 #include "slave/effects/frame_view.h"
 #include "slave/effects/pipeline.h"
+#include "slave/program_camera.h"
 #include "slave/replay_observer.h"
 
 namespace glcast::slave {
@@ -62,6 +63,12 @@ struct EffectsState {
     // The program's vertex-array object and 2D textures (units 0..7) as the frame left them,
     // before any pass: redraw gives them back to the program's draws, whatever a pass bound.
     GLint program_vao = 0, program_active_texture = GL_TEXTURE0, program_textures[8] = {};
+    // Shader programs' cameras, found from their matrices (slave/program_camera.h).
+    std::unique_ptr<ProgramCameras> program_cameras;
+    ProgramCameras& cameras(const GlApi& gl) {
+        if (!program_cameras) program_cameras = std::make_unique<ProgramCameras>(gl);
+        return *program_cameras;
+    }
 };
 
 // The effects could not run (a shader that does not compile, a driver without GL 3.3): fatal
@@ -100,6 +107,7 @@ private:
     TileAdapter& tile_;
     std::unordered_map<uint32_t, std::unique_ptr<EffectsState>> states_;  // by context id
     bool checked_ = false;  // the driver has every function the passes need
+    bool warned_no_camera_ = false;
 };
 
 }  // namespace glcast::slave

@@ -40,10 +40,6 @@ struct ShareGroup {
     NameMap maps[kNamespaceCount];
     // uniform locations: master program -> (master location -> slave location)
     std::unordered_map<uint64_t, std::unordered_map<int32_t, int32_t>> uniform_locations;
-    std::unordered_map<uint64_t, uint32_t> shader_types;  // master shader name -> GL_VERTEX_SHADER, ...
-    // Rotated tiles: glcast_clip's location in each slave program (-1: not patched) and whether
-    // it now holds the correction (window) or the identity (the program's own FBOs).
-    std::unordered_map<uint32_t, std::pair<int32_t, int>> clip_uniforms;
     // The data stores of its textures, buffers and renderbuffers, for the limit object_bytes
     // (Replayer::store): (namespace, slave name) -> (image key -> bytes), and their sum.
     std::map<std::pair<int, uint64_t>, std::unordered_map<uint64_t, uint64_t>> stores;

@@ -1,10 +1,12 @@
 #include "slave/tile_adapter.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <cstring>
 
 #include "common/gl_headers.h"
 #include "common/gl_state.h"
+#include "slave/program_camera.h"
 #include "slave/replayer.h"
 
 namespace glcast::slave {
@@ -28,9 +30,14 @@ struct TileAdapter::State {
 // Per share group: what the shader patch needs to know of shaders and programs.
 struct TileAdapter::Shared {
     std::unordered_map<uint64_t, uint32_t> shader_types;  // master shader name -> GL_VERTEX_SHADER, ...
-    // glcast_clip's location in each slave program (-1: not patched) and whether it now holds
-    // the correction (window) or the identity (the program's own FBOs).
-    std::unordered_map<uint32_t, std::pair<int32_t, int>> clip_uniforms;
+    // glcast_clip's location in each slave program (-1: not patched) and what it holds now.
+    struct Clip {
+        int32_t location = -1;
+        glm::mat4 value{0.0f};
+    };
+    std::unordered_map<uint32_t, Clip> clip_uniforms;
+    explicit Shared(const GlApi& gl) : cameras(gl) {}
+    ProgramCameras cameras;  // shader programs' projections, without program_projection
 };
 
 TileAdapter::TileAdapter(Replayer& core) : core_(core) {}
@@ -44,7 +51,7 @@ TileAdapter::State& TileAdapter::state() {
 
 TileAdapter::Shared& TileAdapter::shared() {
     auto& s = shared_[core_.current().names.shared.get()];
-    if (!s) s = std::make_unique<Shared>();
+    if (!s) s = std::make_unique<Shared>(core_.api());
     return *s;
 }
 
@@ -240,7 +247,10 @@ void TileAdapter::after_call(const Call& c) {
         }
     }
     if (sem.shader_type >= 0) shared().shader_types[c.ret.bits] = uint32_t(c.args[size_t(sem.shader_type)].bits);
-    if (sem.flags & kSemLinksProgram) shared().clip_uniforms.clear();  // linking resets uniforms
+    if (sem.flags & kSemLinksProgram) {  // linking resets uniforms, and may change which there are
+        shared().clip_uniforms.clear();
+        shared().cameras.forget();
+    }
     if (sem.matrix != MatrixOp::Nothing && (redrawing_ || core_.options().view.enabled)) track_matrix(c);
 }
 
@@ -309,32 +319,43 @@ void TileAdapter::correct_projection() {
     top = State::Projection{true, false, m};
 }
 
-// Shader programs on rotated tiles: glcast_clip holds M (for the config's program_projection)
-// while the window is drawn to, the identity while one of the program's FBOs is.
+// Shader programs on rotated tiles: glcast_clip holds M while the window is drawn to, the
+// identity while one of the program's FBOs is. M is for the display config's program_projection,
+// or else for the projection found in the program's matrices at this draw (program_camera.h);
+// a draw whose projection is not found is left alone, and the slave says so once.
 void TileAdapter::correct_shader_program(uint32_t program) {
     SlaveContext& ctx = core_.current();
     const ViewCorrection& view = core_.options().view;
-    if (!view.program_fov_y_deg) return;
+    if (!view.enabled) return;
     const GlApi& gl = core_.api();
-    auto& cache = shared().clip_uniforms;
-    auto it = cache.find(program);
-    if (it == cache.end())
-        it = cache.emplace(program, std::make_pair(gl.glGetUniformLocation(program, "glcast_clip"), -1)).first;
-    const int32_t location = it->second.first;
-    const int want = ctx.drawing_to_window ? 1 : 0;
-    if (location < 0 || it->second.second == want) return;
+    Shared& group = shared();
+    auto it = group.clip_uniforms.find(program);
+    if (it == group.clip_uniforms.end())
+        it = group.clip_uniforms.emplace(program, Shared::Clip{gl.glGetUniformLocation(program, "glcast_clip")}).first;
+    if (it->second.location < 0) return;
     glm::mat4 m(1.0f);
-    if (want) {
+    if (ctx.drawing_to_window) {
         const double aspect = ctx.master_height ? double(ctx.master_width) / ctx.master_height : 1.0;
-        m = glm::mat4(view.correction(view.program_projection(aspect)));
+        ProgramCamera camera;
+        if (view.program_fov_y_deg) {
+            m = glm::mat4(view.correction(view.program_projection(aspect)));
+        } else if (group.cameras.find(program, camera)) {
+            m = glm::mat4(view.correction(camera.projection));
+        } else if (!warned_no_camera_) {
+            warned_no_camera_ = true;
+            std::fprintf(stderr, "glcast: a shader program draws to the window with no perspective projection among "
+                                 "its matrices: such draws are not turned for this tile (program_projection in the "
+                                 "display config says what they use)\n");
+        }
     }
-    gl.glUniformMatrix4fv(location, 1, GL_FALSE, &m[0][0]);
-    it->second.second = want;
+    if (it->second.value == m) return;
+    gl.glUniformMatrix4fv(it->second.location, 1, GL_FALSE, &m[0][0]);
+    it->second.value = m;
 }
 
 bool TileAdapter::patches_vertex_shader(uint64_t shader) {
     const ViewCorrection& view = core_.options().view;
-    if (!view.enabled || !view.program_fov_y_deg) return false;
+    if (!view.enabled) return false;
     const auto& types = shared().shader_types;
     const auto type = types.find(shader);
     return type != types.end() && type->second == GL_VERTEX_SHADER;

@@ -68,6 +68,7 @@ private:
     std::unordered_map<uint32_t, std::unique_ptr<State>> states_;       // by context id
     std::unordered_map<const ShareGroup*, std::unique_ptr<Shared>> shared_;
     bool redrawing_ = false;
+    bool warned_no_camera_ = false;
     glm::dmat4 redraw_correction_{1.0};
     std::unique_ptr<State> saved_;  // the tracking state a redraw started from
 };

@@ -213,6 +213,12 @@ def case_cylinder_shader():
     cylinder("cylinder_shader", os.path.join(ROOT, "tests", "configs", "cylinder-360-shader.json"), ["--shader"])
 
 
+def case_cylinder_shader_found():
+    # The same shader program with the fixed-function config, which states no projection: the
+    # slave finds it among the program's matrices (slave/program_camera.h).
+    cylinder("cylinder_shader_found", os.path.join(CONFIGS, "cylinder-360.json"), ["--shader"])
+
+
 def cylinder(name, config, flags):
     # A ring of pillars every 30 degrees around the viewer; six tiles every 60 degrees, each
     # from -30 to +30: pillar 2i stands at the centre of tile i, pillar 2i+1 on the seam

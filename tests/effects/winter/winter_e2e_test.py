@@ -11,6 +11,10 @@ ff_scene: the fixed-function test program (tests/apps/ff_scene.c) replayed on a 
   covered, vertical faces and the sphere's underside clear.
 glxgears: snow on the gears and icicles below them, nothing on the black background but the
   snow's lip and icicles hanging below snow; a rerun is identical.
+core_scene: a core-profile shader program whose camera is in a uniform block (tests/apps/core_scene.c),
+  with no display config: the slave finds the projection and view among the program's matrices
+  (slave/program_camera.h); the ground in the lower part of the picture turns to snow (brighter on
+  average), the sky above the horizon stays as it was. Without the camera the pass drew nothing.
 mosaic: the four tiles of display_configs/wall-2x2.json replayed one by one (glcast replay
   --config --tile), stitched with `glcast image mosaic`, equal the 1280x960 canvas replay.
 """
@@ -304,6 +308,25 @@ def case_mosaic():
         print(f"  {large} pixels differ by more than 2")
         check(large <= 1e-4 * 1280 * 960, f"the mosaic differs from the canvas in {large} pixels by more than 2")
 
+
+def case_core_scene():
+    capture = os.path.join(DATA, "core_scene.glcs")
+    plain = replay(capture, os.path.join(OUT, "core_scene", "plain"))
+    cover = replay(capture, os.path.join(OUT, "core_scene", "cover"), "cover")
+    frame = sorted(f for f in os.listdir(plain) if f.endswith(".png"))[-1]
+    w, h, a = read_png(os.path.join(plain, frame))
+    _, _, b = read_png(os.path.join(cover, frame))
+
+    def brighter(rows):  # the mean gain in luminance
+        pixels = [(a[y][x], b[y][x]) for y in rows for x in range(w)]
+        return sum(luminance(q) - luminance(p) for p, q in pixels) / len(pixels)
+
+    ground = brighter(range(h * 3 // 4, h))
+    sky = sum(1 for y in range(h // 12) for x in range(w) if a[y][x] != b[y][x])  # above the monitor
+    print(f"core_scene: the cover makes the lowest quarter (ground) {ground:.3f} brighter on average; "
+          f"{sky} pixels of the top twelfth (sky) changed")
+    check(ground > 0.15, f"the cover left the ground of a shader program bare ({ground:.3f} brighter)")
+    check(sky == 0, f"the cover changed {sky} pixels of the sky")
 
 if __name__ == "__main__":
     globals()["case_" + sys.argv[1]]()
