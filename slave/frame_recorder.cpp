@@ -42,7 +42,7 @@ void FrameRecorder::before_call(const Call& c, const uint8_t* tuple, size_t byte
 void FrameRecord::clear() {
     bytes.clear();
     entries.clear();
-    in_begin_end = begin_is_main = compiling_list = overflow = shader_draws = main_known = pushed = false;
+    in_begin_end = begin_is_main = compiling_list = overflow = shader_draws = main_known = pushed = overlay = false;
     light = effects::SceneLight{};
 }
 
@@ -59,7 +59,9 @@ void FrameRecorder::record(const Call& c, const uint8_t* tuple, size_t tuple_siz
         return;
     }
     if (kind == RedrawKind::Ignored && !rec.in_begin_end) return;
-    if (rec.compiling_list || !ctx.drawing_to_window || rec.overflow) return;
+    if (rec.compiling_list || !ctx.drawing_to_window) return;
+    if (rec.main_known && !rec.overlay && !rec.in_begin_end) watch_overlays(ctx, kind);
+    if (rec.overflow || kind == RedrawKind::Pixels) return;
     if (c.info && c.info->sem.redraw_first_count) {  // e.g. only the targets glPushClientAttrib restores
         const uint64_t first = c.args[0].bits;
         const uint32_t* v = c.info->sem.redraw_first_values;
@@ -184,15 +186,17 @@ void FrameRecorder::size_copies(SlaveContext& ctx) {
     if (st.copies_width == ctx.width && st.copies_height == ctx.height) return;
     const GlApi& gl = core_.api();
     effects::StateGuard guard(gl);  // making them binds textures and framebuffers: the program's
-    GLuint textures[3] = {st.color_texture, st.depth_texture, st.program_image};
-    GLuint fbs[3] = {st.color_fb, st.depth_fb, st.program_image_fb};
-    if (st.color_texture) gl.glDeleteTextures(3, textures), gl.glDeleteFramebuffers(3, fbs);
+    GLuint textures[4] = {st.color_texture, st.depth_texture, st.program_image, st.scene_image};
+    GLuint fbs[4] = {st.color_fb, st.depth_fb, st.program_image_fb, st.scene_image_fb};
+    if (st.color_texture) gl.glDeleteTextures(4, textures), gl.glDeleteFramebuffers(4, fbs);
     st.color_texture = effects::make_texture(gl, GL_RGBA8, ctx.width, ctx.height);
     st.depth_texture = effects::make_texture(gl, GL_DEPTH24_STENCIL8, ctx.width, ctx.height);
     st.program_image = effects::make_texture(gl, GL_RGBA8, ctx.width, ctx.height);
+    st.scene_image = effects::make_texture(gl, GL_RGBA8, ctx.width, ctx.height);
     st.color_fb = effects::make_framebuffer(gl, st.color_texture, 0);
     st.depth_fb = effects::make_framebuffer(gl, 0, st.depth_texture, GL_DEPTH_STENCIL_ATTACHMENT);
     st.program_image_fb = effects::make_framebuffer(gl, st.program_image, 0);
+    st.scene_image_fb = effects::make_framebuffer(gl, st.scene_image, 0);
     st.copies_width = ctx.width, st.copies_height = ctx.height;
 }
 
@@ -287,6 +291,50 @@ void FrameRecorder::frame_view(SlaveContext& ctx, effects::FrameView& v) {
         v.redraw = [this, c](const glm::dmat4& correction) { redraw_main_view(*c, correction); };
 }
 
+// A draw after the main view that is two-dimensional starts the overlays: the window as the
+// scene left it is copied, and run_effects decorates that copy and puts what was drawn over it
+// back on top. Programs draw their HUD and text last, with the depth test off or an
+// orthographic projection (the games: neverball, openarena, foobillardplus,
+// extremetuxracer); a 3D draw after the HUD (a weapon) is an overlay too.
+void FrameRecorder::watch_overlays(SlaveContext& ctx, RedrawKind kind) {
+    if (kind != RedrawKind::Draw && kind != RedrawKind::Begin && kind != RedrawKind::Pixels) return;
+    const GlApi& gl = core_.api();
+    bool flat = kind == RedrawKind::Pixels || !gl.glIsEnabled(GL_DEPTH_TEST);
+    if (!flat) {
+        GLint program = 0;
+        gl.glGetIntegerv(GL_CURRENT_PROGRAM, &program);
+        flat = !program && !is_perspective(tile_.program_projection_now());
+    }
+    if (!flat) return;
+    EffectsState& st = state(ctx);
+    size_copies(ctx);
+    copy_window(ctx, st.scene_image_fb, false);
+    st.record.overlay = true;
+}
+
+void FrameRecorder::put_overlays_back(SlaveContext& ctx) {
+    EffectsState& st = state(ctx);
+    const GlApi& gl = core_.api();
+    if (!st.overlay_program) {
+        st.overlay_program = effects::build_program(gl, "fullscreen.vert", "overlays.frag");
+        gl.glGenVertexArrays(1, &st.overlay_vao);
+    }
+    effects::StateGuard guard(gl);
+    gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
+    gl.glViewport(0, 0, ctx.width, ctx.height);
+    gl.glDisable(GL_BLEND);
+    gl.glDisable(GL_DEPTH_TEST);
+    gl.glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    gl.glUseProgram(st.overlay_program);
+    gl.glActiveTexture(GL_TEXTURE0);
+    gl.glBindTexture(GL_TEXTURE_2D, st.program_image);
+    gl.glActiveTexture(GL_TEXTURE1);
+    gl.glBindTexture(GL_TEXTURE_2D, st.scene_image);
+    gl.glUniform1i(effects::uniform(gl, st.overlay_program, "final_image"), 0);
+    gl.glUniform1i(effects::uniform(gl, st.overlay_program, "scene_image"), 1);
+    effects::draw_fullscreen(gl, st.overlay_vao);
+}
+
 void FrameRecorder::end_frame(SlaveContext& ctx) { run_effects(ctx); }
 
 void FrameRecorder::run_effects(SlaveContext& ctx) {
@@ -308,7 +356,10 @@ void FrameRecorder::run_effects(SlaveContext& ctx) {
         size_copies(ctx);
         copy_window(ctx, st.program_image_fb, false);
         st.program_image_saved = true;
+        const bool overlays = st.record.overlay && st.copies_width == ctx.width && st.copies_height == ctx.height;
+        if (overlays) copy_window(ctx, st.scene_image_fb, false, /*back=*/true);  // the scene alone
         st.pipeline->run(view);
+        if (overlays) put_overlays_back(ctx);
         if (core_.after_effects) core_.after_effects(view);
     } catch (const std::runtime_error& e) {
         throw EffectsError(std::string("effects: ") + e.what());

@@ -11,6 +11,7 @@
 
 #include <glm/glm.hpp>
 
+#include "protocol/command_info.h"
 #include "slave/effects/frame_view.h"
 #include "slave/effects/pipeline.h"
 #include "slave/program_camera.h"
@@ -34,6 +35,10 @@ struct FrameRecord {
     bool compiling_list = false;  // between glNewList and glEndList: nothing is drawn
     bool overflow = false;        // more than kMaxRecordBytes: this frame cannot be re-rendered
     bool shader_draws = false;    // some draw to the window used a shader program
+    // Overlays: from the first draw after the main view that is two-dimensional (an
+    // orthographic projection, the depth test off, pixels at the raster position) on, the
+    // frame's draws are the program's HUD and text, drawn over what the passes decorate.
+    bool overlay = false;
     // The main view: the first draw to the window with a perspective projection.
     bool main_known = false;
     glm::dmat4 projection{1.0}, modelview{1.0};
@@ -60,6 +65,9 @@ struct EffectsState {
     // over the decorated one (which would pile up snow until the window is white).
     GLuint program_image = 0, program_image_fb = 0;
     bool program_image_saved = false;
+    // The window as the scene left it, before the first overlay, and the program that puts the
+    // overlays back over the decorated scene (slave/effects/overlays.frag).
+    GLuint scene_image = 0, scene_image_fb = 0, overlay_program = 0, overlay_vao = 0;
     // The program's vertex-array object and 2D textures (units 0..7) as the frame left them,
     // before any pass: redraw gives them back to the program's draws, whatever a pass bound.
     GLint program_vao = 0, program_active_texture = GL_TEXTURE0, program_textures[8] = {};
@@ -95,6 +103,8 @@ public:
 private:
     EffectsState& state(const SlaveContext& ctx);
     void record(const Call& c, const uint8_t* tuple, size_t bytes);
+    void watch_overlays(SlaveContext& ctx, RedrawKind kind);  // before a draw to the window
+    void put_overlays_back(SlaveContext& ctx);
     void run_effects(SlaveContext& ctx);
     void redraw_main_view(SlaveContext& ctx, const glm::dmat4& correction);
     void frame_view(SlaveContext& ctx, effects::FrameView& view);

@@ -19,6 +19,11 @@
  *  - arrays whose content changes every frame (flag positions, normals) next
  *    to arrays that never change (flag colours, boxes, sphere)
  *
+ * With --hud (a first argument) every frame ends with a game's HUD over the scene: the depth
+ * test and lighting off, an orthographic projection, an opaque panel (window pixels 8..136 x
+ * 8..40, colour 230,50,40), and a row of glBitmap glyphs at (12, 52) in white (docs/effects.md:
+ * overlays stay untouched by the passes).
+ *
  * Prints to stdout:
  *   ff_scene: GL_RENDERER <string>
  *   ff_scene: GL_VERSION <string>
@@ -425,6 +430,36 @@ static void draw_frame(int frame, int dolly, int w, int h, GLuint tex_ground, GL
 
 /* ---------------------------------------------------------------- main */
 
+/* A game's HUD: 2D, drawn last, without depth. */
+static void draw_hud(int width, int height, int frame)
+{
+    static const GLubyte glyph[8] = {0x7e, 0x42, 0x5a, 0x5a, 0x5a, 0x42, 0x7e, 0x00};
+    glPushAttrib(GL_ENABLE_BIT | GL_CURRENT_BIT | GL_TEXTURE_BIT);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_LIGHTING);
+    glDisable(GL_TEXTURE_2D);
+    glMatrixMode(GL_PROJECTION);
+    glPushMatrix();
+    glLoadIdentity();
+    glOrtho(0, width, 0, height, -1, 1);
+    glMatrixMode(GL_MODELVIEW);
+    glPushMatrix();
+    glLoadIdentity();
+    glColor3ub(230, 50, 40);
+    glRecti(8, 8, 136, 40);
+    glColor3ub(255, 255, 255);
+    glRasterPos2i(12, 52);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    for (int i = 0; i < 6 + frame % 3; i++)
+        glBitmap(8, 8, 0, 0, 10, 0, glyph);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glPopMatrix();
+    glMatrixMode(GL_PROJECTION);
+    glPopMatrix();
+    glMatrixMode(GL_MODELVIEW);
+    glPopAttrib();
+}
+
 int main(int argc, char **argv)
 {
     struct app_args args;
@@ -443,6 +478,7 @@ int main(int argc, char **argv)
     int attribs[] = {GLX_RGBA, GLX_DOUBLEBUFFER, GLX_RED_SIZE, 8, GLX_GREEN_SIZE, 8,
                      GLX_BLUE_SIZE, 8, GLX_DEPTH_SIZE, 24, None};
 
+    const int hud = app_take_flag(&argc, &argv, "--hud");
     app_parse_args(PROG, argc, argv, &args);
 
     dpy = XOpenDisplay(NULL);
@@ -563,6 +599,8 @@ int main(int argc, char **argv)
         while (XPending(dpy) > 0)
             XNextEvent(dpy, &ev);
         draw_frame(frame, args.dolly, args.width, args.height, tex[0], tex[1], box_list, lock, unlock);
+        if (hud)
+            draw_hud(args.width, args.height, frame);
         if (frame == args.frames - 1 && args.screenshot != NULL) {
             shot = malloc((size_t)args.width * (size_t)args.height * 3u);
             glReadBuffer(GL_BACK);

@@ -1,0 +1,69 @@
+#!/usr/bin/env python3
+"""Effects decorate the scene, not the program's HUD (docs/effects.md, "Overlays"): ff_scene
+--hud ends every frame with a game's HUD (the depth test off, an orthographic projection, an
+opaque panel and glBitmap text). Replayed with every pass, the panel and the text are the same
+pixels as without passes, while the scene around them changed. Before, shadows darkened the
+panel, the cover whitened it and snow fell over it.
+
+    overlay_test.py     with GLCAST, GLCAST_SHIM, APPS_DIR, OUT_DIR in the environment
+"""
+import os
+import shutil
+import subprocess
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from png import read_png  # noqa: E402
+from xvfb import Xvfb  # noqa: E402
+
+GLCAST = os.environ["GLCAST"]
+APPS = os.environ.get("APPS_DIR", "")
+OUT = os.path.join(os.environ.get("OUT_DIR", "/tmp/glcast-e2e"), "overlay")
+W, H, FRAMES = 320, 240, 4
+PANEL = (8, 8, 136, 40)                  # window pixels, x0, y0, x1, y1 (GL: y up)
+TEXT = (12, 52, 12 + 10 * 6 - 2, 60)     # the glyphs every frame has
+
+
+def check(cond, msg):
+    if not cond:
+        raise AssertionError(msg)
+
+
+def inside(rect, margin=1):
+    x0, y0, x1, y1 = rect
+    return [(x, H - 1 - y) for y in range(y0 + margin, y1 - margin) for x in range(x0 + margin, x1 - margin)]
+
+
+def main():
+    shutil.rmtree(OUT, ignore_errors=True)
+    os.makedirs(OUT)
+    capture = os.path.join(OUT, "ff_scene_hud.glcs")
+    with Xvfb():
+        r = subprocess.run([GLCAST, "capture", "-o", capture, "--", os.path.join(APPS, "ff_scene"), "--hud", "--size",
+                            f"{W}x{H}", "--frames", str(FRAMES)], capture_output=True, text=True, timeout=300)
+    check(r.returncode == 0, f"capture failed: {r.stderr[-2000:]}")
+    headless = {k: v for k, v in os.environ.items() if k != "DISPLAY"}
+    for name, extra in (("plain", []), ("effects", ["--effects", "shadows,cover,icicles,snow"])):
+        r = subprocess.run([GLCAST, "replay", capture, "--backend", "egl", "--out", os.path.join(OUT, name)] + extra,
+                           capture_output=True, text=True, timeout=300, env=headless)
+        check(r.returncode == 0, f"replay {name} failed: {r.stderr[-2000:]}")
+    for k in range(FRAMES):
+        frame = f"frame-{k:06d}.png"
+        _, _, plain = read_png(os.path.join(OUT, "plain", frame))
+        _, _, decorated = read_png(os.path.join(OUT, "effects", frame))
+        x, y = inside(PANEL)[0]
+        check(plain[y][x] == (230, 50, 40), f"{frame}: the HUD panel is not where the test expects it: {plain[y][x]}")
+        glyphs = [(x, y) for x, y in inside(TEXT, margin=0) if plain[y][x] == (255, 255, 255)]  # bits set
+        check(len(glyphs) > 100, f"{frame}: the HUD's text is not where the test expects it ({len(glyphs)} pixels)")
+        hud = inside(PANEL) + glyphs
+        touched = [(x, y) for x, y in hud if plain[y][x] != decorated[y][x]]
+        check(not touched, f"{frame}: the passes changed {len(touched)} of the HUD's {len(hud)} pixels, e.g. "
+                           f"{touched[:3]}: {[(plain[y][x], decorated[y][x]) for x, y in touched[:3]]}")
+        scene = sum(1 for y in range(H) for x in range(W) if plain[y][x] != decorated[y][x])
+        check(scene > W * H // 20, f"{frame}: the passes changed only {scene} pixels of the scene")
+        print(f"{frame}: the HUD's {len(hud)} pixels untouched; {scene} of the scene's pixels decorated")
+
+
+if __name__ == "__main__":
+    main()
+    print("PASS")
