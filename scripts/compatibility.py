@@ -1,0 +1,213 @@
+#!/usr/bin/env python3
+"""compatibility.py: runs real programs through glcast and writes the compatibility table
+(docs/compatibility.md, with pictures in docs/images/compatibility/).
+
+Per program: a capture of N frames under Xvfb with the program's own frames kept
+(GLCAST_SNAPSHOT_DIR); a replay on EGL and on OSMesa, each compared with them; the 2x2 wall of
+display_configs/wall-2x2.json stitched and compared with the canvas replay at 1280x960 (pixels
+more than 2 levels off; tolerance 0.01%, as the wall tests); and a replay with each effect
+(shadows, cover with icicles, snow), whose last frame is shown, with the program's own.
+
+    scripts/compatibility.py [--build build] [--only a,b] [--frames N] [--install]
+                             [--out DIR] [--doc docs/compatibility.md]
+
+--install installs the programs' Debian packages first (apt-get, as root). Programs whose
+package is missing are listed as such. The CI test (compatibility_fast) runs two xscreensaver
+hacks with --doc '' (no table written).
+"""
+import argparse
+import os
+import re
+import shutil
+import struct
+import subprocess
+import sys
+import zlib
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+sys.path.insert(0, os.path.join(ROOT, "tests", "e2e"))
+from png import read_png  # noqa: E402
+from xvfb import Xvfb  # noqa: E402
+
+HACKS = "/usr/libexec/xscreensaver"
+# name, Debian package, command line (640x480 window), frames
+PROGRAMS = [
+    ("gears", "xscreensaver-gl", [f"{HACKS}/gears", "-window", "-geometry", "640x480"], 40),
+    ("moebius", "xscreensaver-gl", [f"{HACKS}/moebius", "-window", "-geometry", "640x480"], 40),
+    ("superquadrics", "xscreensaver-gl", [f"{HACKS}/superquadrics", "-window", "-geometry", "640x480"], 40),
+    ("engine", "xscreensaver-gl", [f"{HACKS}/engine", "-window", "-geometry", "640x480"], 40),
+    ("cubestack", "xscreensaver-gl", [f"{HACKS}/cubestack", "-window", "-geometry", "640x480"], 40),
+    ("glxgears", "mesa-utils", ["glxgears", "-geometry", "640x480"], 40),
+    ("glmark2 (shading)", "glmark2-x11", ["glmark2", "--size", "640x480", "-b", "shading:duration=60"], 60),
+    ("glmark2 (texture)", "glmark2-x11", ["glmark2", "--size", "640x480", "-b", "texture:duration=60"], 60),
+    ("chromium-bsu", "chromium-bsu", ["chromium-bsu", "--vidmode", "0"], 120),
+    ("neverball", "neverball", ["neverball"], 120),
+]
+EFFECTS = [("shadows", "shadows"), ("cover", "cover,icicles"), ("snow", "snow")]
+TILES = ["top-left", "top-right", "bottom-left", "bottom-right"]
+
+
+def run(cmd, timeout=600, env=None):
+    return subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=env)
+
+
+def headless():
+    return {k: v for k, v in os.environ.items() if k != "DISPLAY"}
+
+
+def write_png(path, pixels):
+    h, w = len(pixels), len(pixels[0])
+    raw = b"".join(b"\x00" + bytes(c for p in row for c in p) for row in pixels)
+
+    def chunk(t, d):
+        return struct.pack(">I", len(d)) + t + d + struct.pack(">I", zlib.crc32(t + d) & 0xFFFFFFFF)
+
+    with open(path, "wb") as f:
+        f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 2, 0, 0, 0))
+                + chunk(b"IDAT", zlib.compress(raw, 9)) + chunk(b"IEND", b""))
+
+
+def thumbnail(src, dst, width=200):
+    w, h, px = read_png(src)
+    step = max(1, w // width)
+    write_png(dst, [[px[y][x] for x in range(0, w - step + 1, step)] for y in range(0, h - step + 1, step)])
+
+
+def replay_compare(glcast, capture, backend, reference):
+    r = run([glcast, "replay", capture, "--backend", backend, "--compare", reference], env=headless())
+    m = re.search(r"compared (\d+) frames: (\d+) differ", r.stdout)
+    if r.returncode not in (0, 1) or not m:
+        return False, f"failed: {(r.stderr or r.stdout).strip().splitlines()[-1:]}"
+    return m.group(2) == "0", f"{m.group(2)} of {m.group(1)} differ"
+
+
+def mosaic(glcast, capture, out, frame):
+    config = os.path.join(ROOT, "display_configs", "wall-2x2.json")
+    tiles = []
+    for tile in TILES:
+        d = os.path.join(out, "tiles", tile)
+        r = run([glcast, "replay", capture, "--backend", "egl", "--config", config, "--tile", tile, "--out", d,
+                 "--frames", str(frame)], env=headless())
+        if r.returncode != 0:
+            return False, f"tile {tile} failed"
+        tiles.append(os.path.join(d, f"frame-{frame:06d}.png"))
+    canvas = os.path.join(out, "canvas")
+    r = run([glcast, "replay", capture, "--backend", "egl", "--canvas", "1280x960", "--tile-rect", "0,0,1280,960",
+             "--out", canvas, "--frames", str(frame)], env=headless())
+    stitched = os.path.join(out, "mosaic.png")
+    if r.returncode != 0 or run([glcast, "image", "mosaic", "2x2", stitched] + tiles).returncode != 0:
+        return False, "canvas or mosaic failed"
+    _, _, a = read_png(stitched)
+    _, _, b = read_png(os.path.join(canvas, f"frame-{frame:06d}.png"))
+    large = sum(1 for ra, rb in zip(a, b) for pa, pb in zip(ra, rb) if max(abs(x - y) for x, y in zip(pa, pb)) > 2)
+    return large <= 1e-4 * 1280 * 960, f"{large} px > 2 off"
+
+
+def one(glcast, name, argv, frames, out, images):
+    row = {"program": name}
+    slug = re.sub(r"[^a-z0-9]+", "-", name.lower()).strip("-")
+    work = os.path.join(out, slug)
+    shutil.rmtree(work, ignore_errors=True)
+    os.makedirs(work)
+    capture, own = os.path.join(work, "capture.glcs"), os.path.join(work, "program")
+    env = dict(os.environ, GLCAST_SNAPSHOT_DIR=own)
+    r = run([glcast, "capture", "-o", capture, "--frames", str(frames), "--"] + argv, env=env, timeout=900)
+    shown = sorted(f for f in os.listdir(own) if f.endswith(".png")) if os.path.isdir(own) else []
+    if not os.path.exists(capture) or not shown:
+        row["capture"] = (False, f"failed ({r.returncode}): {(r.stderr.strip().splitlines() or [''])[-1][:80]}")
+        return row
+    d = run([glcast, "dump", capture, "--summary"])
+    unserialized = re.findall(r"(\d+) unserialized", d.stdout)
+    row["capture"] = (True, f"{len(shown)} frames" + (f", {sum(map(int, unserialized))} unserialized" if unserialized else ""))
+    for backend in ("egl", "osmesa"):
+        row[backend] = replay_compare(glcast, capture, backend, own)
+    last = int(shown[-1][6:12])
+    row["mosaic"] = mosaic(glcast, capture, os.path.join(work, "mosaic"), last)
+    pictures = {"program": os.path.join(own, shown[-1])}
+    for column, effects in EFFECTS:
+        d = os.path.join(work, column)
+        r = run([glcast, "replay", capture, "--backend", "egl", "--effects", effects, "--out", d,
+                 "--frames", str(last)], env=headless())
+        picture = os.path.join(d, f"frame-{last:06d}.png")
+        row[column] = (r.returncode == 0 and os.path.exists(picture),
+                       "ran" if r.returncode == 0 else f"failed: {(r.stderr.strip().splitlines() or [''])[-1][:80]}")
+        if os.path.exists(picture):
+            pictures[column] = picture
+    if images:
+        os.makedirs(images, exist_ok=True)
+        row["pictures"] = {}
+        for column, path in pictures.items():
+            dst = os.path.join(images, f"{slug}-{column}.png")
+            thumbnail(path, dst)
+            row["pictures"][column] = os.path.relpath(dst, os.path.dirname(os.path.dirname(images)))
+    return row
+
+
+def table(rows, doc):
+    columns = ["capture", "egl", "osmesa", "mosaic"] + [c for c, _ in EFFECTS]
+    lines = ["# Compatibility with real programs", "",
+             "Made by `scripts/compatibility.py` (do not edit by hand): each program captured under Xvfb for the",
+             "frames given there, replayed on EGL and OSMesa against its own frames, as a 2x2 wall",
+             "(`display_configs/wall-2x2.json`) against the 1280x960 canvas (pixels more than 2 levels off;",
+             "0.01% allowed), and with each effect. Mesa llvmpipe, 2 cores.", "",
+             "| program | " + " | ".join(columns) + " |", "|---" * (len(columns) + 1) + "|"]
+    for row in rows:
+        cells = []
+        for c in columns:
+            if c not in row:
+                cells.append("")
+                continue
+            ok, text = row[c]
+            cells.append(("pass: " if ok else "**FAIL**: ") + text)
+        lines.append(f"| {row['program']} | " + " | ".join(cells) + " |")
+    lines += ["", "## Pictures (the last frame: the program's own, then with each effect)", ""]
+    for row in rows:
+        if row.get("pictures"):
+            lines.append(f"**{row['program']}**  ")
+            lines.append(" ".join(f"![{c}]({p})" for c, p in row["pictures"].items()))
+            lines.append("")
+    with open(doc, "w") as f:
+        f.write("\n".join(lines) + "\n")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--build", default=os.path.join(ROOT, "build"))
+    ap.add_argument("--only", default="")
+    ap.add_argument("--frames", type=int, default=0, help="frames per program (default: each program's own)")
+    ap.add_argument("--install", action="store_true")
+    ap.add_argument("--out", default="/tmp/glcast-compatibility")
+    ap.add_argument("--doc", default=os.path.join(ROOT, "docs", "compatibility.md"))
+    a = ap.parse_args()
+    glcast = os.path.join(a.build, "glcast")
+    os.environ.setdefault("GLCAST_SHIM", os.path.join(a.build, "libglcast.so"))
+    chosen = [p for p in PROGRAMS if not a.only or p[0] in a.only.split(",")]
+    if a.install:
+        packages = sorted({p[1] for p in chosen})
+        run(["apt-get", "update", "-qq"], timeout=900)
+        run(["apt-get", "install", "-y", "-qq", "--no-install-recommends"] + packages, timeout=1800)
+    images = os.path.join(os.path.dirname(a.doc), "images", "compatibility") if a.doc else ""
+    rows, failed = [], []
+    with Xvfb("1280x1024x24"):
+        for name, package, argv, frames in chosen:
+            if not shutil.which(argv[0]):
+                rows.append({"program": name, "capture": (False, f"not installed (apt install {package})")})
+                print(f"{name}: not installed ({package})", flush=True)
+                continue
+            row = one(glcast, name, argv, a.frames or frames, a.out, images)
+            version = run(["dpkg-query", "-W", "-f", "${Version}", package]).stdout.strip()
+            row["program"] = f"{name} ({package} {version})"
+            rows.append(row)
+            print(row["program"] + ": " + "; ".join(f"{k} {'ok' if v[0] else 'FAIL'} ({v[1]})"
+                                                     for k, v in row.items() if isinstance(v, tuple)), flush=True)
+            if any(isinstance(v, tuple) and not v[0] for v in row.values()):
+                failed.append(name)
+    if a.doc:
+        table(rows, a.doc)
+    if failed:
+        sys.exit(f"compatibility: {len(failed)} programs fail a column: {', '.join(failed)}")
+
+
+if __name__ == "__main__":
+    main()
