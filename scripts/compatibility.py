@@ -41,8 +41,8 @@ PROGRAMS = [
     ("glxgears", "mesa-utils", ["glxgears", "-geometry", "640x480"], 40),
     ("glmark2 (shading)", "glmark2-x11", ["glmark2", "--size", "640x480", "-b", "shading:duration=60"], 60),
     ("glmark2 (texture)", "glmark2-x11", ["glmark2", "--size", "640x480", "-b", "texture:duration=60"], 60),
-    ("chromium-bsu", "chromium-bsu", ["chromium-bsu", "--vidmode", "0"], 120),
-    ("neverball", "neverball", ["neverball"], 120),
+    ("chromium-bsu", "chromium-bsu", ["/usr/games/chromium-bsu", "--window"], 120),
+    ("neverball", "neverball", ["/usr/games/neverball"], 120),
 ]
 EFFECTS = [("shadows", "shadows"), ("cover", "cover,icicles"), ("snow", "snow")]
 TILES = ["top-left", "top-right", "bottom-left", "bottom-right"]
