@@ -80,7 +80,7 @@ extern "C" __attribute__((visibility("default"))) void* dlopen(const char* file,
 
 extern "C" __attribute__((visibility("default"))) void* dlsym(void* handle, const char* name) {
     void* real = real_dlsym(handle, name);
-    if (real && name && (name[0] == 'g' || name[0] == 'e') &&
+    if (real && (name[0] == 'g' || name[0] == 'e') &&
         (std::strncmp(name, "gl", 2) == 0 || std::strncmp(name, "egl", 3) == 0) &&
         (handle == RTLD_DEFAULT || handle == RTLD_NEXT || is_gl_handle(handle))) {
         const int op = opcode_by_name(name);

@@ -195,7 +195,7 @@ TEST(Cover, NormalsFromDepthOrFacetsClassifyAlike) {
     const Case cases[] = {
         {"no re-render (depth)", &lit, {"cover", {}, 10, false}},
         {"cover.normals=depth", &lit, {"cover", {"cover.normals=depth"}}},
-        {"unlit program (faceted)", &unlit, {"cover"}},
+        {"unlit program (faceted)", &unlit, {"cover", {}}},
         {"cover.normals=faceted", &lit, {"cover", {"cover.normals=faceted"}}},
     };
     for (const Case& c : cases) {
@@ -237,8 +237,8 @@ TEST(Cover, BuildsUpOverFramesAndRerunsIdentically) {
     const Scene scene = standard_scene();
     const Image before = h.render(scene, high_camera(), {});
     const Image ids = h.classes(scene, high_camera());
-    const Image complete = h.render(scene, high_camera(), {"cover"});
-    EXPECT_EQ(glcast::slave::compare(complete, h.render(scene, high_camera(), {"cover"})).differing_pixels, 0)
+    const Image complete = h.render(scene, high_camera(), {"cover", {}});
+    EXPECT_EQ(glcast::slave::compare(complete, h.render(scene, high_camera(), {"cover", {}})).differing_pixels, 0)
         << "a rerun differs";
     for (uint64_t frame : {0, 10, 20, 40}) {
         const Image image = h.render(scene, high_camera(), {"cover", {"cover.build_frames=20"}, frame});
@@ -273,7 +273,7 @@ TEST(Cover, BadParametersAndFramesWithoutAViewAreHandled) {
             EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
         }
     }
-    RenderOptions no_view{"cover,icicles"};
+    RenderOptions no_view{"cover,icicles", {}};
     no_view.view_known = false;
     EXPECT_EQ(glcast::slave::compare(h.render(scene, high_camera(), {}), h.render(scene, high_camera(), no_view))
                   .differing_pixels,

@@ -38,8 +38,8 @@ TEST(Icicles, HangOnlyBelowLowerEdgesOfCoveredSurfaces) {
     ASSERT_TRUE(h.ok()) << h.error();
     const Scene scene = standard_scene();
     const Camera camera = high_camera();
-    const Image cover = h.render(scene, camera, {"cover"});
-    const Image both = h.render(scene, camera, {"cover,icicles"});
+    const Image cover = h.render(scene, camera, {"cover", {}});
+    const Image both = h.render(scene, camera, {"cover,icicles", {}});
     const Image ids = h.classes(scene, camera);
     save("icicles_high", both);
     const std::vector<uint8_t> ice = changed(cover, both);
@@ -74,7 +74,7 @@ TEST(Icicles, StayPutWhileTheCameraDoes) {
     Harness& h = harness();
     ASSERT_TRUE(h.ok()) << h.error();
     const Scene scene = standard_scene();
-    RenderOptions options{"cover,icicles"};
+    RenderOptions options{"cover,icicles", {}};
     std::vector<Image> frames;
     for (uint64_t frame : {10, 11, 12, 500}) {
         options.frame = frame;
@@ -93,8 +93,8 @@ TEST(Icicles, GrowFromSeededStartsAndThenStay) {
     ASSERT_TRUE(h.ok()) << h.error();
     const Scene scene = standard_scene();
     const Camera camera = high_camera();
-    const Image cover = h.render(scene, camera, {"cover"});
-    const Image grown = h.render(scene, camera, {"cover,icicles"});
+    const Image cover = h.render(scene, camera, {"cover", {}});
+    const Image grown = h.render(scene, camera, {"cover,icicles", {}});
     std::vector<long> pixels;
     for (uint64_t frame : {0, 15, 30, 45, 60, 90}) {
         const Image image = h.render(scene, camera, {"cover,icicles", {"icicles.growth_frames=30"}, frame});

@@ -71,7 +71,7 @@ TEST(Seams, TwoByTwoTilesEqualTheWholeCanvas) {
         const char* name = camera.eye.y > 3 ? "high" : "low";
         const RenderOptions options{"cover,icicles"};
         const Image whole = h.render(scene, camera, options);
-        const Image cover = h.render(scene, camera, {"cover"});
+        const Image cover = h.render(scene, camera, {"cover", {}});
         std::vector<int> rows(kHeight), columns(kWidth);
         for (int y = 0; y < kHeight; ++y)
             for (int x = 0; x < kWidth; ++x)
