@@ -69,7 +69,7 @@ TEST(Seams, TwoByTwoTilesEqualTheWholeCanvas) {
     const Scene scene = standard_scene();
     for (const Camera& camera : {high_camera(), low_camera()}) {
         const char* name = camera.eye.y > 3 ? "high" : "low";
-        const RenderOptions options{"cover,icicles"};
+        const RenderOptions options{"cover,icicles", {}};
         const Image whole = h.render(scene, camera, options);
         const Image cover = h.render(scene, camera, {"cover", {}});
         std::vector<int> rows(kHeight), columns(kWidth);
