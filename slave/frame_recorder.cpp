@@ -43,6 +43,7 @@ void FrameRecord::clear() {
     bytes.clear();
     entries.clear();
     in_begin_end = begin_is_main = compiling_list = overflow = shader_draws = main_known = pushed = overlay = false;
+    camera_probes = 0;
     light = effects::SceneLight{};
 }
 
@@ -80,7 +81,7 @@ void FrameRecorder::record(const Call& c, const uint8_t* tuple, size_t tuple_siz
             // states its projection (program_projection).
             ProgramCamera camera;
             if (!rec.main_known && !core_.options().view.program_fov_y_deg &&
-                state(ctx).cameras(gl).find(GLuint(program), camera)) {
+                rec.camera_probes++ < kMaxCameraProbes && state(ctx).cameras(gl).find(GLuint(program), camera)) {
                 rec.main_known = true;
                 rec.projection = camera.projection;
                 rec.modelview = camera.modelview;
@@ -171,7 +172,6 @@ void FrameRecorder::redraw_main_view(SlaveContext& ctx, const glm::dmat4& correc
 // A copy of the window framebuffer's color (RGBA8) or depth (DEPTH24_STENCIL8) as it is now.
 unsigned FrameRecorder::window_copy(SlaveContext& ctx, bool depth) {
     EffectsState& st = state(ctx);
-    const GlApi& gl = core_.api();
     size_copies(ctx);
     bool& done = depth ? st.depth_copied : st.color_copied;
     if (!done) {

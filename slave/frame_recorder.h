@@ -39,6 +39,9 @@ struct FrameRecord {
     // orthographic projection, the depth test off, pixels at the raster position) on, the
     // frame's draws are the program's HUD and text, drawn over what the passes decorate.
     bool overlay = false;
+    // Shader draws whose matrices were read for a camera this frame: a 2D program with
+    // thousands of draws stops asking after kMaxCameraProbes.
+    int camera_probes = 0;
     // The main view: the first draw to the window with a perspective projection.
     bool main_known = false;
     glm::dmat4 projection{1.0}, modelview{1.0};
@@ -52,6 +55,7 @@ struct FrameRecord {
     void clear();
 };
 constexpr size_t kMaxRecordBytes = size_t(256) << 20;
+constexpr int kMaxCameraProbes = 64;
 
 // Per slave context: its pipeline and the copies of its window framebuffer.
 struct EffectsState {
