@@ -27,8 +27,20 @@ void KeptCalls::before_call(const Call& c, const uint8_t* tuple, size_t bytes) {
             calls.create = std::move(create->second);
             pending_create_.erase(create);
         }
+        auto format = pending_format_.find(t.handle);
+        calls.format.clear();
+        if (format != pending_format_.end()) {
+            calls.format = std::move(format->second);
+            pending_format_.erase(format);
+        }
         calls.context.assign(tuple, tuple + bytes);
         calls.handle = t.handle;
+        return;
+    }
+    if (c.opcode == kSynthContextFormat) {
+        SynthContextFormat t;
+        read_synthetic(c, t);
+        if (pending_create_.count(t.handle)) pending_format_[t.handle].assign(tuple, tuple + bytes);
         return;
     }
     if (c.opcode == kSynthDrawableSize) {
@@ -213,6 +225,7 @@ void KeptCalls::after_call(const Call& c) {
 void KeptCalls::reset() {
     contexts_.clear();
     pending_create_.clear();
+    pending_format_.clear();
     drawable_sizes_.clear();
     lists_.clear();
     list_matrices_.clear();
@@ -244,7 +257,7 @@ const std::vector<MatrixRecipe>* KeptCalls::matrices(uint32_t context, uint32_t 
 
 uint64_t KeptCalls::bytes() const {
     uint64_t n = 0;
-    for (const auto& [id, c] : contexts_) n += c.create.size() + c.context.size() + c.make_current.size();
+    for (const auto& [id, c] : contexts_) n += c.create.size() + c.format.size() + c.context.size() + c.make_current.size();
     for (const auto& [d, t] : drawable_sizes_) n += t.size();
     for (const auto& [g, bodies] : lists_)
         for (const auto& [name, body] : bodies) n += body.size();

@@ -115,6 +115,7 @@ SnapshotReport SnapshotWriter::write() {
     for (const auto& [id, calls] : kept_.contexts()) {
         if (!keeper_.context(id)) continue;
         raw(calls.create);
+        if (!calls.format.empty()) raw(calls.format);
         raw(calls.context);
         report_.contexts++;
     }

@@ -20,6 +20,9 @@ struct ContextRequest {
     bool core = false;               // core profile (else compatibility)
     bool forward_compatible = false;
     bool debug = false;
+    // Samples of the program's framebuffer (glcast.context_format; 0: single-sampled). A
+    // backend that cannot match it says so once and renders single-sampled.
+    int samples = 0;
 };
 
 // A backend is called from one thread at a time (the slave replays on one thread) and does no

@@ -20,6 +20,8 @@ int32_t attrib_value(const PtrRecord& list, int64_t key, int32_t fallback, size_
     return fallback;
 }
 
+constexpr int kMaxSamples = 64;  // GL implementations offer up to 32
+
 ContextRequest glx_request(const PtrRecord& attribs) {
     ContextRequest r;
     r.major = attrib_value(attribs, GLX_CONTEXT_MAJOR_VERSION_ARB, 0, 4);
@@ -48,11 +50,21 @@ ContextRequest egl_request(const PtrRecord& attribs) {
 }  // namespace
 
 bool WindowSystem::wants(uint32_t opcode, const CommandInfo* info) const {
-    if (!info) return opcode == kSynthContext || opcode == kSynthDrawableSize;
+    if (!info) return opcode == kSynthContext || opcode == kSynthDrawableSize || opcode == kSynthContextFormat;
     return info->sem.context != ContextOp::Nothing;
 }
 
 bool WindowSystem::replace_call(const Call& c) {
+    if (c.opcode == kSynthContextFormat) {
+        SynthContextFormat t;
+        read_synthetic(c, t);
+        if (t.samples < 0 || t.samples > kMaxSamples)
+            throw ReplayError("a context format of " + std::to_string(t.samples) + " samples (at most " +
+                              std::to_string(kMaxSamples) + ")");
+        auto request = pending_.find(t.handle);
+        if (request != pending_.end()) request->second.samples = t.samples;  // else its creation failed
+        return true;
+    }
     if (c.opcode == kSynthContext) {
         SynthContext t;
         read_synthetic(c, t);

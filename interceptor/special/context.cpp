@@ -42,8 +42,15 @@ uint32_t id_of(const void* handle) {
     return it == g_context_ids.end() ? 0 : it->second;
 }
 
-void created(CallScope& scope, const void* handle, const void* share, uint8_t api) {
+// `samples`: of the visual or config the context was made for; a slave makes its framebuffer
+// multisampled the same way (0 and 1: single-sampled, no tuple).
+void created(CallScope& scope, const void* handle, const void* share, uint8_t api, int samples) {
     if (!handle) return;
+    if (samples > 1) {
+        encode_synth_context_format(scope.begin_synthetic(kSynthContextFormat), reinterpret_cast<uintptr_t>(handle),
+                                    samples);
+        scope.commit_synthetic();
+    }
     uint32_t id;
     {
         std::lock_guard lock(g_mutex);
@@ -91,6 +98,20 @@ void egl_drawable_size(CallScope& scope, EGLDisplay dpy, EGLSurface surface, boo
     drawable_size(scope, reinterpret_cast<uintptr_t>(surface), w, h);
 }
 
+int glx_visual_samples(Display* dpy, XVisualInfo* vis) {
+    static const auto get = reinterpret_cast<int (*)(Display*, XVisualInfo*, int, int*)>(real_proc(OP_glXGetConfig));
+    int samples = 0;
+    if (get && dpy && vis && get(dpy, vis, GLX_SAMPLES, &samples) != 0) samples = 0;
+    return samples;
+}
+
+int glx_config_samples(Display* dpy, GLXFBConfig config) {
+    static const auto get = reinterpret_cast<PFNGLXGETFBCONFIGATTRIBPROC>(real_proc(OP_glXGetFBConfigAttrib));
+    int samples = 0;
+    if (get && dpy && config && get(dpy, config, GLX_SAMPLES, &samples) != 0) samples = 0;
+    return samples;
+}
+
 template <class F>
 void record(CallScope& scope, F&& f) {
     if (scope.recording()) scope.record(f);
@@ -103,7 +124,7 @@ GLXContext special::glXCreateContext(glXCreateContext_fn real, CallScope& scope,
     GLXContext ret = real(dpy, vis, shareList, direct);
     if (!scope.recording()) return ret;
     scope.record([&](Encoder& e, SizeQueries& sz) { encode_glXCreateContext(e, sz, dpy, vis, shareList, direct, ret); });
-    created(scope, ret, shareList, 0);
+    created(scope, ret, shareList, 0, glx_visual_samples(dpy, vis));
     return ret;
 }
 
@@ -114,7 +135,7 @@ GLXContext special::glXCreateNewContext(glXCreateNewContext_fn real, CallScope& 
     scope.record([&](Encoder& e, SizeQueries& sz) {
         encode_glXCreateNewContext(e, sz, dpy, config, render_type, share_list, direct, ret);
     });
-    created(scope, ret, share_list, 0);
+    created(scope, ret, share_list, 0, glx_config_samples(dpy, config));
     return ret;
 }
 
@@ -126,7 +147,7 @@ GLXContext special::glXCreateContextAttribsARB(glXCreateContextAttribsARB_fn rea
     scope.record([&](Encoder& e, SizeQueries& sz) {
         encode_glXCreateContextAttribsARB(e, sz, dpy, config, share_context, direct, attrib_list, ret);
     });
-    created(scope, ret, share_context, 0);
+    created(scope, ret, share_context, 0, glx_config_samples(dpy, config));
     return ret;
 }
 
@@ -188,7 +209,10 @@ EGLContext special::eglCreateContext(eglCreateContext_fn real, CallScope& scope,
     scope.record([&](Encoder& e, SizeQueries& sz) {
         encode_eglCreateContext(e, sz, dpy, config, share_context, attrib_list, ret);
     });
-    created(scope, ret, share_context, 1);
+    EGLint samples = 0;
+    static const auto get = reinterpret_cast<PFNEGLGETCONFIGATTRIBPROC>(real_proc_by_name("eglGetConfigAttrib"));
+    if (ret && get && config && !get(dpy, config, EGL_SAMPLES, &samples)) samples = 0;
+    created(scope, ret, share_context, 1, samples);
     return ret;
 }
 

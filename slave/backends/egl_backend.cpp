@@ -14,6 +14,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <map>
 #include <mutex>
 #include <vector>
 
@@ -90,6 +91,7 @@ class EglDriver : public DriverDefaults {
 public:
     struct Context {
         EGLContext context = EGL_NO_CONTEXT;
+        EGLConfig config = EGL_NO_CONFIG_KHR;  // single-sampled, or as many samples as the program's
         EGLSurface surface = EGL_NO_SURFACE;  // the pbuffer
         int width = 0, height = 0;
     };
@@ -162,7 +164,8 @@ public:
         if (flags) attribs.insert(attribs.end(), {EGL_CONTEXT_FLAGS_KHR, flags});
         attribs.push_back(EGL_NONE);
 
-        out.context = api_.CreateContext(display_, config_, share ? share->context : EGL_NO_CONTEXT, attribs.data());
+        out.config = config_for(request.samples);
+        out.context = api_.CreateContext(display_, out.config, share ? share->context : EGL_NO_CONTEXT, attribs.data());
         if (out.context == EGL_NO_CONTEXT) return fail_egl(error, "eglCreateContext(" + describe(request) + ")");
         return true;
     }
@@ -170,7 +173,7 @@ public:
     // The old pbuffer may be current (on this thread or another): destroyed once released.
     bool resize(Context& c, int width, int height, std::string& error) {
         const EGLint attribs[] = {EGL_WIDTH, width, EGL_HEIGHT, height, EGL_NONE};
-        EGLSurface fresh = api_.CreatePbufferSurface(display_, config_, attribs);
+        EGLSurface fresh = api_.CreatePbufferSurface(display_, c.config, attribs);
         if (fresh == EGL_NO_SURFACE)
             return fail_egl(error, "eglCreatePbufferSurface(" + std::to_string(width) + "x" + std::to_string(height) + ")");
         if (c.surface != EGL_NO_SURFACE) retired_.push_back(c.surface);
@@ -250,6 +253,36 @@ private:
         return true;
     }
 
+    // A multisampled program gets a pbuffer of as many samples (resolved when read back or
+    // copied, as a window is), from the config of the same layout as config_ (lowest id).
+    EGLConfig config_for(int samples) {
+        if (samples <= 1) return config_;
+        auto known = multisampled_.find(samples);
+        if (known != multisampled_.end()) return known->second;
+        const EGLint attribs[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_SURFACE_TYPE, EGL_PBUFFER_BIT,
+                                  EGL_RED_SIZE, 8, EGL_GREEN_SIZE, 8, EGL_BLUE_SIZE, 8, EGL_ALPHA_SIZE, 0,
+                                  EGL_DEPTH_SIZE, 24, EGL_STENCIL_SIZE, 8, EGL_SAMPLE_BUFFERS, 1,
+                                  EGL_SAMPLES, samples, EGL_NONE};
+        EGLConfig configs[64];
+        EGLint count = 0, best_id = 0;
+        EGLConfig best = config_;
+        if (api_.ChooseConfig(display_, attribs, configs, 64, &count)) {
+            for (EGLint i = 0; i < count; ++i) {
+                EGLint id = 0, r = 0, a = 0, s = 0;
+                api_.GetConfigAttrib(display_, configs[i], EGL_CONFIG_ID, &id);
+                api_.GetConfigAttrib(display_, configs[i], EGL_RED_SIZE, &r);
+                api_.GetConfigAttrib(display_, configs[i], EGL_ALPHA_SIZE, &a);
+                api_.GetConfigAttrib(display_, configs[i], EGL_SAMPLES, &s);
+                if (r == 8 && a == 0 && s == samples && (!best_id || id < best_id)) best_id = id, best = configs[i];
+            }
+        }
+        if (!best_id)
+            std::fprintf(stderr, "glcast slave: egl: no pbuffer config with %d samples; this context renders "
+                                 "single-sampled, and polygon edges differ from the program's\n", samples);
+        multisampled_[samples] = best;
+        return best;
+    }
+
     void destroy_retired() {
         for (EGLSurface old : retired_) api_.DestroySurface(display_, old);
         retired_.clear();
@@ -267,6 +300,7 @@ private:
     EglApi api_;
     EGLDisplay display_ = EGL_NO_DISPLAY;
     EGLConfig config_ = EGL_NO_CONFIG_KHR;
+    std::map<int, EGLConfig> multisampled_;  // by samples
     int version_ = 0;
     bool display_counted_ = false;
     std::vector<EGLSurface> retired_;  // replaced pbuffers, until the next make-current

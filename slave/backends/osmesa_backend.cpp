@@ -12,6 +12,7 @@
 // ignored (GL_KHR_debug output still works once the program enables GL_DEBUG_OUTPUT).
 #include <GL/osmesa.h>
 
+#include <cstdio>
 #include <vector>
 
 #include "slave/backends/backends_internal.h"
@@ -63,6 +64,12 @@ public:
             attribs.insert(attribs.end(), {OSMESA_PROFILE, OSMESA_COMPAT_PROFILE});
         }
         attribs.push_back(0);
+        if (request.samples > 1 && !warned_samples_) {
+            warned_samples_ = true;
+            std::fprintf(stderr, "glcast slave: osmesa has no multisampled framebuffer: the program's %d samples are "
+                                 "rendered as one, and polygon edges differ from the program's (EGL matches them)\n",
+                         request.samples);
+        }
         out.context = api_.CreateContextAttribs(attribs.data(), share ? share->context : nullptr);
         if (!out.context) return fail(error, "OSMesaCreateContextAttribs(" + describe(request) + ") failed");
         return true;
@@ -100,6 +107,7 @@ public:
 
 private:
     void (*flush_)() = nullptr;
+    bool warned_samples_ = false;
     static bool fail(std::string& error, const std::string& what) {
         error = "osmesa: " + what;
         return false;

@@ -73,6 +73,7 @@ public:
         glfwWindowHint(GLFW_ALPHA_BITS, 0);
         glfwWindowHint(GLFW_DEPTH_BITS, 24);
         glfwWindowHint(GLFW_STENCIL_BITS, 8);
+        glfwWindowHint(GLFW_SAMPLES, request.samples > 1 ? request.samples : 0);
         if (request.major > 0) {
             glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, request.major);
             glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, request.minor);

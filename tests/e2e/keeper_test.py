@@ -198,6 +198,10 @@ def case_fences():  # fences waited on two frames after they were made, an occlu
     join("fences", app("live_state", "fences", "--size", "160x120", "--frames", str(FRAMES)), FRAMES, JOIN)
 
 
+def case_multisample():  # a 4-sample window: the snapshot makes the slave's context multisampled too
+    join("multisample", app("multisample", "--size", "160x120", "--frames", str(FRAMES)), FRAMES, JOIN)
+
+
 def case_fallback():  # an attribute stack left pushed: no snapshot can hold it, the journal can
     join("fallback", app("live_state", "pushed", "--size", "160x120", "--frames", "600"), 600, 400,
          journal_mb=64, fallback="attribute stack depth 1")
