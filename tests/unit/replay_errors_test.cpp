@@ -117,6 +117,50 @@ TEST(ReplayErrors, ReportedCountedAndSkipped) {
     EXPECT_EQ(red, 255);  // the calls after the errors still ran
 }
 
+// A context format claiming more samples than any GL has (a pbuffer of 2^30 samples would be
+// asked of the driver): refused for its tuple; the context is made single-sampled and the
+// frame is still rendered.
+TEST(ReplayErrors, ContextFormatSamplesAreBounded) {
+    std::string error;
+    auto backend = slave::make_backend("egl", error);
+    if (!backend) GTEST_SKIP() << "no EGL backend here: " << error;
+    StreamBuilder s;
+    auto* handle = reinterpret_cast<GLXContext>(uintptr_t(0xc0de));
+    s.context(0);
+    encode_glXCreateContext(s.e, s.sz, nullptr, nullptr, nullptr, True, handle);
+    s.synthetic(kSynthContextFormat, [&](Encoder& e) {
+        e.address(handle);
+        e.value<int32_t>(1 << 30);
+    });
+    s.synthetic(kSynthContext, [&](Encoder& e) {
+        e.value<uint32_t>(1);
+        e.address(handle);
+        e.value<uint32_t>(0);
+        e.value<uint8_t>(0);
+    });
+    s.context(1);
+    s.synthetic(kSynthDrawableSize, [&](Encoder& e) {
+        e.value<uint64_t>(7);
+        e.value<int32_t>(32);
+        e.value<int32_t>(16);
+    });
+    encode_glXMakeCurrent(s.e, s.sz, nullptr, 7, handle, True);
+    encode_glClearColor(s.e, s.sz, 0.0f, 1.0f, 0.0f, 1.0f);
+    encode_glClear(s.e, s.sz, GL_COLOR_BUFFER_BIT);
+    encode_glXSwapBuffers(s.e, s.sz, nullptr, 7);
+    const std::vector<uint8_t> file = s.file();
+    slave::Replayer replayer(std::move(backend), slave::ReplayOptions{});
+    uint8_t green = 0;
+    replayer.on_frame = [&](uint64_t, int, int, const std::vector<uint8_t>& rgba) { green = rgba[1]; };
+    CaptureReader reader(memory_source(file.data(), file.size()));
+    testing::internal::CaptureStderr();
+    replayer.replay(reader);
+    const std::string log = testing::internal::GetCapturedStderr();
+    EXPECT_NE(log.find("a context format of 1073741824 samples (at most 64)"), std::string::npos) << log;
+    EXPECT_EQ(replayer.stats().errors, 1u) << log;
+    EXPECT_EQ(green, 255);
+}
+
 // --limit NAME=VALUE: a typo is refused with the closest name, a bad value with the limit's.
 TEST(ReplayLimits, SetByName) {
     glcast::slave::ReplayLimits limits;
