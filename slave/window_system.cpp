@@ -90,6 +90,11 @@ bool WindowSystem::replace_call(const Call& c) {
     switch (sem.context) {
     case ContextOp::Create:
         if (!c.ret.bits) break;  // the master's call failed
+        // Each is answered by its glcast.context tuple; a stream of creations without them
+        // would grow this map: no more waiting than contexts may live.
+        if (pending_.size() >= core_.options().limits.contexts && !pending_.count(c.ret.bits))
+            throw ReplayError("more than " + std::to_string(core_.options().limits.contexts) +
+                              " context creations wait for their glcast.context tuple (limit contexts)");
         if (sem.context_param < 0) pending_[c.ret.bits] = ContextRequest{};
         else if (sem.flags & kSemEgl) pending_[c.ret.bits] = egl_request(c.args[size_t(sem.context_param)].ptr);
         else pending_[c.ret.bits] = glx_request(c.args[size_t(sem.context_param)].ptr);

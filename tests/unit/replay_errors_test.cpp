@@ -161,6 +161,27 @@ TEST(ReplayErrors, ContextFormatSamplesAreBounded) {
     EXPECT_EQ(green, 255);
 }
 
+// Context creations whose glcast.context tuple never comes: the slave waits for at most as
+// many as contexts may live (limit contexts), then refuses the next.
+TEST(ReplayErrors, CreationsWaitingForTheirContextTupleAreBounded) {
+    std::string error;
+    auto backend = slave::make_backend("egl", error);
+    if (!backend) GTEST_SKIP() << "no EGL backend here: " << error;
+    StreamBuilder s;
+    s.context(0);
+    for (uintptr_t k = 1; k <= 300; ++k)
+        encode_glXCreateContext(s.e, s.sz, nullptr, nullptr, nullptr, True, reinterpret_cast<GLXContext>(k << 4));
+    const std::vector<uint8_t> file = s.file();
+    slave::Replayer replayer(std::move(backend), slave::ReplayOptions{});
+    CaptureReader reader(memory_source(file.data(), file.size()));
+    testing::internal::CaptureStderr();
+    replayer.replay(reader);
+    const std::string log = testing::internal::GetCapturedStderr();
+    EXPECT_NE(log.find("more than 256 context creations wait for their glcast.context tuple"), std::string::npos)
+        << log.substr(0, 2000);
+    EXPECT_EQ(replayer.stats().errors, 300u - 256u);
+}
+
 // --limit NAME=VALUE: a typo is refused with the closest name, a bad value with the limit's.
 TEST(ReplayLimits, SetByName) {
     glcast::slave::ReplayLimits limits;
