@@ -19,6 +19,7 @@ import argparse
 import os
 import re
 import shutil
+import signal
 import struct
 import subprocess
 import sys
@@ -106,7 +107,16 @@ TILES = ["top-left", "top-right", "bottom-left", "bottom-right"]
 
 
 def run(cmd, timeout=600, env=None):
-    return subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=env)
+    """The command in a session of its own: on a timeout the program it started goes too."""
+    p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env,
+                         start_new_session=True)
+    try:
+        out, err = p.communicate(timeout=timeout)
+    except subprocess.TimeoutExpired:
+        os.killpg(p.pid, signal.SIGKILL)
+        out, err = p.communicate()
+        return subprocess.CompletedProcess(cmd, -9, out, (err or "") + f"\ntimed out after {timeout} s")
+    return subprocess.CompletedProcess(cmd, p.returncode, out, err)
 
 
 def headless():
