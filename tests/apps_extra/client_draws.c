@@ -25,6 +25,7 @@
 
 #include "../apps/app_common.h"
 #include "glx_screenshot.h"
+#include "glx_window.h"
 
 static const char *kVertex =
     "#version 130\n"
@@ -75,24 +76,8 @@ int main(int argc, char **argv)
 {
     struct app_args a;
     app_parse_args("client_draws", argc, argv, &a);
-    Display *dpy = XOpenDisplay(NULL);
-    if (!dpy) {
-        fprintf(stderr, "client_draws: cannot open display\n");
-        return 1;
-    }
     int attribs[] = {GLX_RGBA, GLX_DOUBLEBUFFER, GLX_RED_SIZE, 8, GLX_GREEN_SIZE, 8, GLX_BLUE_SIZE, 8, None};
-    XVisualInfo *vi = glXChooseVisual(dpy, DefaultScreen(dpy), attribs);
-    if (!vi) {
-        fprintf(stderr, "client_draws: no double-buffered RGB visual\n");
-        return 1;
-    }
-    XSetWindowAttributes swa;
-    swa.colormap = XCreateColormap(dpy, RootWindow(dpy, vi->screen), vi->visual, AllocNone);
-    Window win = XCreateWindow(dpy, RootWindow(dpy, vi->screen), 0, 0, a.width, a.height, 0, vi->depth, InputOutput,
-                               vi->visual, CWColormap, &swa);
-    XMapWindow(dpy, win);
-    GLXContext ctx = glXCreateContext(dpy, vi, NULL, True);
-    glXMakeCurrent(dpy, win, ctx);
+    struct glx_window w = glx_window_open("client_draws", &a, attribs, "double-buffered RGB");
 
     GLuint program = glCreateProgram();
     glAttachShader(program, compile(GL_VERTEX_SHADER, kVertex));
@@ -176,7 +161,7 @@ int main(int argc, char **argv)
         glDisableVertexAttribArray(COLOR);
         if (a.screenshot && f == a.frames - 1 && app_screenshot("client_draws", &a) != 0)
             return 1;
-        glXSwapBuffers(dpy, win);
+        glXSwapBuffers(w.dpy, w.win);
         const GLenum err = glGetError();
         if (err != GL_NO_ERROR) {
             fprintf(stderr, "client_draws: GL error 0x%x in frame %d\n", err, f);
@@ -185,8 +170,6 @@ int main(int argc, char **argv)
     }
     glDeleteBuffers(1, &element_buffer);
     glDeleteProgram(program);
-    glXMakeCurrent(dpy, None, NULL);
-    glXDestroyContext(dpy, ctx);
-    XCloseDisplay(dpy);
+    glx_window_close(&w);
     return 0;
 }

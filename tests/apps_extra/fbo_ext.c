@@ -30,6 +30,7 @@
 
 #include "../apps/app_common.h"
 #include "glx_screenshot.h"
+#include "glx_window.h"
 
 #define TEX 256
 
@@ -81,24 +82,8 @@ int main(int argc, char **argv)
     struct app_args a;
     core_bind = app_take_flag(&argc, &argv, "--core-bind");
     app_parse_args("fbo_ext", argc, argv, &a);
-    Display *dpy = XOpenDisplay(NULL);
-    if (!dpy) {
-        fprintf(stderr, "fbo_ext: cannot open display\n");
-        return 1;
-    }
     int attribs[] = {GLX_RGBA, GLX_DOUBLEBUFFER, GLX_RED_SIZE, 8, GLX_GREEN_SIZE, 8, GLX_BLUE_SIZE, 8, None};
-    XVisualInfo *vi = glXChooseVisual(dpy, DefaultScreen(dpy), attribs);
-    if (!vi) {
-        fprintf(stderr, "fbo_ext: no double-buffered RGB visual\n");
-        return 1;
-    }
-    XSetWindowAttributes swa;
-    swa.colormap = XCreateColormap(dpy, RootWindow(dpy, vi->screen), vi->visual, AllocNone);
-    Window win = XCreateWindow(dpy, RootWindow(dpy, vi->screen), 0, 0, a.width, a.height, 0, vi->depth, InputOutput,
-                               vi->visual, CWColormap, &swa);
-    XMapWindow(dpy, win);
-    GLXContext ctx = glXCreateContext(dpy, vi, NULL, True);
-    glXMakeCurrent(dpy, win, ctx);
+    struct glx_window w = glx_window_open("fbo_ext", &a, attribs, "double-buffered RGB");
     if (!strstr((const char *)glGetString(GL_EXTENSIONS), "GL_EXT_framebuffer_object")) {
         fprintf(stderr, "fbo_ext: GL_EXT_framebuffer_object missing\n");
         return 1;
@@ -155,7 +140,7 @@ int main(int argc, char **argv)
 
         if (a.screenshot && f == a.frames - 1 && app_screenshot("fbo_ext", &a) != 0)
             return 1;
-        glXSwapBuffers(dpy, win);
+        glXSwapBuffers(w.dpy, w.win);
         const GLenum err = glGetError();
         if (err != GL_NO_ERROR) {
             fprintf(stderr, "fbo_ext: GL error 0x%x in frame %d\n", err, f);
@@ -164,8 +149,6 @@ int main(int argc, char **argv)
     }
     glDeleteFramebuffersEXT(1, &fbo);
     glDeleteTextures(1, &tex);
-    glXMakeCurrent(dpy, None, NULL);
-    glXDestroyContext(dpy, ctx);
-    XCloseDisplay(dpy);
+    glx_window_close(&w);
     return 0;
 }

@@ -32,6 +32,7 @@
 
 #include "../apps/app_common.h"
 #include "glx_screenshot.h"
+#include "glx_window.h"
 
 enum { SIZE = 32, KEEP = 3 };
 
@@ -175,24 +176,8 @@ int main(int argc, char **argv)
     argv[1] = argv[0];
     struct app_args a;
     app_parse_args("live_state", argc - 1, argv + 1, &a);
-    Display *dpy = XOpenDisplay(NULL);
-    if (!dpy) {
-        fprintf(stderr, "live_state: cannot open display\n");
-        return 1;
-    }
     int attribs[] = {GLX_RGBA, GLX_DOUBLEBUFFER, GLX_RED_SIZE, 8, GLX_GREEN_SIZE, 8, GLX_BLUE_SIZE, 8, None};
-    XVisualInfo *vi = glXChooseVisual(dpy, DefaultScreen(dpy), attribs);
-    if (!vi) {
-        fprintf(stderr, "live_state: no double-buffered RGB visual\n");
-        return 1;
-    }
-    XSetWindowAttributes swa;
-    swa.colormap = XCreateColormap(dpy, RootWindow(dpy, vi->screen), vi->visual, AllocNone);
-    Window win = XCreateWindow(dpy, RootWindow(dpy, vi->screen), 0, 0, a.width, a.height, 0, vi->depth, InputOutput,
-                               vi->visual, CWColormap, &swa);
-    XMapWindow(dpy, win);
-    GLXContext ctx = glXCreateContext(dpy, vi, NULL, True);
-    glXMakeCurrent(dpy, win, ctx);
+    struct glx_window w = glx_window_open("live_state", &a, attribs, "double-buffered RGB");
 
     GLuint once = textures || renderbuffer ? 0 : render_into_texture();
     GLuint rb_fbo = renderbuffer ? render_into_renderbuffers() : 0;
@@ -251,10 +236,8 @@ int main(int argc, char **argv)
         }
         if (a.screenshot && f == a.frames - 1 && app_screenshot("live_state", &a) != 0)
             return 1;
-        glXSwapBuffers(dpy, win);
+        glXSwapBuffers(w.dpy, w.win);
     }
-    glXMakeCurrent(dpy, None, NULL);
-    glXDestroyContext(dpy, ctx);
-    XCloseDisplay(dpy);
+    glx_window_close(&w);
     return 0;
 }

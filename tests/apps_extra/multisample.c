@@ -13,30 +13,15 @@
 
 #include "../apps/app_common.h"
 #include "glx_screenshot.h"
+#include "glx_window.h"
 
 int main(int argc, char **argv)
 {
     struct app_args a;
     app_parse_args("multisample", argc, argv, &a);
-    Display *dpy = XOpenDisplay(NULL);
-    if (!dpy) {
-        fprintf(stderr, "multisample: cannot open display\n");
-        return 1;
-    }
     int attribs[] = {GLX_RGBA, GLX_DOUBLEBUFFER, GLX_RED_SIZE, 8, GLX_GREEN_SIZE, 8, GLX_BLUE_SIZE, 8,
                      GLX_DEPTH_SIZE, 24, GLX_SAMPLE_BUFFERS, 1, GLX_SAMPLES, 4, None};
-    XVisualInfo *vi = glXChooseVisual(dpy, DefaultScreen(dpy), attribs);
-    if (!vi) {
-        fprintf(stderr, "multisample: no 4-sample visual\n");
-        return 1;
-    }
-    XSetWindowAttributes swa;
-    swa.colormap = XCreateColormap(dpy, RootWindow(dpy, vi->screen), vi->visual, AllocNone);
-    Window win = XCreateWindow(dpy, RootWindow(dpy, vi->screen), 0, 0, a.width, a.height, 0, vi->depth, InputOutput,
-                               vi->visual, CWColormap, &swa);
-    XMapWindow(dpy, win);
-    GLXContext ctx = glXCreateContext(dpy, vi, NULL, True);
-    glXMakeCurrent(dpy, win, ctx);
+    struct glx_window w = glx_window_open("multisample", &a, attribs, "4-sample");
     GLint samples = 0;
     glGetIntegerv(GL_SAMPLES, &samples);
     printf("multisample: GL_SAMPLES %d\n", samples);
@@ -56,10 +41,8 @@ int main(int argc, char **argv)
             glEnd();
         }
         if (a.screenshot && f == a.frames - 1 && app_screenshot("multisample", &a) != 0) return 1;
-        glXSwapBuffers(dpy, win);
+        glXSwapBuffers(w.dpy, w.win);
     }
-    glXMakeCurrent(dpy, None, NULL);
-    glXDestroyContext(dpy, ctx);
-    XCloseDisplay(dpy);
+    glx_window_close(&w);
     return 0;
 }

@@ -22,6 +22,7 @@
 
 #include "../apps/app_common.h"
 #include "glx_screenshot.h"
+#include "glx_window.h"
 
 static const char *vertex_source =
     "#version 330 core\n"
@@ -126,24 +127,8 @@ int main(int argc, char **argv)
     }
     struct app_args a;
     app_parse_args("program_binary", rest, kept, &a);
-    Display *dpy = XOpenDisplay(NULL);
-    if (!dpy) {
-        fprintf(stderr, "program_binary: cannot open display\n");
-        return 1;
-    }
     int attribs[] = {GLX_RGBA, GLX_DOUBLEBUFFER, GLX_RED_SIZE, 8, GLX_GREEN_SIZE, 8, GLX_BLUE_SIZE, 8, None};
-    XVisualInfo *vi = glXChooseVisual(dpy, DefaultScreen(dpy), attribs);
-    if (!vi) {
-        fprintf(stderr, "program_binary: no double-buffered RGB visual\n");
-        return 1;
-    }
-    XSetWindowAttributes swa;
-    swa.colormap = XCreateColormap(dpy, RootWindow(dpy, vi->screen), vi->visual, AllocNone);
-    Window win = XCreateWindow(dpy, RootWindow(dpy, vi->screen), 0, 0, a.width, a.height, 0, vi->depth, InputOutput,
-                               vi->visual, CWColormap, &swa);
-    XMapWindow(dpy, win);
-    GLXContext ctx = glXCreateContext(dpy, vi, NULL, True);
-    glXMakeCurrent(dpy, win, ctx);
+    struct glx_window w = glx_window_open("program_binary", &a, attribs, "double-buffered RGB");
 
     GLint formats = 0;
     glGetIntegerv(GL_NUM_PROGRAM_BINARY_FORMATS, &formats);
@@ -181,10 +166,8 @@ int main(int argc, char **argv)
         glUniform1f(angle, 0.05f * f);
         glDrawArrays(GL_TRIANGLES, 0, 3);
         if (a.screenshot && f == a.frames - 1 && app_screenshot("program_binary", &a) != 0) return 1;
-        glXSwapBuffers(dpy, win);
+        glXSwapBuffers(w.dpy, w.win);
     }
-    glXMakeCurrent(dpy, None, NULL);
-    glXDestroyContext(dpy, ctx);
-    XCloseDisplay(dpy);
+    glx_window_close(&w);
     return 0;
 }
