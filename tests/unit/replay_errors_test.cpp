@@ -48,17 +48,16 @@ struct StreamBuilder {
     }
 };
 
-}  // namespace
-
-TEST(ReplayErrors, ReportedCountedAndSkipped) {
-    std::string error;
-    auto backend = slave::make_backend("egl", error);
-    if (!backend) GTEST_SKIP() << "no EGL backend here: " << error;
-
-    StreamBuilder s;
-    auto* handle = reinterpret_cast<GLXContext>(uintptr_t(0xc0de));
+// A GLX context `handle` made as context 1 (with a glcast.context_format of `samples` if
+// non-zero) and current on a 32x16 window.
+void open_window(StreamBuilder& s, GLXContext handle, int32_t samples = 0) {
     s.context(0);
     encode_glXCreateContext(s.e, s.sz, nullptr, nullptr, nullptr, True, handle);
+    if (samples)
+        s.synthetic(kSynthContextFormat, [&](Encoder& e) {
+            e.address(handle);
+            e.value<int32_t>(samples);
+        });
     s.synthetic(kSynthContext, [&](Encoder& e) {
         e.value<uint32_t>(1);
         e.address(handle);
@@ -72,6 +71,18 @@ TEST(ReplayErrors, ReportedCountedAndSkipped) {
         e.value<int32_t>(16);
     });
     encode_glXMakeCurrent(s.e, s.sz, nullptr, 7, handle, True);
+}
+
+}  // namespace
+
+TEST(ReplayErrors, ReportedCountedAndSkipped) {
+    std::string error;
+    auto backend = slave::make_backend("egl", error);
+    if (!backend) GTEST_SKIP() << "no EGL backend here: " << error;
+
+    StreamBuilder s;
+    auto* handle = reinterpret_cast<GLXContext>(uintptr_t(0xc0de));
+    open_window(s, handle);
     encode_glUseProgram(s.e, s.sz, 77);  // never created: error 1
     s.synthetic(kSynthClientArrays, [&](Encoder& e) {  // a cached array never sent: error 2
         e.value<uint32_t>(1);
@@ -126,25 +137,7 @@ TEST(ReplayErrors, ContextFormatSamplesAreBounded) {
     if (!backend) GTEST_SKIP() << "no EGL backend here: " << error;
     StreamBuilder s;
     auto* handle = reinterpret_cast<GLXContext>(uintptr_t(0xc0de));
-    s.context(0);
-    encode_glXCreateContext(s.e, s.sz, nullptr, nullptr, nullptr, True, handle);
-    s.synthetic(kSynthContextFormat, [&](Encoder& e) {
-        e.address(handle);
-        e.value<int32_t>(1 << 30);
-    });
-    s.synthetic(kSynthContext, [&](Encoder& e) {
-        e.value<uint32_t>(1);
-        e.address(handle);
-        e.value<uint32_t>(0);
-        e.value<uint8_t>(0);
-    });
-    s.context(1);
-    s.synthetic(kSynthDrawableSize, [&](Encoder& e) {
-        e.value<uint64_t>(7);
-        e.value<int32_t>(32);
-        e.value<int32_t>(16);
-    });
-    encode_glXMakeCurrent(s.e, s.sz, nullptr, 7, handle, True);
+    open_window(s, handle, 1 << 30);
     encode_glClearColor(s.e, s.sz, 0.0f, 1.0f, 0.0f, 1.0f);
     encode_glClear(s.e, s.sz, GL_COLOR_BUFFER_BIT);
     encode_glXSwapBuffers(s.e, s.sz, nullptr, 7);
