@@ -59,7 +59,10 @@ void KeptCalls::before_call(const Call& c, const uint8_t* tuple, size_t bytes) {
         return;
     }
     if (info && info->sem.context == ContextOp::Create) {
-        if (c.ret.bits) pending_create_[c.ret.bits].assign(tuple, tuple + bytes);
+        // As many wait for their glcast.context tuple as the window system lets wait (limit
+        // contexts); it refuses the ones past that.
+        const bool room = pending_create_.size() < core_.options().limits.contexts || pending_create_.count(c.ret.bits);
+        if (c.ret.bits && room) pending_create_[c.ret.bits].assign(tuple, tuple + bytes);
         return;
     }
     auto rec = recording_.find(c.context);
