@@ -30,5 +30,6 @@ Command add_effects(CLI::App& glcast);  // cli/effects.cpp
 Command add_trim(CLI::App& glcast);     // cli/trim.cpp
 Command add_keeper(CLI::App& glcast);   // cli/keeper.cpp
 Command add_record(CLI::App& glcast);   // cli/record.cpp
+Command add_keygen(CLI::App& glcast);   // cli/keygen.cpp
 
 }  // namespace glcast::cli

@@ -66,7 +66,8 @@ int main(int argc, char** argv) {
     app.require_subcommand(1);  // exactly one: no later argument is taken for another command
 
     const std::vector<Command> commands = {add_capture(app), add_dump(app),  add_replay(app), add_run(app),
-                                           add_slave(app),   add_image(app), add_effects(app), add_trim(app), add_keeper(app), add_record(app)};
+                                           add_slave(app),   add_image(app), add_effects(app), add_trim(app), add_keeper(app), add_record(app),
+                                           add_keygen(app)};
     CLI::App* help = app.add_subcommand("help", "this text, or a command's options");
     std::string topic;
     help->add_option("COMMAND", topic, "the command");

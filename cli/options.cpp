@@ -4,6 +4,8 @@
 #include <climits>
 #include <functional>
 
+#include "cli/paths.h"
+#include "net/security.h"
 #include "slave/effects/effect_params.h"
 #include "slave/replayer.h"
 
@@ -220,6 +222,29 @@ void add_limit_option(CLI::App& app, slave::ReplayLimits& limits) {
                     std::string error;
                     if (!slave::set_replay_limit(limits, assignment, error)) usage_error(name, error);
                 });
+}
+
+void add_security_options(CLI::App& app, std::string& keys, bool& insecure) {
+    app.add_option("--keys", keys,
+                   "a folder of CURVE keys (glcast keygen; docs/security.md): TCP is authenticated and\n"
+                   "encrypted (default: the display config's \"keys\", else GLCAST_KEYS)")
+        ->type_name("DIR");
+    app.add_flag("--insecure", insecure,
+                 "allow a network or multicast endpoint without keys: anyone who reaches it can read the\n"
+                 "stream or pose as the master");
+}
+
+bool use_keys(const std::string& keys, bool insecure, const char* who, std::string& error) {
+    if (!keys.empty()) setenv("GLCAST_KEYS", absolute_path(keys).c_str(), 1);
+    if (insecure) setenv("GLCAST_INSECURE", "1", 1);
+    try {
+        (void)net::process_security();
+        return true;
+    } catch (const std::exception& e) {
+        error = e.what();
+        std::fprintf(stderr, "%s: %s\n", who, error.c_str());
+        return false;
+    }
 }
 
 }  // namespace glcast::cli

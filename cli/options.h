@@ -72,4 +72,11 @@ void add_effect_options(CLI::App& app, slave::effects::EffectsSettings& effects,
 // (docs/slave.md "Limits of a stream").
 void add_limit_option(CLI::App& app, slave::ReplayLimits& limits);
 
+// --keys DIR and --insecure (docs/security.md).
+void add_security_options(CLI::App& app, std::string& keys, bool& insecure);
+// Makes `keys` (else GLCAST_KEYS) and `insecure` this process's and its children's (GLCAST_KEYS,
+// GLCAST_INSECURE) and reads the keys; false, after saying why on stderr as `who`, when they
+// cannot be read.
+bool use_keys(const std::string& keys, bool insecure, const char* who, std::string& error);
+
 }  // namespace glcast::cli

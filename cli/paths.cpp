@@ -16,6 +16,12 @@ std::string absolute_path(const std::string& path) {
     return std::string(cwd) + "/" + path;
 }
 
+std::string relative_to(const std::string& file, const std::string& path) {
+    if (path.empty() || path[0] == '/') return path;
+    const size_t slash = file.rfind('/');
+    return absolute_path(slash == std::string::npos ? path : file.substr(0, slash + 1) + path);
+}
+
 bool make_directories(const std::string& dir, std::string& error) {
     for (size_t end = 1; end <= dir.size(); ++end) {
         if (end != dir.size() && dir[end] != '/') continue;

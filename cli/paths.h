@@ -12,4 +12,7 @@ std::string absolute_path(const std::string& path);
 // Creates `dir` and its missing parents (mkdir -p). False with `error` naming the failing part.
 bool make_directories(const std::string& dir, std::string& error);
 
+// `path` as seen from the folder of `file` (a display config's "keys"): unchanged when absolute.
+std::string relative_to(const std::string& file, const std::string& path);
+
 }  // namespace glcast::cli

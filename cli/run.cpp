@@ -15,13 +15,22 @@
 #include <memory>
 #include <string>
 #include <thread>
+#include <atomic>
+#include <algorithm>
+#include <cinttypes>
+#include <condition_variable>
+#include <mutex>
+
+#include <nlohmann/json.hpp>
 #include <vector>
 
 #include "cli/commands.h"
 #include "cli/launcher.h"
 #include "cli/options.h"
 #include "cli/paths.h"
-#include "cli/swap_barrier.h"
+#include "cli/wall_control.h"
+#include "net/security.h"
+#include "slave/wall_link.h"
 #include "display_configs/display_config.h"
 #include "slave/effects/effect_params.h"
 
@@ -30,9 +39,11 @@ namespace glcast::cli {
 namespace {
 
 struct RunArgs {
-    std::string config_path, backend = std::getenv("DISPLAY") ? "window" : "egl", out_dir, endpoint;
+    std::string config_path, backend = std::getenv("DISPLAY") ? "window" : "egl", out_dir, endpoint, keys, machine,
+                                     status_json;
     uint64_t frames = 0;  // 0: as long as the program runs
-    bool lockstep = false;
+    bool lockstep = false, insecure = false;
+    int wait_tiles = 10;  // seconds to wait for the tiles of other machines before the program starts
     slave::effects::EffectsSettings effects;  // checked here, so that a typo fails before any slave starts
     std::vector<std::string> effect_args;     // passed on to every slave
 };
@@ -53,14 +64,14 @@ std::string journal_endpoint(const std::string& stream) {
     return stream + "-journal";
 }
 
-// The keeper's beside the journal's: the port after it, or a sibling IPC path.
-std::string keeper_endpoint(const std::string& journal) {
-    const size_t colon = journal.rfind(':');
-    if (journal.rfind("tcp://", 0) == 0 && colon != std::string::npos && colon > 6) {
-        const int port = std::atoi(journal.c_str() + colon + 1);
-        if (port > 0 && port < 65535) return journal.substr(0, colon + 1) + std::to_string(port + 1);
+// The endpoint beside `endpoint`: the next TCP port, or a sibling IPC path ending in `suffix`.
+std::string next_port(const std::string& endpoint, const std::string& suffix) {
+    const size_t colon = endpoint.rfind(':');
+    if (endpoint.rfind("tcp://", 0) == 0 && colon != std::string::npos && colon > 6) {
+        const int port = std::atoi(endpoint.c_str() + colon + 1);
+        if (port > 0 && port < 65535) return endpoint.substr(0, colon + 1) + std::to_string(port + 1);
     }
-    return journal + "-keeper";
+    return endpoint + suffix;
 }
 
 std::string connectable(const std::string& bound) {  // tcp://*:5555 -> tcp://127.0.0.1:5555
@@ -68,14 +79,103 @@ std::string connectable(const std::string& bound) {  // tcp://*:5555 -> tcp://12
     return star == std::string::npos ? bound : bound.substr(0, star) + "://127.0.0.1" + bound.substr(star + 4);
 }
 
-int run(const RunArgs& a, const std::vector<std::string>& program) {
+// The whole wall in one line, once a second: on a terminal, and as JSON lines to --status-json.
+class StatusView {
+public:
+    StatusView(const WallControl& control, const std::vector<std::pair<std::string, std::string>>& tiles,
+               const std::string& json_path)
+        : control_(control), tiles_(tiles), terminal_(isatty(2)) {
+        if (!json_path.empty()) {
+            json_ = std::fopen(json_path.c_str(), "w");
+            if (!json_) throw std::runtime_error("--status-json " + json_path + ": " + std::strerror(errno));
+        }
+        thread_ = std::thread([this] {
+            while (!stopping_) {
+                std::unique_lock lock(mutex_);
+                wake_.wait_for(lock, std::chrono::seconds(1), [this] { return bool(stopping_); });
+                show();
+            }
+        });
+    }
+    ~StatusView() {
+        stopping_ = true;
+        wake_.notify_all();
+        if (thread_.joinable()) thread_.join();
+        if (terminal_ && shown_) std::fputc('\n', stderr);
+        if (json_) std::fclose(json_);
+    }
+
+private:
+    void show() {
+        const auto status = control_.status();
+        const auto now = std::chrono::steady_clock::now();
+        uint64_t master_frame = 0;
+        double mbps = 0;
+        for (const auto& [name, s] : status) {
+            master_frame = std::max(master_frame, s.master_frame);
+            mbps = std::max(mbps, s.age_seconds >= 0 && s.age_seconds < 3 ? s.mbps : 0.0);
+        }
+        const double dt = std::chrono::duration<double>(now - last_).count();
+        const double fps = last_frame_ && dt > 0 ? (master_frame - last_frame_) / dt : 0;
+        last_ = now, last_frame_ = master_frame;
+        char line[160];
+        std::snprintf(line, sizeof line, "wall: program frame %" PRIu64 ", %.1f fps, %.2f MB/s", master_frame, fps, mbps);
+        std::string text = line;
+        nlohmann::json tiles = nlohmann::json::array();
+        for (const auto& [name, machine] : tiles_) {
+            auto it = status.find(name);
+            const TileStatus& s = it->second;
+            const bool silent = s.age_seconds < 0 || s.age_seconds > 3;
+            const std::string state = s.dropped ? "dropped" : silent ? (s.age_seconds < 0 ? "absent" : "silent") : s.state;
+            if (state == "live" || state == "joining")
+                std::snprintf(line, sizeof line, " | %s@%s %s%" PRIu64 " %.0ffps lag %" PRId64 " rec %" PRIu64, name.c_str(),
+                              (s.machine.empty() ? machine : s.machine).c_str(), state == "joining" ? "joining " : "f",
+                              s.frame, s.fps, s.lag, s.recoveries);
+            else
+                std::snprintf(line, sizeof line, " | %s@%s %s", name.c_str(), machine.c_str(), state.c_str());
+            text += line;
+            tiles.push_back({{"tile", name}, {"machine", s.machine.empty() ? machine : s.machine}, {"state", state},
+                             {"frame", s.frame}, {"fps", s.fps}, {"mbps", s.mbps}, {"lag", s.lag},
+                             {"recoveries", s.recoveries}, {"age_seconds", s.age_seconds}});
+        }
+        if (terminal_) {
+            std::fprintf(stderr, "\r%s\033[K", text.c_str());
+            shown_ = true;
+        }
+        if (json_) {
+            const nlohmann::json j = {
+                {"time", std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count()},
+                {"program", {{"frame", master_frame}, {"fps", fps}, {"mbps", mbps}}},
+                {"tiles", tiles}};
+            std::fprintf(json_, "%s\n", j.dump().c_str());
+            std::fflush(json_);
+        }
+    }
+
+    const WallControl& control_;
+    std::vector<std::pair<std::string, std::string>> tiles_;  // name, machine
+    bool terminal_;
+    FILE* json_ = nullptr;
+    bool shown_ = false;
+    std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+    uint64_t last_frame_ = 0;
+    std::atomic<bool> stopping_{false};
+    std::mutex mutex_;
+    std::condition_variable wake_;
+    std::thread thread_;
+};
+
+int run(RunArgs& a, const std::vector<std::string>& program) {
     const std::string &config_path = a.config_path, &backend = a.backend, &out_dir = a.out_dir;
     const uint64_t frames = a.frames;
     const bool lockstep = a.lockstep;
     const std::vector<std::string>& effect_args = a.effect_args;
     std::string endpoint = a.endpoint;
-    std::vector<std::string> tiles;
+    const std::string here = a.machine.empty() ? slave::machine_name() : a.machine;
+    std::vector<std::pair<std::string, std::string>> tiles;  // name, machine; every tile of the wall
+    std::vector<std::string> local_tiles, remote_tiles;
     bool swap_barrier = false;
+    std::string keys = a.keys;
     if (!config_path.empty()) {
         slave::DisplayConfig config;
         std::string error;
@@ -83,8 +183,27 @@ int run(const RunArgs& a, const std::vector<std::string>& program) {
             std::fprintf(stderr, "glcast run: %s\n", error.c_str());
             return 1;
         }
-        for (const auto& t : config.tiles) tiles.push_back(t.name);
+        for (const auto& t : config.tiles) {
+            const bool local = t.machine.empty() || t.machine == here;
+            tiles.push_back({t.name, local ? here : t.machine});
+            (local ? local_tiles : remote_tiles).push_back(t.name);
+        }
         swap_barrier = config.swap_barrier;
+        if (keys.empty() && !config.keys.empty()) keys = relative_to(config_path, config.keys);
+        if (endpoint.empty() && config.master.given) endpoint = "tcp://*:" + std::to_string(config.master.port);
+    } else {
+        tiles.push_back({"window", here});
+        local_tiles.push_back("");
+    }
+    std::string error;
+    if (!use_keys(keys, a.insecure, "glcast run", error)) return 1;
+    if (!remote_tiles.empty() && endpoint.rfind("tcp://", 0) != 0 && endpoint.rfind("epgm://", 0) != 0) {
+        std::fprintf(stderr, "glcast run: tile %s is on machine %s, not this one (%s): give the config a \"master\" "
+                             "or --endpoint tcp://*:PORT so that it can be reached\n",
+                     remote_tiles[0].c_str(), std::find_if(tiles.begin(), tiles.end(), [&](auto& t) {
+                         return t.first == remote_tiles[0];
+                     })->second.c_str(), here.c_str());
+        return 1;
     }
     char dir[] = "/tmp/glcast-run-XXXXXX";
     if (!mkdtemp(dir)) {
@@ -102,33 +221,46 @@ int run(const RunArgs& a, const std::vector<std::string>& program) {
     // an ipc:// path, for the local slaves and the keeper.
     const std::string local = multicast ? local_stream : connectable(endpoint);
     const std::string publish = multicast ? endpoint + "," + local_stream : endpoint;
-    const std::string keeper = remote ? keeper_endpoint(journal) : "";
-    std::fprintf(stderr, "glcast run: stream on %s, journal on %s%s%s\n", endpoint.c_str(), journal.c_str(),
-                 remote ? ", keeper on " : "", keeper.c_str());
-    std::string mkdir_error;
-    if (!out_dir.empty() && !make_directories(out_dir, mkdir_error)) {
-        std::fprintf(stderr, "glcast run: --out: %s\n", mkdir_error.c_str());
+    const std::string keeper = remote ? next_port(journal, "-keeper") : "";
+    const std::string control = remote ? next_port(keeper, "") : std::string("ipc://") + dir + "/control";
+    try {  // refused here, before anything starts, rather than inside the program
+        for (const std::string& e : {endpoint, journal, keeper, control})
+            if (!e.empty()) net::check_endpoint(e, net::process_security(), true);
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "glcast run: %s\n", e.what());
+        ::rmdir(dir);
+        return 1;
+    }
+    std::fprintf(stderr, "glcast run: stream on %s, journal on %s%s%s, control on %s%s\n", endpoint.c_str(),
+                 journal.c_str(), remote ? ", keeper on " : "", keeper.c_str(), control.c_str(),
+                 net::process_security().keyed() ? " (CURVE)" : "");
+    if (!out_dir.empty() && !make_directories(out_dir, error)) {
+        std::fprintf(stderr, "glcast run: --out: %s\n", error.c_str());
         return 1;
     }
 
-    // The swap barrier outlives the program: slaves may present its last frames after it ended.
-    const std::string barrier_endpoint = std::string("ipc://") + dir + "/barrier";
-    std::unique_ptr<SwapBarrier> barrier;
-    if (swap_barrier) {
-        barrier = std::make_unique<SwapBarrier>(barrier_endpoint, int(tiles.size()));
-        std::fprintf(stderr, "glcast run: swap barrier on %s for %zu tiles\n", barrier_endpoint.c_str(), tiles.size());
+    // The control channel (swap barrier, status) outlives the program: slaves may present its
+    // last frames after it ended.
+    std::vector<std::string> tile_names;
+    for (const auto& t : tiles) tile_names.push_back(t.first);
+    std::unique_ptr<WallControl> wall;
+    try {
+        wall = std::make_unique<WallControl>(control, tile_names, swap_barrier);
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "glcast run: %s\n", e.what());
+        return 1;
     }
 
     // Slaves first: they join through the journal whenever the program starts publishing.
     std::map<pid_t, std::string> slaves;
     const std::string exe = self_exe();
-    const std::vector<std::string> names = tiles.empty() ? std::vector<std::string>{""} : tiles;
-    for (const std::string& tile : names) {
-        std::vector<std::string> argv = {exe, "slave", "--connect", local, "--journal",
-                                         connectable(journal), "--backend", backend, "--wait", "120"};
+    for (const std::string& tile : local_tiles) {
+        std::vector<std::string> argv = {exe,       "slave",   "--connect", local,  "--journal", connectable(journal),
+                                         "--backend", backend, "--wait",    "120",  "--control", connectable(control),
+                                         "--quiet", "--machine", here};
         if (!tile.empty()) argv.insert(argv.end(), {"--config", config_path, "--tile", tile});
         if (!out_dir.empty()) argv.insert(argv.end(), {"--out", out_dir + "/" + (tile.empty() ? "window" : tile)});
-        if (swap_barrier) argv.insert(argv.end(), {"--swap-barrier", barrier_endpoint});
+        if (swap_barrier) argv.push_back("--swap-barrier");
         if (lockstep) argv.push_back("--lockstep");
         argv.insert(argv.end(), effect_args.begin(), effect_args.end());
         if (const char* log = std::getenv("GLCAST_TEST_PRESENT_LOG_DIR"))
@@ -139,13 +271,44 @@ int run(const RunArgs& a, const std::vector<std::string>& program) {
     if (remote)
         keeper_pid = spawn({exe, "keeper", "--connect", local, "--journal", connectable(journal), "--bind",
                             keeper, "--wait", "120"});
-    std::map<std::string, std::string> env{{"GLCAST_PUBLISH", publish},
-                                           {"GLCAST_JOURNAL_ENDPOINT", journal},
-                                           {"GLCAST_WAIT_SUBSCRIBERS", std::to_string(slaves.size() + (remote ? 1 : 0))},
-                                           {"GLCAST_LOCKSTEP", lockstep ? std::to_string(slaves.size()) : "0"}};
+
+    // The tiles of other machines: their slaves (glcast slave --service) report to the control
+    // channel while they wait for a program; they are waited for, counted and named.
+    int remote_here = 0;
+    if (!remote_tiles.empty()) {
+        const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(a.wait_tiles);
+        for (;;) {
+            const auto status = wall->status();
+            std::vector<std::string> missing;
+            for (const std::string& t : remote_tiles)
+                if (status.at(t).age_seconds < 0) missing.push_back(t);
+            remote_here = int(remote_tiles.size() - missing.size());
+            if (missing.empty() || std::chrono::steady_clock::now() > deadline) {
+                std::string names;
+                for (const std::string& t : missing) names += (names.empty() ? "" : ", ") + t;
+                std::fprintf(stderr, "glcast run: %d of %zu tiles on other machines are there%s%s%s\n", remote_here,
+                             remote_tiles.size(), missing.empty() ? "" : "; not yet: ", names.c_str(),
+                             missing.empty() ? "" : " (they join when they come)");
+                break;
+            }
+            std::this_thread::sleep_for(std::chrono::milliseconds(100));
+        }
+    }
+    std::map<std::string, std::string> env{
+        {"GLCAST_PUBLISH", publish},
+        {"GLCAST_JOURNAL_ENDPOINT", journal},
+        {"GLCAST_WAIT_SUBSCRIBERS", std::to_string(slaves.size() + remote_here + (remote ? 1 : 0))},
+        {"GLCAST_LOCKSTEP", lockstep ? std::to_string(tiles.size()) : "0"}};
     if (frames) {
         env["GLCAST_FRAMES"] = std::to_string(frames);
         env["GLCAST_EXIT_AFTER_FRAMES"] = "1";
+    }
+    std::unique_ptr<StatusView> view;
+    try {
+        view = std::make_unique<StatusView>(*wall, tiles, a.status_json);
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "glcast run: %s\n", e.what());
+        return 1;
     }
     const int status = run_with_shim(program, env);
 
@@ -178,9 +341,10 @@ int run(const RunArgs& a, const std::vector<std::string>& program) {
         kill(keeper_pid, SIGTERM);
         waitpid(keeper_pid, nullptr, 0);
     }
+    view.reset();
+    wall.reset();
     std::string cleanup = std::string(dir);
-    barrier.reset();
-    for (const char* f : {"/stream", "/stream-journal", "/barrier"}) ::unlink((cleanup + f).c_str());
+    for (const char* f : {"/stream", "/stream-journal", "/control"}) ::unlink((cleanup + f).c_str());
     ::rmdir(dir);
     if (status != 0) return status < 0 ? 1 : status;
     return failed ? 1 : 0;
@@ -191,8 +355,8 @@ int run(const RunArgs& a, const std::vector<std::string>& program) {
 Command add_run(CLI::App& glcast) {
     auto a = std::make_shared<RunArgs>();
     CLI::App* app = glcast.add_subcommand("run", "run a program on a wall: the shim, and one local slave per tile");
-    app->footer("PROGRAM and its arguments follow '--'; glcast reads none of them. Slaves on other machines run\n"
-                "glcast slave with the endpoints this prints.");
+    app->footer("PROGRAM and its arguments follow '--'; glcast reads none of them. Tiles of other machines (a\n"
+                "tile's \"machine\" in the config) are shown by their glcast slave --service (docs/wall.md).");
     app->add_option("--config", a->config_path, "a display config: one local slave per tile (default: one slave\n"
                                                 "showing the whole window)")
         ->type_name("FILE");
@@ -205,7 +369,17 @@ Command add_run(CLI::App& glcast) {
                     "publish for slaves on other machines: tcp://*:PORT, or multicast epgm://ADDRESS;GROUP:PORT\n"
                     "(the journal and the keeper on ADDRESS's next TCP ports)")
         ->type_name("ENDPOINT");
-    app->add_flag("--lockstep", a->lockstep, "hold the program at each swap until every slave has replayed the frame");
+    app->add_flag("--lockstep", a->lockstep, "hold the program at each swap until every tile has replayed the frame");
+    add_security_options(*app, a->keys, a->insecure);
+    app->add_option("--machine", a->machine,
+                    "this machine's name in the config's tiles: only its tiles get a slave here (default:\n"
+                    "GLCAST_MACHINE or the host name)")
+        ->type_name("NAME");
+    add_int(*app, "--wait-tiles", a->wait_tiles, 0, 3600,
+            "seconds to wait for the tiles of other machines before starting the program (default 10)")
+        ->type_name("SECONDS");
+    app->add_option("--status-json", a->status_json, "write the wall's status once a second as JSON lines")
+        ->type_name("FILE");
     add_effect_options(*app, a->effects, &a->effect_args);
     return {app, [a](const std::vector<std::string>& program) { return run(*a, program); }, true};
 }

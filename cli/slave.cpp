@@ -17,6 +17,8 @@
 #include "common/image.h"
 #include "slave/network_source.h"
 #include "slave/replayer.h"
+#include "slave/wall_link.h"
+#include "display_configs/display_config.h"
 
 namespace glcast::cli {
 
@@ -24,25 +26,47 @@ using namespace glcast::slave;
 
 namespace {
 
+constexpr int kBarrierWaitMs = 10000;  // longer than the wall's own drop (cli/wall_control.h): the wall decides
+
 struct SlaveArgs {
-    std::string endpoint, journal, keeper, backend_kind = "egl", out_dir, config_path, tile_name, barrier_endpoint;
+    std::string endpoint, journal, keeper, backend_kind = "egl", out_dir, config_path, tile_name, control, keys, machine;
     ReplayOptions opt;
     int wait_seconds = 60;
-    bool quiet = false, lockstep = false;
+    bool quiet = false, lockstep = false, swap_barrier = false, service = false, insecure = false;
 };
 
+// A display config's "master" gives a display machine's slave every endpoint (docs/wall.md).
+void endpoints_from_config(const DisplayConfig& config, SlaveArgs& a) {
+    if (!config.master.given) return;
+    const std::string host = "tcp://" + config.master.address + ":";
+    const int port = config.master.port;
+    if (a.endpoint.empty()) a.endpoint = host + std::to_string(port);
+    if (a.journal.empty()) a.journal = host + std::to_string(port + 1);
+    if (a.keeper.empty()) a.keeper = host + std::to_string(port + 2);
+    if (a.control.empty()) a.control = host + std::to_string(port + 3);
+    a.swap_barrier |= config.swap_barrier;
+}
+
 int slave(SlaveArgs& a) {
-    const std::string &endpoint = a.endpoint, &journal = a.journal, &out_dir = a.out_dir, &tile_name = a.tile_name,
-                      &barrier_endpoint = a.barrier_endpoint;
+    const std::string &endpoint = a.endpoint, &journal = a.journal, &out_dir = a.out_dir, &tile_name = a.tile_name;
     ReplayOptions& opt = a.opt;
     const bool quiet = a.quiet, lockstep = a.lockstep;
     std::string error;
     if (!a.config_path.empty()) {  // --config and --tile come together (CLI11 checks)
-        if (!tile_options(a.config_path, tile_name, opt, error)) {
+        DisplayConfig config;
+        if (!tile_options(a.config_path, tile_name, opt, error) || !load_display_config(a.config_path, config, error)) {
             std::fprintf(stderr, "glcast slave: %s\n", error.c_str());
             return 1;
         }
+        endpoints_from_config(config, a);
+        if (a.keys.empty() && !config.keys.empty()) a.keys = relative_to(a.config_path, config.keys);
     }
+    if (a.endpoint.empty()) {
+        std::fprintf(stderr, "glcast slave: no stream to subscribe to: give --connect, or --config with a \"master\"\n");
+        return 2;
+    }
+    if (!use_keys(a.keys, a.insecure, "glcast slave", error)) return 1;
+    if (!a.machine.empty()) setenv("GLCAST_MACHINE", a.machine.c_str(), 1);
     if (!out_dir.empty() && !make_directories(out_dir, error)) {
         std::fprintf(stderr, "glcast slave: --out: %s\n", error.c_str());
         return 1;
@@ -52,79 +76,113 @@ int slave(SlaveArgs& a) {
         std::fprintf(stderr, "glcast slave: %s\n", error.c_str());
         return 1;
     }
-    const std::string label = tile_name.empty() ? std::string("slave") : tile_name;
+    const std::string label = tile_name.empty() ? std::string("window") : tile_name;  // run names a config-less tile so
     if (opt.tile.enabled && !opt.view.enabled)  // a window at its tile's place on the canvas
         backend->set_position(opt.tile.x, opt.tile.canvas_height - opt.tile.y - opt.tile.height);
+    std::unique_ptr<WallLink> link;
+    TileReport report;
+    auto last_report = std::chrono::steady_clock::now() - std::chrono::seconds(10);
+    auto say_status = [&](bool force) {  // to glcast run's status line, at most once a second
+        const auto now = std::chrono::steady_clock::now();
+        if (!link || (!force && now - last_report < std::chrono::seconds(1))) return;
+        link->report(report);
+        last_report = now;
+    };
     try {
-        NetworkSource source(endpoint, journal, a.wait_seconds, a.keeper);
+        if (!a.control.empty()) link = std::make_unique<WallLink>(a.control, label, machine_name());
         Replayer replayer(std::move(backend), opt);
-        replayer.set_frame(source.joined_frame());
-        auto say_join = [&] {
-            const NetworkSource::JoinCost& j = source.join_cost();
-            if (j.state_messages || j.journal_messages)
-                std::fprintf(stderr, "glcast slave %s: joined at frame %" PRIu64 ": %" PRIu64 " snapshot and %" PRIu64
-                                     " journal messages, %" PRIu64 " bytes, in %.3f s (the keeper's state in %.3f s)\n",
-                             label.c_str(), source.joined_frame(), j.state_messages, j.journal_messages, j.bytes, j.seconds,
-                             j.state_seconds);
-        };
-        say_join();
-        source.on_restart = [&] {
-            std::fprintf(stderr, "glcast slave %s: the journal no longer holds them; starting over from %s\n",
-                         label.c_str(), a.keeper.empty() ? "the master's journal" : "the keeper");
+        FILE* present_log = nullptr;  // test hook: the time each frame is presented, "frame seconds" per line
+        if (const char* log = std::getenv("GLCAST_TEST_PRESENT_LOG")) present_log = std::fopen(log, "w");
+        for (uint64_t program = 1;; program++) {
+            if (a.service) {
+                // Idle until a program publishes; a display machine's slave outlives every program.
+                report = TileReport{};
+                say_status(true);
+                std::fprintf(stderr, "glcast slave %s: waiting for a program on %s\n", label.c_str(), endpoint.c_str());
+                wait_for_stream(endpoint, [&] { say_status(false); });
+                report.state = "joining";
+                say_status(true);
+            }
+            NetworkSource source(endpoint, journal, a.service ? 0 : a.wait_seconds, a.keeper);
             replayer.reset();
-        };
-        source.on_joined = [&](uint64_t frame) {
-            replayer.set_frame(frame);
+            replayer.set_frame(source.joined_frame());
+            auto say_join = [&] {
+                const NetworkSource::JoinCost& j = source.join_cost();
+                if (j.state_messages || j.journal_messages)
+                    std::fprintf(stderr, "glcast slave %s: joined at frame %" PRIu64 ": %" PRIu64 " snapshot and %" PRIu64
+                                         " journal messages, %" PRIu64 " bytes, in %.3f s (the keeper's state in %.3f s)\n",
+                                 label.c_str(), source.joined_frame(), j.state_messages, j.journal_messages, j.bytes,
+                                 j.seconds, j.state_seconds);
+            };
             say_join();
-        };
-        source.on_gap = [&] {
-            std::fprintf(stderr, "glcast slave %s: messages lost (%s); asking the master's journal for them\n",
-                         label.c_str(), source.gap().c_str());
-        };
-        // Test hook: the time each frame is presented, one "frame seconds" line per present.
-        FILE* present_log = std::getenv("GLCAST_TEST_PRESENT_LOG") ? std::fopen(std::getenv("GLCAST_TEST_PRESENT_LOG"), "w") : nullptr;
-        replayer.before_present = [&](uint64_t frame) {
-            if (!barrier_endpoint.empty() && source.live() && !source.barrier(barrier_endpoint, frame, 5000))
-                std::fprintf(stderr, "glcast slave %s: swap barrier: frame %" PRIu64 " went alone after 5 s\n",
-                             label.c_str(), frame);
-            if (present_log)
-                std::fprintf(present_log, "%" PRIu64 " %.6f\n", frame,
-                             std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count());
-            if (lockstep && source.caught_up()) source.done(frame);
-        };
-        auto last = std::chrono::steady_clock::now();
-        uint64_t frames_at_last = 0, bytes_at_last = 0;
-        replayer.on_frame = [&](uint64_t frame, int w, int h, const std::vector<uint8_t>& rgba) {
-            // Frames replayed while catching up from the journal are written too: they are the
-            // same frames, only late.
-            if (!out_dir.empty()) {
-                char name[48];
-                std::snprintf(name, sizeof name, "/frame-%06" PRIu64 ".png", frame);
-                std::string err;
-                if (!write_png(out_dir + name, Image{w, h, rgba}, err)) std::fprintf(stderr, "glcast slave: %s\n", err.c_str());
+            source.on_restart = [&] {
+                std::fprintf(stderr, "glcast slave %s: the journal no longer holds them; starting over from %s\n",
+                             label.c_str(), a.keeper.empty() ? "the master's journal" : "the keeper");
+                replayer.reset();
+            };
+            source.on_joined = [&](uint64_t frame) {
+                replayer.set_frame(frame);
+                say_join();
+            };
+            source.on_gap = [&] {
+                std::fprintf(stderr, "glcast slave %s: messages lost (%s); asking the master's journal for them\n",
+                             label.c_str(), source.gap().c_str());
+            };
+            source.on_idle = [&] { say_status(false); };
+            replayer.before_present = [&](uint64_t frame) {
+                if (link && a.swap_barrier && source.live() && !link->barrier(frame, kBarrierWaitMs))
+                    std::fprintf(stderr, "\nglcast slave %s: swap barrier: frame %" PRIu64 " went alone after %d s\n",
+                                 label.c_str(), frame, kBarrierWaitMs / 1000);
+                if (present_log)
+                    std::fprintf(present_log, "%" PRIu64 " %.6f\n", frame,
+                                 std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count());
+                if (lockstep && source.caught_up()) source.done(frame);
+            };
+            auto last = std::chrono::steady_clock::now();
+            uint64_t frames_at_last = replayer.stats().frames, bytes_at_last = 0;
+            replayer.on_frame = [&](uint64_t frame, int w, int h, const std::vector<uint8_t>& rgba) {
+                // Frames replayed while catching up from the journal are written too: they are the
+                // same frames, only late.
+                if (!out_dir.empty()) {
+                    char name[48];
+                    std::snprintf(name, sizeof name, "/frame-%06" PRIu64 ".png", frame);
+                    std::string err;
+                    if (!write_png(out_dir + name, Image{w, h, rgba}, err))
+                        std::fprintf(stderr, "glcast slave: %s\n", err.c_str());
+                }
+                const auto now = std::chrono::steady_clock::now();
+                const double dt = std::chrono::duration<double>(now - last).count();
+                report.state = source.live() ? "live" : "joining";
+                report.frame = frame;
+                report.master_frame = source.master_frame();
+                report.lag = int64_t(source.master_frame()) - int64_t(frame);
+                report.recoveries = source.recoveries();
+                if (dt >= 1.0) {
+                    report.fps = (replayer.stats().frames - frames_at_last) / dt;
+                    report.mbps = (source.bytes() - bytes_at_last) / dt / 1e6;
+                    if (!quiet)
+                        std::fprintf(stderr, "\rglcast slave %s: frame %" PRIu64 ", %.1f fps, %.2f MB/s, lag %" PRId64
+                                             " frames, %" PRIu64 " recoveries   ",
+                                     label.c_str(), frame, report.fps, report.mbps, report.lag, report.recoveries);
+                    last = now;
+                    frames_at_last = replayer.stats().frames;
+                    bytes_at_last = source.bytes();
+                }
+                say_status(false);
+            };
+            // Frames are read back only when written; without --out the status line still needs the
+            // swap callback, which costs a readback: acceptable for a wall tile's status.
+            replayer.replay(source);
+            const ReplayStats& s = replayer.stats();
+            std::fprintf(stderr, "\nglcast slave %s: the program ended%s; %" PRIu64 " frames, %" PRIu64 " errors, %" PRIu64
+                                 " recoveries\n",
+                         label.c_str(), source.replaced() ? " (a new one started)" : "", s.frames, s.errors,
+                         source.recoveries());
+            if (!a.service) {
+                if (present_log) std::fclose(present_log);
+                return s.errors ? 1 : 0;
             }
-            const auto now = std::chrono::steady_clock::now();
-            const double dt = std::chrono::duration<double>(now - last).count();
-            if (!quiet && dt >= 1.0) {
-                std::fprintf(stderr, "\rglcast slave %s: frame %" PRIu64 ", %.1f fps, %.2f MB/s, lag %" PRId64
-                                     " frames, %" PRIu64 " recoveries   ",
-                             label.c_str(), frame, (replayer.stats().frames - frames_at_last) / dt,
-                             (source.bytes() - bytes_at_last) / dt / 1e6, int64_t(source.master_frame()) - int64_t(frame),
-                             source.recoveries());
-                last = now;
-                frames_at_last = replayer.stats().frames;
-                bytes_at_last = source.bytes();
-            }
-        };
-        // Frames are read back only when written; without --out the status line still needs the
-        // swap callback, which costs a readback: acceptable for a wall tile's status.
-        replayer.replay(source);
-        if (present_log) std::fclose(present_log);
-        const ReplayStats& s = replayer.stats();
-        std::fprintf(stderr, "\nglcast slave %s: the program ended; %" PRIu64 " frames, %" PRIu64 " errors, %" PRIu64
-                             " recoveries\n",
-                     label.c_str(), s.frames, s.errors, source.recoveries());
-        return s.errors ? 1 : 0;
+        }
     } catch (const std::exception& e) {
         std::fprintf(stderr, "glcast slave %s: %s\n", label.c_str(), e.what());
         return 1;
@@ -137,8 +195,8 @@ Command add_slave(CLI::App& glcast) {
     auto a = std::make_shared<SlaveArgs>();
     CLI::App* app = glcast.add_subcommand("slave", "one tile of a wall: subscribe to a master (glcast run) and replay");
     app->footer("glcast run prints the endpoints of its stream, journal and swap barrier.");
-    app->add_option("--connect", a->endpoint, "the master's stream (tcp://HOST:PORT, ipc://PATH, epgm://...)")
-        ->required()
+    app->add_option("--connect", a->endpoint,
+                    "the master's stream (tcp://HOST:PORT, ipc://PATH, epgm://...; default: the config's \"master\")")
         ->type_name("ENDPOINT");
     app->add_option("--journal", a->journal, "the master's journal, to join a program already running")
         ->type_name("ENDPOINT");
@@ -159,9 +217,18 @@ Command add_slave(CLI::App& glcast) {
     add_int(*app, "--wait", a->wait_seconds, 1, 86400, "how long to wait for the master (default 60)")
         ->type_name("SECONDS");
     app->add_flag("--quiet", a->quiet, "no status line");
-    app->add_option("--swap-barrier", a->barrier_endpoint,
-                    "present each frame only when every tile of the wall has it")
+    app->add_option("--control", a->control,
+                    "glcast run's control channel: status reports, and the swap barrier with --swap-barrier\n"
+                    "(a display config's \"master\" gives it, as it gives --connect, --journal and --keeper)")
         ->type_name("ENDPOINT");
+    app->add_flag("--swap-barrier", a->swap_barrier,
+                  "present each frame only when every tile of the wall has it (the config's \"swap_barrier\")");
+    app->add_flag("--service", a->service,
+                  "stay up: wait for a program, show it, and wait for the next when it ends (systemd's\n"
+                  "glcast-slave@TILE.service runs this)");
+    add_security_options(*app, a->keys, a->insecure);
+    app->add_option("--machine", a->machine, "this machine's name in the config's tiles (default: GLCAST_MACHINE or the host name)")
+        ->type_name("NAME");
     app->add_flag("--lockstep", a->lockstep, "report each replayed frame to a master that waits for its slaves");
     add_effect_options(*app, a->opt.effects);  // a display config's "effects" add to them
     add_limit_option(*app, a->opt.limits);

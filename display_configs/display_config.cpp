@@ -251,10 +251,11 @@ private:
 // ---- validation -------------------------------------------------------------------------
 
 const char* const kRootKeys[] = {"name", "description", "canvas", "tiles", "swap_barrier", "effects",
-                                 "effect_params", "program_projection"};
+                                 "effect_params", "program_projection", "master", "keys"};
+const char* const kMasterKeys[] = {"address", "port"};
 const char* const kProjectionKeys[] = {"fov_y", "near", "far"};
 const char* const kCanvasKeys[] = {"width", "height"};
-const char* const kTileKeys[] = {"name", "x", "y", "width", "height", "view"};
+const char* const kTileKeys[] = {"name", "x", "y", "width", "height", "view", "machine"};
 const char* const kViewKeys[] = {"yaw", "pitch", "roll", "left", "right", "bottom", "top"};
 
 class Validator {
@@ -389,6 +390,12 @@ bool parse_tile(Validator& check, const json& v, const std::string& path, int ne
     if (!v.is_object()) return check.fail(path, "must be an object, got " + describe(v));
     if (!check.check_keys(v, path, kTileKeys)) return false;
     if (!check.name_field(v, path, tile.name)) return false;
+    if (auto machine = v.find("machine"); machine != v.end()) {
+        if (!machine->is_string() || !is_valid_display_name(machine->get<std::string>()))
+            return check.fail(join_key(path, "machine"),
+                              "must be a machine name of letters, digits, '_', '.' and '-', got " + describe(*machine));
+        tile.machine = machine->get<std::string>();
+    }
     auto view = v.find("view");
     if (view != v.end() && !parse_view(check, *view, join_key(path, "view"), tile.view)) return false;
     bool planar = !tile.view.enabled, has_x = false, has_y = false;
@@ -484,6 +491,35 @@ bool parse_config(Validator& check, const json& root, DisplayConfig& config) {
         if (!(p.fov_y_deg > 0 && p.fov_y_deg < 179)) return check.fail("program_projection.fov_y", "must be in (0, 179) degrees");
         if (!(p.near > 0 && p.far > p.near)) return check.fail("program_projection", "needs 0 < near < far");
         p.given = true;
+    }
+
+    if (auto it = root.find("master"); it != root.end()) {
+        WallMaster& m = config.master;
+        if (!it->is_object()) return check.fail("master", "must be an object, got " + describe(*it));
+        if (!check.check_keys(*it, "master", kMasterKeys)) return false;
+        auto address = it->find("address");
+        if (address == it->end()) return check.fail("master.address", "missing required key");
+        const bool host_like = address->is_string() && !address->get_ref<const std::string&>().empty() &&
+                               address->get_ref<const std::string&>().size() <= 253 &&
+                               std::all_of(address->get_ref<const std::string&>().begin(),
+                                           address->get_ref<const std::string&>().end(),
+                                           [](char c) { return std::isalnum(uint8_t(c)) || c == '.' || c == '-' || c == ':'; });
+        if (!host_like)
+            return check.fail("master.address", "must be a host name or IP address, got " + describe(*address));
+        m.address = address->get<std::string>();
+        if (auto port = it->find("port"); port != it->end()) {
+            if (!port->is_number_integer() || port->get<int64_t>() < 1 || port->get<int64_t>() > 65532)
+                return check.fail("master.port", "must be an integer from 1 to 65532 (it and the next three ports are "
+                                                 "used), got " + describe(*port));
+            m.port = int(port->get<int64_t>());
+        }
+        m.given = true;
+    }
+
+    if (auto it = root.find("keys"); it != root.end()) {
+        if (!it->is_string() || it->get_ref<const std::string&>().empty() || it->get_ref<const std::string&>().size() > 4096)
+            return check.fail("keys", "must be the path of a folder of keys, got " + describe(*it));
+        config.keys = it->get<std::string>();
     }
 
     if (auto it = root.find("swap_barrier"); it != root.end()) {

@@ -28,6 +28,7 @@ struct TileView {
 
 struct Tile {
     std::string name;
+    std::string machine;  // the display machine that shows it ("machine"); empty: the master's
     int x = 0, y = 0, width = 0, height = 0;  // rectangle on the canvas in pixels; origin top-left, y down
     TileView view;
 };
@@ -40,6 +41,15 @@ struct ProgramProjection {
     double fov_y_deg = 60, near = 0.1, far = 1000;
 };
 
+// Where a wall's display machines reach the machine that runs programs: the stream on
+// tcp://address:port, the journal on port + 1, the keeper on port + 2, the control channel (swap
+// barrier, status) on port + 3 (docs/wall.md).
+struct WallMaster {
+    bool given = false;
+    std::string address;
+    int port = 5555;
+};
+
 struct DisplayConfig {
     std::string name, description;
     int canvas_width = 0, canvas_height = 0;  // planar walls: the whole image incl. hidden bezel pixels
@@ -48,6 +58,8 @@ struct DisplayConfig {
     std::vector<std::string> effects;          // e.g. "snow", "shadows" (names only; validated against a list)
     std::vector<std::pair<std::string, std::string>> effect_params;  // name, value (checked: slave/effects/effect_params.h)
     ProgramProjection program_projection;
+    WallMaster master;
+    std::string keys;  // a folder of CURVE keys (net/security.h); empty: GLCAST_KEYS or none
     const Tile* find(const std::string& name) const;   // nullptr if absent
 };
 

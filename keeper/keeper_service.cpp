@@ -1,5 +1,7 @@
 #include "keeper/keeper_service.h"
 
+#include "net/security.h"
+
 #include <zmq.hpp>
 
 #include <chrono>
@@ -168,16 +170,19 @@ int run_keeper(const KeeperOptions& o) {
         return 1;
     }
     zmq::context_t context(1);
+    std::unique_ptr<net::Authenticator> authenticator;
     zmq::socket_t router(context, zmq::socket_type::router);
     try {
+        authenticator = net::authenticator_for(context, "the keeper");
         // A snapshot is sent whole to each slave that asked (at most kMaxWaiting at a time,
         // admitted by rate as the journal's requests): its queue holds one snapshot.
         router.set(zmq::sockopt::sndhwm, 0);
         router.set(zmq::sockopt::router_mandatory, 1);
         router.set(zmq::sockopt::maxmsgsize, int64_t(journal_limits::kMaxFrameBytes));
         router.set(zmq::sockopt::linger, 0);
+        net::secure_server(router, o.bind);
         router.bind(o.bind);
-    } catch (const zmq::error_t& e) {
+    } catch (const std::exception& e) {
         std::fprintf(stderr, "glcast keeper: cannot serve snapshots on %s: %s\n", o.bind.c_str(), e.what());
         return 1;
     }

@@ -1,5 +1,7 @@
 #include "master/publisher.h"
 
+#include "net/security.h"
+
 #include <zmq.hpp>
 
 #include <chrono>
@@ -137,6 +139,9 @@ PublisherSink::PublisherSink(PublisherOptions options)
     : options_(std::move(options)), context_(std::make_unique<zmq::context_t>(1)) {
     const char* v = std::getenv("GLCAST_VERBOSE");
     verbose_ = v && std::strcmp(v, "1") == 0;
+    // With keys (GLCAST_KEYS), peers on TCP are CURVE clients whose public keys this process's
+    // ZAP handler knows; it is bound before any socket that asks it (net/security.h).
+    authenticator_ = net::authenticator_for(*context_, "the program's stream");
     try {
         // XPUB: a PUB socket that also reports subscriptions, for the start-up wait below.
         pub_ = std::make_unique<zmq::socket_t>(*context_, zmq::socket_type::xpub);
@@ -157,6 +162,7 @@ PublisherSink::PublisherSink(PublisherOptions options)
         try {
             // PGM multicast sends at most ZMQ_RATE kbit/s (default 100): a GL stream needs more.
             if (one.rfind("epgm://", 0) == 0 || one.rfind("pgm://", 0) == 0) pub_->set(zmq::sockopt::rate, 1000000);
+            net::secure_server(*pub_, one);
             pub_->bind(one);
         } catch (const zmq::error_t& e) {
             throw std::runtime_error("cannot publish on " + one + ": " + e.what());
@@ -216,15 +222,23 @@ void PublisherSink::write(const std::vector<uint8_t>& message) {
     }
     // Never wait for a subscriber: a full queue loses the message, the slave sees the gap.
     if (!pub_->send(zmq::buffer(message), zmq::send_flags::dontwait)) dropped_++;
-    // Lockstep (asked for): the frame this message ends must be replayed by every slave first.
+    // Lockstep (asked for): the frame this message ends must be replayed by every slave first. A
+    // slave silent for kLockstepDropSeconds is no longer waited for; it is again once more slaves
+    // than are waited for replay a frame (handle_request).
     if (options_.lockstep > 0 && (h.flags & kMsgFrameEnd)) {
+        using journal_limits::kLockstepDropSeconds;
         std::unique_lock lock(done_mutex_);
-        if (!done_changed_.wait_for(lock, std::chrono::seconds(10), [&] {
-                auto it = done_.find(h.frame);
-                return it != done_.end() && int(it->second.size()) >= options_.lockstep;
-            }))
-            std::fprintf(stderr, "glcast: lockstep: frame %u not replayed by %d slaves within 10 s; going on\n", h.frame,
-                         options_.lockstep);
+        auto replayed = [&] {
+            auto it = done_.find(h.frame);
+            return it == done_.end() ? 0 : int(it->second.size());
+        };
+        if (!done_changed_.wait_for(lock, std::chrono::duration<double>(kLockstepDropSeconds),
+                                    [&] { return replayed() >= lockstep_waited_; })) {
+            std::fprintf(stderr, "glcast: lockstep: frame %u replayed by %d of %d slaves within %g s; going on without "
+                                 "the rest until they are back\n",
+                         h.frame, replayed(), lockstep_waited_, kLockstepDropSeconds);
+            lockstep_waited_ = replayed();
+        }
         done_.erase(done_.begin(), done_.upper_bound(h.frame));
         done_floor_ = std::max<uint64_t>(done_floor_, uint64_t(h.frame) + 1);
     }
@@ -246,9 +260,10 @@ void PublisherSink::serve_snapshots() {
         router.set(zmq::sockopt::maxmsgsize, int64_t(kMaxFrameBytes));
         router.set(zmq::sockopt::rcvhwm, 1000);
         router.set(zmq::sockopt::linger, 0);
+        net::secure_server(router, options_.snapshot_endpoint);
         router.bind(options_.snapshot_endpoint);
-    } catch (const zmq::error_t& e) {
-        std::fprintf(stderr, "glcast: cannot serve snapshots on %s: %s\n", options_.snapshot_endpoint.c_str(), e.what());
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "glcast: cannot serve the journal on %s: %s\n", options_.snapshot_endpoint.c_str(), e.what());
         return;
     }
     zmq::message_t parts[kMaxPartsRead];
@@ -322,6 +337,10 @@ void PublisherSink::handle_request(const std::string_view* parts, size_t count, 
         // Distinct identities, at most the number waited for: one peer cannot stand for all.
         if (int(slaves.size()) < options_.lockstep && std::find(slaves.begin(), slaves.end(), who) == slaves.end())
             slaves.push_back(who);
+        if (int(slaves.size()) > lockstep_waited_) {  // a slave is back (or came at last)
+            lockstep_waited_ = int(slaves.size());
+            if (verbose_) std::fprintf(stderr, "glcast: lockstep: waiting for %d slaves again\n", lockstep_waited_);
+        }
         done_changed_.notify_all();
         return;
     }
@@ -413,6 +432,7 @@ void PublisherSink::close() {
     stopping_ = true;
     if (snapshot_thread_.joinable()) snapshot_thread_.join();
     pub_.reset();
+    authenticator_.reset();
     context_.reset();
 }
 

@@ -32,6 +32,9 @@ class socket_t;
 }  // namespace zmq
 
 namespace glcast {
+namespace net {
+class Authenticator;
+}
 
 // The limits of the journal channel; docs/security.md gives the reasons for each value.
 namespace journal_limits {
@@ -48,7 +51,8 @@ inline constexpr size_t kMaxActiveSnapshots = 16;  // journals being sent at onc
 inline constexpr size_t kMaxPendingSnapshots = 64; // admitted requests waiting for a free slot
 inline constexpr int kSendHwm = 64;                // journal messages queued per peer (ZMQ_SNDHWM)
 inline constexpr double kStallSeconds = 10;        // a peer that takes nothing this long is no longer served
-inline constexpr uint64_t kDoneWindowFrames = 64;  // lockstep: DONE n only for n in [current - 64, current + 1]
+inline constexpr uint64_t kDoneWindowFrames = 64;
+inline constexpr double kLockstepDropSeconds = 2;  // a slave that replays nothing this long is not waited for  // lockstep: DONE n only for n in [current - 64, current + 1]
 }  // namespace journal_limits
 
 // snapshot_at ("SNAPSHOT AT n") is a keeper's request (keeper/keeper_service.h): the journal
@@ -114,7 +118,8 @@ struct PublisherOptions {
     uint64_t drop_every = 0;        // test hook: do not send every Nth message (it stays in the journal)
     int send_hwm = 1000;            // messages queued per subscriber before they are dropped
     int wait_subscribers = 0;       // at start, wait (up to 60 s) until this many slaves subscribed
-    int lockstep = 0;               // after each frame, wait (up to 10 s) until this many slaves replayed it
+    int lockstep = 0;               // after each frame, wait until this many slaves replayed it (a silent one is
+                                    // dropped after kLockstepDropSeconds, and waited for again once it is back)
 };
 
 class PublisherSink : public MessageSink {
@@ -142,6 +147,7 @@ private:
     PublisherOptions options_;
     bool verbose_ = false;
     std::unique_ptr<zmq::context_t> context_;
+    std::unique_ptr<net::Authenticator> authenticator_;
     std::unique_ptr<zmq::socket_t> pub_;
     // Held by write() (the program's writer thread) and the serving thread only to append or to
     // take a few shared pointers: never while sending.
@@ -163,6 +169,7 @@ private:
     std::condition_variable done_changed_;
     std::map<uint64_t, std::vector<size_t>> done_;  // lockstep: frame -> hashes of the identities that replayed it
     uint64_t done_floor_ = 0;                       // frames below were waited for already
+    int lockstep_waited_ = options_.lockstep;       // slaves not dropped (see write())
     bool closed_ = false;
 };
 

@@ -1,5 +1,7 @@
 #include "slave/network_source.h"
 
+#include "net/security.h"
+
 #include <zmq.hpp>
 
 #include <chrono>
@@ -40,13 +42,63 @@ NetworkSource::NetworkSource(std::string endpoint, std::string journal_endpoint,
     synchronize();
 }
 
+namespace {
+
+// With CURVE, a master that does not know this machine's key closes every handshake: a monitor
+// of the subscription turns that into an error that says so instead of a wait that ends in
+// silence. Null without CURVE.
+std::unique_ptr<zmq::socket_t> secure_subscription(zmq::context_t& context, zmq::socket_t& sub, const std::string& endpoint) {
+    const bool curve = net::check_endpoint(endpoint, net::process_security(), false);
+    net::secure_client(sub, endpoint);
+    if (!curve) return nullptr;
+    const std::string address = "inproc://glcast-subscription-" + std::to_string(uintptr_t(&sub));
+    if (zmq_socket_monitor(sub.handle(), address.c_str(), ZMQ_EVENT_HANDSHAKE_FAILED_AUTH) != 0) return nullptr;
+    auto monitor = std::make_unique<zmq::socket_t>(context, zmq::socket_type::pair);
+    monitor->set(zmq::sockopt::linger, 0);
+    monitor->connect(address);
+    return monitor;
+}
+
+void throw_if_refused(zmq::socket_t* monitor, const std::string& endpoint) {
+    if (!monitor) return;
+    zmq::message_t event, address;
+    if (!monitor->recv(event, zmq::recv_flags::dontwait)) return;
+    if (monitor->get(zmq::sockopt::rcvmore)) (void)monitor->recv(address);
+    const net::Security& s = net::process_security();
+    throw std::runtime_error("the master at " + endpoint + " refused this machine's key " + s.client.public_key +
+                             ": put " + s.dir + "/" + (s.has_master_pair ? "master" : "slave") +
+                             ".pub into the master's authorized/ folder (docs/security.md)");
+}
+
+}  // namespace
+
+void wait_for_stream(const std::string& endpoint, const std::function<void()>& idle) {
+    zmq::context_t context(1);
+    zmq::socket_t sub(context, zmq::socket_type::sub);
+    sub.set(zmq::sockopt::linger, 0);
+    sub.set(zmq::sockopt::subscribe, "");
+    std::unique_ptr<zmq::socket_t> monitor = secure_subscription(context, sub, endpoint);
+    sub.connect(endpoint);
+    for (;;) {
+        zmq::pollitem_t item{sub.handle(), 0, ZMQ_POLLIN, 0};
+        zmq::poll(&item, 1, std::chrono::milliseconds(200));
+        if (item.revents & ZMQ_POLLIN) break;
+        throw_if_refused(monitor.get(), endpoint);
+        if (idle) idle();
+    }
+    if (monitor) zmq_socket_monitor(sub.handle(), nullptr, 0);
+}
+
 void NetworkSource::subscribe() {
+    if (!monitor_) monitor_ = secure_subscription(*context_, *sub_, endpoint_);
     try {
         sub_->connect(endpoint_);
     } catch (const zmq::error_t& e) {
         throw std::runtime_error("cannot subscribe to " + endpoint_ + ": " + e.what());
     }
 }
+
+void NetworkSource::check_refused() { throw_if_refused(monitor_.get(), endpoint_); }
 
 // A subscription becomes live some time after connect: a snapshot asked for before then could
 // end before the first message the subscription receives. The first live message proves the
@@ -81,30 +133,12 @@ void NetworkSource::synchronize() {
     fetch_snapshot(/*from_journal=*/true);
 }
 
-bool NetworkSource::barrier(const std::string& endpoint, uint64_t frame, int timeout_ms) {
-    if (!barrier_) {
-        barrier_ = std::make_unique<zmq::socket_t>(*context_, zmq::socket_type::dealer);
-        barrier_->set(zmq::sockopt::linger, 0);
-        barrier_->connect(endpoint);
-    }
-    const std::string ready = "READY " + std::to_string(frame), go = "GO " + std::to_string(frame);
-    barrier_->send(zmq::buffer(ready), zmq::send_flags::none);
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
-    while (std::chrono::steady_clock::now() < deadline) {
-        zmq::pollitem_t item{barrier_->handle(), 0, ZMQ_POLLIN, 0};
-        zmq::poll(&item, 1, std::chrono::milliseconds(50));
-        if (!(item.revents & ZMQ_POLLIN)) continue;
-        zmq::message_t answer;
-        if (barrier_->recv(answer) && answer.to_string() == go) return true;  // older GOs are skipped
-    }
-    return false;
-}
-
 void NetworkSource::done(uint64_t frame) {
     if (journal_endpoint_.empty()) return;
     if (!done_) {
         done_ = std::make_unique<zmq::socket_t>(*context_, zmq::socket_type::dealer);
         done_->set(zmq::sockopt::linger, 0);
+        net::secure_client(*done_, journal_endpoint_);
         done_->connect(journal_endpoint_);
     }
     const std::string text = "DONE " + std::to_string(frame);
@@ -112,8 +146,9 @@ void NetworkSource::done(uint64_t frame) {
 }
 
 NetworkSource::~NetworkSource() {
+    if (monitor_) zmq_socket_monitor(sub_->handle(), nullptr, 0);
+    monitor_.reset();
     done_.reset();
-    barrier_.reset();
     sub_.reset();
     context_->shutdown();
 }
@@ -165,6 +200,7 @@ bool NetworkSource::ask_journal(const std::string& request, const std::function<
     dealer.set(zmq::sockopt::rcvhwm, 0);
     // No part larger than a message may be: libzmq hangs up before it allocates one.
     dealer.set(zmq::sockopt::maxmsgsize, int64_t(sizeof(MessageHeader)) + kMaxMessageBytes);
+    net::secure_client(dealer, journal_endpoint_);
     dealer.connect(journal_endpoint_);
     dealer.send(zmq::buffer(request), zmq::send_flags::none);
     bool held = true;
@@ -194,6 +230,7 @@ NetworkSource::State NetworkSource::fetch_state(const std::string& endpoint) {
     dealer.set(zmq::sockopt::rcvhwm, 0);
     // No part larger than a message may be: libzmq hangs up before it allocates one.
     dealer.set(zmq::sockopt::maxmsgsize, int64_t(sizeof(MessageHeader)) + kMaxMessageBytes);
+    net::secure_client(dealer, endpoint);
     dealer.connect(endpoint);
     const std::string request = keeper_frame_ ? "SNAPSHOT AT " + std::to_string(keeper_frame_) : "SNAPSHOT";
     dealer.send(zmq::buffer(request), zmq::send_flags::none);
@@ -300,6 +337,7 @@ bool NetworkSource::receive_live(std::vector<uint8_t>& bytes) {
         zmq::pollitem_t item{sub_->handle(), 0, ZMQ_POLLIN, 0};
         zmq::poll(&item, 1, std::chrono::milliseconds(idle_ms_));
         if (item.revents & ZMQ_POLLIN) break;
+        check_refused();
         if (on_idle) on_idle();
         if (wait_seconds_ && waited_ms > wait_seconds_ * 1000)
             throw std::runtime_error("no message from " + endpoint_ + " for " + std::to_string(wait_seconds_) + " s");
@@ -332,6 +370,10 @@ bool NetworkSource::next(Message& m) {
         MessageHeader h;
         std::memcpy(&h, bytes.data(), sizeof h);
         if (h.magic == kMessageMagic && (h.flags & kMsgStreamEnd)) return false;
+        if (live_ && h.sequence == 0 && expected_ > 0) {  // a new program's first message
+            replaced_ = true;
+            return false;
+        }
         if (live_) {
             master_frame_ = std::max<uint64_t>(master_frame_, h.frame);
             if (h.sequence < expected_) continue;  // already in the snapshot

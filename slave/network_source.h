@@ -55,9 +55,6 @@ public:
     // ... or was the last of a snapshot: the newest frame the master has, which a master in
     // lockstep waits for (the live message that showed a gap is in the snapshot, not replayed again)
     bool caught_up() const { return live_ || snapshot_.empty(); }
-    // Swap barrier: tells the master this tile has frame `frame` and waits (at most `timeout_ms`)
-    // until every tile has it. False on a timeout.
-    bool barrier(const std::string& endpoint, uint64_t frame, int timeout_ms);
     // Lockstep: tells the master this slave has replayed frame `frame`.
     void done(uint64_t frame);
     uint64_t recoveries() const { return recoveries_; }
@@ -81,6 +78,9 @@ public:
     };
     State fetch_state(const std::string& endpoint);
     const std::string& gap() const { return gap_; }          // the last gap, for messages
+    // The stream ended because another program began publishing on the endpoint (one that did
+    // not end its own stream: it crashed or was killed).
+    bool replaced() const { return replaced_; }
 
 private:
     void subscribe();
@@ -97,6 +97,8 @@ private:
     void receive_parts(zmq::socket_t& dealer, const std::string& peer,
                        const std::function<bool(zmq::message_t&)>& take, bool keep_live = false);
     void keep_live_messages();
+    void check_refused();
+    zmq::socket_t& control(const std::string& endpoint);  // throws when the master refused this machine's CURVE key
 
     std::string endpoint_, journal_endpoint_, keeper_endpoint_;
     uint64_t keeper_frame_ = 0;
@@ -120,7 +122,13 @@ private:
     bool live_ = false;
     uint64_t recoveries_ = 0, bytes_ = 0, master_frame_ = 0;
     std::string gap_;
-    std::unique_ptr<zmq::socket_t> barrier_, done_;
+    bool replaced_ = false;
+    std::unique_ptr<zmq::socket_t> done_, monitor_;
 };
+
+// Waits until a program publishes on `endpoint` (a message arrives), calling `idle` every 200 ms
+// meanwhile; throws when the master refuses this machine's key. A service slave waits here
+// between programs (cli/slave.cpp).
+void wait_for_stream(const std::string& endpoint, const std::function<void()>& idle);
 
 }  // namespace glcast::slave

@@ -41,6 +41,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
                 std::string(parts[1]) != "DONE " + std::to_string(r.frame))
                 std::abort();
             break;
+        case JournalRequestKind::since:
+            if (count != 2 || parts[0].empty() || std::string(parts[1]) != "SINCE " + std::to_string(r.sequence)) std::abort();
+            break;
+        case JournalRequestKind::snapshot_at:
+            if (count != 2 || parts[0].empty() || std::string(parts[1]) != "SNAPSHOT AT " + std::to_string(r.frame))
+                std::abort();
+            break;
         case JournalRequestKind::invalid:
             if (r.drop == JournalDrop::none) std::abort();
             break;

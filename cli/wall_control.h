@@ -1,0 +1,83 @@
+// What `glcast run` serves to its wall's slaves, local and on other machines (docs/wall.md): the
+// swap barrier and the tiles' status reports, on one ROUTER socket (an ipc:// path for a wall on
+// this machine, TCP with CURVE for one across machines).
+//
+// Swap barrier: before presenting frame n a tile says "READY TILE n" and waits for "GO n", sent
+// once every tile of the wall still counted waits for frame n or a later one. A tile that says
+// nothing for kDropSeconds while others wait is no longer counted (said once); it is again as
+// soon as it says READY.
+//
+// Status: each slave says "STATUS TILE STATE FRAME MASTER_FRAME FPS MBPS LAG RECOVERIES MACHINE"
+// once a second (slave/wall_link.h);
+// status() gathers the newest of each tile.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace glcast::cli {
+
+struct TileStatus {
+    std::string machine, state;  // state: idle (no program), joining, live; empty: never reported
+    uint64_t frame = 0, master_frame = 0, recoveries = 0;
+    double fps = 0, mbps = 0;
+    int64_t lag = 0;
+    double age_seconds = -1;  // since its last report; < 0: never reported
+    bool dropped = false;     // from the barrier
+};
+
+// The wall side of the barrier: which tiles may present. Pure (time is given), for tests.
+class BarrierState {
+public:
+    BarrierState(std::vector<std::string> tiles, double drop_seconds, double now);
+    struct Release {
+        std::string tile;
+        uint64_t frame;
+    };
+    // A tile's READY; unknown tiles are ignored (false).
+    bool ready(const std::string& tile, uint64_t frame, double now);
+    // Who may present now; tiles dropped or taken back since the last call in `dropped`/`back`.
+    std::vector<Release> release(double now, std::vector<std::string>* dropped = nullptr);
+    bool counted(const std::string& tile) const;
+    std::vector<std::string> back;  // taken back since the last look (cleared by the caller)
+
+private:
+    struct Tile {
+        bool waiting = false, dropped = false;
+        uint64_t frame = 0;
+        double last_heard = 0;
+    };
+    std::map<std::string, Tile> tiles_;
+    double drop_seconds_;
+};
+
+class WallControl {
+public:
+    static constexpr double kDropSeconds = 2;
+    // Binds `endpoint` (secured as net/security.h says); throws std::runtime_error.
+    WallControl(std::string endpoint, std::vector<std::string> tiles, bool barrier);
+    ~WallControl();
+    std::map<std::string, TileStatus> status() const;
+
+private:
+    void serve();
+    std::string endpoint_;
+    std::vector<std::string> tiles_;
+    bool barrier_;
+    std::atomic<bool> stopping_{false};
+    mutable std::mutex mutex_;
+    std::map<std::string, TileStatus> status_;
+    std::map<std::string, std::chrono::steady_clock::time_point> heard_;
+    struct Sockets;
+    std::unique_ptr<Sockets> sockets_;
+    std::thread thread_;
+};
+
+}  // namespace glcast::cli

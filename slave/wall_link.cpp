@@ -1,0 +1,60 @@
+#include "slave/wall_link.h"
+
+#include <unistd.h>
+
+#include <zmq.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+
+#include "net/security.h"
+
+namespace glcast::slave {
+
+WallLink::WallLink(std::string endpoint, std::string tile, std::string machine)
+    : endpoint_(std::move(endpoint)), tile_(std::move(tile)), machine_(std::move(machine)),
+      context_(std::make_unique<zmq::context_t>(1)) {
+    socket_ = std::make_unique<zmq::socket_t>(*context_, zmq::socket_type::dealer);
+    socket_->set(zmq::sockopt::linger, 0);
+    socket_->set(zmq::sockopt::sndhwm, 16);
+    socket_->set(zmq::sockopt::maxmsgsize, int64_t(64));  // "GO n"
+    net::secure_client(*socket_, endpoint_);
+    socket_->connect(endpoint_);
+}
+
+WallLink::~WallLink() {
+    socket_.reset();
+    context_->shutdown();
+}
+
+bool WallLink::barrier(uint64_t frame, int timeout_ms) {
+    const std::string ready = "READY " + tile_ + " " + std::to_string(frame), go = "GO " + std::to_string(frame);
+    if (!socket_->send(zmq::buffer(ready), zmq::send_flags::dontwait)) return false;
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
+    while (std::chrono::steady_clock::now() < deadline) {
+        zmq::pollitem_t item{socket_->handle(), 0, ZMQ_POLLIN, 0};
+        zmq::poll(&item, 1, std::chrono::milliseconds(50));
+        if (!(item.revents & ZMQ_POLLIN)) continue;
+        zmq::message_t answer;
+        if (socket_->recv(answer) && answer.to_string() == go) return true;  // older GOs are skipped
+    }
+    return false;
+}
+
+void WallLink::report(const TileReport& r) {
+    char text[256];
+    std::snprintf(text, sizeof text, "STATUS %s %s %llu %llu %.2f %.3f %lld %llu %s", tile_.c_str(), r.state.c_str(),
+                  (unsigned long long)r.frame, (unsigned long long)r.master_frame, r.fps, r.mbps, (long long)r.lag,
+                  (unsigned long long)r.recoveries, machine_.c_str());
+    (void)socket_->send(zmq::buffer(std::string(text)), zmq::send_flags::dontwait);
+}
+
+std::string machine_name() {
+    if (const char* m = std::getenv("GLCAST_MACHINE"); m && *m) return m;
+    char host[256] = {};
+    if (gethostname(host, sizeof host - 1) != 0 || !*host) return "localhost";
+    return host;
+}
+
+}  // namespace glcast::slave
