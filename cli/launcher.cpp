@@ -21,7 +21,8 @@ std::string shim_path() {
     if (n > 0) {
         std::string dir(exe, size_t(n));
         dir = dir.substr(0, dir.rfind('/'));
-        for (const char* rel : {"/libglcast.so", "/../lib/glcast/libglcast.so"})
+        // Beside it (the build tree), or where the install rules put it (GNUInstallDirs).
+        for (const char* rel : {"/libglcast.so", "/" GLCAST_SHIM_FROM_BIN "/libglcast.so"})
             if (readable(dir + rel)) return dir + rel;
     }
     return std::string(GLCAST_LIBDIR) + "/libglcast.so";

@@ -7,7 +7,8 @@
 
 namespace glcast::cli {
 
-// Path of libglcast.so: $GLCAST_SHIM, else beside the glcast executable, else the build dir.
+// Path of libglcast.so: $GLCAST_SHIM, else beside the glcast executable, else where the install
+// rules put it relative to the executable, else the build dir.
 std::string shim_path();
 
 // Runs argv with LD_PRELOAD=shim and `env` added; returns the program's exit status

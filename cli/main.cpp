@@ -63,6 +63,7 @@ int main(int argc, char** argv) {
     app.formatter(formatter);  // before the subcommands: they share it
     app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);  // the last one wins
     app.set_help_flag("-h,--help", "print this help and exit");
+    app.add_flag("--version", "print glcast's version and exit");  // answered before parsing, below
     app.require_subcommand(1);  // exactly one: no later argument is taken for another command
 
     const std::vector<Command> commands = {add_capture(app), add_dump(app),  add_replay(app), add_run(app),
@@ -85,6 +86,10 @@ int main(int argc, char** argv) {
         return nullptr;
     };
     const Command* command = named(args[0]);
+    if (args[0] == "--version") {
+        std::printf("glcast %s\n", GLCAST_VERSION);
+        return 0;
+    }
     if (!command && args[0] != "help" && args[0] != "-h" && args[0] != "--help")
         return usage_failure("glcast", std::string(args[0][0] == '-' ? "unknown option '" : "unknown command '") +
                                            args[0] + "' (glcast --help lists the commands)");

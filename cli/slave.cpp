@@ -104,6 +104,14 @@ int slave(SlaveArgs& a) {
                 say_status(true);
             }
             NetworkSource source(endpoint, journal, a.service ? 0 : a.wait_seconds, a.keeper);
+            // A service writes each program's frames to a folder of its own: DIR/program-N.
+            std::string program_out = out_dir;
+            if (a.service && !out_dir.empty()) {
+                char sub[32];
+                std::snprintf(sub, sizeof sub, "/program-%04" PRIu64, program);
+                program_out += sub;
+                if (!make_directories(program_out, error)) throw std::runtime_error("--out: " + error);
+            }
             replayer.reset();
             replayer.set_frame(source.joined_frame());
             auto say_join = [&] {
@@ -147,7 +155,7 @@ int slave(SlaveArgs& a) {
                     char name[48];
                     std::snprintf(name, sizeof name, "/frame-%06" PRIu64 ".png", frame);
                     std::string err;
-                    if (!write_png(out_dir + name, Image{w, h, rgba}, err))
+                    if (!write_png(program_out + name, Image{w, h, rgba}, err))
                         std::fprintf(stderr, "glcast slave: %s\n", err.c_str());
                 }
                 const auto now = std::chrono::steady_clock::now();
