@@ -116,7 +116,7 @@ private:
             mbps = std::max(mbps, s.age_seconds >= 0 && s.age_seconds < 3 ? s.mbps : 0.0);
         }
         const double dt = std::chrono::duration<double>(now - last_).count();
-        const double fps = last_frame_ && dt > 0 ? (master_frame - last_frame_) / dt : 0;
+        const double fps = last_frame_ && master_frame >= last_frame_ && dt > 0 ? (master_frame - last_frame_) / dt : 0;
         last_ = now, last_frame_ = master_frame;
         char line[160];
         std::snprintf(line, sizeof line, "wall: program frame %" PRIu64 ", %.1f fps, %.2f MB/s", master_frame, fps, mbps);
@@ -336,6 +336,18 @@ int run(RunArgs& a, const std::vector<std::string>& program) {
             break;
         }
         std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    // Tiles of other machines finish the program's last frames at the barrier this process serves:
+    // it stays until they say they are idle again (at most 30 s).
+    for (const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+         !remote_tiles.empty() && std::chrono::steady_clock::now() < until;
+         std::this_thread::sleep_for(std::chrono::milliseconds(100))) {
+        const auto status = wall->status();
+        if (std::none_of(remote_tiles.begin(), remote_tiles.end(), [&](const std::string& t) {
+                const TileStatus& s = status.at(t);
+                return s.age_seconds >= 0 && s.age_seconds < 3 && s.state != "idle";
+            }))
+            break;
     }
     if (keeper_pid > 0 && waitpid(keeper_pid, nullptr, WNOHANG) == 0) {
         kill(keeper_pid, SIGTERM);

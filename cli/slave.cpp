@@ -2,6 +2,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cinttypes>
@@ -9,6 +10,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <memory>
+#include <thread>
 
 #include "cli/commands.h"
 #include "cli/options.h"
@@ -80,6 +82,7 @@ int slave(SlaveArgs& a) {
     if (opt.tile.enabled && !opt.view.enabled)  // a window at its tile's place on the canvas
         backend->set_position(opt.tile.x, opt.tile.canvas_height - opt.tile.y - opt.tile.height);
     std::unique_ptr<WallLink> link;
+    bool barrier_answered = true;
     TileReport report;
     auto last_report = std::chrono::steady_clock::now() - std::chrono::seconds(10);
     auto say_status = [&](bool force) {  // to glcast run's status line, at most once a second
@@ -91,7 +94,7 @@ int slave(SlaveArgs& a) {
     try {
         if (!a.control.empty()) link = std::make_unique<WallLink>(a.control, label, machine_name());
         Replayer replayer(std::move(backend), opt);
-        FILE* present_log = nullptr;  // test hook: the time each frame is presented, "frame seconds" per line
+        FILE* present_log = nullptr;  // test hook: each present, "frame seconds held-by-the-barrier" per line
         if (const char* log = std::getenv("GLCAST_TEST_PRESENT_LOG")) present_log = std::fopen(log, "w");
         for (uint64_t program = 1;; program++) {
             if (a.service) {
@@ -103,7 +106,17 @@ int slave(SlaveArgs& a) {
                 report.state = "joining";
                 say_status(true);
             }
-            NetworkSource source(endpoint, journal, a.service ? 0 : a.wait_seconds, a.keeper);
+            std::unique_ptr<NetworkSource> joined;
+            try {
+                joined = std::make_unique<NetworkSource>(endpoint, journal, a.wait_seconds, a.keeper);
+            } catch (const std::exception& e) {
+                if (!a.service) throw;
+                // The program ended or vanished while this slave joined: wait for the next one.
+                std::fprintf(stderr, "glcast slave %s: %s\n", label.c_str(), e.what());
+                std::this_thread::sleep_for(std::chrono::seconds(1));
+                continue;
+            }
+            NetworkSource& source = *joined;
             // A service writes each program's frames to a folder of its own: DIR/program-N.
             std::string program_out = out_dir;
             if (a.service && !out_dir.empty()) {
@@ -138,12 +151,21 @@ int slave(SlaveArgs& a) {
             };
             source.on_idle = [&] { say_status(false); };
             replayer.before_present = [&](uint64_t frame) {
-                if (link && a.swap_barrier && source.live() && !link->barrier(frame, kBarrierWaitMs))
-                    std::fprintf(stderr, "\nglcast slave %s: swap barrier: frame %" PRIu64 " went alone after %d s\n",
-                                 label.c_str(), frame, kBarrierWaitMs / 1000);
-                if (present_log)
-                    std::fprintf(present_log, "%" PRIu64 " %.6f\n", frame,
-                                 std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count());
+                // After one wait in vain (glcast run is gone), later frames wait briefly until a GO comes again.
+                bool held = false;
+                if (link && a.swap_barrier && source.live()) {
+                    const int wait_ms = barrier_answered ? kBarrierWaitMs : 100;
+                    held = barrier_answered = link->barrier(frame, wait_ms);
+                    if (!barrier_answered && wait_ms == kBarrierWaitMs)
+                        std::fprintf(stderr, "\nglcast slave %s: swap barrier: frame %" PRIu64 " went alone after %d s\n",
+                                     label.c_str(), frame, kBarrierWaitMs / 1000);
+                }
+                if (present_log) {
+                    std::fprintf(present_log, "%" PRIu64 " %.6f %d\n", frame,
+                                 std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(),
+                                 held);
+                    std::fflush(present_log);
+                }
                 if (lockstep && source.caught_up()) source.done(frame);
             };
             auto last = std::chrono::steady_clock::now();
@@ -163,7 +185,7 @@ int slave(SlaveArgs& a) {
                 report.state = source.live() ? "live" : "joining";
                 report.frame = frame;
                 report.master_frame = source.master_frame();
-                report.lag = int64_t(source.master_frame()) - int64_t(frame);
+                report.lag = std::max<int64_t>(0, int64_t(source.master_frame()) - int64_t(frame));  // 0 until live
                 report.recoveries = source.recoveries();
                 if (dt >= 1.0) {
                     report.fps = (replayer.stats().frames - frames_at_last) / dt;
@@ -180,7 +202,13 @@ int slave(SlaveArgs& a) {
             };
             // Frames are read back only when written; without --out the status line still needs the
             // swap callback, which costs a readback: acceptable for a wall tile's status.
-            replayer.replay(source);
+            try {
+                replayer.replay(source);
+            } catch (const std::exception& e) {
+                if (!a.service) throw;
+                std::fprintf(stderr, "\nglcast slave %s: %s; waiting for the next program\n", label.c_str(), e.what());
+                continue;
+            }
             const ReplayStats& s = replayer.stats();
             std::fprintf(stderr, "\nglcast slave %s: the program ended%s; %" PRIu64 " frames, %" PRIu64 " errors, %" PRIu64
                                  " recoveries\n",

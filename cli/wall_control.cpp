@@ -30,6 +30,10 @@ bool BarrierState::ready(const std::string& tile, uint64_t frame, double now) {
     return true;
 }
 
+void BarrierState::heard(const std::string& tile, double now) {
+    if (auto it = tiles_.find(tile); it != tiles_.end()) it->second.last_heard = std::max(it->second.last_heard, now);
+}
+
 bool BarrierState::counted(const std::string& tile) const {
     auto it = tiles_.find(tile);
     return it != tiles_.end() && !it->second.dropped;
@@ -143,6 +147,7 @@ void WallControl::serve() {
                     !plain_name(s.machine) || !(s.state == "idle" || s.state == "joining" || s.state == "live") ||
                     !std::isfinite(s.fps) || !std::isfinite(s.mbps))
                     continue;
+                if (s.state != "idle") state.heard(tile, seconds_since_start());
                 std::lock_guard lock(mutex_);
                 s.dropped = status_[tile].dropped;
                 status_[tile] = s;

@@ -4,8 +4,8 @@
 //
 // Swap barrier: before presenting frame n a tile says "READY TILE n" and waits for "GO n", sent
 // once every tile of the wall still counted waits for frame n or a later one. A tile that says
-// nothing for kDropSeconds while others wait is no longer counted (said once); it is again as
-// soon as it says READY.
+// nothing (no READY, no report of a program being shown) for kDropSeconds while others wait is
+// no longer counted (said once); it is again as soon as it says READY.
 //
 // Status: each slave says "STATUS TILE STATE FRAME MASTER_FRAME FPS MBPS LAG RECOVERIES MACHINE"
 // once a second (slave/wall_link.h);
@@ -43,6 +43,9 @@ public:
     };
     // A tile's READY; unknown tiles are ignored (false).
     bool ready(const std::string& tile, uint64_t frame, double now);
+    // A sign of life from a tile showing the program (a status report while it catches up):
+    // it is not dropped while it keeps saying something.
+    void heard(const std::string& tile, double now);
     // Who may present now; tiles dropped or taken back since the last call in `dropped`/`back`.
     std::vector<Release> release(double now, std::vector<std::string>* dropped = nullptr);
     bool counted(const std::string& tile) const;

@@ -174,6 +174,7 @@ void NetworkSource::receive_parts(zmq::socket_t& dealer, const std::string& peer
         if (keep_live) keep_live_messages();
         const auto now = std::chrono::steady_clock::now();
         if (!(item.revents & ZMQ_POLLIN)) {
+            check_refused();  // the stream's handshake fails with the same key as this one's
             if (now > silent_until)
                 throw std::runtime_error(peer + " did not answer within " + std::to_string(wait_seconds_) + " s");
             continue;

@@ -257,7 +257,7 @@ def case_swap_barrier():
     times = {}
     for tile in os.listdir(logs):
         for line in open(os.path.join(logs, tile)):
-            frame, t = line.split()
+            frame, t, _ = line.split()
             times.setdefault(int(frame), []).append(float(t))
     frames = sorted(f for f, ts in times.items() if len(ts) == 4)
     check(len(frames) >= 50, f"only {len(frames)} frames presented by all four tiles")
@@ -378,7 +378,7 @@ def case_lockstep():
     replayed = {}
     for tile in os.listdir(logs):
         for line in open(os.path.join(logs, tile)):
-            f, t = line.split()
+            f, t, _ = line.split()
             replayed.setdefault(int(f), []).append(float(t))
     checked = 0
     for n in sorted(replayed):

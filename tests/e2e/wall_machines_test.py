@@ -1,0 +1,388 @@
+#!/usr/bin/env python3
+"""A wall of three machines, made here as network namespaces joined by a bridge: the program's
+(10.214.0.1) and two display machines (10.214.0.2, .3), each showing two tiles of a 2x2 wall.
+
+    wall_machines_test.py CASE    with GLCAST, GLCAST_SHIM, OUT_DIR and SERVICE_UNIT set
+
+tcp:        the display machines' slaves run as systemd services (packaging/systemd, one systemd
+            per display machine, in a PID and mount namespace of its own) with CURVE keys made by
+            glcast keygen. Two programs one after the other: the stitched tiles equal the canvas
+            replay; the swap barrier holds across machines; run's status names every tile and
+            machine; a slave killed during the second program is restarted by systemd and its
+            frames are the program's again (the time it took is printed); a slave with an
+            unknown key, a subscriber without keys and an endpoint without keys are refused.
+epgm:       the same wall with the stream sent once by multicast (the TCP channels with CURVE).
+
+Skipped where namespaces cannot be made (not root, no iproute2) or systemd is missing.
+"""
+import contextlib
+import json
+import os
+import re
+import shutil
+import signal
+import subprocess
+import sys
+import time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from xvfb import Xvfb  # noqa: E402
+
+GLCAST = os.environ["GLCAST"]
+UNIT = os.environ.get("SERVICE_UNIT", "")
+OUT = os.path.join(os.environ.get("OUT_DIR", "/tmp/glcast-e2e"), "wall_machines")
+TILES = {"top-left": ("dispa", 0, 0), "top-right": ("dispa", 640, 0),
+         "bottom-left": ("dispb", 0, 480), "bottom-right": ("dispb", 640, 480)}
+ADDRESS = {"master": "10.214.0.1", "dispa": "10.214.0.2", "dispb": "10.214.0.3"}
+TOLERANCE = 0.0001  # of the canvas' pixels: wall_test.py's mosaic tolerance
+
+
+def check(cond, msg):
+    if not cond:
+        print("FAIL: " + msg)
+        sys.exit(1)
+
+
+def run(cmd, env=None, timeout=600):
+    return subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=env)
+
+
+def compare(a, b, crop=None):
+    r = run([GLCAST, "image", "compare", a, b] + (["--crop", crop] if crop else []))
+    m = re.search(r"(\d+) pixels differ, max channel difference (\d+)", r.stdout)
+    check(m, f"compare {a} {b}: {r.stdout} {r.stderr}")
+    return int(m.group(1)), int(m.group(2))
+
+
+@contextlib.contextmanager
+def machines(name, tag):
+    """Three namespaces on a bridge in a fourth; yields their names by role, or None."""
+    if os.geteuid() != 0 or not shutil.which("ip"):
+        print(f"SKIP: {name} needs root and iproute2 to make network namespaces")
+        yield None
+        return
+    pid = os.getpid() % 100000
+    ns = {role: f"glcast-{role}-{tag}{pid}" for role in ADDRESS}
+    bridge = f"gcbr{tag}{pid}"[:15]
+    setup = [["ip", "link", "add", bridge, "type", "bridge"], ["ip", "link", "set", bridge, "up"]]
+    for i, (role, n) in enumerate(ns.items()):
+        outer, inner = f"gco{tag}{i}{pid}"[:15], f"gci{tag}{i}{pid}"[:15]
+        setup += [["ip", "netns", "add", n],
+                  ["ip", "link", "add", outer, "type", "veth", "peer", "name", inner],
+                  ["ip", "link", "set", outer, "master", bridge], ["ip", "link", "set", outer, "up"],
+                  ["ip", "link", "set", inner, "netns", n],
+                  ["ip", "netns", "exec", n, "ip", "addr", "add", ADDRESS[role] + "/24", "dev", inner],
+                  ["ip", "netns", "exec", n, "ip", "link", "set", inner, "up"],
+                  ["ip", "netns", "exec", n, "ip", "link", "set", "lo", "up"],
+                  ["ip", "netns", "exec", n, "ip", "route", "add", "224.0.0.0/4", "dev", inner]]
+    try:
+        for cmd in setup:
+            r = run(cmd)
+            if r.returncode != 0:
+                print(f"SKIP: cannot make the namespaces here ({' '.join(cmd)}: {r.stderr.strip()})")
+                yield None
+                return
+        yield ns
+    finally:
+        for n in ns.values():
+            run(["ip", "netns", "del", n])
+        run(["ip", "link", "del", bridge])
+
+
+def keys(out):
+    """master: master.key, authorized/dispa.pub, dispb.pub; each display machine: master.pub and
+    its slave.key; stranger: a key the master does not know."""
+    dirs = {m: os.path.join(out, "keys", m) for m in ("master", "dispa", "dispb", "stranger")}
+    for d in dirs.values():
+        os.makedirs(d)
+    os.makedirs(os.path.join(dirs["master"], "authorized"))
+    check(run([GLCAST, "keygen", os.path.join(dirs["master"], "master")]).returncode == 0, "keygen failed")
+    for m in ("dispa", "dispb", "stranger"):
+        check(run([GLCAST, "keygen", os.path.join(dirs[m], "slave")]).returncode == 0, "keygen failed")
+        shutil.copy(os.path.join(dirs["master"], "master.pub"), dirs[m])
+    for m in ("dispa", "dispb"):
+        shutil.copy(os.path.join(dirs[m], "slave.pub"), os.path.join(dirs["master"], "authorized", m + ".pub"))
+    return dirs
+
+
+def wall_config(out, port):
+    config = {"name": "wall-machines", "canvas": {"width": 1280, "height": 960}, "swap_barrier": True,
+              "master": {"address": ADDRESS["master"], "port": port},
+              "tiles": [{"name": t, "machine": m, "x": x, "y": y, "width": 640, "height": 480}
+                        for t, (m, x, y) in TILES.items()]}
+    path = os.path.join(out, "wall.json")
+    with open(path, "w") as f:
+        json.dump(config, f, indent=1)
+    return path
+
+
+class Supervisor:
+    """systemd as PID 1 of a PID and mount namespace inside a display machine's network
+    namespace, running glcast-slave@TILE.service for its tiles from the shipped unit. /run, /tmp
+    and /var/tmp are its own (tmpfs); only the tiles' units are started (no default target)."""
+
+    def __init__(self, out, machine, netns, tiles, config, key_dir):
+        self.dir = os.path.join(out, "systemd-" + machine)
+        self.config = config
+        units = os.path.join(self.dir, "units")
+        os.makedirs(units)
+        shutil.copy(UNIT, units)
+        with open(os.path.join(units, "glcast-wall.target"), "w") as f:
+            f.write("[Unit]\nDefaultDependencies=no\nWants=" +
+                    " ".join(f"glcast-slave@{t}.service" for t in tiles) + "\n")
+        for t in tiles:
+            d = os.path.join(units, f"glcast-slave@{t}.service.d")
+            os.makedirs(d)
+            with open(os.path.join(d, "test.conf"), "w") as f:
+                f.write("[Unit]\nDefaultDependencies=no\n[Service]\n"
+                        f"Environment=GLCAST_CONFIG={config} GLCAST_BACKEND=egl GLCAST_KEYS={key_dir} "
+                        f"GLCAST_MACHINE={machine} \"GLCAST_SLAVE_ARGS=--out {os.path.join(out, t)}\" "
+                        f"GLCAST_TEST_PRESENT_LOG={os.path.join(out, 'presents', t)}\n"
+                        f"StandardError=append:{os.path.join(out, t + '.log')}\n")
+        boot = os.path.join(self.dir, "boot.sh")
+        with open(boot, "w") as f:
+            f.write("#!/bin/sh\nset -e\n"
+                    "for d in /run /tmp /var/tmp; do mount -t tmpfs tmpfs $d; done\n"
+                    f"mount --bind {units} /etc/systemd/system\n"
+                    "exec env container=glcast-test /lib/systemd/systemd --system --unit=glcast-wall.target "
+                    "--log-target=console --log-level=warning\n")
+        os.chmod(boot, 0o755)
+        self.log = open(os.path.join(self.dir, "systemd.log"), "w")
+        self.proc = subprocess.Popen(["ip", "netns", "exec", netns, "unshare", "--pid", "--fork", "--mount",
+                                      "--mount-proc", "--propagation", "private", boot],
+                                     stdout=self.log, stderr=subprocess.STDOUT, start_new_session=True)
+
+    def systemd_pid(self):
+        r = run(["pgrep", "-P", str(self.proc.pid)])  # unshare's child: systemd itself
+        return int(r.stdout.split()[0]) if r.returncode == 0 and r.stdout.split() else None
+
+    def slave_pid(self, tile):
+        r = run(["pgrep", "-f", f"slave --service --config {re.escape(self.config)} --tile {tile} "])
+        pids = [int(p) for p in r.stdout.split()]
+        return pids[0] if pids else None
+
+    def stop(self):
+        pid = self.systemd_pid()
+        if pid:
+            os.kill(pid, signal.SIGKILL)  # PID 1 of the namespace: every process in it goes too
+        try:
+            self.proc.wait(timeout=20)
+        except subprocess.TimeoutExpired:
+            os.killpg(self.proc.pid, signal.SIGKILL)
+        self.log.close()
+
+
+def statuses(path):
+    if not os.path.exists(path):
+        return []
+    out = []
+    for line in open(path):
+        try:
+            out.append(json.loads(line))
+        except ValueError:
+            pass  # the line being written
+    return out
+
+
+def program_run(ns, config, key_dir, out, name, frames, program, extra=()):
+    capture = os.path.join(out, name + ".glcs")
+    env = dict(os.environ, GLCAST_CAPTURE=capture)
+    return subprocess.Popen(["ip", "netns", "exec", ns["master"], GLCAST, "run", "--config", config, "--machine",
+                             "master", "--keys", key_dir, "--backend", "egl", "--frames", str(frames),
+                             "--status-json", os.path.join(out, name + "-status.jsonl"), *extra, "--"] + program,
+                            env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True), capture
+
+
+def tile_reference(capture, config, tile, frames, out):
+    ref = os.path.join(out, "reference", os.path.basename(capture), tile)
+    env = {k: v for k, v in os.environ.items() if k != "DISPLAY"}
+    r = run([GLCAST, "replay", capture, "--config", config, "--tile", tile, "--frames", f"{frames[0]}:{frames[1]}",
+             "--out", ref], env=env)
+    check(r.returncode == 0, f"tile replay failed: {r.stderr[-2000:]}")
+    return ref
+
+
+def stitched_against_canvas(out, capture, program_dir, frame):
+    tiles = [os.path.join(out, t, program_dir, f"frame-{frame:06d}.png") for t in TILES]
+    for t in tiles:
+        check(os.path.exists(t), f"missing {t}")
+    stitched = os.path.join(out, f"mosaic-{os.path.basename(capture)}.png")
+    check(run([GLCAST, "image", "mosaic", "2x2", stitched] + tiles).returncode == 0, "mosaic failed")
+    ref = os.path.join(out, "canvas-" + os.path.basename(capture))
+    env = {k: v for k, v in os.environ.items() if k != "DISPLAY"}
+    r = run([GLCAST, "replay", capture, "--canvas", "1280x960", "--tile-rect", "0,0,1280,960", "--frames",
+             f"{frame}:{frame}", "--out", ref], env=env)
+    check(r.returncode == 0, f"canvas replay failed: {r.stderr[-2000:]}")
+    differing, worst = compare(stitched, os.path.join(ref, f"frame-{frame:06d}.png"))
+    check(differing <= TOLERANCE * 1280 * 960, f"the stitched tiles differ from the canvas in {differing} pixels")
+    return differing, worst
+
+
+def barrier_held(logs):
+    """Frames replayed while a tile catches up (it joined late) are not held; every frame each of
+    the four tiles presented through the barrier is."""
+    times = {}
+    for tile in os.listdir(logs):
+        for line in open(os.path.join(logs, tile)):
+            frame, t, held = line.split()
+            if held == "1":
+                times.setdefault(int(frame), []).append(float(t))
+    frames = sorted(f for f, ts in times.items() if len(ts) == 4)
+    check(len(frames) >= 30, f"only {len(frames)} frames presented by all four tiles")
+    for a, b in zip(frames, frames[1:]):
+        check(max(times[a]) < min(times[b]), f"a tile presented frame {b} before every tile had presented frame {a}")
+    return len(frames)
+
+
+def wait_until(what, predicate, timeout):
+    end = time.monotonic() + timeout
+    while not predicate():
+        check(time.monotonic() < end, f"{what} within {timeout} s")
+        time.sleep(0.1)
+
+
+def case_tcp():
+    out = os.path.join(OUT, "tcp")
+    shutil.rmtree(out, ignore_errors=True)
+    os.makedirs(os.path.join(out, "presents"))
+    if not UNIT or not os.path.exists("/lib/systemd/systemd"):
+        print("SKIP: tcp needs systemd (/lib/systemd/systemd) and the test unit")
+        return
+    with machines("tcp", "t") as ns:
+        if not ns:
+            return
+        port = 6200
+        k = keys(out)
+        config = wall_config(out, port)
+        supervisors = [Supervisor(out, m, ns[m], [t for t, (tm, _, _) in TILES.items() if tm == m], config, k[m])
+                       for m in ("dispa", "dispb")]
+        try:
+            with Xvfb():
+                tcp_wall(out, ns, config, k, port, supervisors)
+        finally:
+            for s in supervisors:
+                s.stop()
+
+
+def tcp_wall(out, ns, config, k, port, supervisors):
+    # Refused before anything starts: an endpoint on the network without keys.
+    r = run(["ip", "netns", "exec", ns["master"], GLCAST, "run", "--config", config, "--machine", "master", "--",
+             "true"], env={k_: v for k_, v in os.environ.items() if k_ != "GLCAST_KEYS"})
+    check(r.returncode == 1 and "without keys" in r.stderr, f"an endpoint without keys was not refused: {r.stderr}")
+
+    # Program 1: the wall, the barrier across machines, the status view.
+    wall, capture1 = program_run(ns, config, k["master"], out, "program1", 300, ["glxgears"])
+    rc = wall.wait(timeout=300)
+    log1 = wall.stderr.read()
+    check(rc == 0, f"glcast run failed: {log1[-3000:]}")
+    check("4 of 4 tiles on other machines are there" in log1, f"run did not count the remote tiles: {log1[-2000:]}")
+    frames_held = barrier_held(os.path.join(out, "presents"))
+    differing, worst = stitched_against_canvas(out, capture1, "program-0001", 280)
+    seen = statuses(os.path.join(out, "program1-status.jsonl"))
+    live = [s for s in seen if all(t["state"] == "live" for t in s["tiles"])]
+    check(live, f"the status never showed all four tiles live: {seen[-3:]}")
+    machines_seen = {t["tile"]: t["machine"] for t in live[-1]["tiles"]}
+    check(machines_seen == {t: m for t, (m, _, _) in TILES.items()}, f"status machines: {machines_seen}")
+    print(f"tcp: program 1 on four tiles of two display machines (CURVE): frame 280 stitched differs from the canvas "
+          f"in {differing} pixels (max {worst}); the barrier held over {frames_held} frames; status: "
+          f"{json.dumps(live[-1]['tiles'][0])}")
+
+    # Program 2 on the same slaves: they stayed up. Kill one meanwhile: systemd restarts it.
+    wall, capture2 = program_run(ns, config, k["master"], out, "program2", 1500,
+                                 ["/usr/libexec/xscreensaver/gears", "-window", "-geometry", "320x240"])
+    status2 = os.path.join(out, "program2-status.jsonl")
+
+    def tile_state(tile):
+        s = statuses(status2)
+        return next((t for t in s[-1]["tiles"] if t["tile"] == tile), {}) if s else {}
+
+    wait_until("top-left live in program 2", lambda: tile_state("top-left").get("state") == "live" and
+               tile_state("top-left").get("frame", 0) > 100, 120)
+    victim = supervisors[0].slave_pid("top-left")
+    check(victim, "no slave process for top-left")
+    # The restarted slave counts programs from 1 again: its frames go to top-left/program-0001,
+    # emptied here so that they are the restarted slave's alone.
+    shutil.rmtree(os.path.join(out, "top-left"), ignore_errors=True)
+    killed_at = time.monotonic()
+    os.kill(victim, signal.SIGKILL)
+    wait_until("top-left restarted by systemd", lambda: supervisors[0].slave_pid("top-left") not in (None, victim), 30)
+    restarted = time.monotonic() - killed_at
+    frame_at_kill = tile_state("top-left").get("frame", 0)
+    wait_until("top-left back", lambda: os.path.exists(os.path.join(out, "top-left.log")) and
+               open(os.path.join(out, "top-left.log")).read().count("joined at frame") >= 3, 60)
+    back = time.monotonic() - killed_at
+    joined = re.findall(r"joined at frame (\d+)", open(os.path.join(out, "top-left.log")).read())[-1]
+
+    # Refusals while program 2 runs: a key the master does not know, a subscriber without keys.
+    stranger = run(["ip", "netns", "exec", ns["dispb"], GLCAST, "slave", "--config", config, "--tile", "bottom-left",
+                    "--keys", k["stranger"], "--wait", "10", "--quiet"], timeout=60)
+    check(stranger.returncode == 1 and "refused this machine's key" in stranger.stderr,
+          f"a slave with an unknown key was not refused: {stranger.stderr[-1500:]}")
+    plain = run(["ip", "netns", "exec", ns["dispb"], GLCAST, "slave", "--insecure", "--connect",
+                 f"tcp://{ADDRESS['master']}:{port}", "--wait", "5", "--quiet"], timeout=60,
+                env={k_: v for k_, v in os.environ.items() if k_ != "GLCAST_KEYS"})
+    check(plain.returncode == 1 and "no message" in plain.stderr,
+          f"a subscriber without keys got the stream: {plain.stderr[-1500:]}")
+
+    rc = wall.wait(timeout=600)
+    log2 = wall.stderr.read()
+    check(rc == 0, f"glcast run (program 2) failed: {log2[-3000:]}")
+    check("refused" in log2, f"the master did not say it refused the stranger: {log2[-2000:]}")
+    frames = sorted(int(f[6:12]) for f in os.listdir(os.path.join(out, "top-left", "program-0001"))
+                    if f.endswith(".png") and int(f[6:12]) > int(joined))
+    check(len(frames) > 50, f"the restarted top-left showed only {len(frames)} frames")
+    ref = tile_reference(capture2, config, "top-left", (frames[0], frames[-1]), out)
+    worst_diff = 0
+    for f in frames[:: max(1, len(frames) // 20)]:
+        name = f"frame-{f:06d}.png"
+        differing, _ = compare(os.path.join(out, "top-left", "program-0001", name), os.path.join(ref, name))
+        worst_diff = max(worst_diff, differing)
+    check(worst_diff <= TOLERANCE * 640 * 480, f"the restarted tile differs from the program's in {worst_diff} pixels")
+    for t in ("top-right", "bottom-left", "bottom-right"):
+        check(os.path.isdir(os.path.join(out, t, "program-0002")), f"{t} did not show program 2 (it did not stay up)")
+    print(f"tcp: program 2 on the same slaves; top-left killed at its frame {frame_at_kill}: restarted by systemd in "
+          f"{restarted:.2f} s, back (joined at frame {joined} from the keeper) {back:.2f} s after the kill; its "
+          f"{len(frames)} frames since equal the program's (worst {worst_diff} pixels); a stranger's key and a "
+          f"subscriber without keys refused")
+
+
+def case_epgm():
+    out = os.path.join(OUT, "epgm")
+    shutil.rmtree(out, ignore_errors=True)
+    os.makedirs(os.path.join(out, "presents"))
+    with machines("epgm", "e") as ns:
+        if not ns:
+            return
+        port = 6300
+        k = keys(out)
+        config = wall_config(out, port)
+        group = f"239.192.9.9:{port}"
+        slaves = []
+        for tile, (machine, _, _) in TILES.items():
+            env = dict(os.environ, GLCAST_TEST_PRESENT_LOG=os.path.join(out, "presents", tile))
+            slaves.append(subprocess.Popen(
+                ["ip", "netns", "exec", ns[machine], GLCAST, "slave", "--service", "--insecure", "--keys", k[machine],
+                 "--connect", f"epgm://{ADDRESS[machine]};{group}", "--config", config, "--tile", tile,
+                 "--machine", machine, "--backend", "egl", "--out", os.path.join(out, tile), "--quiet"],
+                env=env, stdout=subprocess.DEVNULL, stderr=open(os.path.join(out, tile + ".log"), "w")))
+        try:
+            with Xvfb():
+                capture = os.path.join(out, "program.glcs")
+                env = dict(os.environ, GLCAST_CAPTURE=capture)
+                r = run(["ip", "netns", "exec", ns["master"], GLCAST, "run", "--config", config, "--machine", "master",
+                         "--keys", k["master"], "--insecure", "--endpoint", f"epgm://{ADDRESS['master']};{group}",
+                         "--backend", "egl", "--frames", "90", "--", "glxgears"], env=env, timeout=300)
+                check(r.returncode == 0, f"glcast run failed: {r.stderr[-3000:]}")
+                frames_held = barrier_held(os.path.join(out, "presents"))
+                differing, worst = stitched_against_canvas(out, capture, "program-0001", 80)
+        finally:
+            for s in slaves:
+                s.kill()
+                s.wait()
+        print(f"epgm: four tiles on two display machines by multicast (journal, keeper, barrier with CURVE): frame 80 "
+              f"stitched differs from the canvas in {differing} pixels (max {worst}); the barrier held over "
+              f"{frames_held} frames")
+
+
+if __name__ == "__main__":
+    globals()["case_" + sys.argv[1]]()
