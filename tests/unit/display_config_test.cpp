@@ -296,7 +296,7 @@ TEST(DisplayConfigErrors, TopLevelMustBeAnObject) {
 
 TEST(DisplayConfigErrors, UnknownKeysAreNamed) {
     EXPECT_EQ(error_of(planar(R"({"name": "b", "x": 640, "y": 0, "widht": 640, "height": 480})")),
-              "wall.json: tiles[1].widht: unknown key (did you mean \"width\"? known keys: name, x, y, width, height, view)");
+              "wall.json: tiles[1].widht: unknown key (did you mean \"width\"? known keys: name, x, y, width, height, view, machine)");
     expect_contains(error_of(planar(R"({"name": "b", "x": 640, "y": 0, "width": 640, "height": 480})", R"(, "efects": [])")),
                     "wall.json: efects: unknown key (did you mean \"effects\"?");
     expect_contains(error_of(viewed(R"({"yaw": 1, "fov": 60})")), "wall.json: tiles[0].view.fov: unknown key (known keys: yaw,");
@@ -617,4 +617,28 @@ TEST(DisplayConfigProgramProjection, ReadAndChecked) {
         "program_projection": {"fov_y": 200, "near": 1, "far": 2}})";
     EXPECT_FALSE(glcast::slave::parse_display_config(bad, "p.json", c, error));
     EXPECT_NE(error.find("p.json: program_projection.fov_y: must be in (0, 179) degrees"), std::string::npos) << error;
+}
+
+// A wall of several machines: which machine shows a tile, where they reach the master, its keys.
+TEST(DisplayConfigMachines, MachineMasterAndKeys) {
+    const std::string tile = R"({"name": "b", "x": 640, "y": 0, "width": 640, "height": 480, "machine": "display-2"})";
+    DisplayConfig c = parse_ok(planar(tile, R"(, "master": {"address": "10.0.0.1", "port": 7000}, "keys": "keys")"));
+    EXPECT_EQ(c.tiles[1].machine, "display-2");
+    EXPECT_TRUE(c.tiles[0].machine.empty());
+    EXPECT_TRUE(c.master.given);
+    EXPECT_EQ(c.master.address, "10.0.0.1");
+    EXPECT_EQ(c.master.port, 7000);
+    EXPECT_EQ(c.keys, "keys");
+    EXPECT_EQ(parse_ok(planar(tile, R"(, "master": {"address": "wall-master.local"})")).master.port, 5555);
+
+    EXPECT_EQ(error_of(planar(R"({"name": "b", "x": 640, "y": 0, "width": 640, "height": 480, "machine": "a b"})")),
+              R"(wall.json: tiles[1].machine: must be a machine name of letters, digits, '_', '.' and '-', got "a b")");
+    EXPECT_EQ(error_of(planar(tile, R"(, "master": {"port": 7000})")), "wall.json: master.address: missing required key");
+    EXPECT_EQ(error_of(planar(tile, R"(, "master": {"address": "x;rm"})")),
+              R"(wall.json: master.address: must be a host name or IP address, got "x;rm")");
+    EXPECT_EQ(error_of(planar(tile, R"(, "master": {"address": "h", "port": 65533})")),
+              "wall.json: master.port: must be an integer from 1 to 65532 (it and the next three ports are used), got 65533");
+    EXPECT_EQ(error_of(planar(tile, R"(, "master": {"address": "h", "prot": 1})")).substr(0, 48),
+              "wall.json: master.prot: unknown key (did you mea");
+    EXPECT_EQ(error_of(planar(tile, R"(, "keys": 5)")), "wall.json: keys: must be the path of a folder of keys, got 5");
 }

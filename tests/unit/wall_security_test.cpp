@@ -1,0 +1,255 @@
+// The wall across machines: the swap barrier's drop and return (cli/wall_control.h), CURVE keys,
+// the ZAP handler and the endpoint checks (net/security.h), the control channel under garbage.
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <zmq.hpp>
+
+#include <chrono>
+#include <cstdlib>
+#include <fstream>
+#include <random>
+#include <thread>
+
+#include "cli/wall_control.h"
+#include "net/security.h"
+
+using glcast::cli::BarrierState;
+using glcast::cli::WallControl;
+namespace net = glcast::net;
+
+namespace {
+
+const std::vector<std::string> kTiles = {"a", "b", "c", "d"};
+
+std::vector<std::string> released(BarrierState& s, double now, std::vector<std::string>* dropped = nullptr) {
+    std::vector<std::string> out;
+    for (const auto& r : s.release(now, dropped)) out.push_back(r.tile + "@" + std::to_string(r.frame));
+    return out;
+}
+
+std::string temp_dir() {
+    char dir[] = "/tmp/glcast-keys-XXXXXX";
+    EXPECT_NE(mkdtemp(dir), nullptr);
+    return dir;
+}
+
+void write_file(const std::string& path, const std::string& text, mode_t mode = 0644) {
+    std::ofstream(path) << text;
+    chmod(path.c_str(), mode);
+}
+
+}  // namespace
+
+TEST(SwapBarrier, ReleasesAFrameOnlyWhenEveryTileHasIt) {
+    BarrierState s(kTiles, 2.0, 0);
+    for (const char* t : {"a", "b", "c"}) EXPECT_TRUE(s.ready(t, 5, 0.1));
+    EXPECT_TRUE(released(s, 0.2).empty());
+    EXPECT_TRUE(s.ready("d", 5, 0.3));
+    EXPECT_EQ(released(s, 0.3), (std::vector<std::string>{"a@5", "b@5", "c@5", "d@5"}));
+    EXPECT_TRUE(released(s, 0.4).empty());
+    EXPECT_FALSE(s.ready("stranger", 6, 0.4));  // not a tile of the wall
+}
+
+TEST(SwapBarrier, ATileAheadWaitsForTheOthersToCatchUp) {
+    BarrierState s(kTiles, 2.0, 0);
+    s.ready("a", 9, 0.1);  // joined late, further on
+    for (const char* t : {"b", "c", "d"}) s.ready(t, 7, 0.1);
+    EXPECT_EQ(released(s, 0.1), (std::vector<std::string>{"b@7", "c@7", "d@7"}));
+    for (const char* t : {"b", "c", "d"}) s.ready(t, 8, 0.2);
+    EXPECT_EQ(released(s, 0.2), (std::vector<std::string>{"b@8", "c@8", "d@8"}));
+    for (const char* t : {"b", "c", "d"}) s.ready(t, 9, 0.3);
+    EXPECT_EQ(released(s, 0.3).size(), 4u);
+}
+
+TEST(SwapBarrier, ASilentTileIsDroppedAndTakenBackWhenItReturns) {
+    BarrierState s(kTiles, 2.0, 0);
+    for (const char* t : {"a", "b", "c", "d"}) s.ready(t, 1, 0.1);
+    EXPECT_EQ(released(s, 0.1).size(), 4u);
+    for (const char* t : {"a", "b", "c"}) s.ready(t, 2, 0.2);
+    std::vector<std::string> dropped;
+    EXPECT_TRUE(released(s, 1.0, &dropped).empty());  // d has 2 s
+    s.heard("d", 1.5);                                 // a status report: still alive, catching up
+    EXPECT_TRUE(released(s, 3.0, &dropped).empty());
+    EXPECT_TRUE(dropped.empty());
+    EXPECT_EQ(released(s, 3.6, &dropped), (std::vector<std::string>{"a@2", "b@2", "c@2"}));
+    EXPECT_EQ(dropped, std::vector<std::string>{"d"});
+    EXPECT_FALSE(s.counted("d"));
+    for (const char* t : {"a", "b", "c"}) s.ready(t, 3, 3.7);
+    EXPECT_EQ(released(s, 3.7).size(), 3u);  // without d
+    s.ready("d", 4, 3.8);                     // back
+    EXPECT_TRUE(s.counted("d"));
+    EXPECT_EQ(s.back, std::vector<std::string>{"d"});
+    for (const char* t : {"a", "b", "c"}) s.ready(t, 4, 3.9);
+    EXPECT_EQ(released(s, 3.9).size(), 4u);
+}
+
+TEST(Endpoints, TransportsAndWhatNeedsKeys) {
+    EXPECT_EQ(net::transport_of("ipc:///tmp/x"), net::Transport::local);
+    EXPECT_EQ(net::transport_of("tcp://127.0.0.1:5"), net::Transport::loopback);
+    EXPECT_EQ(net::transport_of("tcp://localhost:5"), net::Transport::loopback);
+    EXPECT_EQ(net::transport_of("tcp://[::1]:5"), net::Transport::loopback);
+    EXPECT_EQ(net::transport_of("tcp://*:5"), net::Transport::network);
+    EXPECT_EQ(net::transport_of("tcp://10.0.0.1:5"), net::Transport::network);
+    EXPECT_EQ(net::transport_of("tcp://eth0:5"), net::Transport::network);
+    EXPECT_EQ(net::transport_of("epgm://eth0;239.1.1.1:5"), net::Transport::multicast);
+    net::Security none, insecure;
+    insecure.insecure = true;
+    EXPECT_FALSE(net::check_endpoint("ipc:///tmp/x", none, true));
+    EXPECT_FALSE(net::check_endpoint("tcp://127.0.0.1:5", none, true));
+    EXPECT_THROW(net::check_endpoint("tcp://*:5", none, true), std::runtime_error);
+    EXPECT_THROW(net::check_endpoint("tcp://10.0.0.1:5", none, false), std::runtime_error);
+    EXPECT_FALSE(net::check_endpoint("tcp://*:5", insecure, true));
+    EXPECT_THROW(net::check_endpoint("epgm://eth0;239.1.1.1:5", none, true), std::runtime_error);
+    EXPECT_FALSE(net::check_endpoint("epgm://eth0;239.1.1.1:5", insecure, true));
+    net::Security keyed;
+    keyed.dir = "/keys";
+    EXPECT_TRUE(net::check_endpoint("tcp://*:5", keyed, true));
+    EXPECT_TRUE(net::check_endpoint("tcp://127.0.0.1:5", keyed, false));
+    EXPECT_FALSE(net::check_endpoint("ipc:///tmp/x", keyed, true));
+    EXPECT_THROW(net::check_endpoint("epgm://eth0;239.1.1.1:5", keyed, true), std::runtime_error);
+    try {
+        net::check_endpoint("tcp://*:5555", none, true);
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find("tcp://*:5555"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("--insecure"), std::string::npos) << e.what();
+    }
+}
+
+TEST(Keys, WrittenReadAndBadFilesRefusedWithTheirName) {
+    const std::string dir = temp_dir();
+    std::string error;
+    ASSERT_TRUE(net::write_key_pair(dir + "/master", error)) << error;
+    EXPECT_FALSE(net::write_key_pair(dir + "/master", error));  // never overwritten
+    struct stat st {};
+    stat((dir + "/master.key").c_str(), &st);
+    EXPECT_EQ(st.st_mode & 0777, 0600u);
+    net::KeyPair pair, pub;
+    ASSERT_TRUE(net::read_key_file(dir + "/master.key", true, pair, error)) << error;
+    ASSERT_TRUE(net::read_key_file(dir + "/master.pub", false, pub, error)) << error;
+    EXPECT_EQ(pair.public_key, pub.public_key);
+    EXPECT_EQ(pair.secret_key.size(), 40u);
+
+    chmod((dir + "/master.key").c_str(), 0644);
+    EXPECT_FALSE(net::read_key_file(dir + "/master.key", true, pair, error));
+    EXPECT_NE(error.find("master.key: a secret key others may read (mode 644)"), std::string::npos) << error;
+    chmod((dir + "/master.key").c_str(), 0600);
+
+    write_file(dir + "/short.pub", "public-key = \"abc\"\n");
+    EXPECT_FALSE(net::read_key_file(dir + "/short.pub", false, pub, error));
+    EXPECT_NE(error.find("short.pub:1: public-key is not a Z85 CURVE key"), std::string::npos) << error;
+    write_file(dir + "/junk.pub", "# comment\nhello world\n");
+    EXPECT_FALSE(net::read_key_file(dir + "/junk.pub", false, pub, error));
+    EXPECT_NE(error.find("junk.pub:2: expected public-key"), std::string::npos) << error;
+    write_file(dir + "/huge.pub", std::string(10000, 'x'));
+    EXPECT_FALSE(net::read_key_file(dir + "/huge.pub", false, pub, error));
+    EXPECT_NE(error.find("larger than 4 KiB"), std::string::npos) << error;
+    ASSERT_TRUE(net::write_key_pair(dir + "/other", error)) << error;
+    net::KeyPair other;
+    net::read_key_file(dir + "/other.key", true, other, error);
+    write_file(dir + "/mixed.key", "public-key = \"" + pair.public_key + "\"\nsecret-key = \"" + other.secret_key + "\"\n", 0600);
+    EXPECT_FALSE(net::read_key_file(dir + "/mixed.key", true, pair, error));
+    EXPECT_NE(error.find("its public-key is not the secret-key's"), std::string::npos) << error;
+
+    net::Security s;
+    EXPECT_FALSE(net::load_security(dir + "/absent", false, s, error));
+    EXPECT_NE(error.find("absent/master.pub"), std::string::npos) << error;
+    ASSERT_TRUE(net::load_security(dir, false, s, error)) << error;
+    EXPECT_TRUE(s.has_master_pair && s.has_client_pair);
+    EXPECT_EQ(s.authorized.size(), 1u);  // the master's own key
+    mkdir((dir + "/authorized").c_str(), 0755);
+    std::rename((dir + "/other.pub").c_str(), (dir + "/authorized/display-a.pub").c_str());
+    ASSERT_TRUE(net::load_security(dir, false, s, error)) << error;
+    EXPECT_EQ(s.authorized.count(other.public_key), 1u);
+}
+
+// A CURVE server whose ZAP handler knows one slave's key: that slave receives, another does not.
+TEST(Keys, TheMasterServesOnlyKeysItKnows) {
+    const std::string master_dir = temp_dir(), known_dir = temp_dir(), stranger_dir = temp_dir();
+    std::string error;
+    ASSERT_TRUE(net::write_key_pair(master_dir + "/master", error)) << error;
+    ASSERT_TRUE(net::write_key_pair(known_dir + "/slave", error)) << error;
+    ASSERT_TRUE(net::write_key_pair(stranger_dir + "/slave", error)) << error;
+    mkdir((master_dir + "/authorized").c_str(), 0755);
+    for (const std::string& d : {known_dir, stranger_dir})
+        std::ofstream(d + "/master.pub") << std::ifstream(master_dir + "/master.pub").rdbuf();
+    std::ofstream(master_dir + "/authorized/known.pub") << std::ifstream(known_dir + "/slave.pub").rdbuf();
+    net::Security master, known, stranger;
+    ASSERT_TRUE(net::load_security(master_dir, false, master, error)) << error;
+    ASSERT_TRUE(net::load_security(known_dir, false, known, error)) << error;
+    ASSERT_TRUE(net::load_security(stranger_dir, false, stranger, error)) << error;
+
+    zmq::context_t context(1);
+    auto authenticator = net::authenticator_for(context, "the test's master", master);
+    zmq::socket_t pub(context, zmq::socket_type::pub);
+    pub.set(zmq::sockopt::linger, 0);
+    net::secure_server(pub, "tcp://127.0.0.1:*", master);
+    pub.bind("tcp://127.0.0.1:*");
+    const std::string endpoint = pub.get(zmq::sockopt::last_endpoint);
+    auto subscriber = [&](const net::Security& s) {
+        auto sub = std::make_unique<zmq::socket_t>(context, zmq::socket_type::sub);
+        sub->set(zmq::sockopt::linger, 0);
+        sub->set(zmq::sockopt::subscribe, "");
+        net::secure_client(*sub, endpoint, s);
+        sub->connect(endpoint);
+        return sub;
+    };
+    auto good = subscriber(known), bad = subscriber(stranger);
+    zmq::socket_t plain(context, zmq::socket_type::sub);  // no keys at all: the NULL mechanism
+    plain.set(zmq::sockopt::linger, 0);
+    plain.set(zmq::sockopt::subscribe, "");
+    plain.connect(endpoint);
+    int good_got = 0, bad_got = 0, plain_got = 0;
+    for (int i = 0; i < 40; i++) {
+        pub.send(zmq::str_buffer("frame"), zmq::send_flags::dontwait);
+        std::this_thread::sleep_for(std::chrono::milliseconds(25));
+        zmq::message_t m;
+        while (good->recv(m, zmq::recv_flags::dontwait)) good_got++;
+        while (bad->recv(m, zmq::recv_flags::dontwait)) bad_got++;
+        while (plain.recv(m, zmq::recv_flags::dontwait)) plain_got++;
+    }
+    EXPECT_GT(good_got, 20);
+    EXPECT_EQ(bad_got, 0);
+    EXPECT_EQ(plain_got, 0);
+    EXPECT_GE(authenticator->refused(), 1u);
+    good.reset();
+    bad.reset();
+}
+
+// Whatever arrives on the control channel, it keeps serving (and never takes a stranger's tile
+// name or garbage as a report).
+TEST(WallControlChannel, GarbageIsIgnored) {
+    unsetenv("GLCAST_KEYS");
+    const std::string endpoint = "ipc://" + temp_dir() + "/control";
+    WallControl wall(endpoint, kTiles, true);
+    zmq::context_t context(1);
+    zmq::socket_t dealer(context, zmq::socket_type::dealer);
+    dealer.set(zmq::sockopt::linger, 0);
+    dealer.connect(endpoint);
+    std::mt19937 random(7);
+    for (int i = 0; i < 2000; i++) {
+        std::string junk(random() % 300, '\0');
+        for (char& c : junk) c = char(random());
+        dealer.send(zmq::buffer(junk), zmq::send_flags::dontwait);
+    }
+    // A frame over 256 bytes made libzmq hang up on that peer: the reports come from another.
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    zmq::socket_t reporter(context, zmq::socket_type::dealer);
+    reporter.set(zmq::sockopt::linger, 0);
+    reporter.connect(endpoint);
+    for (const char* text : {"STATUS a live 1 2 3 4 5 6 host extra", "STATUS a live x", "STATUS zz live 1 1 1 1 1 1 m",
+                             "STATUS a dancing 1 1 1 1 1 1 m", "STATUS a live 1 1 nan 1 1 1 m", "READY a",
+                             "STATUS a live 1 1 1 1 1 1 bad/name"})
+        reporter.send(zmq::buffer(std::string(text)), zmq::send_flags::dontwait);
+    reporter.send(zmq::str_buffer("STATUS b live 10 12 30.5 0.25 2 1 display-b"), zmq::send_flags::dontwait);
+    std::this_thread::sleep_for(std::chrono::milliseconds(400));
+    const auto status = wall.status();
+    EXPECT_EQ(status.size(), 4u);
+    EXPECT_EQ(status.at("b").machine, "display-b");
+    EXPECT_EQ(status.at("b").frame, 10u);
+    EXPECT_EQ(status.at("b").lag, 2);
+    EXPECT_EQ(status.at("c").age_seconds, -1);  // never reported
+    // "a": only the report with one word too many was well formed up to the machine: it counts.
+    EXPECT_EQ(status.at("a").machine, "host");
+}
