@@ -42,6 +42,9 @@ static ShimConfig load() {
     v = 1;
     ok &= read_uint("GLCAST_ZSTD_LEVEL", 0, 19, v);
     c.zstd_level = int(v);
+    v = 1;
+    ok &= read_uint("GLCAST_INTER_FRAME", 0, 1, v);
+    c.inter_frame = v != 0;
     v = 0;
     ok &= read_uint("GLCAST_VERBOSE", 0, 1, v);
     c.verbose = v;

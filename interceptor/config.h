@@ -13,6 +13,7 @@ struct ShimConfig {
     uint64_t frames = 0;        // GLCAST_FRAMES: stop recording after this many frames (0: never)
     bool exit_after = false;    // GLCAST_EXIT_AFTER_FRAMES=1: end the program once they are written
     int zstd_level = 1;         // GLCAST_ZSTD_LEVEL: 0 stores messages uncompressed
+    bool inter_frame = true;    // GLCAST_INTER_FRAME: 0 compresses each message alone (format version 2 still)
     bool verbose = false;       // GLCAST_VERBOSE=1: summary on stderr at exit
     std::string snapshot_dir;   // GLCAST_SNAPSHOT_DIR: the program's own frames as PNGs (tests)
     uint64_t snapshot_from = 0; // GLCAST_SNAPSHOT_FROM: ... from this frame on

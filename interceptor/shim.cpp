@@ -57,7 +57,7 @@ Stream* stream() {
             g_recording = false;
             return;
         }
-        g_stream = std::make_unique<Stream>(std::move(sinks), c.zstd_level, 16);
+        g_stream = std::make_unique<Stream>(std::move(sinks), c.zstd_level, 16, c.inter_frame);
     });
     return g_stream.get();
 }

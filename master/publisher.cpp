@@ -358,6 +358,12 @@ void PublisherSink::handle_request(const std::string_view* parts, size_t count, 
 
 // Sends what the peer's queue takes now, at most 256 messages a turn so that requests (DONE
 // for lockstep among them) are read between; never waits. True: finished, or given up.
+static bool is_delta(const std::vector<uint8_t>& message) {
+    MessageHeader h{};
+    if (message.size() >= sizeof h) std::memcpy(&h, message.data(), sizeof h);
+    return (h.flags & (kMsgDelta | kMsgXor)) != 0;  // coded against the message before it
+}
+
 bool PublisherSink::serve(zmq::socket_t& router, Session& s, double now) {
     using namespace journal_limits;
     if (!s.started) {
@@ -366,6 +372,13 @@ bool PublisherSink::serve(zmq::socket_t& router, Session& s, double now) {
         // Up to the newest message: it holds the first live message the slave saw, so the
         // answer covers everything before.
         s.end = journal_first_ + journal_.size();
+        // From the key message at or before the one asked for: a message coded against the one
+        // before it (kMsgDelta) cannot be read without it; the peer decodes the few before the
+        // one it asked for and drops them. Without that key in the ring: GONE.
+        while (s.next > journal_first_ && s.next < s.end && is_delta(*journal_[size_t(s.next - journal_first_)]))
+            s.next--;
+        if (s.next >= journal_first_ && s.next < s.end && is_delta(*journal_[size_t(s.next - journal_first_)]))
+            s.next = journal_first_ > 0 ? journal_first_ - 1 : s.end + 1;  // the key is gone: GONE
         s.started = true;
     }
     auto send_part = [&](zmq::message_t& body) -> int {  // 1 sent, 0 queue full, -1 peer gone

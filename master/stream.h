@@ -30,7 +30,9 @@ struct StreamStats {
 
 class Stream {
 public:
-    Stream(std::vector<std::unique_ptr<MessageSink>> sinks, int zstd_level, size_t queue_depth);
+    // inter_frame: code messages against the previous one (format version 2; GLCAST_INTER_FRAME=0
+    // turns it off, for comparison).
+    Stream(std::vector<std::unique_ptr<MessageSink>> sinks, int zstd_level, size_t queue_depth, bool inter_frame = true);
     ~Stream();
 
     void append(const uint8_t* tuple, size_t bytes);  // one whole tuple; thread-safe
@@ -65,6 +67,7 @@ private:
     uint64_t next_sequence_ = 0;
     StreamStats stats_;
     int zstd_level_;
+    bool inter_frame_;
     std::vector<std::unique_ptr<MessageSink>> sinks_;
     std::thread writer_;
 };

@@ -83,9 +83,10 @@ CaptureReader::CaptureReader(std::unique_ptr<Source> source) : source_(std::move
     source_->read(0, &header_, sizeof header_);
     if (std::memcmp(header_.magic, kFileMagic, sizeof kFileMagic) != 0)
         throw DecodeError(0, "not a glcast capture (bad magic)");
-    if (header_.version != kFormatVersion)
-        throw DecodeError(8, "format version " + std::to_string(header_.version) + ", this glcast reads version " +
-                                 std::to_string(kFormatVersion));
+    if (header_.version < kOldestReadableFormatVersion || header_.version > kFormatVersion)
+        throw DecodeError(8, "format version " + std::to_string(header_.version) + ", this glcast reads versions " +
+                                 std::to_string(kOldestReadableFormatVersion) + " to " + std::to_string(kFormatVersion) +
+                                 (header_.version > kFormatVersion ? " (written by a newer glcast)" : ""));
     if (header_.header_bytes < sizeof(FileHeader) || header_.header_bytes > 4096 ||
         header_.header_bytes > source_->size())
         throw DecodeError(12, "implausible header length " + std::to_string(header_.header_bytes));
@@ -97,12 +98,55 @@ CaptureReader::CaptureReader(std::unique_ptr<Source> source) : source_(std::move
     offset_ = header_.header_bytes;
 }
 
+MessageChain::MessageChain() = default;
+MessageChain::~MessageChain() { ZSTD_freeDCtx(static_cast<ZSTD_DCtx*>(dctx_)); }
+
+void MessageChain::remember(uint64_t sequence, const std::vector<uint8_t>& payload) {
+    payload_.assign(payload.begin(), payload.end());
+    sequence_ = sequence;
+    valid_ = true;
+}
+
+void MessageChain::unpack_delta(const MessageHeader& h, const uint8_t* stored, uint64_t offset, std::vector<uint8_t>& out) {
+    const uint64_t payload_at = offset + sizeof(MessageHeader);
+    if (h.sequence == 0 || !holds(h.sequence - 1))
+        throw DecodeError(payload_at, "message " + std::to_string(h.sequence) + " is coded against message " +
+                                          std::to_string(h.sequence - 1) + ", which this reader does not have" +
+                                          (valid_ ? " (it holds message " + std::to_string(sequence_) + ")" : ""));
+    const bool xor_coded = h.flags & kMsgXor;
+    if (xor_coded && payload_.size() != h.raw_bytes)
+        throw DecodeError(offset + 20, "message " + std::to_string(h.sequence) + " is XORed with message " +
+                                           std::to_string(h.sequence - 1) + " of " + std::to_string(payload_.size()) +
+                                           " bytes, but has " + std::to_string(h.raw_bytes));
+    if (!dctx_) dctx_ = ZSTD_createDCtx();
+    auto* dctx = static_cast<ZSTD_DCtx*>(dctx_);
+    // The window a frame may ask for is bounded by zstd's default limit (2^27): no frame makes
+    // the reader allocate more than its raw_bytes, which the header checks bound.
+    ZSTD_DCtx_reset(dctx, ZSTD_reset_session_and_parameters);
+    if (!xor_coded) ZSTD_DCtx_refPrefix(dctx, payload_.data(), payload_.size());
+    out.resize(h.raw_bytes);
+    const size_t n = ZSTD_decompressDCtx(dctx, out.data(), out.size(), stored, h.stored_bytes);
+    if (ZSTD_isError(n) || n != h.raw_bytes)
+        throw DecodeError(payload_at, std::string("bad zstd payload (coded against the previous message): ") +
+                                          (ZSTD_isError(n) ? ZSTD_getErrorName(n) : "length differs from header"));
+    if (xor_coded)
+        for (size_t i = 0; i < out.size(); i++) out[i] ^= payload_[i];
+}
+
 // The checks every message gets, wherever it came from.
-static void check_and_unpack(const MessageHeader& h, const uint8_t* stored_data, uint64_t offset, Message& m) {
+static void check_and_unpack(const MessageHeader& h, const uint8_t* stored_data, uint64_t offset, Message& m,
+                             MessageChain* chain, bool delta_allowed = true) {
     const uint64_t payload_at = offset + sizeof(MessageHeader);
     if (h.magic != kMessageMagic) throw DecodeError(offset, "bad message magic (corrupted stream)");
-    if (h.flags & ~uint32_t(kMsgCompressed | kMsgFrameEnd | kMsgStreamEnd))
-        throw DecodeError(offset + 4, "unknown message flags " + std::to_string(h.flags));
+    const uint32_t known =
+        kMsgCompressed | kMsgFrameEnd | kMsgStreamEnd | (delta_allowed ? uint32_t(kMsgDelta | kMsgXor) : 0u);
+    if (h.flags & ~known) throw DecodeError(offset + 4, "unknown message flags " + std::to_string(h.flags));
+    if ((h.flags & kMsgDelta) && (h.flags & kMsgXor))
+        throw DecodeError(offset + 4, "a message coded against the previous one both as prefix and XOR (flags " +
+                                          std::to_string(h.flags) + ")");
+    if ((h.flags & (kMsgDelta | kMsgXor)) && !(h.flags & kMsgCompressed))
+        throw DecodeError(offset + 4, "a message coded against the previous one must be compressed (flags " +
+                                          std::to_string(h.flags) + ")");
     if (h.raw_bytes > kMaxMessageBytes || h.stored_bytes > kMaxMessageBytes)
         throw DecodeError(offset + 20, "absurd message length (" + std::to_string(h.stored_bytes) + " stored, " +
                                            std::to_string(h.raw_bytes) + " raw; limit " +
@@ -115,7 +159,12 @@ static void check_and_unpack(const MessageHeader& h, const uint8_t* stored_data,
 #endif
     m.header = h;
     m.offset = offset;
-    if (h.flags & kMsgCompressed) {
+    if (h.flags & (kMsgDelta | kMsgXor)) {
+        if (!chain)
+            throw DecodeError(payload_at, "message " + std::to_string(h.sequence) +
+                                              " is coded against the previous one, and this reader keeps none");
+        chain->unpack_delta(h, stored_data, offset, m.payload);
+    } else if (h.flags & kMsgCompressed) {
         m.payload.resize(h.raw_bytes);
         const size_t n = ZSTD_decompress(m.payload.data(), m.payload.size(), stored_data, h.stored_bytes);
         if (ZSTD_isError(n) || n != h.raw_bytes)
@@ -124,9 +173,10 @@ static void check_and_unpack(const MessageHeader& h, const uint8_t* stored_data,
     } else {
         m.payload.assign(stored_data, stored_data + h.stored_bytes);
     }
+    if (chain) chain->remember(h.sequence, m.payload);
 }
 
-void decode_message(const uint8_t* data, size_t size, uint64_t offset, Message& m) {
+void decode_message(const uint8_t* data, size_t size, uint64_t offset, Message& m, MessageChain* chain) {
     if (size < sizeof(MessageHeader))
         throw DecodeError(offset, "truncated message header (" + std::to_string(size) + " bytes)");
     MessageHeader h;
@@ -134,7 +184,7 @@ void decode_message(const uint8_t* data, size_t size, uint64_t offset, Message& 
     if (h.magic == kMessageMagic && h.stored_bytes != size - sizeof h)
         throw DecodeError(offset + 20, "message announces " + std::to_string(h.stored_bytes) + " bytes, carries " +
                                            std::to_string(size - sizeof h));
-    check_and_unpack(h, data + sizeof h, offset, m);
+    check_and_unpack(h, data + sizeof h, offset, m, chain);
 }
 
 bool CaptureReader::next(Message& m) {
@@ -161,7 +211,7 @@ bool CaptureReader::next(Message& m) {
                                           std::to_string(size - payload_at) + " left");
     std::vector<uint8_t> stored(h.stored_bytes);
     source_->read(payload_at, stored.data(), stored.size());
-    check_and_unpack(h, stored.data(), offset_, m);
+    check_and_unpack(h, stored.data(), offset_, m, &chain_, header_.version >= 2);
     offset_ = payload_at + h.stored_bytes;
     expected_sequence_++;
     if (h.flags & kMsgFrameEnd) expected_frame_++;

@@ -112,9 +112,32 @@ public:
     virtual bool next(Message& m) = 0;  // false at the end of the stream; throws DecodeError
 };
 
+// What a reader of inter-frame coded messages (kMsgDelta) keeps: the last payload it unpacked and
+// its sequence number, the prefix of the next message. One per stream read in order.
+class MessageChain {
+public:
+    MessageChain();
+    ~MessageChain();
+    MessageChain(const MessageChain&) = delete;
+    MessageChain& operator=(const MessageChain&) = delete;
+    // Unpacks a kMsgDelta message (stored -> out, raw_bytes long); throws DecodeError when the
+    // chain does not end at message sequence - 1 (the reader started after it) or zstd refuses.
+    void unpack_delta(const MessageHeader& h, const uint8_t* stored, uint64_t offset, std::vector<uint8_t>& out);
+    void remember(uint64_t sequence, const std::vector<uint8_t>& payload);
+    void forget() { valid_ = false; }
+    bool holds(uint64_t sequence) const { return valid_ && sequence_ == sequence; }
+
+private:
+    bool valid_ = false;
+    uint64_t sequence_ = 0;
+    std::vector<uint8_t> payload_;
+    void* dctx_ = nullptr;  // ZSTD_DCtx
+};
+
 // Checks and unpacks one framed message held in memory (header and stored payload, exactly
-// `size` bytes); `offset` is where it starts, for errors. Throws DecodeError.
-void decode_message(const uint8_t* data, size_t size, uint64_t offset, Message& m);
+// `size` bytes); `offset` is where it starts, for errors. `chain`: the stream's previous message,
+// needed for kMsgDelta messages, and advanced to this one. Throws DecodeError.
+void decode_message(const uint8_t* data, size_t size, uint64_t offset, Message& m, MessageChain* chain = nullptr);
 
 class CaptureReader : public MessageSource {
 public:
@@ -128,6 +151,7 @@ private:
     uint64_t offset_ = 0;
     uint64_t expected_sequence_ = 0;
     uint64_t expected_frame_ = 0;
+    MessageChain chain_;
 };
 
 }  // namespace glcast

@@ -1,7 +1,8 @@
 // The glcast stream format (docs/stream-format.md). All integers little-endian.
 //
 //   capture file = FileHeader, then messages until end of file
-//   message      = MessageHeader, payload (zstd-compressed when kMsgCompressed)
+//   message      = MessageHeader, payload (zstd-compressed when kMsgCompressed; against the
+//                  previous message's payload as a zstd prefix when also kMsgDelta)
 //   payload      = tuples
 //   tuple        = u32 opcode, u32 context id, u32 body length, body
 //                  (opcodes from kSynthBase on are glcast's own: codegen/annotations/synthetic.yaml)
@@ -19,7 +20,14 @@ inline constexpr char kFileMagic[8] = {'G', 'L', 'C', 'A', 'S', 'T', '\r', '\n'}
 
 // Rows: what changed in each version.
 //   1  first format: request/reply tuples, synthetic opcodes 0xFFFF0000.., zstd messages
-inline constexpr uint32_t kFormatVersion = 1;
+//   2  inter-frame coding: a message may be compressed against the previous message's payload
+//      (kMsgDelta: as a zstd prefix; kMsgXor: XORed with it, same length); key messages (without it) start a capture, a keeper's snapshot, and come
+//      every kKeyIntervalMessages. Version 1 files are still read (they have no kMsgDelta).
+inline constexpr uint32_t kFormatVersion = 2;
+inline constexpr uint32_t kOldestReadableFormatVersion = 1;
+// A key message at least this often, so that a reader can start near any message (a journal's
+// SINCE, a slave joining from a keeper) by decoding from the key before it.
+inline constexpr uint64_t kKeyIntervalMessages = 64;
 
 struct FileHeader {
     char magic[8];
@@ -37,6 +45,8 @@ enum MessageFlags : uint32_t {
     kMsgCompressed = 1,  // payload is one zstd frame
     kMsgFrameEnd = 2,    // the last tuple of the payload ends a frame (a swap)
     kMsgStreamEnd = 4,   // the program has ended: nothing follows (live streams)
+    kMsgDelta = 8,       // with kMsgCompressed: the zstd frame uses message sequence - 1's payload as its prefix
+    kMsgXor = 16,        // with kMsgCompressed: the zstd frame holds the payload XOR message sequence - 1's (same length)
 };
 struct MessageHeader {
     uint32_t magic;

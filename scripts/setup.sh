@@ -17,7 +17,7 @@ packages=(
   # tests: X server, real third-party GL programs
   xvfb xauth mesa-utils xscreensaver-gl googletest libgtest-dev iproute2  # iproute2: multicast test namespaces
   # benchmarks
-  apitrace
+  apitrace xscreensaver-gl-extra        # bench/stream_coding_bench.py: atlantis, sproingies
 )
 
 missing=()

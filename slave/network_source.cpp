@@ -285,6 +285,8 @@ void NetworkSource::fetch_snapshot(bool from_journal) {
         for (const auto& m : snapshot_) join_cost_.bytes += m.size();
     };
     snapshot_.clear();
+    chain_.forget();  // everything comes again, from a key message
+    state_chain_.forget();
     catch_up_bytes_ = 0;
     state_left_ = 0;
     joined_frame_ = 0;
@@ -393,8 +395,14 @@ bool NetworkSource::next(Message& m) {
                 continue;
             }
         }
+        if (!live_ && !state && h.sequence < expected_) {
+            // From a journal's answer, which starts at the key message before the one asked for:
+            // unpacked only so that the chain reaches the next one (docs/stream-format.md).
+            decode_message(bytes.data(), bytes.size(), 0, m, &chain_);
+            continue;
+        }
         bytes_ += bytes.size();
-        decode_message(bytes.data(), bytes.size(), 0, m);
+        decode_message(bytes.data(), bytes.size(), 0, m, state ? &state_chain_ : &chain_);
         // A keeper's state messages count on their own; the master's sequence resumes after them.
         if (!state) expected_ = m.header.sequence + 1;
         else if (!state_left_ && expected_ < after_state_) expected_ = after_state_;

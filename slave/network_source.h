@@ -123,6 +123,9 @@ private:
     uint64_t recoveries_ = 0, bytes_ = 0, master_frame_ = 0;
     std::string gap_;
     bool replaced_ = false;
+    // The master's stream and a keeper's snapshot are each coded against their own previous
+    // message (kMsgDelta): one chain each.
+    MessageChain chain_, state_chain_;
     std::unique_ptr<zmq::socket_t> done_, monitor_;
 };
 

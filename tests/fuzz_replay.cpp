@@ -111,7 +111,7 @@ void load_captures() {
                 t.message = uint32_t(cap.messages.size());
                 cap.tuples.push_back(std::move(t));
             }
-            cap.messages.push_back({m.header.flags & ~uint32_t(kMsgCompressed), m.header.frame});
+            cap.messages.push_back({m.header.flags & ~uint32_t(kMsgCompressed | kMsgDelta), m.header.frame});
         }
         g_captures.push_back(std::move(cap));
     }

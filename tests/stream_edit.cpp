@@ -332,7 +332,7 @@ int main(int argc, char** argv) {
             if (!edited) payload.raw(m.payload.data() + start, size_t(r.offset()) - start);
         }
         MessageHeader h = m.header;
-        h.flags &= ~uint32_t(kMsgCompressed);
+        h.flags &= ~uint32_t(kMsgCompressed | kMsgDelta);  // stored as they are: each stands alone
         h.stored_bytes = h.raw_bytes = uint32_t(payload.b.size());
         h.crc32 = uint32_t(crc32(0, payload.b.data(), uInt(payload.b.size())));
         messages.emplace_back(h, payload.b);

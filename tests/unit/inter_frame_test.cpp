@@ -1,0 +1,185 @@
+// Inter-frame coding (format version 2, docs/stream-format.md): messages compressed against the
+// previous message's payload, key messages, and the readers' refusals of what they cannot read.
+#include <gtest/gtest.h>
+#include <unistd.h>
+#include <zlib.h>
+
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <random>
+
+#include "master/stream.h"
+#include "protocol/decoder.h"
+#include "protocol/format.h"
+
+namespace glcast {
+namespace {
+
+class MemorySink : public MessageSink {
+public:
+    explicit MemorySink(std::vector<std::vector<uint8_t>>& out) : out_(out) {}
+    void write(const std::vector<uint8_t>& message) override { out_.push_back(message); }
+
+private:
+    std::vector<std::vector<uint8_t>>& out_;
+};
+
+// Frames that repeat with small changes, as an immediate-mode program's do: one tuple each of a
+// fake opcode with 40 KB of floats, a few of them moved a little, or (moving) all of them.
+std::vector<std::vector<uint8_t>> frames_of_a_program(int frames, bool moving = false) {
+    std::vector<std::vector<uint8_t>> out;
+    std::mt19937 random(3);
+    std::vector<float> vertices(10000);
+    for (float& v : vertices) v = float(random() % 1000) / 7.0f;
+    for (int f = 0; f < frames; f++) {
+        for (int k = 0; k < 40; k++) vertices[random() % vertices.size()] += 0.5f;  // a little moves
+        if (moving)
+            for (size_t i = 0; i < vertices.size(); i++) vertices[i] += 0.001f * float((i * 7 + f) % 5);
+        std::vector<uint8_t> tuple(kTupleHeaderBytes + vertices.size() * 4);
+        const uint32_t opcode = 1, context = 1, body = uint32_t(vertices.size() * 4);
+        std::memcpy(tuple.data(), &opcode, 4);
+        std::memcpy(tuple.data() + 4, &context, 4);
+        std::memcpy(tuple.data() + 8, &body, 4);
+        std::memcpy(tuple.data() + kTupleHeaderBytes, vertices.data(), body);
+        out.push_back(tuple);
+    }
+    return out;
+}
+
+std::vector<std::vector<uint8_t>> encode(const std::vector<std::vector<uint8_t>>& frames, bool inter_frame) {
+    std::vector<std::vector<uint8_t>> messages;
+    std::vector<std::unique_ptr<MessageSink>> sinks;
+    sinks.push_back(std::make_unique<MemorySink>(messages));
+    Stream stream(std::move(sinks), 1, 4, inter_frame);
+    for (const auto& f : frames) {
+        stream.append(f.data(), f.size());
+        stream.end_frame();
+    }
+    stream.close();
+    return messages;
+}
+
+MessageHeader header_of(const std::vector<uint8_t>& m) {
+    MessageHeader h;
+    std::memcpy(&h, m.data(), sizeof h);
+    return h;
+}
+
+size_t total(const std::vector<std::vector<uint8_t>>& messages) {
+    size_t n = 0;
+    for (const auto& m : messages) n += m.size();
+    return n;
+}
+
+std::vector<uint8_t> as_file(const std::vector<std::vector<uint8_t>>& messages, uint32_t version) {
+    FileHeader h = make_file_header();
+    h.version = version;
+    std::vector<uint8_t> file(reinterpret_cast<const uint8_t*>(&h), reinterpret_cast<const uint8_t*>(&h) + sizeof h);
+    for (const auto& m : messages) file.insert(file.end(), m.begin(), m.end());
+    return file;
+}
+
+std::string error_reading(const std::vector<uint8_t>& file) {
+    try {
+        CaptureReader reader(memory_source(file.data(), file.size()));
+        Message m;
+        while (reader.next(m)) {
+        }
+    } catch (const DecodeError& e) {
+        return e.what();
+    }
+    return "";
+}
+
+}  // namespace
+
+TEST(InterFrame, SmallerAndReadBackExactly) {
+    const auto frames = frames_of_a_program(150);
+    const auto alone = encode(frames, false), coded = encode(frames, true);
+    ASSERT_EQ(alone.size(), coded.size());
+    size_t keys = 0, xored = 0;
+    for (const auto& m : coded) {
+        const MessageHeader h = header_of(m);
+        const bool key = !(h.flags & (kMsgDelta | kMsgXor));
+        keys += key;
+        xored += (h.flags & kMsgXor) != 0;
+        EXPECT_EQ(key, h.sequence % kKeyIntervalMessages == 0 || !(h.flags & kMsgCompressed)) << h.sequence;
+    }
+    EXPECT_GE(keys, 3u);  // 0, 64, 128 (and the empty end-of-frame messages, stored)
+    size_t moving_xored = 0;
+    for (const auto& m : encode(frames_of_a_program(20, true), true)) moving_xored += (header_of(m).flags & kMsgXor) != 0;
+    EXPECT_GT(moving_xored, 15u);  // frames of one length whose numbers all moved: XORed with the last
+    EXPECT_LT(total(coded) * 4, total(alone)) << "coded " << total(coded) << ", alone " << total(alone);
+
+    const std::vector<uint8_t> file = as_file(coded, kFormatVersion);
+    CaptureReader reader(memory_source(file.data(), file.size()));
+    Message m;
+    size_t f = 0;
+    while (reader.next(m))
+        if (!m.payload.empty()) {
+            ASSERT_LT(f, frames.size());
+            EXPECT_EQ(m.payload, frames[f]) << "frame " << f;
+            f++;
+        }
+    EXPECT_EQ(f, frames.size());
+}
+
+TEST(InterFrame, AReaderWithoutThePreviousMessageRefusesIt) {
+    const auto coded = encode(frames_of_a_program(10), true);
+    MessageChain chain;
+    Message m;
+    // From the key: fine. From message 2 without 1: refused, naming both.
+    decode_message(coded[0].data(), coded[0].size(), 0, m, &chain);
+    size_t delta = 1;
+    while (delta < coded.size() && !(header_of(coded[delta]).flags & (kMsgDelta | kMsgXor))) delta++;
+    ASSERT_LT(delta + 1, coded.size());
+    MessageChain fresh;
+    try {
+        decode_message(coded[delta + 1].data(), coded[delta + 1].size(), 0, m, &fresh);
+        FAIL() << "a delta message without its predecessor was read";
+    } catch (const DecodeError& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find("is coded against message " + std::to_string(header_of(coded[delta + 1]).sequence - 1) +
+                            ", which this reader does not have"),
+                  std::string::npos)
+            << what;
+    }
+    EXPECT_THROW(decode_message(coded[delta].data(), coded[delta].size(), 0, m), DecodeError);  // no chain at all
+}
+
+TEST(InterFrame, VersionsAndBadDeltasAreRefusedClearly) {
+    auto coded = encode(frames_of_a_program(5), true);
+    EXPECT_EQ(error_reading(as_file(coded, kFormatVersion)), "");
+    // A newer glcast's file, an older one that cannot have kMsgDelta, a version that never was.
+    EXPECT_NE(error_reading(as_file(coded, kFormatVersion + 1)).find("written by a newer glcast"), std::string::npos);
+    EXPECT_NE(error_reading(as_file(coded, 1)).find("unknown message flags"), std::string::npos);
+    EXPECT_NE(error_reading(as_file(coded, 0)).find("reads versions 1 to"), std::string::npos);
+    // A delta message's payload damaged (its checksum made right): zstd's refusal, not a crash.
+    size_t k = 1;
+    while (!(header_of(coded[k]).flags & (kMsgDelta | kMsgXor))) k++;
+    for (size_t i = sizeof(MessageHeader); i < coded[k].size(); i++) coded[k][i] ^= 0x5a;
+    MessageHeader h = header_of(coded[k]);
+    h.crc32 = uint32_t(crc32(0, coded[k].data() + sizeof h, uInt(h.stored_bytes)));
+    std::memcpy(coded[k].data(), &h, sizeof h);
+    const std::string damaged = error_reading(as_file(coded, kFormatVersion));
+    EXPECT_NE(damaged.find("bad zstd payload (coded against the previous message)"), std::string::npos) << damaged;
+    // An XORed message whose length is not the previous one's.
+    auto lengths = encode(frames_of_a_program(3, true), true);
+    size_t x = 1;
+    while (x < lengths.size() && !(header_of(lengths[x]).flags & kMsgXor)) x++;
+    ASSERT_LT(x, lengths.size());
+    MessageHeader longer = header_of(lengths[x]);
+    longer.raw_bytes += 4;
+    longer.crc32 = uint32_t(crc32(0, lengths[x].data() + sizeof longer, uInt(longer.stored_bytes)));
+    std::memcpy(lengths[x].data(), &longer, sizeof longer);
+    EXPECT_NE(error_reading(as_file(lengths, kFormatVersion)).find("is XORed with message"), std::string::npos);
+    // Delta without compression is not a thing.
+    auto flags_only = encode(frames_of_a_program(3), true);
+    MessageHeader bad = header_of(flags_only[0]);
+    bad.flags = kMsgDelta;
+    std::memcpy(flags_only[0].data(), &bad, sizeof bad);
+    EXPECT_NE(error_reading(as_file(flags_only, kFormatVersion)).find("must be compressed"), std::string::npos);
+}
+
+}  // namespace glcast
