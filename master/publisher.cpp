@@ -193,15 +193,16 @@ void PublisherSink::write(const std::vector<uint8_t>& message) {
     MessageHeader h{};
     if (message.size() >= sizeof h) std::memcpy(&h, message.data(), sizeof h);
     if (h.frame > frame_.load(std::memory_order_relaxed)) frame_.store(h.frame, std::memory_order_relaxed);
+    // One copy of the message, shared by the journal and the send: ZeroMQ sends it without a copy
+    // of its own and frees it when the last subscriber's queue let go of it.
+    Shared kept = std::make_shared<const std::vector<uint8_t>>(message);
     if (!options_.snapshot_endpoint.empty()) {
-        // The copy is made outside the lock: the serving thread waits for it at most for an append.
-        Shared kept = std::make_shared<const std::vector<uint8_t>>(message);
         std::deque<Shared> gone;  // freed after the lock is released
         bool first_loss = false;
         {
             std::lock_guard lock(journal_mutex_);
             if (journal_.empty()) journal_first_ = h.sequence;
-            journal_.push_back(std::move(kept));
+            journal_.push_back(kept);
             journal_bytes_ += message.size();
             // A ring: the oldest go first; the newest message always stays.
             while (journal_bytes_ > options_.journal_limit_bytes && journal_.size() > 1) {
@@ -221,7 +222,8 @@ void PublisherSink::write(const std::vector<uint8_t>& message) {
         return;
     }
     // Never wait for a subscriber: a full queue loses the message, the slave sees the gap.
-    if (!pub_->send(zmq::buffer(message), zmq::send_flags::dontwait)) dropped_++;
+    zmq::message_t body(const_cast<uint8_t*>(kept->data()), kept->size(), release_shared, new Shared(kept));
+    if (!pub_->send(body, zmq::send_flags::dontwait)) dropped_++;
     // Lockstep (asked for): the frame this message ends must be replayed by every slave first. A
     // slave silent for kLockstepDropSeconds is no longer waited for; it is again once more slaves
     // than are waited for replay a frame (handle_request).
@@ -372,13 +374,18 @@ bool PublisherSink::serve(zmq::socket_t& router, Session& s, double now) {
         // Up to the newest message: it holds the first live message the slave saw, so the
         // answer covers everything before.
         s.end = journal_first_ + journal_.size();
-        // From the key message at or before the one asked for: a message coded against the one
-        // before it (kMsgDelta) cannot be read without it; the peer decodes the few before the
-        // one it asked for and drops them. Without that key in the ring: GONE.
-        while (s.next > journal_first_ && s.next < s.end && is_delta(*journal_[size_t(s.next - journal_first_)]))
-            s.next--;
-        if (s.next >= journal_first_ && s.next < s.end && is_delta(*journal_[size_t(s.next - journal_first_)]))
-            s.next = journal_first_ > 0 ? journal_first_ - 1 : s.end + 1;  // the key is gone: GONE
+        // From the key message at or before the one asked for (or before the newest, when the
+        // one asked for is yet to come, coded against the newest): a message coded against the
+        // one before it (kMsgDelta, kMsgXor) cannot be read without it. The peer unpacks the few
+        // before the one it asked for to reach it, and drops them. Without that key: GONE.
+        if (!s.whole && s.end > journal_first_ && s.next >= journal_first_) {
+            uint64_t at = std::min(s.next, s.end - 1);
+            while (at > journal_first_ && is_delta(*journal_[size_t(at - journal_first_)])) at--;
+            if (is_delta(*journal_[size_t(at - journal_first_)]))
+                s.next = journal_first_ > 0 ? journal_first_ - 1 : s.end + 1;  // the key is gone: GONE
+            else
+                s.next = std::min(s.next, at);
+        }
         s.started = true;
     }
     auto send_part = [&](zmq::message_t& body) -> int {  // 1 sent, 0 queue full, -1 peer gone

@@ -309,14 +309,20 @@ void NetworkSource::fetch_snapshot(bool from_journal) {
         state_left_ = snapshot_.size();
         after_state_ = expected_ = state.sequence + 1;
         joined_frame_ = state.frame;
-        // The messages between the keeper's boundary and the first live one this slave holds:
-        // kept while the keeper worked, or from the journal.
-        if (!early_.empty() && sequence_of(early_.front()) <= state.sequence + 1) {
+        // The messages between the keeper's boundary and the first live one this slave holds.
+        // From the journal, which answers from the key message before them (the first may be
+        // coded against one this slave never had); without a journal, those kept while the
+        // keeper worked.
+        replay_from_ = state.sequence + 1;
+        if (!journal_endpoint_.empty()) {
+            if (!fetch_since(state.sequence + 1))
+                throw std::runtime_error("the master's journal no longer holds message " +
+                                         std::to_string(state.sequence + 1) +
+                                         ", where the keeper's snapshot ends (the keeper is behind)");
+        } else if (!early_.empty() && sequence_of(early_.front()) <= state.sequence + 1) {
             for (auto& m : early_)
                 if (sequence_of(m) > state.sequence) snapshot_.push_back(std::move(m));
-        } else if (!journal_endpoint_.empty() && !fetch_since(state.sequence + 1))
-            throw std::runtime_error("the master's journal no longer holds message " + std::to_string(state.sequence + 1) +
-                                     ", where the keeper's snapshot ends (the keeper is behind)");
+        }
         early_.clear();
         early_bytes_ = 0;
         if (snapshot_.size() > state_left_) expected_ = sequence_of(snapshot_.back()) + 1;
@@ -325,6 +331,7 @@ void NetworkSource::fetch_snapshot(bool from_journal) {
         return;
     }
     if (journal_endpoint_.empty()) return;  // no late join: live messages only, from sequence 0
+    replay_from_ = 0;
     const bool whole = ask_journal("SNAPSHOT", [&](zmq::message_t& part) {
         snapshot_.emplace_back(part.data<uint8_t>(), part.data<uint8_t>() + part.size());
     });
@@ -389,13 +396,14 @@ bool NetworkSource::next(Message& m) {
                 first_live_ = bytes;  // live, so what the journal answers now covers all before it
                 if (on_gap) on_gap();
                 catch_up_bytes_ = 0;
+                replay_from_ = expected_;  // the journal answers from the key before it
                 if (fetch_since(expected_)) continue;
                 if (on_restart) on_restart();
                 fetch_snapshot();
                 continue;
             }
         }
-        if (!live_ && !state && h.sequence < expected_) {
+        if (!live_ && !state && h.sequence < replay_from_) {
             // From a journal's answer, which starts at the key message before the one asked for:
             // unpacked only so that the chain reaches the next one (docs/stream-format.md).
             decode_message(bytes.data(), bytes.size(), 0, m, &chain_);

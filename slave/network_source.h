@@ -112,6 +112,8 @@ private:
     uint64_t catch_up_bytes_ = 0;  // taken from peers in the catching up under way
     size_t state_left_ = 0;      // the first messages of snapshot_ are a keeper's state messages
     uint64_t after_state_ = 0;   // the master's sequence that follows them
+    uint64_t replay_from_ = 0;   // journal messages before it only advance chain_ (they were asked
+                                 // for from a later one: the journal answers from the key before)
     uint64_t joined_frame_ = 0;
     JoinCost join_cost_;
     std::vector<uint8_t> first_live_;  // received before the snapshot was asked for

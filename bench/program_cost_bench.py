@@ -1,0 +1,107 @@
+#!/usr/bin/env python3
+"""What glcast costs the program (issue 15): frames per second and CPU time per frame (user +
+system, from rusage) of each program natively, capturing to a file, publishing with no slave
+(ipc://, with the journal, as glcast run does) and publishing to one slave (glcast slave, EGL,
+its own process, not counted). The configurations run interleaved, REPEATS times each; medians.
+Writes a markdown table to stdout.
+
+    bench/program_cost_bench.py BUILD_DIR [--frames N] [--repeats R]
+"""
+import argparse
+import os
+import re
+import resource
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "e2e"))
+from xvfb import Xvfb  # noqa: E402
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+HACKS = "/usr/libexec/xscreensaver"
+
+
+def programs():
+    geometry = ["-window", "-geometry", "640x480", "-delay", "0"]
+    out = {"glxgears": ["glxgears", "-geometry", "640x480"]}
+    for name in ("moebius", "atlantis", "sproingies", "gears", "pipes", "superquadrics", "engine"):
+        if os.path.exists(os.path.join(HACKS, name)):
+            out[name] = [os.path.join(HACKS, name)] + geometry
+    return out
+
+
+def children_cpu():
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
+
+
+def run(cmd, env, frames):
+    before = children_cpu()
+    r = subprocess.run(cmd, env=dict(os.environ, FRAME_COUNTER_EXIT=str(frames), FRAME_COUNTER_SKIP="10", **env),
+                       capture_output=True, text=True, timeout=600)
+    cpu = children_cpu() - before
+    m = re.search(r"frame_counter: (\d+) frames in ([\d.]+) s", r.stderr)
+    if not m:
+        raise RuntimeError(f"{cmd}: no frame count: {r.stderr[-1500:]}")
+    return int(m.group(1)) / float(m.group(2)), cpu / frames * 1000  # fps, CPU ms per frame
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("build")
+    ap.add_argument("--frames", type=int, default=400)
+    ap.add_argument("--repeats", type=int, default=3)
+    a = ap.parse_args()
+    build = os.path.abspath(a.build)
+    shim, glcast = os.path.join(build, "libglcast.so"), os.path.join(build, "glcast")
+    tmp = tempfile.mkdtemp(prefix="glcast-cost-")
+    counter = os.path.join(tmp, "frame_counter.so")
+    subprocess.run(["gcc", "-O2", "-shared", "-fPIC", "-o", counter, os.path.join(HERE, "frame_counter.c"), "-ldl"],
+                   check=True)
+    stream = f"ipc://{tmp}/stream"
+    publish = {"LD_PRELOAD": f"{counter}:{shim}", "GLCAST_PUBLISH": stream, "GLCAST_JOURNAL_ENDPOINT": stream + "-journal"}
+    rows = []
+    with Xvfb():
+        for name, cmd in programs().items():
+            configs = {
+                "native": {"LD_PRELOAD": counter},
+                "capture": {"LD_PRELOAD": f"{counter}:{shim}", "GLCAST_CAPTURE": os.path.join(tmp, "c.glcs")},
+                "publish": publish,
+                "slave": dict(publish, GLCAST_WAIT_SUBSCRIBERS="1"),
+            }
+            results = {k: [] for k in configs}
+            for _ in range(a.repeats):
+                for k, env in configs.items():
+                    slave = None
+                    if k == "slave":
+                        slave = subprocess.Popen([glcast, "slave", "--connect", stream, "--journal", stream + "-journal",
+                                                  "--backend", "egl", "--quiet", "--wait", "60"],
+                                                 stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+                        time.sleep(0.3)
+                    results[k].append(run(cmd, env, a.frames))
+                    if slave:
+                        try:
+                            slave.wait(timeout=120)
+                        except subprocess.TimeoutExpired:
+                            slave.kill()
+                            slave.wait()
+            med = {k: (statistics.median(f for f, _ in v), statistics.median(c for _, c in v)) for k, v in results.items()}
+            rows.append((name, med))
+            print(f"{name}: {med}", file=sys.stderr)
+
+    print(f"Median of {a.repeats} interleaved runs of {a.frames} frames (fps over frames 10 on; CPU: the program's "
+          "user + system time over the whole run / frames), 640x480, llvmpipe under Xvfb, 2 cores.\n")
+    print("| program | native fps | capture | publish, no slave | publish, one slave | native CPU ms/frame | capture | "
+          "publish, no slave | publish, one slave |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for name, m in rows:
+        nf, nc = m["native"]
+        print(f"| {name} | {nf:.0f} | {m['capture'][0] / nf:.2f} | {m['publish'][0] / nf:.2f} | {m['slave'][0] / nf:.2f} | "
+              f"{nc:.2f} | {m['capture'][1] / nc:.2f} | {m['publish'][1] / nc:.2f} | {m['slave'][1] / nc:.2f} |")
+
+
+if __name__ == "__main__":
+    main()
