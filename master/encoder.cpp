@@ -20,9 +20,10 @@ void Encoder::end() {
 }
 
 void Encoder::put(const void* p, size_t n) {
-    const size_t at = out_.size();
-    out_.resize(at + n);
-    if (n) std::memcpy(out_.data() + at, p, n);
+    // insert, not resize + memcpy: no zero fill of what is written next (resize's
+    // _M_default_append was 1.2% of moebius's time while publishing).
+    const auto* bytes = static_cast<const uint8_t*>(p);
+    if (n) out_.insert(out_.end(), bytes, bytes + n);
 }
 
 bool Encoder::checked_bytes(int64_t count, size_t elem_bytes, uint32_t& out_count) {

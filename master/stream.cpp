@@ -50,6 +50,10 @@ void Stream::end_frame() {
 void Stream::seal_locked(bool frame_end) {
     if (open_.empty() && !frame_end) return;
     queue_.push_back(Batch{std::move(open_), next_sequence_++, open_frame_, frame_end});
+    // The next batch fills a buffer the writer is done with: in a steady run appending a call
+    // allocates nothing.
+    open_ = std::move(spare_);
+    spare_ = {};
     open_.clear();
     in_flight_++;
     queue_changed_.notify_all();
@@ -121,37 +125,53 @@ void Stream::writer_loop() {
         message.resize(sizeof h + ZSTD_compressBound(batch.payload.size()));
         size_t stored = batch.payload.size();
         if (zstd_level_ > 0 && !batch.payload.empty()) {
+            const std::vector<uint8_t>& raw = batch.payload;
             const bool coded = inter_frame_ && batch.sequence % kKeyIntervalMessages != 0 && !previous.empty();
-            ZSTD_CCtx_reset(cctx, ZSTD_reset_session_and_parameters);
-            ZSTD_CCtx_setParameter(cctx, ZSTD_c_compressionLevel, zstd_level_);
-            if (coded) {
-                // The window spans the prefix and the message, so that any of the prefix can be matched.
-                int window_log = 10;
-                while (window_log < 27 && (size_t(1) << window_log) < previous.size() + batch.payload.size()) window_log++;
-                ZSTD_CCtx_setParameter(cctx, ZSTD_c_windowLog, window_log);
-                ZSTD_CCtx_refPrefix(cctx, previous.data(), previous.size());
-            }
-            size_t n = ZSTD_compress2(cctx, message.data() + sizeof h, message.size() - sizeof h, batch.payload.data(),
-                                      batch.payload.size());
-            uint32_t how = coded ? uint32_t(kMsgDelta) : 0u;
-            // A frame of the same calls as the last, with numbers that moved (animated vertices):
-            // XORed with the last, what stayed is zeros and what moved keeps its high bytes
-            // alike. Kept when smaller than the prefix coding (about half of it on xscreensaver's
-            // superquadrics, atlantis).
-            if (coded && previous.size() == batch.payload.size() && !ZSTD_isError(n)) {
-                xored.resize(previous.size());
-                for (size_t i = 0; i < xored.size(); i++) xored[i] = batch.payload[i] ^ previous[i];
-                alternative.resize(ZSTD_compressBound(xored.size()));
+            auto compress = [&](uint8_t* dst, size_t capacity, const std::vector<uint8_t>& src, bool with_prefix) {
                 ZSTD_CCtx_reset(cctx, ZSTD_reset_session_and_parameters);
                 ZSTD_CCtx_setParameter(cctx, ZSTD_c_compressionLevel, zstd_level_);
-                const size_t x = ZSTD_compress2(cctx, alternative.data(), alternative.size(), xored.data(), xored.size());
-                if (!ZSTD_isError(x) && x < n) {
-                    std::memcpy(message.data() + sizeof h, alternative.data(), x);
-                    n = x;
-                    how = kMsgXor;
+                if (with_prefix) {
+                    // The window spans the prefix and the message, so that any of the prefix can be matched.
+                    int window_log = 10;
+                    while (window_log < 27 && (size_t(1) << window_log) < previous.size() + src.size()) window_log++;
+                    ZSTD_CCtx_setParameter(cctx, ZSTD_c_windowLog, window_log);
+                    ZSTD_CCtx_refPrefix(cctx, previous.data(), previous.size());
+                }
+                return ZSTD_compress2(cctx, dst, capacity, src.data(), src.size());
+            };
+            auto xor_with_previous = [&] {
+                xored.resize(raw.size());
+                for (size_t i = 0; i < xored.size(); i++) xored[i] = raw[i] ^ previous[i];
+            };
+            // A frame of the same calls as the last, with numbers that moved (animated vertices):
+            // XORed with the last, what stayed is zeros and what moved keeps its high bytes alike
+            // (about half the prefix coding's bytes on xscreensaver's superquadrics, 3/4 on
+            // atlantis; a little more on moebius). Both are tried on the first two messages after
+            // a key; the smaller is used until the next key, so the writer compresses once.
+            const bool same_length = coded && previous.size() == raw.size();
+            const bool trial = same_length && batch.sequence % kKeyIntervalMessages <= 2;
+            uint32_t how = 0;
+            size_t n;
+            if (same_length && prefer_xor_ && !trial) {
+                xor_with_previous();
+                n = compress(message.data() + sizeof h, message.size() - sizeof h, xored, false);
+                how = kMsgXor;
+            } else {
+                n = compress(message.data() + sizeof h, message.size() - sizeof h, raw, coded);
+                how = coded ? uint32_t(kMsgDelta) : 0u;
+                if (trial && !ZSTD_isError(n)) {
+                    xor_with_previous();
+                    alternative.resize(ZSTD_compressBound(xored.size()));
+                    const size_t x = compress(alternative.data(), alternative.size(), xored, false);
+                    prefer_xor_ = !ZSTD_isError(x) && x < n;
+                    if (prefer_xor_) {
+                        std::memcpy(message.data() + sizeof h, alternative.data(), x);
+                        n = x;
+                        how = kMsgXor;
+                    }
                 }
             }
-            if (!ZSTD_isError(n) && n < batch.payload.size()) {
+            if (!ZSTD_isError(n) && n < raw.size()) {
                 stored = n;
                 h.flags |= kMsgCompressed | how;
             }
@@ -166,6 +186,7 @@ void Stream::writer_loop() {
         for (auto& s : sinks_) s->write(message);
         previous.swap(batch.payload);  // the batch is done with: no copy
         std::lock_guard lock(mutex_);
+        if (spare_.capacity() < batch.payload.capacity()) spare_.swap(batch.payload);  // the older prefix, for reuse
         stats_.messages++;
         stats_.stored_bytes += message.size();
         in_flight_--;

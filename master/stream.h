@@ -58,6 +58,7 @@ private:
     mutable std::mutex mutex_;
     std::condition_variable queue_changed_;
     std::vector<uint8_t> open_;       // the batch being filled
+    std::vector<uint8_t> spare_;      // a payload buffer the writer is done with, for the next batch
     uint32_t open_frame_ = 0;
     std::deque<Batch> queue_;
     size_t queue_depth_;
@@ -68,6 +69,7 @@ private:
     StreamStats stats_;
     int zstd_level_;
     bool inter_frame_;
+    bool prefer_xor_ = false;  // writer thread: the coding chosen after the last key (writer_loop)
     std::vector<std::unique_ptr<MessageSink>> sinks_;
     std::thread writer_;
 };
