@@ -65,9 +65,12 @@ def main():
                                ("alone3", {"GLCAST_INTER_FRAME": "0", "GLCAST_ZSTD_LEVEL": "3"}),
                                ("inter3", {"GLCAST_ZSTD_LEVEL": "3"}), ("raw", {"GLCAST_ZSTD_LEVEL": "0"})):
                 capture = os.path.join(tmp, f"{name}-{label}.glcs")
-                subprocess.run(cmd, env=dict(os.environ, LD_PRELOAD=shim, GLCAST_CAPTURE=capture,
-                                             GLCAST_FRAMES=str(a.frames), GLCAST_EXIT_AFTER_FRAMES="1", **env),
-                               capture_output=True, timeout=600)
+                r = subprocess.run(cmd, env=dict(os.environ, LD_PRELOAD=shim, GLCAST_CAPTURE=capture,
+                                                 GLCAST_FRAMES=str(a.frames), GLCAST_EXIT_AFTER_FRAMES="1",
+                                                 GLCAST_VERBOSE="1", **env),
+                                   capture_output=True, text=True, timeout=600)
+                m = re.search(r"compression ([\d.]+) ms a frame", r.stderr)
+                row[label + "_ms"] = float(m.group(1)) if m else float("nan")
                 row[label] = summary_bytes(glcast, capture, *steady) / (steady[1] - steady[0] + 1)
                 row[label + "_all"] = os.path.getsize(capture) / a.frames
             trace = os.path.join(tmp, f"{name}.trace")
@@ -79,14 +82,18 @@ def main():
             print(f"{name}: {row}", file=sys.stderr)
 
     print(f"Bytes per frame: frames {steady[0]}-{steady[1]} of {a.frames} (steady state) and the whole file / "
-          f"{a.frames} (all, with start-up), 640x480, llvmpipe under Xvfb.\n")
+          f"{a.frames} (all, with start-up), 640x480, llvmpipe under Xvfb. ms/frame: the writer thread's "
+          f"compression time per frame (GLCAST_VERBOSE's summary). KB/s per tile: steady inter-1 bytes x 60 (a unicast "
+          f"tile receives the whole stream).\n")
     print("| program | raw | zstd-1 alone | zstd-1 inter-frame | zstd-3 alone | zstd-3 inter-frame | inter-1 / alone-1 | "
-          "all frames: inter-1 | all frames: apitrace | inter-1 / apitrace (all) |")
-    print("|---|---|---|---|---|---|---|---|---|---|")
+          "all frames: inter-1 | all frames: apitrace | inter-1 / apitrace (all) | ms/frame alone-1 | ms/frame inter-1 | "
+          "KB/s per tile at 60 fps |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for r in rows:
         print(f"| {r['name']} | {r['raw']:,.0f} | {r['alone1']:,.0f} | {r['inter1']:,.0f} | {r['alone3']:,.0f} | "
               f"{r['inter3']:,.0f} | {r['inter1'] / max(r['alone1'], 1):.3f} | {r['inter1_all']:,.0f} | "
-              f"{r['apitrace_all']:,.0f} | {r['inter1_all'] / r['apitrace_all']:.3f} |")
+              f"{r['apitrace_all']:,.0f} | {r['inter1_all'] / r['apitrace_all']:.3f} | {r['alone1_ms']:.3f} | "
+              f"{r['inter1_ms']:.3f} | {r['inter1'] * 60 / 1000:,.1f} |")
 
 
 if __name__ == "__main__":

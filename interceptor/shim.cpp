@@ -125,10 +125,11 @@ void print_summary() {
     if (!g_stream) return;
     const StreamStats st = g_stream->stats();
     std::fprintf(stderr,
-                 "glcast: %llu frames, %llu tuples, %.1f KiB raw, %.1f KiB stored, array cache %llu hits / %llu "
-                 "misses, %llu calls unserialized\n",
+                 "glcast: %llu frames, %llu tuples, %.1f KiB raw, %.1f KiB stored, compression %.3f ms a frame, "
+                 "array cache %llu hits / %llu misses, %llu calls unserialized\n",
                  (unsigned long long)st.frames, (unsigned long long)st.tuples, st.raw_bytes / 1024.0,
-                 st.stored_bytes / 1024.0, (unsigned long long)st.array_cache_hits,
+                 st.stored_bytes / 1024.0, st.frames ? st.compress_seconds * 1000 / double(st.frames) : 0.0,
+                 (unsigned long long)st.array_cache_hits,
                  (unsigned long long)st.array_cache_misses, (unsigned long long)st.unserialized);
     for (uint32_t op = 0; op < kOpcodeCount; ++op)
         if (uint32_t n = g_unserialized[op].load())

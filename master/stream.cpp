@@ -7,6 +7,7 @@
 #include <zstd.h>
 
 #include <cerrno>
+#include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <stdexcept>
@@ -124,6 +125,7 @@ void Stream::writer_loop() {
         h.raw_bytes = uint32_t(batch.payload.size());
         message.resize(sizeof h + ZSTD_compressBound(batch.payload.size()));
         size_t stored = batch.payload.size();
+        const auto compress_start = std::chrono::steady_clock::now();
         if (zstd_level_ > 0 && !batch.payload.empty()) {
             const std::vector<uint8_t>& raw = batch.payload;
             const bool coded = inter_frame_ && batch.sequence % kKeyIntervalMessages != 0 && !previous.empty();
@@ -145,30 +147,20 @@ void Stream::writer_loop() {
             };
             // A frame of the same calls as the last, with numbers that moved (animated vertices):
             // XORed with the last, what stayed is zeros and what moved keeps its high bytes alike
-            // (about half the prefix coding's bytes on xscreensaver's superquadrics, 3/4 on
-            // atlantis; a little more on moebius). Both are tried on the first two messages after
-            // a key; the smaller is used until the next key, so the writer compresses once.
-            const bool same_length = coded && previous.size() == raw.size();
-            const bool trial = same_length && batch.sequence % kKeyIntervalMessages <= 2;
-            uint32_t how = 0;
-            size_t n;
-            if (same_length && prefer_xor_ && !trial) {
+            // (about half the prefix coding's bytes on xscreensaver's superquadrics, 2/3 on
+            // atlantis). Tried, and kept when smaller, where the prefix left more than 1/64 of the
+            // frame: a frame that mostly repeats the last (moebius: 0.4%) gains nothing from it.
+            // Compressing twice costs the writer 0.1-0.3 ms a frame (docs/performance.md).
+            size_t n = compress(message.data() + sizeof h, message.size() - sizeof h, raw, coded);
+            uint32_t how = coded ? uint32_t(kMsgDelta) : 0u;
+            if (coded && previous.size() == raw.size() && !ZSTD_isError(n) && n > raw.size() / 64) {
                 xor_with_previous();
-                n = compress(message.data() + sizeof h, message.size() - sizeof h, xored, false);
-                how = kMsgXor;
-            } else {
-                n = compress(message.data() + sizeof h, message.size() - sizeof h, raw, coded);
-                how = coded ? uint32_t(kMsgDelta) : 0u;
-                if (trial && !ZSTD_isError(n)) {
-                    xor_with_previous();
-                    alternative.resize(ZSTD_compressBound(xored.size()));
-                    const size_t x = compress(alternative.data(), alternative.size(), xored, false);
-                    prefer_xor_ = !ZSTD_isError(x) && x < n;
-                    if (prefer_xor_) {
-                        std::memcpy(message.data() + sizeof h, alternative.data(), x);
-                        n = x;
-                        how = kMsgXor;
-                    }
+                alternative.resize(ZSTD_compressBound(xored.size()));
+                const size_t x = compress(alternative.data(), alternative.size(), xored, false);
+                if (!ZSTD_isError(x) && x < n) {
+                    std::memcpy(message.data() + sizeof h, alternative.data(), x);
+                    n = x;
+                    how = kMsgXor;
                 }
             }
             if (!ZSTD_isError(n) && n < raw.size()) {
@@ -176,6 +168,8 @@ void Stream::writer_loop() {
                 h.flags |= kMsgCompressed | how;
             }
         }
+        const double compress_seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - compress_start).count();
         if (!(h.flags & kMsgCompressed) && stored)
             std::memcpy(message.data() + sizeof h, batch.payload.data(), stored);
         if (batch.frame_end) h.flags |= kMsgFrameEnd;
@@ -189,6 +183,7 @@ void Stream::writer_loop() {
         if (spare_.capacity() < batch.payload.capacity()) spare_.swap(batch.payload);  // the older prefix, for reuse
         stats_.messages++;
         stats_.stored_bytes += message.size();
+        stats_.compress_seconds += compress_seconds;
         in_flight_--;
         queue_changed_.notify_all();
     }

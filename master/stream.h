@@ -26,6 +26,7 @@ public:
 struct StreamStats {
     uint64_t frames = 0, tuples = 0, raw_bytes = 0, stored_bytes = 0, messages = 0;
     uint64_t unserialized = 0, array_cache_hits = 0, array_cache_misses = 0;
+    double compress_seconds = 0;  // the writer thread's time compressing (all messages)
 };
 
 class Stream {
@@ -69,7 +70,6 @@ private:
     StreamStats stats_;
     int zstd_level_;
     bool inter_frame_;
-    bool prefer_xor_ = false;  // writer thread: the coding chosen after the last key (writer_loop)
     std::vector<std::unique_ptr<MessageSink>> sinks_;
     std::thread writer_;
 };
