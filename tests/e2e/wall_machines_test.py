@@ -27,6 +27,7 @@ import sys
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from wall_test import TOLERANCE, check, compare, run  # noqa: E402  (the one-machine wall's helpers)
 from xvfb import Xvfb  # noqa: E402
 
 GLCAST = os.environ["GLCAST"]
@@ -35,7 +36,6 @@ OUT = os.path.join(os.environ.get("OUT_DIR", "/tmp/glcast-e2e"), "wall_machines"
 TILES = {"top-left": ("dispa", 0, 0), "top-right": ("dispa", 640, 0),
          "bottom-left": ("dispb", 0, 480), "bottom-right": ("dispb", 640, 480)}
 ADDRESS = {"master": "10.214.0.1", "dispa": "10.214.0.2", "dispb": "10.214.0.3"}
-TOLERANCE = 0.0001  # of the canvas' pixels: wall_test.py's mosaic tolerance
 HYBRID = os.path.isdir("/sys/fs/cgroup/systemd")  # cgroup v1's name=systemd beside v2, or v2 alone
 HYBRID_BOOT = ("mount -t tmpfs tmpfs /sys/fs/cgroup; mkdir /sys/fs/cgroup/systemd /sys/fs/cgroup/unified\n"
                "mount -t cgroup -o none,name=systemd cgroup /sys/fs/cgroup/systemd\n"
@@ -51,23 +51,6 @@ UNIFIED_BOOT = ("mount -t cgroup2 cgroup2 /sys/fs/cgroup\n"
                 "mkdir -p /sys/fs/cgroup/{cgroup}; echo $$ > /sys/fs/cgroup/{cgroup}/cgroup.procs\n"
                 "umount /sys/fs/cgroup\n"
                 "exec unshare --cgroup sh -c 'set -e; mount -t cgroup2 cgroup2 /sys/fs/cgroup; ")
-
-
-def check(cond, msg):
-    if not cond:
-        print("FAIL: " + msg)
-        sys.exit(1)
-
-
-def run(cmd, env=None, timeout=600):
-    return subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=env)
-
-
-def compare(a, b, crop=None):
-    r = run([GLCAST, "image", "compare", a, b] + (["--crop", crop] if crop else []))
-    m = re.search(r"(\d+) pixels differ, max channel difference (\d+)", r.stdout)
-    check(m, f"compare {a} {b}: {r.stdout} {r.stderr}")
-    return int(m.group(1)), int(m.group(2))
 
 
 @contextlib.contextmanager
