@@ -2,6 +2,8 @@
 
 #include <fcntl.h>
 #include <sys/file.h>
+#include <sys/resource.h>
+#include <sys/syscall.h>
 #include <unistd.h>
 #include <zlib.h>
 #include <zstd.h>
@@ -9,6 +11,7 @@
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <stdexcept>
 
@@ -105,6 +108,12 @@ void Stream::count_unserialized() {
 // one costs what changed. Every kKeyIntervalMessages-th message (and the first) is a key,
 // compressed alone.
 void Stream::writer_loop() {
+    // Below the program's own threads: on a busy machine the program draws first, and the
+    // writer takes what is left (the bounded queue still holds the program back if it is never
+    // left anything).
+    const char* nice = std::getenv("GLCAST_WRITER_NICE");  // 0..19; 10 by default
+    const long level = nice && *nice ? std::strtol(nice, nullptr, 10) : 10;
+    if (level > 0 && level < 20) setpriority(PRIO_PROCESS, pid_t(syscall(SYS_gettid)), int(level));
     ZSTD_CCtx* cctx = ZSTD_createCCtx();
     std::vector<uint8_t> message, previous;  // previous: the last message's payload, the next one's prefix
     std::vector<uint8_t> xored, alternative;  // kept across messages: no allocation per message
