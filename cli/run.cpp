@@ -48,6 +48,16 @@ struct RunArgs {
     std::vector<std::string> effect_args;     // passed on to every slave
 };
 
+// The endpoint beside `endpoint`: the next TCP port, or a sibling IPC path ending in `suffix`.
+std::string next_port(const std::string& endpoint, const std::string& suffix) {
+    const size_t colon = endpoint.rfind(':');
+    if (endpoint.rfind("tcp://", 0) == 0 && colon != std::string::npos && colon > 6) {
+        const int port = std::atoi(endpoint.c_str() + colon + 1);
+        if (port > 0 && port < 65535) return endpoint.substr(0, colon + 1) + std::to_string(port + 1);
+    }
+    return endpoint + suffix;
+}
+
 // The journal's endpoint beside the stream's: the next TCP port (on the multicast interface's
 // address for epgm://ADDRESS;GROUP:PORT), or a sibling IPC path.
 std::string journal_endpoint(const std::string& stream) {
@@ -57,21 +67,7 @@ std::string journal_endpoint(const std::string& stream) {
         const int port = std::atoi(stream.c_str() + colon + 1);
         return "tcp://" + stream.substr(7, semicolon - 7) + ":" + std::to_string(port + 1);
     }
-    if (stream.rfind("tcp://", 0) == 0 && colon != std::string::npos && colon > 6) {
-        const int port = std::atoi(stream.c_str() + colon + 1);
-        if (port > 0 && port < 65535) return stream.substr(0, colon + 1) + std::to_string(port + 1);
-    }
-    return stream + "-journal";
-}
-
-// The endpoint beside `endpoint`: the next TCP port, or a sibling IPC path ending in `suffix`.
-std::string next_port(const std::string& endpoint, const std::string& suffix) {
-    const size_t colon = endpoint.rfind(':');
-    if (endpoint.rfind("tcp://", 0) == 0 && colon != std::string::npos && colon > 6) {
-        const int port = std::atoi(endpoint.c_str() + colon + 1);
-        if (port > 0 && port < 65535) return endpoint.substr(0, colon + 1) + std::to_string(port + 1);
-    }
-    return endpoint + suffix;
+    return next_port(stream, "-journal");
 }
 
 std::string connectable(const std::string& bound) {  // tcp://*:5555 -> tcp://127.0.0.1:5555

@@ -78,7 +78,8 @@ int slave(SlaveArgs& a) {
         std::fprintf(stderr, "glcast slave: %s\n", error.c_str());
         return 1;
     }
-    const std::string label = tile_name.empty() ? std::string("window") : tile_name;  // run names a config-less tile so
+    // glcast run names a config-less slave's tile "window" too (its status reports carry the label)
+    const std::string label = tile_name.empty() ? std::string("window") : tile_name;
     if (opt.tile.enabled && !opt.view.enabled)  // a window at its tile's place on the canvas
         backend->set_position(opt.tile.x, opt.tile.canvas_height - opt.tile.y - opt.tile.height);
     std::unique_ptr<WallLink> link;
