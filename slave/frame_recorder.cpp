@@ -20,6 +20,18 @@ namespace {
 
 bool is_perspective(const glm::dmat4& p) { return p[2][3] != 0 && p[3][3] == 0; }
 
+bool writes_depth(const GlApi& gl) {
+    GLboolean mask = GL_FALSE;
+    gl.glGetBooleanv(GL_DEPTH_WRITEMASK, &mask);
+    return mask && gl.glIsEnabled(GL_DEPTH_TEST);
+}
+
+bool compatibility_context(const GlApi& gl) {
+    GLint profile = 0;
+    gl.glGetIntegerv(GL_CONTEXT_PROFILE_MASK, &profile);
+    return gl.has(OP_glPushAttrib) && !(profile & GL_CONTEXT_CORE_PROFILE_BIT);
+}
+
 }  // namespace
 
 FrameRecorder::~FrameRecorder() = default;
@@ -43,6 +55,7 @@ void FrameRecord::clear() {
     bytes.clear();
     entries.clear();
     in_begin_end = begin_is_main = compiling_list = overflow = shader_draws = main_known = pushed = overlay = false;
+    started = false;
     camera_probes = 0;
     light = effects::SceneLight{};
 }
@@ -54,13 +67,19 @@ void FrameRecorder::record(const Call& c, const uint8_t* tuple, size_t tuple_siz
         for (auto& [id, st] : states_)
             if (st->program_cameras) st->program_cameras->forget();
     FrameRecord& rec = state(ctx).record;
+    const GlApi& gl = core_.api();
+    if (!rec.started) {
+        rec.started = true;
+        gl.glGetIntegerv(GL_CURRENT_PROGRAM, &rec.start_program);
+        rec.start_program_stream = ctx.current_program;
+    }
     const RedrawKind kind = c.opcode >= kSynthBase ? RedrawKind::State : c.info->sem.redraw;
     if (kind == RedrawKind::NewList || kind == RedrawKind::EndList) {  // never re-executed
         rec.compiling_list = kind == RedrawKind::NewList;
         return;
     }
     if (kind == RedrawKind::Ignored && !rec.in_begin_end) return;
-    if (rec.compiling_list || !ctx.drawing_to_window) return;
+    if (rec.compiling_list || (!ctx.drawing_to_window && kind != RedrawKind::ProgramState)) return;
     if (rec.main_known && !rec.overlay && !rec.in_begin_end) watch_overlays(ctx, kind);
     if (rec.overflow || kind == RedrawKind::Pixels) return;
     if (c.info && c.info->sem.redraw_first_count) {  // e.g. only the targets glPushClientAttrib restores
@@ -68,25 +87,15 @@ void FrameRecorder::record(const Call& c, const uint8_t* tuple, size_t tuple_siz
         const uint32_t* v = c.info->sem.redraw_first_values;
         if (std::find(v, v + c.info->sem.redraw_first_count, first) == v + c.info->sem.redraw_first_count) return;
     }
-    const GlApi& gl = core_.api();
 
-    FrameRecord::Entry e{rec.bytes.size(), tuple_size, false, false, false};
+    FrameRecord::Entry e{rec.bytes.size(), tuple_size, false, false, false, kind == RedrawKind::ProgramState};
     if ((kind == RedrawKind::Draw || kind == RedrawKind::Begin) && !rec.in_begin_end) {
         GLint program = 0;
         gl.glGetIntegerv(GL_CURRENT_PROGRAM, &program);
         e.draw = e.opens = true;
         if (program) {
             rec.shader_draws = true;
-            // The main view of a shader program: from its matrices, unless the display config
-            // states its projection (program_projection).
-            ProgramCamera camera;
-            if (!rec.main_known && !core_.options().view.program_fov_y_deg &&
-                rec.camera_probes++ < kMaxCameraProbes && state(ctx).cameras(gl).find(GLuint(program), camera)) {
-                rec.main_known = true;
-                rec.projection = camera.projection;
-                rec.modelview = camera.modelview;
-                tile_.program_viewport(rec.viewport);
-            }
+            e.main = shader_draw_is_main(ctx, rec, GLuint(program));
         } else {
             const glm::dmat4 app = tile_.program_projection_now();
             if (!rec.main_known && is_perspective(app)) {
@@ -136,26 +145,65 @@ void FrameRecorder::record(const Call& c, const uint8_t* tuple, size_t tuple_siz
     rec.entries.push_back(e);
 }
 
+// A shader program's draw belongs to the main view when its camera (found from its matrices,
+// program_camera.h) has the main view's projection, the first such draw making the main view;
+// with a program_projection in the display config, every draw before the overlays does. Only
+// draws that write depth with the depth test on: a sky drawn without depth is no caster, and
+// the window's depth does not have it either.
+bool FrameRecorder::shader_draw_is_main(SlaveContext& ctx, FrameRecord& rec, GLuint program) {
+    const GlApi& gl = core_.api();
+    const bool configured = core_.options().view.program_fov_y_deg != 0;
+    const bool redrawn = core_.options().effects.redraws();
+    if (rec.main_known && !redrawn) return false;  // no pass re-renders: the camera is all we need
+    if (configured) return redrawn && !rec.overlay && writes_depth(gl);
+    if (!rec.main_known && rec.camera_probes >= kMaxCameraProbes) return false;
+    ProgramCamera camera;
+    if (!rec.main_known) rec.camera_probes++;
+    if (!state(ctx).cameras(gl).find(program, camera)) return false;
+    if (!rec.main_known) {
+        rec.main_known = true;
+        rec.projection = camera.projection;
+        rec.modelview = camera.modelview;
+        tile_.program_viewport(rec.viewport);
+    }
+    return !rec.overlay && camera.projection == rec.projection && writes_depth(gl);
+}
+
 // Re-executes the recorded calls of the main view with `correction` premultiplied into the
-// program's projection. Everything it changes is put back: attributes and client attributes,
-// the three matrix stacks (depth and top), the vertex array (the guard), and the trackers.
+// program's projection (fixed function) or set as glcast_clip (shader programs, whose vertex
+// shaders the slave patched). Everything it changes is put back: attributes and client
+// attributes, the three matrix stacks (depth and top), the vertex array, the caller's program,
+// the trackers; uniform values and uniform buffers end as the frame left them because the
+// frame's calls that set them are replayed in its order.
 void FrameRecorder::redraw_main_view(SlaveContext& ctx, const glm::dmat4& correction) {
     EffectsState& st = state(ctx);
     FrameRecord& rec = st.record;
     const GlApi& gl = core_.api();
-    if (rec.entries.empty() || !gl.has(OP_glPushAttrib)) return;
+    const bool compatibility = compatibility_context(gl);
+    if (rec.entries.empty() || (!compatibility && !rec.shader_draws)) return;
     const uint32_t saved_list_base = ctx.list_base;
-    GlStateGuard guard(gl, kGuardAttribStacks | kGuardMatrixStacks | kGuardMatrixMode | kGuardVertexArray);
+    const uint64_t saved_program_stream = ctx.current_program;
+    GLint active_texture = GL_TEXTURE0;
+    gl.glGetIntegerv(GL_ACTIVE_TEXTURE, &active_texture);
+    GlStateGuard guard(gl, kGuardProgram | kGuardVertexArray |
+                               (compatibility ? kGuardAttribStacks | kGuardMatrixStacks | kGuardMatrixMode : 0));
     gl.glBindVertexArray(GLuint(st.program_vao));
     for (int unit = 0; unit < 8; ++unit) {
         gl.glActiveTexture(GLenum(GL_TEXTURE0 + unit));
         gl.glBindTexture(GL_TEXTURE_2D, GLuint(st.program_textures[unit]));
     }
     gl.glActiveTexture(GLenum(st.program_active_texture));
-    tile_.begin_redraw(correction);
+    // A frame of fixed-function draws keeps the caller's program (a pass's own shading);
+    // shader draws bring theirs, from the one current when the frame began.
+    const bool programs = rec.shader_draws;
+    if (programs) {
+        gl.glUseProgram(GLuint(rec.start_program));
+        ctx.current_program = rec.start_program_stream;
+    }
+    tile_.begin_redraw(correction, programs);
     Call c;
     for (const FrameRecord::Entry& e : rec.entries) {
-        if (e.draw && !e.main) continue;
+        if ((e.draw && !e.main) || (e.program_state && !programs)) continue;
         ByteReader r(rec.bytes.data() + e.begin, e.size, 0);
         decode_tuple(r, c);
         try {
@@ -167,6 +215,8 @@ void FrameRecorder::redraw_main_view(SlaveContext& ctx, const glm::dmat4& correc
     }
     tile_.end_redraw();
     ctx.list_base = saved_list_base;
+    ctx.current_program = saved_program_stream;
+    gl.glActiveTexture(GLenum(active_texture));
 }
 
 // A copy of the window framebuffer's color (RGBA8) or depth (DEPTH24_STENCIL8) as it is now.
@@ -287,8 +337,10 @@ void FrameRecorder::frame_view(SlaveContext& ctx, effects::FrameView& v) {
     SlaveContext* c = &ctx;
     v.color_texture = [this, c] { return window_copy(*c, false); };
     v.depth_texture = [this, c] { return window_copy(*c, true); };
-    if (rec.main_known && !rec.shader_draws && !rec.overflow && gl.has(OP_glPushAttrib))
+    if (rec.main_known && !rec.overflow && (rec.shader_draws ? core_.options().effects.redraws() : compatibility_context(gl))) {
         v.redraw = [this, c](const glm::dmat4& correction) { redraw_main_view(*c, correction); };
+        v.redraw_binds_programs = rec.shader_draws;
+    }
 }
 
 // A draw after the main view that is two-dimensional starts the overlays: the window as the

@@ -28,6 +28,7 @@ struct FrameRecord {
         bool draw = false;     // a draw or part of a glBegin/glEnd block
         bool opens = false;    // the draw call or the glBegin itself (its projection is corrected)
         bool main = false;     // ... of the main view
+        bool program_state = false;  // shader-program state: replayed only in frames with shader draws
     };
     std::vector<uint8_t> bytes;
     std::vector<Entry> entries;
@@ -35,6 +36,11 @@ struct FrameRecord {
     bool compiling_list = false;  // between glNewList and glEndList: nothing is drawn
     bool overflow = false;        // more than kMaxRecordBytes: this frame cannot be re-rendered
     bool shader_draws = false;    // some draw to the window used a shader program
+    // The program current when the frame began (GL's name and the stream's): a redraw starts
+    // from it, as the frame's first draws did.
+    bool started = false;
+    GLint start_program = 0;
+    uint64_t start_program_stream = 0;
     // Overlays: from the first draw after the main view that is two-dimensional (an
     // orthographic projection, the depth test off, pixels at the raster position) on, the
     // frame's draws are the program's HUD and text, drawn over what the passes decorate.
@@ -111,6 +117,7 @@ private:
     void put_overlays_back(SlaveContext& ctx);
     void run_effects(SlaveContext& ctx);
     void redraw_main_view(SlaveContext& ctx, const glm::dmat4& correction);
+    bool shader_draw_is_main(SlaveContext& ctx, FrameRecord& rec, GLuint program);
     void frame_view(SlaveContext& ctx, effects::FrameView& view);
     unsigned window_copy(SlaveContext& ctx, bool depth);  // a GL texture name
     void size_copies(SlaveContext& ctx);                   // the copies, at the window's size

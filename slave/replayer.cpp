@@ -226,7 +226,9 @@ void Replayer::redispatch(const Call& c) {
     }
     if (!kReplay[c.opcode]) return;  // recorded inside glBegin/glEnd, but not repeated by a slave
     tile_->before_call(c, nullptr, 0);
+    if (tile_->redraw_refused()) return;
     if (!tile_->replace_call(c)) kReplay[c.opcode](*this, c);
+    if (c.info->sem.program_use >= 0) current().current_program = c.args[size_t(c.info->sem.program_use)].bits;
     tile_->after_call(c);
 }
 

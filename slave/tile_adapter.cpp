@@ -63,10 +63,14 @@ void TileAdapter::reset() {
 bool TileAdapter::wants(uint32_t, const CommandInfo* info) const {
     if (!info) return false;
     const CommandSemantics& s = info->sem;
-    const bool view = core_.options().view.enabled;
+    const bool view = patching();
     return s.window != WindowMapping::Nothing || s.shader_type >= 0 || (s.flags & kSemLinksProgram) ||
            (view && (s.matrix != MatrixOp::Nothing || s.redraw == RedrawKind::Draw || s.redraw == RedrawKind::Begin ||
                      s.redraw == RedrawKind::End));
+}
+
+bool TileAdapter::patching() const {
+    return core_.options().view.enabled || core_.options().effects.redraws();
 }
 
 bool TileAdapter::mapping() { return core_.options().tile.enabled && core_.current().drawing_to_window; }
@@ -133,8 +137,9 @@ void TileAdapter::apply_window_rects() {
 
 // Before a call that opens a draw (a draw call outside glBegin/glEnd, or glBegin itself).
 void TileAdapter::before_call(const Call& c, const uint8_t*, size_t) {
+    redraw_refused_ = false;
     const RedrawKind k = c.info->sem.redraw;
-    if (!redrawing_ && !core_.options().view.enabled) return;
+    if (!redrawing_ && !patching()) return;
     if (k != RedrawKind::Draw && k != RedrawKind::Begin && k != RedrawKind::End) return;
     State& s = state();
     if (k == RedrawKind::End) s.in_begin_end = false;
@@ -289,6 +294,13 @@ void TileAdapter::correct_projection() {
     SlaveContext& ctx = core_.current();
     const GlApi& gl = core_.api();
     State& s = state();
+    redraw_refused_ = false;
+    GLint program = 0;
+    if (!redrawing_ || redraw_programs_) gl.glGetIntegerv(GL_CURRENT_PROGRAM, &program);
+    if (program) {  // a shader program: its patched vertex shader multiplies by glcast_clip
+        redraw_refused_ = !correct_shader_program(GLuint(program)) && redrawing_;
+        return;
+    }
     if (redrawing_) {  // an injected pass re-renders the main view: its correction, always
         const glm::dmat4 corrected = redraw_correction_ * program_projection_now();
         GlStateGuard mode(gl, kGuardMatrixMode);
@@ -297,13 +309,7 @@ void TileAdapter::correct_projection() {
         s.projection.back() = State::Projection{true, false, redraw_correction_};
         return;
     }
-    GLint program = 0;
-    gl.glGetIntegerv(GL_CURRENT_PROGRAM, &program);
-    if (program) {  // a shader program: its patched vertex shader multiplies by glcast_clip
-        correct_shader_program(GLuint(program));
-        return;
-    }
-    if (!ctx.drawing_to_window) return;  // the program's own FBOs: untouched
+    if (!core_.options().view.enabled || !ctx.drawing_to_window) return;  // the program's own FBOs: untouched
     auto& top = s.projection.back();
     if (top.corrected && !top.dirty) return;
     GLdouble current[16];
@@ -322,19 +328,21 @@ void TileAdapter::correct_projection() {
 // Shader programs on rotated tiles: glcast_clip holds M while the window is drawn to, the
 // identity while one of the program's FBOs is. M is for the display config's program_projection,
 // or else for the projection found in the program's matrices at this draw (program_camera.h);
-// a draw whose projection is not found is left alone, and the slave says so once.
-void TileAdapter::correct_shader_program(uint32_t program) {
+// a draw whose projection is not found is left alone, and the slave says so once. In a redraw
+// it holds the redraw's correction; on planar tiles, the identity.
+bool TileAdapter::correct_shader_program(uint32_t program) {
     SlaveContext& ctx = core_.current();
     const ViewCorrection& view = core_.options().view;
-    if (!view.enabled) return;
     const GlApi& gl = core_.api();
     Shared& group = shared();
     auto it = group.clip_uniforms.find(program);
     if (it == group.clip_uniforms.end())
         it = group.clip_uniforms.emplace(program, Shared::Clip{gl.glGetUniformLocation(program, "glcast_clip")}).first;
-    if (it->second.location < 0) return;
+    if (it->second.location < 0) return false;
     glm::mat4 m(1.0f);
-    if (ctx.drawing_to_window) {
+    if (redrawing_) {
+        m = glm::mat4(redraw_correction_);
+    } else if (view.enabled && ctx.drawing_to_window) {
         const double aspect = ctx.master_height ? double(ctx.master_width) / ctx.master_height : 1.0;
         ProgramCamera camera;
         if (view.program_fov_y_deg) {
@@ -348,30 +356,32 @@ void TileAdapter::correct_shader_program(uint32_t program) {
                                  "display config says what they use)\n");
         }
     }
-    if (it->second.value == m) return;
-    gl.glUniformMatrix4fv(it->second.location, 1, GL_FALSE, &m[0][0]);
-    it->second.value = m;
+    if (it->second.value != m) {
+        gl.glUniformMatrix4fv(it->second.location, 1, GL_FALSE, &m[0][0]);
+        it->second.value = m;
+    }
+    return true;
 }
 
 bool TileAdapter::patches_vertex_shader(uint64_t shader) {
-    const ViewCorrection& view = core_.options().view;
-    if (!view.enabled) return false;
+    if (!patching()) return false;
     const auto& types = shared().shader_types;
     const auto type = types.find(shader);
     return type != types.end() && type->second == GL_VERTEX_SHADER;
 }
 
-void TileAdapter::begin_redraw(const glm::dmat4& correction) {
+void TileAdapter::begin_redraw(const glm::dmat4& correction, bool programs) {
     saved_ = std::make_unique<State>(state());
     GLint mode = GL_MODELVIEW;
     core_.api().glGetIntegerv(GL_MATRIX_MODE, &mode);
     state().matrix_mode = uint32_t(mode);
     redrawing_ = true;
+    redraw_programs_ = programs;
     redraw_correction_ = correction;
 }
 
 void TileAdapter::end_redraw() {
-    redrawing_ = false;
+    redrawing_ = redraw_programs_ = redraw_refused_ = false;
     if (saved_) {
         State& s = state();
         s.projection = saved_->projection;

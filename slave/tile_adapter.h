@@ -48,9 +48,13 @@ public:
     bool patches_vertex_shader(uint64_t shader);
 
     // Redraw by the injected passes: draws get `correction` premultiplied into the program's
-    // projection; end_redraw puts the projection tracking back as it was.
-    void begin_redraw(const glm::dmat4& correction);
+    // projection, or as glcast_clip when `programs` (the redraw binds the program's shader
+    // programs); end_redraw puts the projection tracking back as it was.
+    void begin_redraw(const glm::dmat4& correction, bool programs);
     void end_redraw();
+    // The draw just prepared for a redraw cannot be moved (a shader program without the patch):
+    // the redraw leaves it out.
+    bool redraw_refused() const { return redraw_refused_; }
 
 private:
     struct State;
@@ -60,14 +64,16 @@ private:
     void apply_window_rects();
     void track_matrix(const Call& c);
     void correct_projection();
-    void correct_shader_program(uint32_t program);
+    bool correct_shader_program(uint32_t program);  // false: not patched
+    // Vertex shaders get glcast_clip: for rotated tiles, and for passes that redraw the scene.
+    bool patching() const;
     bool mapping();
     double pixel_scale();
 
     Replayer& core_;
     std::unordered_map<uint32_t, std::unique_ptr<State>> states_;       // by context id
     std::unordered_map<const ShareGroup*, std::unique_ptr<Shared>> shared_;
-    bool redrawing_ = false;
+    bool redrawing_ = false, redraw_programs_ = false, redraw_refused_ = false;
     bool warned_no_camera_ = false;
     glm::dmat4 redraw_correction_{1.0};
     std::unique_ptr<State> saved_;  // the tracking state a redraw started from

@@ -47,6 +47,9 @@ struct EffectsSettings {
     bool snow = false, rain = false, cover = false, icicles = false, shadows = false;
     EffectParams params;
     bool any() const { return snow || rain || cover || icicles || shadows; }
+    // Passes that re-render the frame's draws (FrameView::redraw): shader programs' vertex
+    // shaders are then patched so that a redraw can move their output (glcast_clip).
+    bool redraws() const { return cover || icicles || shadows; }
     // Adds "snow,cover,..." (names from known_display_effects()). False with `error` naming
     // the unknown effect.
     bool enable(const std::string& comma_separated, std::string& error);

@@ -57,8 +57,12 @@ struct FrameView {
     // left them), except: color, depth and stencil state, blending, culling, polygon offset,
     // scissor, the bound program (0 for the program's fixed-function shading) and the bound
     // framebuffer are the caller's. Empty when
-    // the stream cannot be re-rendered (shader programs, core contexts).
+    // the stream cannot be re-rendered.
+    // When redraw_binds_programs is true (the frame draws with shader programs) the draws bind
+    // the program's own programs, textures and uniforms: the caller's program is not used, and
+    // what the fragment shaders write goes to the bound framebuffer's colour attachments.
     std::function<void(const glm::dmat4& correction)> redraw;
+    bool redraw_binds_programs = false;
 
     // The correction that makes redraw() render this tile plus `guard` pixels on every side
     // into a (width + 2 guard) x (height + 2 guard) framebuffer: screen-space steps that read

@@ -54,7 +54,9 @@ void SurfaceBuffers::update(const FrameView& view, const WinterFrame& frame, Nor
     gl.glClearDepth(1.0);
     gl.glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
 
-    const bool rerender = requested != NormalSource::Depth && view.redraw && geometry_program_;
+    // Our geometry program shades the redraw: only for frames of fixed-function draws.
+    const bool rerender = requested != NormalSource::Depth && view.redraw && !view.redraw_binds_programs &&
+                          geometry_program_;
     if (rerender) {
         source_ = requested == NormalSource::Auto ? (view.light.known ? NormalSource::Vertex : NormalSource::Faceted)
                                                   : requested;

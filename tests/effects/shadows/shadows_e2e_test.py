@@ -11,8 +11,9 @@ occluder: tests/effects/shadows/shadow_occluder.c (a slab floating above a groun
   of the ground far from both objects and the sky keep their bytes, no pixel brightens, and
   the penumbra at the slab's shadow is wider than at the cube's base (contact hardening).
   `glcast run --effects shadows` on the live program shows the same frame as the replay.
-ff_scene: the committed capture replays pixel-exact without effects; with shadows, pixels
-  darken, none brighten, the sky keeps its bytes.
+ff_scene, core_scene: the committed captures (fixed function; a core-profile shader program)
+  replay pixel-exact without effects; with shadows, pixels darken, none brighten, the sky keeps
+  its bytes.
 mosaic: the tiles of wall-2x2.json, each replayed with shadows (`--config --tile`), stitched
   with `glcast image mosaic`, equal the canvas replayed with shadows within the tolerance below.
 
@@ -176,16 +177,16 @@ def case_occluder():
     check(differing == 0, "the live wall differs from the replay")
 
 
-def case_ff_scene():
-    out = os.path.join(OUT, "ff_scene")
+def committed_scene(scene):
+    out = os.path.join(OUT, scene)
     shutil.rmtree(out, ignore_errors=True)
-    capture = os.path.join(DATA, "ff_scene.glcs")
-    r = replay(capture, os.path.join(out, "off"), "--compare", os.path.join(DATA, "ff_scene"))
+    capture = os.path.join(DATA, scene + ".glcs")
+    r = replay(capture, os.path.join(out, "off"), "--compare", os.path.join(DATA, scene))
     print("without effects:", r.stdout.strip())
     replay(capture, os.path.join(out, "shadows"), "--effects", "shadows")
     darker = brighter = 0
-    for name in sorted(os.listdir(os.path.join(DATA, "ff_scene"))):
-        w, h, before = read_png(os.path.join(DATA, "ff_scene", name))
+    for name in sorted(os.listdir(os.path.join(DATA, scene))):
+        w, h, before = read_png(os.path.join(DATA, scene, name))
         _, _, after = read_png(os.path.join(out, "shadows", name))
         for y in range(h):
             for x in range(w):
@@ -197,6 +198,17 @@ def case_ff_scene():
     check(brighter == 0 and darker > 300, "shadows missing or brightening")
 
 
+def case_ff_scene():
+    committed_scene("ff_scene")
+
+
+def case_core_scene():
+    """A core-profile shader program (camera in a uniform block, per-object model matrices as
+    uniforms): the shadow map is the program's own draws re-rendered through its patched vertex
+    shaders. Before that redraw existed, no pixel changed."""
+    committed_scene("core_scene")
+
+
 def case_mosaic():
     out = os.path.join(OUT, "mosaic")
     shutil.rmtree(out, ignore_errors=True)
@@ -205,7 +217,8 @@ def case_mosaic():
     config = os.path.join(CONFIGS, "wall-2x2.json")
     last = "frame-000001.png"
     results = {}
-    for name, cap in (("occluder", capture), ("ff_scene", os.path.join(DATA, "ff_scene.glcs"))):
+    for name, cap in (("occluder", capture), ("ff_scene", os.path.join(DATA, "ff_scene.glcs")),
+                      ("core_scene", os.path.join(DATA, "core_scene.glcs"))):
         frame = last if name == "occluder" else "frame-000002.png"
         tiles = []
         for tile in ("top-left", "top-right", "bottom-left", "bottom-right"):
