@@ -47,6 +47,11 @@ PROGRAMS = [
     ("extremetuxracer", "extremetuxracer", ["/usr/games/etr"], 120),
     ("foobillardplus", "foobillardplus", ["/usr/games/foobillardplus"], 120),
     ("armagetronad", "armagetronad", ["/usr/games/armagetronad"], 120),
+    # a recorded match (demo088-test1, in openarena-088-data): a 3D scene with HUD, weapon and text
+    ("openarena", "openarena", ["/usr/games/openarena", "+set", "com_hunkmegs", "256", "+set", "r_mode", "-1",
+                                "+set", "r_customwidth", "640", "+set", "r_customheight", "480", "+set",
+                                "r_fullscreen", "0", "+set", "s_initsound", "0", "+set", "com_introplayed", "1",
+                                "+demo", "demo088-test1"], 300),
     ("osgviewer", "openscenegraph", ["osgviewer", "--window", "0", "0", "640", "480", "{scene}"], 60),
     ("view3dscene", "view3dscene", ["view3dscene", "--geometry", "640x480", "{scene}"], 60),
     ("openscad", "openscad", ["openscad", "{scad}"], 60),

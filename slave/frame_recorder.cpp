@@ -351,14 +351,17 @@ void FrameRecorder::frame_view(SlaveContext& ctx, effects::FrameView& v) {
 void FrameRecorder::watch_overlays(SlaveContext& ctx, RedrawKind kind) {
     if (kind != RedrawKind::Draw && kind != RedrawKind::Begin && kind != RedrawKind::Pixels) return;
     const GlApi& gl = core_.api();
-    bool flat = kind == RedrawKind::Pixels || !gl.glIsEnabled(GL_DEPTH_TEST);
-    if (!flat) {
-        GLint program = 0;
-        gl.glGetIntegerv(GL_CURRENT_PROGRAM, &program);
-        flat = !program && !is_perspective(tile_.program_projection_now());
-    }
-    if (!flat) return;
     EffectsState& st = state(ctx);
+    GLint program = 0;
+    if (kind != RedrawKind::Pixels) gl.glGetIntegerv(GL_CURRENT_PROGRAM, &program);
+    bool flat = kind == RedrawKind::Pixels || !gl.glIsEnabled(GL_DEPTH_TEST);
+    if (!flat) flat = !program && !is_perspective(tile_.program_projection_now());
+    // A shader program that paints its 3D scene in order with the depth test off (glmark2's
+    // ideas) draws it with the main view's camera: scene, not overlay.
+    ProgramCamera camera;
+    if (flat && program && st.cameras(gl).find(GLuint(program), camera) && camera.projection == st.record.projection)
+        flat = false;
+    if (!flat) return;
     size_copies(ctx);
     copy_window(ctx, st.scene_image_fb, false);
     st.record.overlay = true;

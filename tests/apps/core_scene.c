@@ -28,6 +28,9 @@
  *  - an FBO render-to-texture pass every frame, glCheckFramebufferStatus(GL_FRAMEBUFFER),
  *    glGenerateMipmap on the result, which is then sampled in the main pass
  *
+ * With --painter (a first argument) the window pass draws everything after the ground with the
+ * depth test off, in order (a program that paints its scene back to front).
+ *
  * Prints to stdout:
  *   core_scene: GL_RENDERER <string>
  *   core_scene: GL_VERSION <string>
@@ -575,6 +578,10 @@ static void upload_camera(GLuint ubo, const mat4 *view, const mat4 *proj, const 
     gl.BufferSubData(GL_UNIFORM_BUFFER, 0, (GLsizeiptr)sizeof cb, &cb);
 }
 
+/* --painter: the window pass draws everything after the ground with the depth test off, in
+ * order, as programs that paint their scene back to front do (glmark2's ideas scene). */
+static int painter;
+
 /* Draws ground, boxes and the floating box; the monitor screen only when screen_tex != 0
  * (never in the pass that renders into that texture). */
 static void draw_scene(GLuint vao_static, GLuint vao_dynamic, GLuint screen_tex)
@@ -590,6 +597,8 @@ static void draw_scene(GLuint vao_static, GLuint vao_dynamic, GLuint screen_tex)
     gl.Uniform3f(loc.color, 0.82f, 0.84f, 0.74f);
     glDrawElements(GL_TRIANGLES, QUAD_INDICES, GL_UNSIGNED_SHORT,
                    (const void *)(GROUND_FIRST_INDEX * sizeof(GLushort)));
+    if (painter && screen_tex != 0)
+        glDisable(GL_DEPTH_TEST);
 
     /* boxes: base of each at its pos minus half its height is on the ground */
     gl.Uniform1i(loc.mode, MODE_LIT);
@@ -623,6 +632,8 @@ static void draw_scene(GLuint vao_static, GLuint vao_dynamic, GLuint screen_tex)
     gl.Uniform3f(loc.color, 0.8f, 0.2f, 0.6f);
     glDrawElements(GL_TRIANGLES, CUBE_INDICES, GL_UNSIGNED_SHORT, (const void *)0);
     gl.BindVertexArray(0);
+    if (painter)
+        glEnable(GL_DEPTH_TEST);
 }
 
 /* Orbiting camera like ff_scene's: 'dist' from (0, 1, 0), pitched down, yaw in degrees. */
@@ -685,6 +696,7 @@ int main(int argc, char **argv)
                                GLX_CONTEXT_PROFILE_MASK_ARB, GLX_CONTEXT_CORE_PROFILE_BIT_ARB,
                                None};
 
+    painter = app_take_flag(&argc, &argv, "--painter");
     app_parse_args(PROG, argc, argv, &args);
 
     dpy = XOpenDisplay(NULL);

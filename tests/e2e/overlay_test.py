@@ -3,7 +3,9 @@
 --hud ends every frame with a game's HUD (the depth test off, an orthographic projection, an
 opaque panel and glBitmap text). Replayed with every pass, the panel and the text are the same
 pixels as without passes, while the scene around them changed. Before, shadows darkened the
-panel, the cover whitened it and snow fell over it.
+panel, the cover whitened it and snow fell over it. And the other way round: a shader program
+that draws its 3D scene with the depth test off (core_scene --painter) is decorated, not taken for
+a HUD.
 
     overlay_test.py     with GLCAST, GLCAST_SHIM, APPS_DIR, OUT_DIR in the environment
 """
@@ -34,6 +36,32 @@ def inside(rect, margin=1):
     return [(x, H - 1 - y) for y in range(y0 + margin, y1 - margin) for x in range(x0 + margin, x1 - margin)]
 
 
+def painter(headless):
+    """core_scene --painter: a core-profile shader program draws its boxes after the ground with
+    the depth test off, with the scene's camera. They are scene, not overlays: falling snow
+    covers them. Before, the first such draw started the overlays and every box pixel was put
+    back over the snow (0 of them changed)."""
+    capture = os.path.join(OUT, "core_scene_painter.glcs")
+    with Xvfb():
+        r = subprocess.run([GLCAST, "capture", "-o", capture, "--", os.path.join(APPS, "core_scene"), "--painter",
+                            "--size", f"{W}x{H}", "--frames", "2"], capture_output=True, text=True, timeout=300)
+    check(r.returncode == 0, f"capture failed: {r.stderr[-2000:]}")
+    for name, extra in (("painter-plain", []), ("painter-snow", ["--effects", "snow"])):
+        r = subprocess.run([GLCAST, "replay", capture, "--backend", "egl", "--out", os.path.join(OUT, name)] + extra,
+                           capture_output=True, text=True, timeout=300, env=headless)
+        check(r.returncode == 0, f"replay {name} failed: {r.stderr[-2000:]}")
+    frame = "frame-000001.png"
+    _, _, plain = read_png(os.path.join(OUT, "painter-plain", frame))
+    _, _, snowy = read_png(os.path.join(OUT, "painter-snow", frame))
+    # The boxes' saturated colours, below the sky (the ground and the monitor's frame are grey).
+    boxes = [(x, y) for y in range(H // 3, H) for x in range(W) if max(plain[y][x]) - min(plain[y][x]) > 90]
+    check(len(boxes) > 500, f"the boxes are not where the test expects them ({len(boxes)} pixels)")
+    snowed = sum(1 for x, y in boxes if plain[y][x] != snowy[y][x])
+    print(f"painter: snow changed {snowed} of the boxes' {len(boxes)} pixels")
+    check(snowed > len(boxes) // 3, f"snow changed only {snowed} of the boxes' {len(boxes)} pixels: they were "
+                                    "taken for overlays")
+
+
 def main():
     shutil.rmtree(OUT, ignore_errors=True)
     os.makedirs(OUT)
@@ -62,6 +90,7 @@ def main():
         scene = sum(1 for y in range(H) for x in range(W) if plain[y][x] != decorated[y][x])
         check(scene > W * H // 20, f"{frame}: the passes changed only {scene} pixels of the scene")
         print(f"{frame}: the HUD's {len(hud)} pixels untouched; {scene} of the scene's pixels decorated")
+    painter(headless)
 
 
 if __name__ == "__main__":
