@@ -9,13 +9,14 @@ more than 2 levels off; tolerance 0.01%, as the wall tests); and a replay with e
 (shadows, cover with icicles, snow), whose last frame is shown, with the program's own.
 
     scripts/compatibility.py [--build build] [--only a,b] [--frames N] [--install]
-                             [--out DIR] [--doc docs/compatibility.md]
+                             [--out DIR] [--doc docs/compatibility.md] [--resume]
 
 --install installs the programs' Debian packages first (apt-get, as root). Programs whose
 package is missing are listed as such. The CI test (compatibility_fast) runs two xscreensaver
 hacks with --doc '' (no table written).
 """
 import argparse
+import json
 import os
 import re
 import shutil
@@ -113,7 +114,7 @@ TILES = ["top-left", "top-right", "bottom-left", "bottom-right"]
 
 def run(cmd, timeout=600, env=None):
     """The command in a session of its own: on a timeout the program it started goes too."""
-    p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env,
+    p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, errors="replace", env=env,
                          start_new_session=True)
     try:
         out, err = p.communicate(timeout=timeout)
@@ -257,6 +258,8 @@ def main():
     ap.add_argument("--install", action="store_true")
     ap.add_argument("--out", default="/tmp/glcast-compatibility")
     ap.add_argument("--doc", default=os.path.join(ROOT, "docs", "compatibility.md"))
+    ap.add_argument("--resume", action="store_true",
+                    help="take the rows of programs already done in --out (an interrupted run) as they are")
     a = ap.parse_args()
     glcast = os.path.join(a.build, "glcast")
     os.environ.setdefault("GLCAST_SHIM", os.path.join(a.build, "libglcast.so"))
@@ -273,9 +276,16 @@ def main():
                 rows.append({"program": name, "capture": (False, f"not installed (apt install {package})")})
                 print(f"{name}: not installed ({package})", flush=True)
                 continue
-            row = one(glcast, name, argv, a.frames or frames, a.out, images)
-            version = run(["dpkg-query", "-W", "-f", "${Version}", package]).stdout.strip()
-            row["program"] = f"{name} ({package} {version})"
+            saved = os.path.join(a.out, re.sub(r"[^a-z0-9]+", "-", name.lower()).strip("-") + ".row.json")
+            if a.resume and os.path.exists(saved):
+                with open(saved) as f:
+                    row = {k: tuple(v) if isinstance(v, list) else v for k, v in json.load(f).items()}
+            else:
+                row = one(glcast, name, argv, a.frames or frames, a.out, images)
+                version = run(["dpkg-query", "-W", "-f", "${Version}", package]).stdout.strip()
+                row["program"] = f"{name} ({package} {version})"
+                with open(saved, "w") as f:
+                    json.dump(row, f)
             rows.append(row)
             print(row["program"] + ": " + "; ".join(f"{k} {'ok' if v[0] else 'FAIL'} ({v[1]})"
                                                      for k, v in row.items() if isinstance(v, tuple)), flush=True)

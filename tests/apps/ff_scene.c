@@ -24,6 +24,9 @@
  * 8..40, colour 230,50,40), and a row of glBitmap glyphs at (12, 52) in white (docs/effects.md:
  * overlays stay untouched by the passes).
  *
+ * With --backdrop a star-field box (unlit, no depth writes) is drawn around the world first; its
+ * floor shows beyond the ground's far edge (docs/effects.md: backdrops are not surfaces).
+ *
  * Prints to stdout:
  *   ff_scene: GL_RENDERER <string>
  *   ff_scene: GL_VERSION <string>
@@ -307,6 +310,36 @@ static void draw_ground(void)
     glEnd();
 }
 
+/* --backdrop: a game's star-field box around the world, drawn first, unlit, without depth
+ * writes (as neverball draws its back sphere): its floor (y = -1, inside normal up) shows
+ * beyond the ground's far edge. */
+static int backdrop;
+
+static void draw_backdrop(void)
+{
+    const float h = 80.0f, bottom = -1.0f;
+    glDisable(GL_LIGHTING);
+    glDisable(GL_TEXTURE_2D);
+    glDepthMask(GL_FALSE);
+    glColor3f(0.08f, 0.08f, 0.24f);
+    glBegin(GL_QUADS);
+    glNormal3f(0, 1, 0); /* floor, seen from inside */
+    glVertex3f(-h, bottom, -h); glVertex3f(-h, bottom, h); glVertex3f(h, bottom, h); glVertex3f(h, bottom, -h);
+    glNormal3f(0, -1, 0); /* ceiling */
+    glVertex3f(-h, h, -h); glVertex3f(h, h, -h); glVertex3f(h, h, h); glVertex3f(-h, h, h);
+    glNormal3f(1, 0, 0);
+    glVertex3f(-h, bottom, -h); glVertex3f(-h, h, -h); glVertex3f(-h, h, h); glVertex3f(-h, bottom, h);
+    glNormal3f(-1, 0, 0);
+    glVertex3f(h, bottom, -h); glVertex3f(h, bottom, h); glVertex3f(h, h, h); glVertex3f(h, h, -h);
+    glNormal3f(0, 0, 1);
+    glVertex3f(-h, bottom, -h); glVertex3f(h, bottom, -h); glVertex3f(h, h, -h); glVertex3f(-h, h, -h);
+    glNormal3f(0, 0, -1);
+    glVertex3f(-h, bottom, h); glVertex3f(-h, h, h); glVertex3f(h, h, h); glVertex3f(h, bottom, h);
+    glEnd();
+    glDepthMask(GL_TRUE);
+    glEnable(GL_LIGHTING);
+}
+
 static void draw_frame(int frame, int dolly, int w, int h, GLuint tex_ground, GLuint tex_crate, GLuint box_list,
                        PFNGLLOCKARRAYSEXTPROC lock, PFNGLUNLOCKARRAYSEXTPROC unlock)
 {
@@ -342,6 +375,8 @@ static void draw_frame(int frame, int dolly, int w, int h, GLuint tex_ground, GL
     glLightfv(GL_LIGHT0, GL_POSITION, light_pos);
 
     glMaterialfv(GL_FRONT_AND_BACK, GL_SPECULAR, no_spec);
+    if (backdrop)
+        draw_backdrop();
 
     /* ground: immediate mode, checker texture modulated by lighting */
     glEnable(GL_TEXTURE_2D);
@@ -479,6 +514,7 @@ int main(int argc, char **argv)
                      GLX_BLUE_SIZE, 8, GLX_DEPTH_SIZE, 24, None};
 
     const int hud = app_take_flag(&argc, &argv, "--hud");
+    backdrop = app_take_flag(&argc, &argv, "--backdrop");
     app_parse_args(PROG, argc, argv, &args);
 
     dpy = XOpenDisplay(NULL);

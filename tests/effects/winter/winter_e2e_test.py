@@ -15,6 +15,7 @@ core_scene: a core-profile shader program whose camera is in a uniform block (te
   with no display config: the slave finds the projection and view among the program's matrices
   (slave/program_camera.h); the ground in the lower part of the picture turns to snow (brighter on
   average), the sky above the horizon stays as it was. Without the camera the pass drew nothing.
+backdrop: a star-field box drawn without depth writes stays as it was (case_backdrop).
 mosaic: the four tiles of display_configs/wall-2x2.json replayed one by one (glcast replay
   --config --tile), stitched with `glcast image mosaic`, equal the 1280x960 canvas replay.
 """
@@ -327,6 +328,28 @@ def case_core_scene():
           f"{sky} pixels of the top twelfth (sky) changed")
     check(ground > 0.15, f"the cover left the ground of a shader program bare ({ground:.3f} brighter)")
     check(sky == 0, f"the cover changed {sky} pixels of the sky")
+
+def case_backdrop():
+    """ff_scene --backdrop (tests/data/ff_scene_backdrop.glcs): a star-field box drawn first,
+    unlit and without depth writes, as neverball draws its back sphere; its floor shows beyond
+    the ground's far edge. A backdrop is no surface: the cover leaves every pixel of it as it
+    was, and still covers the ground. Before, the redraw took it for scene and its floor
+    turned white."""
+    capture = os.path.join(DATA, "ff_scene_backdrop.glcs")
+    plain = replay(capture, os.path.join(OUT, "backdrop", "plain"))
+    cover = replay(capture, os.path.join(OUT, "backdrop", "cover"), "cover")
+    frame = "frame-000002.png"
+    w, h, before = read_png(os.path.join(plain, frame))
+    _, _, after = read_png(os.path.join(cover, frame))
+    backdrop_colour = (20, 20, 61)  # glColor3f(0.08, 0.08, 0.24), unlit
+    backdrop = [(x, y) for y in range(h) for x in range(w) if before[y][x] == backdrop_colour]
+    check(len(backdrop) > w * h // 20, f"the backdrop is not where the test expects it ({len(backdrop)} pixels)")
+    touched = sum(1 for x, y in backdrop if after[y][x] != before[y][x])
+    covered = sum(1 for y in range(h) for x in range(w) if before[y][x] != after[y][x]) - touched
+    print(f"backdrop: the cover changed {touched} of the backdrop's {len(backdrop)} pixels and {covered} others")
+    check(touched == 0, f"the cover changed {touched} of the backdrop's {len(backdrop)} pixels")
+    check(covered > w * h // 5, f"the cover changed only {covered} pixels of the scene")
+
 
 if __name__ == "__main__":
     globals()["case_" + sys.argv[1]]()
