@@ -118,9 +118,7 @@ void FrameRecorder::record(const Call& c, const uint8_t* tuple, size_t tuple_siz
                     break;
                 }
             }
-            // Like shader draws: a backdrop drawn without depth writes (neverball's star
-            // field) is neither a caster nor a surface; the window's depth does not have it.
-            e.main = rec.main_known && app == rec.projection && writes_depth(gl);
+            e.main = rec.main_known && app == rec.projection;
         }
         if (kind == RedrawKind::Begin) rec.in_begin_end = true, rec.begin_is_main = e.main;
     } else if (rec.in_begin_end) {
