@@ -93,8 +93,18 @@ KNOWN = """## What the table does not show
   of the interpolated depth, which llvmpipe computes relative to the framebuffer's origin
   (docs/wall.md). That points to rasterizer rounding rather than a mapping error; not proven
   (a test that shifts the canvas by a tile's offset would show it).
-- **Shadows** on shader programs (glmark2) run but draw nothing: a shadow map needs the scene
-  re-rendered from the light, which shader programs do not have yet (docs/effects.md).
+- **Shadows on shader programs** are re-rendered through their patched vertex shaders
+  (docs/effects.md, "How redraw works"; test `shadows_e2e_core_scene`), but the shader programs
+  here give them little to fall on: glmark2's two scenes are one object on black (the horse
+  shades 5 pixels of itself, the convex cube none), and view3dscene, osgviewer and openscad
+  look straight down at the test scene (their default camera for a Z-up model), where the light
+  (`shadows.light_*`, from the viewer's side) hides each shadow under its box. glmark2's `ideas`
+  scene (not in the table) draws its table with the depth test off: not a caster.
+- **openarena** (a recorded match): replay, wall and snow are right and the HUD stays on top of
+  the snow; the cover whitens nearly everything, walls included, and the HUD's icons: Quake's
+  world is Z-up, the cover's `up` is +Y (`cover.up_*` in docs/winter.md says otherwise), and
+  the HUD's pictures drawn after the whitened scene are not all told apart. Shadows show
+  nothing: no fixed-function light, and the default light comes from behind the viewer.
 - **neverball**: the cover also settles on the inside of its star-field sphere (drawn with
   perspective and depth like the level): the cover cannot yet tell a backdrop from the scene.
   Its menu (overlays) stays untouched by cover and snow.
