@@ -101,10 +101,12 @@ KNOWN = """## What the table does not show
   (`shadows.light_*`, from the viewer's side) hides each shadow under its box. glmark2's `ideas`
   scene (not in the table) draws its table with the depth test off: not a caster.
 - **openarena** (a recorded match): replay, wall and snow are right and the HUD stays on top of
-  the snow; the cover whitens nearly everything, walls included, and the HUD's icons: Quake's
-  world is Z-up, the cover's `up` is +Y (`cover.up_*` in docs/winter.md says otherwise), and
-  the HUD's pictures drawn after the whitened scene are not all told apart. Shadows show
-  nothing: no fixed-function light, and the default light comes from behind the viewer.
+  the snow; the cover whitens nearly everything, walls and the HUD's icons included, with the
+  default up (+Y), and covers nothing with up = +Z (Quake's world up: `--effect-param
+  cover.up_y=0 --effect-param cover.up_z=1`). Not understood yet; the suspects are the main
+  view Quake's renderer gives (it loads a whole modelview per surface, and draws its sky
+  first) and HUD icons drawn in perspective. Shadows show nothing: no fixed-function light,
+  and the default light comes from behind the viewer.
 - **neverball**: the cover also settles on the inside of its star-field sphere (drawn with
   perspective and depth like the level): the cover cannot yet tell a backdrop from the scene.
   Its menu (overlays) stays untouched by cover and snow. Leaving draws without depth writes out
