@@ -98,7 +98,11 @@ void FrameRecorder::record(const Call& c, const uint8_t* tuple, size_t tuple_siz
             e.main = shader_draw_is_main(ctx, rec, GLuint(program));
         } else {
             const glm::dmat4 app = tile_.program_projection_now();
-            if (!rec.main_known && is_perspective(app)) {
+            // A backdrop drawn first without depth writes (neverball's star field) is neither the
+            // main view nor, after it, the start of the overlays; the window's depth does not
+            // have it, and the redraw leaves it out.
+            const bool depth = writes_depth(gl);
+            if (!rec.main_known && is_perspective(app) && depth) {
                 rec.main_known = true;
                 rec.projection = app;
                 GLdouble mv[16];
@@ -118,7 +122,7 @@ void FrameRecorder::record(const Call& c, const uint8_t* tuple, size_t tuple_siz
                     break;
                 }
             }
-            e.main = rec.main_known && app == rec.projection;
+            e.main = rec.main_known && app == rec.projection && depth;
         }
         if (kind == RedrawKind::Begin) rec.in_begin_end = true, rec.begin_is_main = e.main;
     } else if (rec.in_begin_end) {
@@ -173,7 +177,8 @@ bool FrameRecorder::shader_draw_is_main(SlaveContext& ctx, FrameRecord& rec, GLu
 // program's projection (fixed function) or set as glcast_clip (shader programs, whose vertex
 // shaders the slave patched). Everything it changes is put back: attributes and client
 // attributes, the three matrix stacks (depth and top), the vertex array, the caller's program,
-// the trackers; uniform values and uniform buffers end as the frame left them because the
+// the trackers (list base, current program, pending client-array ranges); uniform values and
+// uniform buffers end as the frame left them because the
 // frame's calls that set them are replayed in its order.
 void FrameRecorder::redraw_main_view(SlaveContext& ctx, const glm::dmat4& correction) {
     EffectsState& st = state(ctx);
@@ -183,6 +188,11 @@ void FrameRecorder::redraw_main_view(SlaveContext& ctx, const glm::dmat4& correc
     if (rec.entries.empty() || (!compatibility && !rec.shader_draws)) return;
     const uint32_t saved_list_base = ctx.list_base;
     const uint64_t saved_program_stream = ctx.current_program;
+    // A glcast.client_arrays tuple whose draw the redraw leaves out would otherwise stay
+    // pending and be checked against the program's next draw (which it refused).
+    const bool saved_range_pending = ctx.client_range_pending, saved_refused = ctx.client_arrays_refused;
+    const int64_t saved_first = ctx.client_first, saved_end = ctx.client_end;
+    const std::vector<ClientInstanceRange> saved_instances = ctx.client_instances;
     GLint active_texture = GL_TEXTURE0;
     gl.glGetIntegerv(GL_ACTIVE_TEXTURE, &active_texture);
     GlStateGuard guard(gl, kGuardProgram | kGuardVertexArray |
@@ -216,6 +226,9 @@ void FrameRecorder::redraw_main_view(SlaveContext& ctx, const glm::dmat4& correc
     tile_.end_redraw();
     ctx.list_base = saved_list_base;
     ctx.current_program = saved_program_stream;
+    ctx.client_range_pending = saved_range_pending, ctx.client_arrays_refused = saved_refused;
+    ctx.client_first = saved_first, ctx.client_end = saved_end;
+    ctx.client_instances = saved_instances;
     gl.glActiveTexture(GLenum(active_texture));
 }
 

@@ -40,6 +40,7 @@
 #include <X11/Xlib.h>
 #include <X11/Xutil.h>
 #include <math.h>
+#include <string.h>
 
 #include "app_common.h"
 
@@ -317,25 +318,34 @@ static int backdrop;
 
 static void draw_backdrop(void)
 {
-    const float h = 80.0f, bottom = -1.0f;
+    /* From client arrays, as a game draws its sky (the redraw replays their tuple without the
+     * draw). */
+    const float h = 80.0f, b = -1.0f;
+    static const float n[6][3] = {{0, 1, 0}, {0, -1, 0}, {1, 0, 0}, {-1, 0, 0}, {0, 0, 1}, {0, 0, -1}};
+    const float v[6][4][3] = {
+        {{-h, b, -h}, {-h, b, h}, {h, b, h}, {h, b, -h}},     /* floor, seen from inside */
+        {{-h, h, -h}, {h, h, -h}, {h, h, h}, {-h, h, h}},     /* ceiling */
+        {{-h, b, -h}, {-h, h, -h}, {-h, h, h}, {-h, b, h}},
+        {{h, b, -h}, {h, b, h}, {h, h, h}, {h, h, -h}},
+        {{-h, b, -h}, {h, b, -h}, {h, h, -h}, {-h, h, -h}},
+        {{-h, b, h}, {-h, h, h}, {h, h, h}, {h, b, h}},
+    };
+    float normals[6][4][3];
+    int f, k;
+    for (f = 0; f < 6; f++)
+        for (k = 0; k < 4; k++)
+            memcpy(normals[f][k], n[f], sizeof n[f]);
     glDisable(GL_LIGHTING);
     glDisable(GL_TEXTURE_2D);
     glDepthMask(GL_FALSE);
     glColor3f(0.08f, 0.08f, 0.24f);
-    glBegin(GL_QUADS);
-    glNormal3f(0, 1, 0); /* floor, seen from inside */
-    glVertex3f(-h, bottom, -h); glVertex3f(-h, bottom, h); glVertex3f(h, bottom, h); glVertex3f(h, bottom, -h);
-    glNormal3f(0, -1, 0); /* ceiling */
-    glVertex3f(-h, h, -h); glVertex3f(h, h, -h); glVertex3f(h, h, h); glVertex3f(-h, h, h);
-    glNormal3f(1, 0, 0);
-    glVertex3f(-h, bottom, -h); glVertex3f(-h, h, -h); glVertex3f(-h, h, h); glVertex3f(-h, bottom, h);
-    glNormal3f(-1, 0, 0);
-    glVertex3f(h, bottom, -h); glVertex3f(h, bottom, h); glVertex3f(h, h, h); glVertex3f(h, h, -h);
-    glNormal3f(0, 0, 1);
-    glVertex3f(-h, bottom, -h); glVertex3f(h, bottom, -h); glVertex3f(h, h, -h); glVertex3f(-h, h, -h);
-    glNormal3f(0, 0, -1);
-    glVertex3f(-h, bottom, h); glVertex3f(-h, h, h); glVertex3f(h, h, h); glVertex3f(h, bottom, h);
-    glEnd();
+    glEnableClientState(GL_VERTEX_ARRAY);
+    glEnableClientState(GL_NORMAL_ARRAY);
+    glVertexPointer(3, GL_FLOAT, 0, v);
+    glNormalPointer(GL_FLOAT, 0, normals);
+    glDrawArrays(GL_QUADS, 0, 24);
+    glDisableClientState(GL_NORMAL_ARRAY);
+    glDisableClientState(GL_VERTEX_ARRAY);
     glDepthMask(GL_TRUE);
     glEnable(GL_LIGHTING);
 }
