@@ -107,16 +107,13 @@ KNOWN = """## What the table does not show
   view Quake's renderer gives (it loads a whole modelview per surface, and draws its sky
   first) and HUD icons drawn in perspective. Shadows show nothing: no fixed-function light,
   and the default light comes from behind the viewer.
-- **neverball**: the cover also settles on the inside of its star-field sphere (drawn with
-  perspective and depth like the level): the cover cannot yet tell a backdrop from the scene.
-  Its menu (overlays) stays untouched by cover and snow. Leaving draws without depth writes out
-  of the redraw stops it (`tests/effects/winter/winter_e2e_test.py backdrop`, on a capture of
-  `ff_scene --backdrop`: 12,560 backdrop pixels whitened before, none after), but on neverball
-  every redrawing pass then dropped the star field's blue from the presented picture ((0,0,25)
-  became (0,0,0), even with `shadows.strength=0`); reverted until that is understood, the test
-  kept but not registered. The star field is also why the level's platforms get no snow: it is
-  the frame's first perspective draw, so it becomes the main view, and its second draw (depth
-  test off) starts the overlays, so the whole level counts as overlay.
+- **neverball**: its star field is drawn first with the depth test off, then additive star
+  sprites without depth writes. Until this stop the star field became the main view and the
+  sprites started the overlays, so the cover whitened the star field and counted the whole
+  level as overlay. Now the main view is the first perspective draw that writes depth and only
+  such draws are redrawn (test `winter_e2e_backdrop`); the star field keeps its bytes. The level
+  still gets no snow in the menu's frames: not investigated yet. The menu (overlays) stays
+  untouched by cover and snow.
 - **foobillardplus** crashes at its start on this machine without glcast as well (a strcpy of a
   NULL string after it looks for a web browser and a dialog program); no frame to compare.
 - **chromium-bsu**'s menu is 2D: no main view, so cover and shadows have nothing to work on.

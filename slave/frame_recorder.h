@@ -48,7 +48,8 @@ struct FrameRecord {
     // Shader draws whose matrices were read for a camera this frame: a 2D program with
     // thousands of draws stops asking after kMaxCameraProbes.
     int camera_probes = 0;
-    // The main view: the first draw to the window with a perspective projection.
+    // The main view: the first draw to the window with a perspective projection (fixed
+    // function: that also writes depth; shader programs: whose matrices split as a camera).
     bool main_known = false;
     glm::dmat4 projection{1.0}, modelview{1.0};
     int32_t viewport[4] = {0, 0, 0, 0};  // the program's, master window coordinates
