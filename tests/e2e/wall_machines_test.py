@@ -222,9 +222,20 @@ def tile_reference(capture, config, tile, frames, out):
 
 
 def stitched_against_canvas(out, capture, program_dir, frame):
+    """Frame `frame` of the four tiles stitched, against the canvas replay; when a tile joined
+    after it (a slave that took long to start under load), the last frame all four showed."""
+    shown = []
+    for t in TILES:
+        d = os.path.join(out, t, program_dir)
+        check(os.path.isdir(d), f"missing {d}")
+        shown.append({int(f[6:12]) for f in os.listdir(d) if f.startswith("frame-") and f.endswith(".png")})
+    common = set.intersection(*shown)
+    check(common, f"the four tiles of {program_dir} showed no frame in common")
+    if frame not in common:
+        late = max(common)
+        print(f"frame {frame} is not on every tile (first frames shown: {[min(s) for s in shown]}): frame {late}")
+        frame = late
     tiles = [os.path.join(out, t, program_dir, f"frame-{frame:06d}.png") for t in TILES]
-    for t in tiles:
-        check(os.path.exists(t), f"missing {t}")
     stitched = os.path.join(out, f"mosaic-{os.path.basename(capture)}.png")
     check(run([GLCAST, "image", "mosaic", "2x2", stitched] + tiles).returncode == 0, "mosaic failed")
     ref = os.path.join(out, "canvas-" + os.path.basename(capture))
