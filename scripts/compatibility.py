@@ -106,13 +106,17 @@ KNOWN = """## What the table does not show
   look straight down at the test scene (their default camera for a Z-up model), where the light
   (`shadows.light_*`, from the viewer's side) hides each shadow under its box. glmark2's `ideas`
   scene (not in the table) draws its table with the depth test off: not a caster.
-- **openarena** (a recorded match): replay, wall and snow are right and the HUD stays on top of
-  the snow; the cover whitens nearly everything, walls and the HUD's icons included, with the
-  default up (+Y), and covers nothing with up = +Z (Quake's world up: `--effect-param
-  cover.up_y=0 --effect-param cover.up_z=1`). Not understood yet; the suspects are the main
-  view Quake's renderer gives (it loads a whole modelview per surface, and draws its sky
-  first) and HUD icons drawn in perspective. Shadows show nothing: no fixed-function light,
-  and the default light comes from behind the viewer.
+- **openarena** (a recorded match): its renderer draws the scene into a framebuffer object of
+  the window's size, copies it to the window with a full-window draw, then draws the HUD (3D
+  head icons in small viewports among it). Until this stop the passes took a HUD icon for the
+  main view and the window's empty depth for the scene's: the cover whitened the whole window,
+  text included, and shadows showed nothing. Now the main view and the depth are the
+  offscreen scene's and everything drawn to the window after the copy is an overlay
+  (docs/effects.md, "Scenes drawn offscreen"), and the cover finds Quake's world up (+Z) by
+  itself (docs/winter.md, "Up"): snow on the bridge, icicles under the railings, the HUD
+  untouched. The weapon is drawn into the scene, so snow falls on it too. Shadows: no
+  fixed-function light, so the default light (from behind the viewer) is used; the weapon,
+  drawn with the scene's projection, casts one onto the floor.
 - **neverball**: its star field is drawn first with the depth test off, then additive star
   sprites without depth writes. Until this stop the star field became the main view and the
   sprites started the overlays, so the cover whitened the star field and counted the whole

@@ -2,6 +2,7 @@
 // passes (slave/frame_recorder.h).
 #include <algorithm>
 #include <cinttypes>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <string>
@@ -55,7 +56,8 @@ void FrameRecord::clear() {
     bytes.clear();
     entries.clear();
     in_begin_end = begin_is_main = compiling_list = overflow = shader_draws = main_known = pushed = overlay = false;
-    started = false;
+    started = presented = false;
+    scene_framebuffer = 0;
     camera_probes = 0;
     light = effects::SceneLight{};
 }
@@ -79,8 +81,20 @@ void FrameRecorder::record(const Call& c, const uint8_t* tuple, size_t tuple_siz
         return;
     }
     if (kind == RedrawKind::Ignored && !rec.in_begin_end) return;
-    if (rec.compiling_list || (!ctx.drawing_to_window && kind != RedrawKind::ProgramState)) return;
-    if (rec.main_known && !rec.overlay && !rec.in_begin_end) watch_overlays(ctx, kind);
+    if (rec.compiling_list) return;
+    const bool to_window = ctx.drawing_to_window;
+    // Into a framebuffer object: shader-program and vertex state are kept (the scene may be drawn
+    // there), draws only into the one that can hold the scene.
+    GLuint framebuffer = 0;
+    const bool opens = (kind == RedrawKind::Draw || kind == RedrawKind::Begin) && !rec.in_begin_end;
+    if (!to_window && !rec.in_begin_end &&
+        (opens ? !offscreen_scene(ctx, rec, framebuffer) : kind != RedrawKind::State && kind != RedrawKind::ProgramState))
+        return;
+    if (kind == RedrawKind::Copy) {  // a blit to the window shows an offscreen scene there
+        if (rec.scene_framebuffer && !rec.overlay) rec.presented = true;
+        return;
+    }
+    if (rec.main_known && !rec.overlay && !rec.in_begin_end && to_window) watch_overlays(ctx, kind);
     if (rec.overflow || kind == RedrawKind::Pixels) return;
     if (c.info && c.info->sem.redraw_first_count) {  // e.g. only the targets glPushClientAttrib restores
         const uint64_t first = c.args[0].bits;
@@ -88,14 +102,15 @@ void FrameRecorder::record(const Call& c, const uint8_t* tuple, size_t tuple_siz
         if (std::find(v, v + c.info->sem.redraw_first_count, first) == v + c.info->sem.redraw_first_count) return;
     }
 
-    FrameRecord::Entry e{rec.bytes.size(), tuple_size, false, false, false, kind == RedrawKind::ProgramState};
-    if ((kind == RedrawKind::Draw || kind == RedrawKind::Begin) && !rec.in_begin_end) {
+    FrameRecord::Entry e{rec.bytes.size(), tuple_size, false, false, false, kind == RedrawKind::ProgramState,
+                         !to_window};
+    if (opens) {
         GLint program = 0;
         gl.glGetIntegerv(GL_CURRENT_PROGRAM, &program);
         e.draw = e.opens = true;
         if (program) {
             rec.shader_draws = true;
-            e.main = shader_draw_is_main(ctx, rec, GLuint(program));
+            e.main = shader_draw_is_main(ctx, rec, GLuint(program), framebuffer);
         } else {
             const glm::dmat4 app = tile_.program_projection_now();
             // A backdrop drawn first without depth writes (neverball's star field) is neither the
@@ -104,6 +119,7 @@ void FrameRecorder::record(const Call& c, const uint8_t* tuple, size_t tuple_siz
             const bool depth = writes_depth(gl);
             if (!rec.main_known && is_perspective(app) && depth) {
                 rec.main_known = true;
+                rec.scene_framebuffer = framebuffer;
                 rec.projection = app;
                 GLdouble mv[16];
                 gl.glGetDoublev(GL_MODELVIEW_MATRIX, mv);
@@ -122,14 +138,14 @@ void FrameRecorder::record(const Call& c, const uint8_t* tuple, size_t tuple_siz
                     break;
                 }
             }
-            e.main = rec.main_known && app == rec.projection && depth;
+            e.main = rec.main_known && app == rec.projection && depth && framebuffer == rec.scene_framebuffer;
         }
         if (kind == RedrawKind::Begin) rec.in_begin_end = true, rec.begin_is_main = e.main;
     } else if (rec.in_begin_end) {
         e.draw = true;
         e.main = rec.begin_is_main;
         if (kind == RedrawKind::End) rec.in_begin_end = false;
-    } else if (!rec.main_known && c.info && c.info->sem.matrix == MatrixOp::Push) {
+    } else if (!rec.main_known && to_window && c.info && c.info->sem.matrix == MatrixOp::Push) {
         GLint mode = 0;  // the value a push saves is the one on top before it
         gl.glGetIntegerv(GL_MATRIX_MODE, &mode);
         if (mode == GL_MODELVIEW) {
@@ -154,23 +170,41 @@ void FrameRecorder::record(const Call& c, const uint8_t* tuple, size_t tuple_siz
 // with a program_projection in the display config, every draw before the overlays does. Only
 // draws that write depth with the depth test on: a sky drawn without depth is no caster, and
 // the window's depth does not have it either.
-bool FrameRecorder::shader_draw_is_main(SlaveContext& ctx, FrameRecord& rec, GLuint program) {
+bool FrameRecorder::shader_draw_is_main(SlaveContext& ctx, FrameRecord& rec, GLuint program, GLuint framebuffer) {
     const GlApi& gl = core_.api();
     const bool configured = core_.options().view.program_fov_y_deg != 0;
     const bool redrawn = core_.options().effects.redraws();
     if (rec.main_known && !redrawn) return false;  // no pass re-renders: the camera is all we need
-    if (configured) return redrawn && !rec.overlay && writes_depth(gl);
+    if (configured) return redrawn && !rec.overlay && writes_depth(gl) && framebuffer == 0;
     if (!rec.main_known && rec.camera_probes >= kMaxCameraProbes) return false;
     ProgramCamera camera;
     if (!rec.main_known) rec.camera_probes++;
     if (!state(ctx).cameras(gl).find(program, camera)) return false;
     if (!rec.main_known) {
         rec.main_known = true;
+        rec.scene_framebuffer = framebuffer;
         rec.projection = camera.projection;
         rec.modelview = camera.modelview;
         tile_.program_viewport(rec.viewport);
     }
-    return !rec.overlay && camera.projection == rec.projection && writes_depth(gl);
+    return !rec.overlay && camera.projection == rec.projection && writes_depth(gl) && framebuffer == rec.scene_framebuffer;
+}
+
+bool FrameRecorder::offscreen_scene(SlaveContext& ctx, const FrameRecord& rec, GLuint& framebuffer) {
+    const GlApi& gl = core_.api();
+    GLint bound = 0;
+    gl.glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &bound);
+    framebuffer = GLuint(bound);
+    if (rec.main_known) return rec.scene_framebuffer != 0 && framebuffer == rec.scene_framebuffer;
+    if (rec.overlay || rec.presented || !framebuffer) return false;
+    int32_t viewport[4];
+    tile_.program_viewport(viewport);
+    if (viewport[0] != 0 || viewport[1] != 0 || viewport[2] != ctx.master_width || viewport[3] != ctx.master_height)
+        return false;
+    GLint type = GL_NONE;
+    gl.glGetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, GL_DEPTH_ATTACHMENT,
+                                             GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE, &type);
+    return type != GL_NONE;
 }
 
 // Re-executes the recorded calls of the main view with `correction` premultiplied into the
@@ -232,9 +266,16 @@ void FrameRecorder::redraw_main_view(SlaveContext& ctx, const glm::dmat4& correc
     gl.glActiveTexture(GLenum(active_texture));
 }
 
-// A copy of the window framebuffer's color (RGBA8) or depth (DEPTH24_STENCIL8) as it is now.
+// A copy of the window framebuffer's color (RGBA8) or depth (DEPTH24_STENCIL8) as it is now;
+// the depth of a scene drawn offscreen comes from its framebuffer object.
 unsigned FrameRecorder::window_copy(SlaveContext& ctx, bool depth) {
     EffectsState& st = state(ctx);
+    if (depth && st.record.scene_framebuffer) {
+        if (st.depth_copied) return st.scene_depth;
+        const unsigned copy = scene_depth_copy(ctx);
+        st.depth_copied = true;
+        return copy;
+    }
     size_copies(ctx);
     bool& done = depth ? st.depth_copied : st.color_copied;
     if (!done) {
@@ -242,6 +283,89 @@ unsigned FrameRecorder::window_copy(SlaveContext& ctx, bool depth) {
         done = true;
     }
     return depth ? st.depth_texture : st.color_texture;
+}
+
+namespace {
+
+// The depth format of a framebuffer attachment, from what GL says of it: a depth blit needs the
+// same format on both sides. 0 when it has no depth.
+GLenum depth_format(const GlApi& gl, GLenum target) {
+    GLint type = GL_NONE, name = 0, stencil_type = GL_NONE, stencil_name = 0, bits = 0, component = GL_NONE;
+    gl.glGetFramebufferAttachmentParameteriv(target, GL_DEPTH_ATTACHMENT, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE, &type);
+    if (type == GL_NONE) return 0;
+    gl.glGetFramebufferAttachmentParameteriv(target, GL_DEPTH_ATTACHMENT, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_NAME, &name);
+    gl.glGetFramebufferAttachmentParameteriv(target, GL_DEPTH_ATTACHMENT, GL_FRAMEBUFFER_ATTACHMENT_DEPTH_SIZE, &bits);
+    gl.glGetFramebufferAttachmentParameteriv(target, GL_DEPTH_ATTACHMENT, GL_FRAMEBUFFER_ATTACHMENT_COMPONENT_TYPE,
+                                             &component);
+    gl.glGetFramebufferAttachmentParameteriv(target, GL_STENCIL_ATTACHMENT, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE,
+                                             &stencil_type);
+    if (stencil_type != GL_NONE)
+        gl.glGetFramebufferAttachmentParameteriv(target, GL_STENCIL_ATTACHMENT, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_NAME,
+                                                 &stencil_name);
+    const bool packed = stencil_type == type && stencil_name == name;  // one depth-stencil image
+    if (component == GL_FLOAT) return packed ? GL_DEPTH32F_STENCIL8 : GL_DEPTH_COMPONENT32F;
+    if (bits <= 16) return GL_DEPTH_COMPONENT16;
+    if (bits <= 24) return packed ? GL_DEPTH24_STENCIL8 : GL_DEPTH_COMPONENT24;
+    return GL_DEPTH_COMPONENT32;
+}
+
+}  // namespace
+
+unsigned FrameRecorder::scene_depth_copy(SlaveContext& ctx) {
+    EffectsState& st = state(ctx);
+    const GlApi& gl = core_.api();
+    effects::StateGuard guard(gl);
+    gl.glBindFramebuffer(GL_READ_FRAMEBUFFER, st.record.scene_framebuffer);
+    const GLenum format = depth_format(gl, GL_READ_FRAMEBUFFER);
+    if (!format) {  // its depth went away since: the window's
+        st.record.scene_framebuffer = 0;
+        return window_copy(ctx, true);
+    }
+    const int W = std::max(1, ctx.master_width), H = std::max(1, ctx.master_height);
+    const int sizes[4] = {W, H, ctx.width, ctx.height};
+    if (format != st.scene_depth_format || !std::equal(sizes, sizes + 4, st.scene_depth_sizes)) {
+        if (st.scene_depth_full) {
+            const GLuint textures[] = {st.scene_depth_full, st.scene_depth}, fbs[] = {st.scene_depth_full_fb, st.scene_depth_fb};
+            gl.glDeleteTextures(2, textures);
+            gl.glDeleteFramebuffers(2, fbs);
+        }
+        const bool packed = format == GL_DEPTH24_STENCIL8 || format == GL_DEPTH32F_STENCIL8;
+        st.scene_depth_full = effects::make_texture(gl, format, W, H, /*linear=*/true);
+        st.scene_depth_full_fb = effects::make_framebuffer(gl, 0, st.scene_depth_full,
+                                                           packed ? GL_DEPTH_STENCIL_ATTACHMENT : GL_DEPTH_ATTACHMENT);
+        st.scene_depth = effects::make_texture(gl, GL_DEPTH_COMPONENT32F, ctx.width, ctx.height);
+        st.scene_depth_fb = effects::make_framebuffer(gl, 0, st.scene_depth, GL_DEPTH_ATTACHMENT);
+        st.scene_depth_format = format;
+        std::copy(sizes, sizes + 4, st.scene_depth_sizes);
+    }
+    // Resolved at the program's size (a multisampled source may not be scaled; a depth blit
+    // needs the same format on both sides), then this tile's rectangle of the program's window
+    // (the canvas stretches it) drawn over the tile's size.
+    gl.glBindFramebuffer(GL_READ_FRAMEBUFFER, st.record.scene_framebuffer);
+    gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, st.scene_depth_full_fb);
+    gl.glBlitFramebuffer(0, 0, W, H, 0, 0, W, H, GL_DEPTH_BUFFER_BIT, GL_NEAREST);
+    const TileMapping& t = core_.options().tile;
+    glm::dvec4 source(0, 0, W, H);
+    if (t.enabled && !core_.options().view.enabled)
+        source = {t.x / t.sx(W), t.y / t.sy(H), (t.x + t.width) / t.sx(W), (t.y + t.height) / t.sy(H)};
+    if (!st.scene_depth_program) {
+        st.scene_depth_program = effects::build_program(gl, "fullscreen.vert", "scene_depth.frag");
+        gl.glGenVertexArrays(1, &st.scene_depth_vao);
+    }
+    gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, st.scene_depth_fb);
+    gl.glViewport(0, 0, ctx.width, ctx.height);
+    gl.glEnable(GL_DEPTH_TEST);
+    gl.glDepthFunc(GL_ALWAYS);
+    gl.glDepthMask(GL_TRUE);
+    gl.glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    gl.glUseProgram(st.scene_depth_program);
+    gl.glActiveTexture(GL_TEXTURE0);
+    gl.glBindTexture(GL_TEXTURE_2D, st.scene_depth_full);
+    gl.glUniform1i(effects::uniform(gl, st.scene_depth_program, "scene_depth"), 0);
+    gl.glUniform4f(effects::uniform(gl, st.scene_depth_program, "source_rect"), GLfloat(source.x), GLfloat(source.y),
+                   GLfloat(source.z), GLfloat(source.w));
+    effects::draw_fullscreen(gl, st.scene_depth_vao);
+    return st.scene_depth;
 }
 
 void FrameRecorder::size_copies(SlaveContext& ctx) {
@@ -360,9 +484,38 @@ void FrameRecorder::frame_view(SlaveContext& ctx, effects::FrameView& v) {
 // scene left it is copied, and run_effects decorates that copy and puts what was drawn over it
 // back on top. Programs draw their HUD and text last, with the depth test off or an
 // orthographic projection (the games: neverball, openarena, foobillardplus,
-// extremetuxracer); a 3D draw after the HUD (a weapon) is an overlay too.
+// extremetuxracer); a 3D draw after the HUD (a weapon) is an overlay too. A scene drawn
+// offscreen is complete when the program shows it in the window (a full-window draw with the
+// depth test off, or a blit); whatever the window gets after that is overlay (openarena's HUD,
+// its 3D icons included).
 void FrameRecorder::watch_overlays(SlaveContext& ctx, RedrawKind kind) {
     if (kind != RedrawKind::Draw && kind != RedrawKind::Begin && kind != RedrawKind::Pixels) return;
+    const GlApi& gl = core_.api();
+    EffectsState& st = state(ctx);
+    FrameRecord& rec = st.record;
+    if (rec.scene_framebuffer && !rec.presented) {
+        if (kind == RedrawKind::Pixels || !writes_depth(gl)) {
+            rec.presented = true;  // the scene's image drawn over the window
+            return;
+        }
+        // A 3D draw to the window: what was drawn offscreen was not the scene. The window's
+        // draws find the main view again.
+        rec.main_known = false;
+        rec.scene_framebuffer = 0;
+        rec.light = effects::SceneLight{};
+        for (FrameRecord::Entry& e : rec.entries) e.main = e.main && !e.offscreen;
+        return;
+    }
+    if (!rec.scene_framebuffer && !starts_overlays(ctx, kind)) return;
+    size_copies(ctx);
+    copy_window(ctx, st.scene_image_fb, false);
+    rec.overlay = true;
+}
+
+// A draw to the window after a main view drawn there that is flat: pixels at the raster
+// position, the depth test off, or a fixed-function orthographic projection; a shader program
+// drawing with the main view's camera is scene whatever its depth test.
+bool FrameRecorder::starts_overlays(SlaveContext& ctx, RedrawKind kind) {
     const GlApi& gl = core_.api();
     EffectsState& st = state(ctx);
     GLint program = 0;
@@ -374,10 +527,7 @@ void FrameRecorder::watch_overlays(SlaveContext& ctx, RedrawKind kind) {
     ProgramCamera camera;
     if (flat && program && st.cameras(gl).find(GLuint(program), camera) && camera.projection == st.record.projection)
         flat = false;
-    if (!flat) return;
-    size_copies(ctx);
-    copy_window(ctx, st.scene_image_fb, false);
-    st.record.overlay = true;
+    return flat;
 }
 
 void FrameRecorder::put_overlays_back(SlaveContext& ctx) {

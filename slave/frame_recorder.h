@@ -29,6 +29,7 @@ struct FrameRecord {
         bool opens = false;    // the draw call or the glBegin itself (its projection is corrected)
         bool main = false;     // ... of the main view
         bool program_state = false;  // shader-program state: replayed only in frames with shader draws
+        bool offscreen = false;      // a draw into the framebuffer object that holds the scene
     };
     std::vector<uint8_t> bytes;
     std::vector<Entry> entries;
@@ -51,6 +52,13 @@ struct FrameRecord {
     // The main view: the first draw to the window with a perspective projection (fixed
     // function: that also writes depth; shader programs: whose matrices split as a camera).
     bool main_known = false;
+    // A scene drawn offscreen: the main view was found in the program's framebuffer object
+    // `scene_framebuffer` (the slave's name; 0: the window), one the program draws into whole at
+    // the window's size with a depth buffer (a post-processing engine's scene target). The first
+    // draw or copy to the window after it shows it there (`presented`); later draws to the window
+    // are overlays. If that first draw writes depth instead, the object was not the scene.
+    GLuint scene_framebuffer = 0;
+    bool presented = false;
     glm::dmat4 projection{1.0}, modelview{1.0};
     int32_t viewport[4] = {0, 0, 0, 0};  // the program's, master window coordinates
     effects::SceneLight light;
@@ -70,6 +78,13 @@ struct EffectsState {
     FrameRecord record;
     GLuint color_texture = 0, depth_texture = 0, color_fb = 0, depth_fb = 0;
     int copies_width = 0, copies_height = 0;
+    // The depth of a scene drawn offscreen, in the scene framebuffer's own format (a depth blit
+    // needs the same format on both sides): resolved at the program's size, then this tile's part
+    // of it at the window's size.
+    GLuint scene_depth_full = 0, scene_depth_full_fb = 0, scene_depth = 0, scene_depth_fb = 0;
+    GLuint scene_depth_program = 0, scene_depth_vao = 0;
+    GLenum scene_depth_format = 0;
+    int scene_depth_sizes[4] = {0, 0, 0, 0};  // full width, height; tile width, height
     bool color_copied = false, depth_copied = false;
     // The program's own picture of the frame, saved before the passes draw over it and put back
     // after present: a program that never clears draws its next frame over its own image, not
@@ -115,10 +130,16 @@ private:
     EffectsState& state(const SlaveContext& ctx);
     void record(const Call& c, const uint8_t* tuple, size_t bytes);
     void watch_overlays(SlaveContext& ctx, RedrawKind kind);  // before a draw to the window
+    bool starts_overlays(SlaveContext& ctx, RedrawKind kind);
     void put_overlays_back(SlaveContext& ctx);
     void run_effects(SlaveContext& ctx);
     void redraw_main_view(SlaveContext& ctx, const glm::dmat4& correction);
-    bool shader_draw_is_main(SlaveContext& ctx, FrameRecord& rec, GLuint program);
+    bool shader_draw_is_main(SlaveContext& ctx, FrameRecord& rec, GLuint program, GLuint framebuffer);
+    // Whether a draw into the bound framebuffer object (the slave's name in `framebuffer`) can
+    // be the scene's: the one the main view was found in, or, before it is known, one the program
+    // draws into whole at the window's size and with a depth buffer.
+    bool offscreen_scene(SlaveContext& ctx, const FrameRecord& rec, GLuint& framebuffer);
+    unsigned scene_depth_copy(SlaveContext& ctx);  // the offscreen scene's depth, tile pixels
     void frame_view(SlaveContext& ctx, effects::FrameView& view);
     unsigned window_copy(SlaveContext& ctx, bool depth);  // a GL texture name
     void size_copies(SlaveContext& ctx);                   // the copies, at the window's size

@@ -9,7 +9,8 @@
 //     Every random choice is indexed by canvas pixels and the master's frame number, so the
 //     tiles of a wall join without seams and a rerun is identical;
 //   - the program's eye space (the "main view": the projection and modelview of the frame's
-//     first draw to the window with a perspective projection).
+//     first draw to the window with a perspective projection, or to the framebuffer object
+//     that holds a scene the program draws offscreen; docs/effects.md).
 // tile_clip_from_eye maps eye space to this tile's clip space (projection, the wall's
 // stretch or the rotated tile's correction included); eye_from_tile_clip is its inverse.
 #pragma once
@@ -46,7 +47,8 @@ struct FrameView {
     // Copies of the window framebuffer, made on a pass's first call in a frame and then cached
     // for the frame: RGBA8 color and DEPTH24_STENCIL8 depth, texel (x, y) = tile pixel. The
     // color is the window as the passes that ran before the first call left it (the program's
-    // own image when the first pass asks); the depth is always the program's (no pass writes it).
+    // own image when the first pass asks); the depth is always the program's (no pass writes it):
+    // of a scene drawn offscreen, that framebuffer object's, at the tile's size.
     std::function<GLuint()> color_texture;
     std::function<GLuint()> depth_texture;
 

@@ -79,7 +79,9 @@ GLuint make_texture(const GlApi& gl, GLenum internal_format, int width, int heig
     switch (internal_format) {
     case GL_DEPTH_COMPONENT24: case GL_DEPTH_COMPONENT32F: case GL_DEPTH_COMPONENT16:
         format = GL_DEPTH_COMPONENT, type = GL_FLOAT; break;
+    case GL_DEPTH_COMPONENT32: format = GL_DEPTH_COMPONENT, type = GL_UNSIGNED_INT; break;
     case GL_DEPTH24_STENCIL8: format = GL_DEPTH_STENCIL, type = GL_UNSIGNED_INT_24_8; break;
+    case GL_DEPTH32F_STENCIL8: format = GL_DEPTH_STENCIL, type = GL_FLOAT_32_UNSIGNED_INT_24_8_REV; break;
     case GL_R32F: case GL_R16F: format = GL_RED, type = GL_FLOAT; break;
     case GL_R8: format = GL_RED; break;
     case GL_RG32F: case GL_RG16F: format = GL_RG, type = GL_FLOAT; break;

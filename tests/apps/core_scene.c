@@ -31,6 +31,11 @@
  * With --painter (a first argument) the window pass draws everything after the ground with the
  * depth test off, in order (a program that paints its scene back to front).
  *
+ * With --offscreen the main pass renders into a framebuffer object of the window's size (RGBA8
+ * texture + DEPTH_COMPONENT24 renderbuffer, as post-processing engines do), which a full-window
+ * triangle with the depth test off then copies to the window (nearest texels: the same pixels);
+ * a HUD panel (HUD_X, HUD_Y, HUD_W, HUD_H, solid HUD_COLOR) follows with the depth test off.
+ *
  * Prints to stdout:
  *   core_scene: GL_RENDERER <string>
  *   core_scene: GL_VERSION <string>
@@ -101,7 +106,8 @@ static const char *PROG = "core_scene";
     F(PFNGLGENRENDERBUFFERSPROC, GenRenderbuffers)                    \
     F(PFNGLDELETERENDERBUFFERSPROC, DeleteRenderbuffers)              \
     F(PFNGLBINDRENDERBUFFERPROC, BindRenderbuffer)                    \
-    F(PFNGLRENDERBUFFERSTORAGEPROC, RenderbufferStorage)
+    F(PFNGLRENDERBUFFERSTORAGEPROC, RenderbufferStorage)              \
+    F(PFNGLUNIFORM4FPROC, Uniform4f)
 
 static struct {
 #define F(type, name) type name;
@@ -520,6 +526,45 @@ static int on_x_error(Display *d, XErrorEvent *e)
     return 0;
 }
 
+/* --offscreen: the program that shows the scene's texture in the window, or a solid colour */
+#define PRESENT_VS "out vec2 v_uv;\n" \
+    "void main() {\n" \
+    "    vec2 p = vec2(gl_VertexID == 1 ? 3.0 : -1.0, gl_VertexID == 2 ? 3.0 : -1.0);\n" \
+    "    v_uv = 0.5 * p + 0.5;\n" \
+    "    gl_Position = vec4(p, 0.0, 1.0);\n" \
+    "}\n"
+#define PRESENT_FS "uniform sampler2D u_image;\n" \
+    "uniform vec4 u_solid;\n" \
+    "in vec2 v_uv;\n" \
+    "out vec4 frag_color;\n" \
+    "void main() {\n" \
+    "    frag_color = u_solid.a > 0.0 ? u_solid : texture(u_image, v_uv);\n" \
+    "}\n"
+#define HUD_X 8
+#define HUD_Y 8
+#define HUD_W 96
+#define HUD_H 24
+#define HUD_COLOR 0.9f, 0.2f, 0.15f, 1.0f
+
+static GLuint build_present_program(void)
+{
+    GLuint vs = compile_shader(GL_VERTEX_SHADER, PRESENT_VS, (GLint)(sizeof(PRESENT_VS) - 1), "present vertex");
+    GLuint fs = compile_shader(GL_FRAGMENT_SHADER, PRESENT_FS, (GLint)(sizeof(PRESENT_FS) - 1), "present fragment");
+    GLuint p = gl.CreateProgram();
+    GLint ok = GL_FALSE;
+    gl.AttachShader(p, vs);
+    gl.AttachShader(p, fs);
+    gl.LinkProgram(p);
+    gl.GetProgramiv(p, GL_LINK_STATUS, &ok);
+    if (ok != GL_TRUE) {
+        fprintf(stderr, "%s: the present program does not link\n", PROG);
+        exit(1);
+    }
+    gl.DeleteShader(vs);
+    gl.DeleteShader(fs);
+    return p;
+}
+
 /* ---------------------------------------------------------------- drawing */
 
 #define FBO_W 256
@@ -581,6 +626,7 @@ static void upload_camera(GLuint ubo, const mat4 *view, const mat4 *proj, const 
 /* --painter: the window pass draws everything after the ground with the depth test off, in
  * order, as programs that paint their scene back to front do (glmark2's ideas scene). */
 static int painter;
+static int offscreen;
 
 /* Draws ground, boxes and the floating box; the monitor screen only when screen_tex != 0
  * (never in the pass that renders into that texture). */
@@ -674,6 +720,8 @@ int main(int argc, char **argv)
     int (*old_handler)(Display *, XErrorEvent *);
     int glx_major = 0, glx_minor = 0, nconfigs = 0, frame;
     GLuint prog, bufs[4], vaos[2], tex, rbo, fbo, block;
+    GLuint scene_tex = 0, scene_depth = 0, scene_fbo = 0, present = 0, empty_vao = 0;
+    GLint present_solid = -1;
     GLint block_size = 0;
     GLenum status;
     unsigned char *shot = NULL;
@@ -697,6 +745,7 @@ int main(int argc, char **argv)
                                None};
 
     painter = app_take_flag(&argc, &argv, "--painter");
+    offscreen = app_take_flag(&argc, &argv, "--offscreen");
     app_parse_args(PROG, argc, argv, &args);
 
     dpy = XOpenDisplay(NULL);
@@ -845,6 +894,32 @@ int main(int argc, char **argv)
     }
     gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
 
+    if (offscreen) {
+        glGenTextures(1, &scene_tex);
+        glBindTexture(GL_TEXTURE_2D, scene_tex);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, args.width, args.height, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
+        glBindTexture(GL_TEXTURE_2D, 0);
+        gl.GenRenderbuffers(1, &scene_depth);
+        gl.BindRenderbuffer(GL_RENDERBUFFER, scene_depth);
+        gl.RenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, args.width, args.height);
+        gl.BindRenderbuffer(GL_RENDERBUFFER, 0);
+        gl.GenFramebuffers(1, &scene_fbo);
+        gl.BindFramebuffer(GL_FRAMEBUFFER, scene_fbo);
+        gl.FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, scene_tex, 0);
+        gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, scene_depth);
+        if (gl.CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+            fprintf(stderr, "%s: the scene framebuffer is incomplete\n", PROG);
+            return 1;
+        }
+        gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
+        present = build_present_program();
+        present_solid = uniform_location(present, "u_solid");
+        gl.GenVertexArrays(1, &empty_vao);
+        gl.UseProgram(prog);
+    }
+
     /* fixed state */
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
@@ -897,12 +972,33 @@ int main(int argc, char **argv)
         gl.GenerateMipmap(GL_TEXTURE_2D);
         glBindTexture(GL_TEXTURE_2D, 0);
 
-        /* pass 2: the window */
+        /* pass 2: the window, or with --offscreen the scene's framebuffer object */
+        if (offscreen)
+            gl.BindFramebuffer(GL_FRAMEBUFFER, scene_fbo);
         glViewport(0, 0, args.width, args.height);
         glClearColor(0.53f, 0.75f, 0.95f, 1.0f);
         glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
         upload_camera(bufs[3], &view_main, &proj_main, tint_main);
         draw_scene(vaos[0], vaos[1], tex);
+        if (offscreen) {
+            /* shown in the window, then the HUD over it */
+            gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
+            glClear(GL_DEPTH_BUFFER_BIT);
+            glDisable(GL_DEPTH_TEST);
+            gl.UseProgram(present);
+            gl.BindVertexArray(empty_vao);
+            glBindTexture(GL_TEXTURE_2D, scene_tex);
+            gl.Uniform4f(present_solid, 0.0f, 0.0f, 0.0f, 0.0f);
+            glDrawArrays(GL_TRIANGLES, 0, 3);
+            glBindTexture(GL_TEXTURE_2D, 0);
+            glViewport(HUD_X, HUD_Y, HUD_W, HUD_H);
+            gl.Uniform4f(present_solid, HUD_COLOR);
+            glDrawArrays(GL_TRIANGLES, 0, 3);
+            gl.BindVertexArray(0);
+            gl.UseProgram(prog);
+            glEnable(GL_DEPTH_TEST);
+            glViewport(0, 0, args.width, args.height);
+        }
 
         if (frame == args.frames - 1 && args.screenshot != NULL) {
             shot = malloc((size_t)args.width * (size_t)args.height * 3u);

@@ -5,7 +5,9 @@ opaque panel and glBitmap text). Replayed with every pass, the panel and the tex
 pixels as without passes, while the scene around them changed. Before, shadows darkened the
 panel, the cover whitened it and snow fell over it. And the other way round: a shader program
 that draws its 3D scene with the depth test off (core_scene --painter) is decorated, not taken for
-a HUD.
+a HUD. And a scene drawn offscreen (core_scene --offscreen: into a framebuffer object of the
+window's size, then copied to the window, then a HUD panel) is decorated as the same scene drawn
+in the window is, its HUD untouched; before, the passes saw only the window's copy and the HUD.
 
     overlay_test.py     with GLCAST, GLCAST_SHIM, APPS_DIR, OUT_DIR in the environment
 """
@@ -62,6 +64,48 @@ def painter(headless):
                                     "taken for overlays")
 
 
+def offscreen(headless):
+    """core_scene --offscreen against core_scene: the same scene, once drawn into a framebuffer
+    object and copied to the window (then a HUD panel), once drawn in the window. With every
+    pass, both come out alike (the main view, the redraw and the depth are the offscreen
+    scene's), and the panel is untouched. Before, the passes found no main view in the window
+    (the copy and the panel are flat draws): shadows and cover did nothing."""
+    hud = [(x, H - 1 - y) for y in range(8, 8 + 24) for x in range(8, 8 + 96)]  # HUD_X, HUD_Y, HUD_W, HUD_H
+    captures = {}
+    with Xvfb():
+        for name, extra in (("direct", []), ("offscreen", ["--offscreen"])):
+            captures[name] = os.path.join(OUT, f"core_scene_{name}.glcs")
+            r = subprocess.run([GLCAST, "capture", "-o", captures[name], "--", os.path.join(APPS, "core_scene"), *extra,
+                                "--size", f"{W}x{H}", "--frames", "2"], capture_output=True, text=True, timeout=300)
+            check(r.returncode == 0, f"capture {name} failed: {r.stderr[-2000:]}")
+    images = {}
+    for name, capture in captures.items():
+        for effects in ("", "shadows,cover,icicles,snow"):
+            out = os.path.join(OUT, f"{name}-{effects or 'plain'}")
+            r = subprocess.run([GLCAST, "replay", capture, "--backend", "egl", "--out", out] +
+                               (["--effects", effects] if effects else []),
+                               capture_output=True, text=True, timeout=300, env=headless)
+            check(r.returncode == 0, f"replay {out} failed: {r.stderr[-2000:]}")
+            images[name, bool(effects)] = read_png(os.path.join(out, "frame-000001.png"))[2]
+    outside = [(x, y) for y in range(H) for x in range(W) if (x, y) not in set(hud)]
+
+    def off(a, b, points):
+        return sum(1 for x, y in points if max(abs(p - q) for p, q in zip(a[y][x], b[y][x])) > 2)
+
+    plain, decorated = images["offscreen", False], images["offscreen", True]
+    check(all(plain[y][x] == (230, 51, 38) for x, y in hud), f"the HUD panel is not where the test expects it: "
+                                                           f"{plain[H - 20][20]}")
+    check(off(plain, images["direct", False], outside) == 0, "the offscreen scene does not look like the direct one")
+    touched = sum(1 for x, y in hud if plain[y][x] != decorated[y][x])
+    changed = sum(1 for x, y in outside if plain[y][x] != decorated[y][x])
+    unlike = off(decorated, images["direct", True], outside)
+    print(f"offscreen: the passes changed {changed} of {len(outside)} scene pixels and {touched} of the HUD's "
+          f"{len(hud)}; {unlike} pixels more than 2 levels off the same scene drawn in the window with the passes")
+    check(touched == 0, f"the passes changed {touched} of the HUD's pixels")
+    check(changed > len(outside) // 2, f"the passes changed only {changed} pixels of the offscreen scene")
+    check(unlike <= len(outside) // 100, f"decorated, the offscreen scene differs from the direct one in {unlike} pixels")
+
+
 def main():
     shutil.rmtree(OUT, ignore_errors=True)
     os.makedirs(OUT)
@@ -91,6 +135,7 @@ def main():
         check(scene > W * H // 20, f"{frame}: the passes changed only {scene} pixels of the scene")
         print(f"{frame}: the HUD's {len(hud)} pixels untouched; {scene} of the scene's pixels decorated")
     painter(headless)
+    offscreen(headless)
 
 
 if __name__ == "__main__":

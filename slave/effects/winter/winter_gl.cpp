@@ -10,19 +10,33 @@
 
 namespace glcast::slave::effects {
 
-WinterFrame winter_frame(const FrameView& view, const WinterSettings& settings, bool icicles) {
+glm::dvec3 world_up_seen(const glm::dmat4& modelview) {
+    const glm::dvec3 axes[] = {{0, 1, 0}, {0, 0, 1}, {0, -1, 0}, {0, 0, -1}};
+    glm::dvec3 best = axes[0];
+    double best_score = -1e300;
+    for (const glm::dvec3& axis : axes) {
+        const glm::dvec3 seen = glm::dmat3(modelview) * axis;
+        if (glm::length(seen) < 1e-12) continue;
+        const glm::dvec3 e = glm::normalize(seen);
+        const double score = e.y;
+        if (score > best_score + 1e-6) best = axis, best_score = score;
+    }
+    return best;
+}
+
+WinterFrame winter_frame(const FrameView& view, const WinterSettings& settings, bool icicles, const glm::dvec3& up) {
     WinterFrame f;
     f.canvas_width = view.canvas_width > 0 ? view.canvas_width : view.width;
     f.canvas_height = view.canvas_height > 0 ? view.canvas_height : view.height;
 
     const CoverSettings& c = settings.cover;
-    const glm::dvec3 up_through_view = glm::dmat3(view.modelview) * c.up;
+    const glm::dvec3 up_through_view = glm::dmat3(view.modelview) * up;
     if (c.up_in_world && view.view_known && glm::length(up_through_view) > 1e-9 &&
         std::abs(glm::determinant(view.modelview)) > 1e-12) {
         f.up_eye = glm::normalize(up_through_view);
         f.world_from_eye = glm::inverse(view.modelview);
     } else {  // eye space asked for, or a view transform that flattens the scene
-        f.up_eye = c.up;
+        f.up_eye = up;
     }
     if (view.light.known) {
         f.light_eye = view.light.eye_position;

@@ -20,8 +20,9 @@ std::vector<ParamSpec> winter_param_specs() {
         {"cover.noise_scale", 0.8, 0.001, 1e6, "size of the snow patches, world units (eye units when cover.up_space=eye)"},
         {"cover.edge", 0.06, 0.001, 0.5, "softness of the patch borders (fraction of the density range)"},
         {"cover.seed", 1, 0, 4294967295.0, "seed of the snow patches and the random spread"},
-        text("cover.up_space", "world (default): cover.up_* in world space, through the main view's modelview "
-                               "(eye space when the frame has no view); eye: cover.up_* in eye space"),
+        text("cover.up_space", "world: cover.up_* in world space, through the main view's modelview (eye space "
+                               "when the frame has no view); eye: cover.up_* in eye space; auto (default unless "
+                               "cover.up_* is given): the world's +Y or +Z, whichever the first view sees as up"),
         {"cover.up_x", 0, -1, 1, "x of the direction opposite to the snowfall"},
         {"cover.up_y", 1, -1, 1, "y of the direction opposite to the snowfall"},
         {"cover.up_z", 0, -1, 1, "z of the direction opposite to the snowfall"},
@@ -78,9 +79,11 @@ WinterSettings winter_settings_from(const EffectParams& params) {
     c.noise_scale = params.number("cover.noise_scale");
     c.edge = params.number("cover.edge");
     c.seed = unsigned(params.number("cover.seed"));
-    const std::string up_space = text_or(params, "cover.up_space", "world");
+    const bool up_given = params.has("cover.up_x") || params.has("cover.up_y") || params.has("cover.up_z");
+    const std::string up_space = text_or(params, "cover.up_space", up_given ? "world" : "auto");
     if (up_space == "eye") c.up_in_world = false;
-    else if (up_space != "world") bad_choice("cover.up_space", up_space, "world or eye");
+    else if (up_space == "auto") c.up_auto = true;
+    else if (up_space != "world") bad_choice("cover.up_space", up_space, "world, eye or auto");
     c.up = {params.number("cover.up_x"), params.number("cover.up_y"), params.number("cover.up_z")};
     if (glm::length(c.up) < 1e-6) throw std::runtime_error("effect parameters cover.up_x/y/z: the up direction is zero");
     c.up = glm::normalize(c.up);

@@ -32,6 +32,7 @@ struct CoverSettings {
     unsigned seed = 1;
     bool up_in_world = true;       // "up" in world space (through the main view's modelview), else eye space
     glm::dvec3 up{0, 1, 0};        // the direction opposite to the snowfall
+    bool up_auto = false;          // `up`: the world axis the first main view sees as up (world_up_seen)
     NormalSource normals = NormalSource::Auto;
     double build_frames = 0;       // frames over which the cover builds up from nothing (0: at once)
     double brightness = 1.0;       // scale of the snow's shaded color

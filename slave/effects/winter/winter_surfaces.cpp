@@ -5,6 +5,7 @@
 //   3. the snow shaded over the window (--effects cover);
 //   4. icicles under the lower edges of the cover (--effects icicles).
 // Both effects share steps 1 and 2, so they are one pass with two switches.
+#include <cinttypes>
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -46,7 +47,13 @@ public:
         }
         // The lazy window copies bind framebuffers of their own: take them before ours.
         const GLuint window_depth = view.depth_texture();
-        const WinterFrame frame = winter_frame(view, settings_, icicles_.has_value());
+        if (settings_.cover.up_auto && !auto_up_) {
+            auto_up_ = world_up_seen(view.modelview);
+            std::fprintf(stderr, "[glcast] cover/icicles: up is the world's %c%c, the axis the view of frame %" PRIu64
+                                 " sees as up (cover.up_x/y/z set it)\n",
+                         auto_up_->y + auto_up_->z > 0 ? '+' : '-', auto_up_->y != 0 ? 'Y' : 'Z', view.frame);
+        }
+        const WinterFrame frame = winter_frame(view, settings_, icicles_.has_value(), auto_up_ ? *auto_up_ : settings_.cover.up);
         surfaces_.update(view, frame, settings_.cover.normals, window_depth);
         cover_.classify(view, frame, surfaces_, window_depth);
 
@@ -62,6 +69,7 @@ private:
     SurfaceBuffers surfaces_;
     CoverStage cover_;
     std::optional<IcicleStage> icicles_;
+    std::optional<glm::dvec3> auto_up_;  // cover.up_space=auto: chosen at the first frame with a view
 };
 
 }  // namespace

@@ -12,6 +12,9 @@
 #include <string>
 
 #include <glm/glm.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "slave/effects/winter/winter_gl.h"
 
 #include "tests/effects/winter/winter_harness.h"
 
@@ -278,6 +281,22 @@ TEST(Cover, BadParametersAndFramesWithoutAViewAreHandled) {
     EXPECT_EQ(glcast::slave::compare(h.render(scene, high_camera(), {}), h.render(scene, high_camera(), no_view))
                   .differing_pixels,
               0);
+}
+
+// cover.up_space=auto (the default): the world axis the first view sees as up. Y-up and Z-up
+// worlds (openarena's is Z-up: with up fixed at +Y, its cover held no snow), cameras looking
+// down or up by less than 45 degrees, and one rolled upside down.
+TEST(Cover, UpIsTheWorldAxisTheViewSeesAsUp) {
+    using glcast::slave::effects::world_up_seen;
+    const auto view = [](glm::dvec3 eye, glm::dvec3 target, glm::dvec3 up) { return glm::lookAt(eye, target, up); };
+    EXPECT_EQ(world_up_seen(view({0, 6.5, 9.5}, {0, 0.8, -1.5}, {0, 1, 0})), glm::dvec3(0, 1, 0));   // 27 degrees down
+    EXPECT_EQ(world_up_seen(view({0, 1.2, 7}, {0, 4, -3}, {0, 1, 0})), glm::dvec3(0, 1, 0));         // 16 degrees up
+    EXPECT_EQ(world_up_seen(view({3, -10, 4}, {0, 0, 1}, {0, 0, 1})), glm::dvec3(0, 0, 1));          // Z-up, 16 down
+    EXPECT_EQ(world_up_seen(view({-5, 8, 1}, {4, -2, 6}, {0, 0, 1})), glm::dvec3(0, 0, 1));          // Z-up, 20 up
+    EXPECT_EQ(world_up_seen(view({0, 2, 9}, {0, 0, 0}, {0, -1, 0})), glm::dvec3(0, -1, 0));          // upside down
+    // A camera 60 degrees down on a Y-up world is one 30 degrees up on a world whose up is the
+    // horizontal axis it looks along: the nearer to level wins.
+    EXPECT_EQ(world_up_seen(view({0, 8.66, 5}, {0, 0, 0}, {0, 1, 0})), glm::dvec3(0, 0, -1));
 }
 
 }  // namespace
