@@ -118,12 +118,12 @@ KNOWN = """## What the table does not show
   fixed-function light, so the default light (from behind the viewer) is used; the weapon,
   drawn with the scene's projection, casts one onto the floor.
 - **neverball**: its star field is drawn first with the depth test off, then additive star
-  sprites without depth writes. Until this stop the star field became the main view and the
-  sprites started the overlays, so the cover whitened the star field and counted the whole
-  level as overlay. Now the main view is the first perspective draw that writes depth and only
-  such draws are redrawn (test `winter_e2e_backdrop`); the star field keeps its bytes. The level
-  still gets no snow in the menu's frames: not investigated yet. The menu (overlays) stays
-  untouched by cover and snow.
+  sprites without depth writes, then its level's reflection (mirrored with `glScalef(1, -1, 1)`,
+  depth writes on). None of them is the main view now: backdrops write no depth, and a mirrored
+  modelview is no camera (docs/effects.md); the main view is the level's, the star field keeps
+  its bytes, the menu (overlays) stays untouched. The level still shows no snow in these menu
+  frames although its view and up (+Y) are right and the menu's overlays start only after the
+  level: not understood yet.
 - **foobillardplus** crashes at its start on this machine without glcast as well (a strcpy of a
   NULL string after it looks for a web browser and a dialog program); no frame to compare.
 - **chromium-bsu**'s menu is 2D: no main view, so cover and shadows have nothing to work on.

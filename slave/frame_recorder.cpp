@@ -21,6 +21,10 @@ namespace {
 
 bool is_perspective(const glm::dmat4& p) { return p[2][3] != 0 && p[3][3] == 0; }
 
+// A view turned inside out (glScalef(1, -1, 1)): a game's planar reflection, drawn below its
+// floor before the scene (neverball). No camera is: it is not the main view.
+bool mirrored(const glm::dmat4& modelview) { return glm::determinant(glm::dmat3(modelview)) < 0; }
+
 bool writes_depth(const GlApi& gl) {
     GLboolean mask = GL_FALSE;
     gl.glGetBooleanv(GL_DEPTH_WRITEMASK, &mask);
@@ -117,14 +121,18 @@ void FrameRecorder::record(const Call& c, const uint8_t* tuple, size_t tuple_siz
             // main view nor, after it, the start of the overlays; the window's depth does not
             // have it, and the redraw leaves it out.
             const bool depth = writes_depth(gl);
+            glm::dmat4 modelview(1.0);
             if (!rec.main_known && is_perspective(app) && depth) {
+                GLdouble mv[16];
+                gl.glGetDoublev(GL_MODELVIEW_MATRIX, mv);
+                std::memcpy(&modelview[0][0], mv, sizeof mv);
+            }
+            if (!rec.main_known && is_perspective(app) && depth && !mirrored(modelview)) {
                 rec.main_known = true;
                 rec.scene_framebuffer = framebuffer;
                 rec.projection = app;
-                GLdouble mv[16];
-                gl.glGetDoublev(GL_MODELVIEW_MATRIX, mv);
-                std::memcpy(&rec.modelview[0][0], mv, sizeof mv);
-                if (rec.pushed) rec.modelview = rec.last_push;
+                // (a push made inside a reflection is not the view)
+                rec.modelview = rec.pushed && !mirrored(rec.last_push) ? rec.last_push : modelview;
                 tile_.program_viewport(rec.viewport);
                 GLboolean lighting = GL_FALSE;
                 gl.glGetBooleanv(GL_LIGHTING, &lighting);
@@ -180,6 +188,7 @@ bool FrameRecorder::shader_draw_is_main(SlaveContext& ctx, FrameRecord& rec, GLu
     ProgramCamera camera;
     if (!rec.main_known) rec.camera_probes++;
     if (!state(ctx).cameras(gl).find(program, camera)) return false;
+    if (!rec.main_known && mirrored(camera.modelview)) return false;  // a reflection's camera
     if (!rec.main_known) {
         rec.main_known = true;
         rec.scene_framebuffer = framebuffer;

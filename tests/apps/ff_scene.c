@@ -27,6 +27,11 @@
  * With --backdrop a star-field box (unlit, no depth writes) is drawn around the world first; its
  * floor shows beyond the ground's far edge (docs/effects.md: backdrops are not surfaces).
  *
+ * With --reflection the crates are first drawn mirrored below the ground (glScalef(1, -1, 1)
+ * before their own glPushMatrix, with depth writes, as neverball draws its level's reflection),
+ * then the depth buffer is cleared; the opaque ground hides them (docs/effects.md: a mirrored
+ * view is not the main view).
+ *
  * Prints to stdout:
  *   ff_scene: GL_RENDERER <string>
  *   ff_scene: GL_VERSION <string>
@@ -315,6 +320,7 @@ static void draw_ground(void)
  * writes (as neverball draws its back sphere): its floor (y = -1, inside normal up) shows
  * beyond the ground's far edge. */
 static int backdrop;
+static int reflection;
 
 static void draw_backdrop(void)
 {
@@ -387,6 +393,24 @@ static void draw_frame(int frame, int dolly, int w, int h, GLuint tex_ground, GL
     glMaterialfv(GL_FRONT_AND_BACK, GL_SPECULAR, no_spec);
     if (backdrop)
         draw_backdrop();
+    if (reflection) {
+        glPushMatrix();
+        glScalef(1.0f, -1.0f, 1.0f);
+        glFrontFace(GL_CW);
+        glEnable(GL_TEXTURE_2D);
+        glBindTexture(GL_TEXTURE_2D, tex_crate);
+        glColor3f(1.0f, 1.0f, 1.0f);
+        glPushMatrix();
+        glTranslatef(-2.5f, 0.75f, -1.5f);
+        glRotatef(20.0f, 0.0f, 1.0f, 0.0f);
+        glScalef(1.5f, 1.5f, 1.5f);
+        glCallList(box_list);
+        glPopMatrix();
+        glDisable(GL_TEXTURE_2D);
+        glFrontFace(GL_CCW);
+        glPopMatrix();
+        glClear(GL_DEPTH_BUFFER_BIT);
+    }
 
     /* ground: immediate mode, checker texture modulated by lighting */
     glEnable(GL_TEXTURE_2D);
@@ -525,6 +549,7 @@ int main(int argc, char **argv)
 
     const int hud = app_take_flag(&argc, &argv, "--hud");
     backdrop = app_take_flag(&argc, &argv, "--backdrop");
+    reflection = app_take_flag(&argc, &argv, "--reflection");
     app_parse_args(PROG, argc, argv, &args);
 
     dpy = XOpenDisplay(NULL);

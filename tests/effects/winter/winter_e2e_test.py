@@ -16,6 +16,7 @@ core_scene: a core-profile shader program whose camera is in a uniform block (te
   (slave/program_camera.h); the ground in the lower part of the picture turns to snow (brighter on
   average), the sky above the horizon stays as it was. Without the camera the pass drew nothing.
 backdrop: a star-field box drawn without depth writes stays as it was (case_backdrop).
+reflection: crates drawn mirrored below the ground first are not the main view (case_reflection).
 mosaic: the four tiles of display_configs/wall-2x2.json replayed one by one (glcast replay
   --config --tile), stitched with `glcast image mosaic`, equal the 1280x960 canvas replay.
 """
@@ -353,6 +354,33 @@ def case_backdrop():
     print(f"backdrop: the cover changed {touched} of the backdrop's {len(backdrop)} pixels and {covered} others")
     check(touched == 0, f"the cover changed {touched} of the backdrop's {len(backdrop)} pixels")
     check(covered > w * h // 5, f"the cover changed only {covered} pixels of the scene")
+
+
+def case_reflection():
+    """ff_scene --reflection (tests/data/ff_scene_reflection.glcs): the crates drawn first mirrored
+    below the ground (glScalef(1, -1, 1), depth writes; as neverball draws its level's
+    reflection), then the depth cleared and the scene as ff_scene draws it. A mirrored view is no
+    camera: the main view is the ground's, and the cover with the world's up given (+Y) comes out
+    as on ff_scene itself. Before, the main view was the reflection's, up pointed down through
+    it and the ground held no snow (238,253 of 307,200 pixels differed); the automatic up took
+    -Y."""
+    canvas = (640, 480)
+    params = ["cover.up_y=1"]
+    plain = replay(os.path.join(DATA, "ff_scene.glcs"), os.path.join(OUT, "reflection", "ff_scene"), "cover,icicles",
+                   params, canvas)
+    mirrored = replay(os.path.join(DATA, "ff_scene_reflection.glcs"), os.path.join(OUT, "reflection", "mirrored"),
+                      "cover,icicles", params, canvas)
+    frame = "frame-000002.png"
+    w, h, a = read_png(os.path.join(plain, frame))
+    _, _, b = read_png(os.path.join(mirrored, frame))
+    differing = sum(1 for y in range(h) for x in range(w) if a[y][x] != b[y][x])
+    r = run([GLCAST, "replay", os.path.join(DATA, "ff_scene_reflection.glcs"), "--backend", "egl", "--effects",
+             "cover", "--out", os.path.join(OUT, "reflection", "auto")])
+    up = re.search(r"up is the world's (\S+),", r.stderr)
+    print(f"reflection: with the cover, {differing} of {w * h} pixels differ from ff_scene's; automatic up: "
+          f"{up.group(1) if up else None}")
+    check(differing <= w * h // 1000, f"the cover differs from ff_scene's in {differing} pixels")
+    check(up and up.group(1) == "+Y", f"the automatic up is not +Y: {r.stderr[-500:]}")
 
 
 if __name__ == "__main__":
