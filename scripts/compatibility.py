@@ -121,9 +121,11 @@ KNOWN = """## What the table does not show
   sprites without depth writes, then its level's reflection (mirrored with `glScalef(1, -1, 1)`,
   depth writes on). None of them is the main view now: backdrops write no depth, and a mirrored
   modelview is no camera (docs/effects.md); the main view is the level's, the star field keeps
-  its bytes, the menu (overlays) stays untouched. The level still shows no snow in these menu
-  frames although its view and up (+Y) are right and the menu's overlays start only after the
-  level: not understood yet.
+  its bytes, the menu (overlays) stays untouched. The redraw still misses the level's surfaces
+  in these menu frames (why is not found yet: its view and up, +Y, are right, and the menu's
+  overlays start only after the level); the cover now takes the normals of visible surfaces the
+  redraw leaves out from the depth (docs/winter.md), so the level holds snow and icicles hang
+  from its edges.
 - **foobillardplus** crashes at its start on this machine without glcast as well (a strcpy of a
   NULL string after it looks for a web browser and a dialog program); no frame to compare.
 - **chromium-bsu**'s menu is 2D: no main view, so cover and shadows have nothing to work on.

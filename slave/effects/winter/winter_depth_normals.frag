@@ -3,7 +3,10 @@
 // the differences to its neighbours, taking on each axis the side whose depth is closer (so a
 // pixel at a depth edge uses the surface it belongs to). The window holds only this tile, so
 // guard-band pixels are marked unknown (w = -1): the icicle pass starts no icicle there.
+// Before a re-render (winter_surface_buffers.cpp) it also writes the window's depth, a little
+// behind, so that the re-rendered surfaces replace these normals where they are the visible ones.
 uniform sampler2D window_depth;  // tile pixels
+uniform bool write_depth;
 uniform int guard;
 uniform vec2 tile_size;       // pixels (integers)
 uniform mat4 eye_from_tile_clip;
@@ -31,12 +34,14 @@ vec3 tangent(ivec2 t, ivec2 step, vec3 here, float depth) {
 
 void main() {
     ivec2 t = ivec2(gl_FragCoord.xy) - guard;
+    gl_FragDepth = 1.0;
     if (any(lessThan(t, ivec2(0))) || any(greaterThanEqual(t, ivec2(tile_size)))) {
         out_normal = vec4(0.0, 0.0, 0.0, -1.0);
         out_position = vec4(0.0);
         return;
     }
     float depth = texelFetch(window_depth, t, 0).r;
+    if (write_depth && depth < 1.0) gl_FragDepth = min(1.0, depth + 1e-5);
     if (depth >= 1.0) {
         out_normal = vec4(0.0);
         out_position = vec4(0.0, 0.0, 0.0, 1.0);

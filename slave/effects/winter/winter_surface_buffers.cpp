@@ -57,26 +57,30 @@ void SurfaceBuffers::update(const FrameView& view, const WinterFrame& frame, Nor
     // Our geometry program shades the redraw: only for frames of fixed-function draws.
     const bool rerender = requested != NormalSource::Depth && view.redraw && !view.redraw_binds_programs &&
                           geometry_program_;
-    if (rerender) {
-        source_ = requested == NormalSource::Auto ? (view.light.known ? NormalSource::Vertex : NormalSource::Faceted)
-                                                  : requested;
-        gl.glEnable(GL_DEPTH_TEST);
-        gl.glDepthFunc(GL_LEQUAL);
-        gl.glUseProgram(geometry_program_);
-        set_uniform(gl, geometry_program_, "use_vertex_normals", source_ == NormalSource::Vertex ? 1 : 0);
-        view.redraw(view.guard_band(frame.guard));
-        gl.glUseProgram(0);
-        gl.glDisable(GL_DEPTH_TEST);
-        return;
-    }
-    source_ = NormalSource::Depth;
-    gl.glDisable(GL_DEPTH_TEST);
+    // Normals from the window's depth first; a re-render then replaces them where its surfaces
+    // are the visible ones (its depth test against the window's depth, written a little behind):
+    // a visible surface the redraw leaves out (neverball's level in its menu frames) keeps the
+    // normal its depth gives, and the guard band beyond the tile has the re-rendered surfaces.
+    gl.glEnable(GL_DEPTH_TEST);
+    gl.glDepthFunc(GL_ALWAYS);
     gl.glUseProgram(depth_program_);
     bind_sampler(gl, depth_program_, "window_depth", 0, window_depth);
+    set_uniform(gl, depth_program_, "write_depth", rerender ? 1 : 0);
     set_uniform(gl, depth_program_, "guard", frame.guard);
     set_uniform(gl, depth_program_, "tile_size", glm::dvec2(view.width, view.height));
     set_uniform(gl, depth_program_, "eye_from_tile_clip", view.eye_from_tile_clip);
     draw_fullscreen(gl, empty_vao_);
+    source_ = NormalSource::Depth;
+    if (rerender) {
+        source_ = requested == NormalSource::Auto ? (view.light.known ? NormalSource::Vertex : NormalSource::Faceted)
+                                                  : requested;
+        gl.glDepthFunc(GL_LEQUAL);
+        gl.glUseProgram(geometry_program_);
+        set_uniform(gl, geometry_program_, "use_vertex_normals", source_ == NormalSource::Vertex ? 1 : 0);
+        view.redraw(view.guard_band(frame.guard));
+    }
+    gl.glUseProgram(0);
+    gl.glDisable(GL_DEPTH_TEST);
 }
 
 }  // namespace glcast::slave::effects

@@ -283,6 +283,26 @@ TEST(Cover, BadParametersAndFramesWithoutAViewAreHandled) {
               0);
 }
 
+// A visible surface the redraw leaves out (neverball's level in its menu frames: drawn, in the
+// window's depth, but not re-rendered) gets its normal from the depth, and holds snow as the
+// re-rendered ground does. Before, the re-rendered normals were all there was: none on it.
+TEST(Cover, SurfacesTheRedrawLeavesOutTakeTheirNormalsFromDepth) {
+    Harness& h = harness();
+    ASSERT_TRUE(h.ok()) << h.error();
+    const Scene scene = standard_scene();
+    const Image before = h.render(scene, high_camera(), {});
+    const Image ids = h.classes(scene, high_camera());
+    RenderOptions options{"cover", {}};
+    options.redraw_ground = false;
+    const Image after = h.render(scene, high_camera(), options);
+    save("cover_ground_not_redrawn", after);
+    const auto f = snow_by_class(before, after, ids);
+    print("ground left out of the redraw", f);
+    EXPECT_GE(f.at(kGround).value(), 0.85);
+    EXPECT_GE(f.at(kTop).value(), 0.75);
+    EXPECT_LE(f.at(kSide).value(), 0.03);
+}
+
 // cover.up_space=auto (the default): the world axis the first view sees as up. Y-up and Z-up
 // worlds (openarena's is Z-up: with up fixed at +Y, its cover held no snow), cameras looking
 // down or up by less than 45 degrees, and one rolled upside down.

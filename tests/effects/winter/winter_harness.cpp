@@ -258,9 +258,11 @@ FrameView Harness::frame_view(const Scene& scene, const Camera& camera, Tile til
     };
     if (options.redraw) {
         const glm::dmat4 projection = v.projection, modelview = v.modelview;
-        v.redraw = [this, scene, projection, modelview](const glm::dmat4& correction) {
+        Scene redrawn = scene;
+        redrawn.ground = scene.ground && options.redraw_ground;
+        v.redraw = [this, redrawn, projection, modelview](const glm::dmat4& correction) {
             load_matrices(correction * projection, modelview);
-            draw_scene(scene, false, false);
+            draw_scene(redrawn, false, false);
         };
     }
     return v;

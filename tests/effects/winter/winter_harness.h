@@ -79,6 +79,7 @@ struct RenderOptions {
     std::vector<std::string> params;           // "name=value"
     uint64_t frame = 10;
     bool redraw = true;                        // false: FrameView::redraw empty (as for shader programs)
+    bool redraw_ground = true;                 // false: the redraw leaves the visible ground out
     bool view_known = true;                    // false: FrameView says the frame has no perspective view
 };
 
