@@ -31,6 +31,13 @@ bool writes_depth(const GlApi& gl) {
     return mask && gl.glIsEnabled(GL_DEPTH_TEST);
 }
 
+// glDepthRange(0, f) with f < 1: a draw kept in front of the world (a view model), or 0.
+double view_model_depth_range(const GlApi& gl) {
+    GLdouble range[2] = {0, 1};
+    gl.glGetDoublev(GL_DEPTH_RANGE, range);
+    return range[0] == 0 && range[1] > 0 && range[1] < 1 ? range[1] : 0;
+}
+
 bool compatibility_context(const GlApi& gl) {
     GLint profile = 0;
     gl.glGetIntegerv(GL_CONTEXT_PROFILE_MASK, &profile);
@@ -63,6 +70,7 @@ void FrameRecord::clear() {
     started = presented = false;
     scene_framebuffer = 0;
     camera_probes = 0;
+    view_model_far = 0;
     light = effects::SceneLight{};
 }
 
@@ -112,7 +120,11 @@ void FrameRecorder::record(const Call& c, const uint8_t* tuple, size_t tuple_siz
         GLint program = 0;
         gl.glGetIntegerv(GL_CURRENT_PROGRAM, &program);
         e.draw = e.opens = true;
-        if (program) {
+        if (const double far = view_model_depth_range(gl)) {
+            // Neither the main view nor a part of it: its pixels go back as the program drew them.
+            if (rec.main_known && !rec.overlay) rec.view_model_far = std::max(rec.view_model_far, far);
+            if (program) rec.shader_draws = true;
+        } else if (program) {
             rec.shader_draws = true;
             e.main = shader_draw_is_main(ctx, rec, GLuint(program), framebuffer);
         } else {
@@ -539,7 +551,7 @@ bool FrameRecorder::starts_overlays(SlaveContext& ctx, RedrawKind kind) {
     return flat;
 }
 
-void FrameRecorder::put_overlays_back(SlaveContext& ctx) {
+void FrameRecorder::put_overlays_back(SlaveContext& ctx, bool overlays) {
     EffectsState& st = state(ctx);
     const GlApi& gl = core_.api();
     if (!st.overlay_program) {
@@ -557,8 +569,13 @@ void FrameRecorder::put_overlays_back(SlaveContext& ctx) {
     gl.glBindTexture(GL_TEXTURE_2D, st.program_image);
     gl.glActiveTexture(GL_TEXTURE1);
     gl.glBindTexture(GL_TEXTURE_2D, st.scene_image);
+    gl.glActiveTexture(GL_TEXTURE2);
+    gl.glBindTexture(GL_TEXTURE_2D, st.record.view_model_far > 0 ? st.view_model_depth : 0);
     gl.glUniform1i(effects::uniform(gl, st.overlay_program, "final_image"), 0);
     gl.glUniform1i(effects::uniform(gl, st.overlay_program, "scene_image"), 1);
+    gl.glUniform1i(effects::uniform(gl, st.overlay_program, "scene_depth"), 2);
+    gl.glUniform1i(effects::uniform(gl, st.overlay_program, "overlays"), overlays);
+    gl.glUniform1f(effects::uniform(gl, st.overlay_program, "view_model_far"), GLfloat(st.record.view_model_far));
     effects::draw_fullscreen(gl, st.overlay_vao);
 }
 
@@ -585,8 +602,12 @@ void FrameRecorder::run_effects(SlaveContext& ctx) {
         st.program_image_saved = true;
         const bool overlays = st.record.overlay && st.copies_width == ctx.width && st.copies_height == ctx.height;
         if (overlays) copy_window(ctx, st.scene_image_fb, false, /*back=*/true);  // the scene alone
+        const bool view_model = st.record.view_model_far > 0 && st.copies_width == ctx.width &&
+                                st.copies_height == ctx.height;
+        if (view_model) st.view_model_depth = window_copy(ctx, true);  // before any pass draws
+        else st.record.view_model_far = 0;
         st.pipeline->run(view);
-        if (overlays) put_overlays_back(ctx);
+        if (overlays || view_model) put_overlays_back(ctx, overlays);
         if (core_.after_effects) core_.after_effects(view);
     } catch (const std::runtime_error& e) {
         throw EffectsError(std::string("effects: ") + e.what());

@@ -46,6 +46,11 @@ struct FrameRecord {
     // orthographic projection, the depth test off, pixels at the raster position) on, the
     // frame's draws are the program's HUD and text, drawn over what the passes decorate.
     bool overlay = false;
+    // A first-person view model (a game's weapon): draws after the main view squeezed into the
+    // front of the depth range (glDepthRange(0, f), f < 1: Quake's depth hack, f = 0.3) so that
+    // nothing in the world hides them. Not the scene: not redrawn, and the pixels whose depth is
+    // below the largest such f are the program's, as an overlay's are. 0: none this frame.
+    double view_model_far = 0;
     // Shader draws whose matrices were read for a camera this frame: a 2D program with
     // thousands of draws stops asking after kMaxCameraProbes.
     int camera_probes = 0;
@@ -94,6 +99,7 @@ struct EffectsState {
     // The window as the scene left it, before the first overlay, and the program that puts the
     // overlays back over the decorated scene (slave/effects/overlays.frag).
     GLuint scene_image = 0, scene_image_fb = 0, overlay_program = 0, overlay_vao = 0;
+    GLuint view_model_depth = 0;  // the depth the passes saw, for the view model's pixels
     // The program's vertex-array object and 2D textures (units 0..7) as the frame left them,
     // before any pass: redraw gives them back to the program's draws, whatever a pass bound.
     GLint program_vao = 0, program_active_texture = GL_TEXTURE0, program_textures[8] = {};
@@ -131,7 +137,7 @@ private:
     void record(const Call& c, const uint8_t* tuple, size_t bytes);
     void watch_overlays(SlaveContext& ctx, RedrawKind kind);  // before a draw to the window
     bool starts_overlays(SlaveContext& ctx, RedrawKind kind);
-    void put_overlays_back(SlaveContext& ctx);
+    void put_overlays_back(SlaveContext& ctx, bool overlays);
     void run_effects(SlaveContext& ctx);
     void redraw_main_view(SlaveContext& ctx, const glm::dmat4& correction);
     bool shader_draw_is_main(SlaveContext& ctx, FrameRecord& rec, GLuint program, GLuint framebuffer);

@@ -32,6 +32,11 @@
  * then the depth buffer is cleared; the opaque ground hides them (docs/effects.md: a mirrored
  * view is not the main view).
  *
+ * With --weapon a first-person view model is drawn among the scene's draws, after the crates: a
+ * level box placed in eye space (lower right, about 1.3 units in front of the eye) with
+ * glDepthRange(0, 0.3), as Quake 3 draws its weapon, so that no wall can hide it
+ * (docs/effects.md: a view model is not the scene).
+ *
  * Prints to stdout:
  *   ff_scene: GL_RENDERER <string>
  *   ff_scene: GL_VERSION <string>
@@ -321,6 +326,7 @@ static void draw_ground(void)
  * beyond the ground's far edge. */
 static int backdrop;
 static int reflection;
+static int weapon;
 
 static void draw_backdrop(void)
 {
@@ -436,6 +442,20 @@ static void draw_frame(int frame, int dolly, int w, int h, GLuint tex_ground, GL
     glPopMatrix();
     glDisable(GL_TEXTURE_2D);
 
+    if (weapon) {
+        glColor3f(0.25f, 0.25f, 0.3f);
+        glPushMatrix();
+        glLoadIdentity();
+        glTranslatef(0.55f, -0.45f, -1.3f);
+        glRotatef(30.0f, 1.0f, 0.0f, 0.0f); /* the camera's pitch: its top is level, facing up */
+        glRotatef(-8.0f, 0.0f, 1.0f, 0.0f);
+        glScalef(0.22f, 0.2f, 0.9f);
+        glDepthRange(0.0, 0.3);
+        glCallList(box_list);
+        glDepthRange(0.0, 1.0);
+        glPopMatrix();
+    }
+
     /* flag pole: same display list, untextured */
     glColor3f(0.55f, 0.55f, 0.6f);
     glPushMatrix();
@@ -550,6 +570,7 @@ int main(int argc, char **argv)
     const int hud = app_take_flag(&argc, &argv, "--hud");
     backdrop = app_take_flag(&argc, &argv, "--backdrop");
     reflection = app_take_flag(&argc, &argv, "--reflection");
+    weapon = app_take_flag(&argc, &argv, "--weapon");
     app_parse_args(PROG, argc, argv, &args);
 
     dpy = XOpenDisplay(NULL);

@@ -8,6 +8,8 @@ that draws its 3D scene with the depth test off (core_scene --painter) is decora
 a HUD. And a scene drawn offscreen (core_scene --offscreen: into a framebuffer object of the
 window's size, then copied to the window, then a HUD panel) is decorated as the same scene drawn
 in the window is, its HUD untouched; before, the passes saw only the window's copy and the HUD.
+And a first-person weapon drawn with glDepthRange(0, 0.3) among the scene's draws (ff_scene
+--weapon) is left as the program drew it.
 
     overlay_test.py     with GLCAST, GLCAST_SHIM, APPS_DIR, OUT_DIR in the environment
 """
@@ -106,6 +108,40 @@ def offscreen(headless):
     check(unlike <= len(outside) // 100, f"decorated, the offscreen scene differs from the direct one in {unlike} pixels")
 
 
+def view_model(headless):
+    """ff_scene --weapon: a first-person weapon drawn among the scene's draws with
+    glDepthRange(0, 0.3) (Quake 3's depth hack). With every pass its pixels are the plain
+    replay's, and every other pixel is what the passes make of the same scene without it. Before,
+    the passes changed 5,045-5,137 of its 5,619 pixels (snow fell over it, cover on its top)."""
+    captures = {}
+    with Xvfb():
+        for name, extra in (("no-weapon", []), ("weapon", ["--weapon"])):
+            captures[name] = os.path.join(OUT, f"ff_scene_{name}.glcs")
+            r = subprocess.run([GLCAST, "capture", "-o", captures[name], "--", os.path.join(APPS, "ff_scene"), *extra,
+                                "--size", f"{W}x{H}", "--frames", "2"], capture_output=True, text=True, timeout=300)
+            check(r.returncode == 0, f"capture {name} failed: {r.stderr[-2000:]}")
+    images = {}
+    for name, capture in captures.items():
+        for effects in ("", "shadows,cover,icicles,snow"):
+            out = os.path.join(OUT, f"{name}-{effects or 'plain'}")
+            r = subprocess.run([GLCAST, "replay", capture, "--backend", "egl", "--out", out] +
+                               (["--effects", effects] if effects else []),
+                               capture_output=True, text=True, timeout=300, env=headless)
+            check(r.returncode == 0, f"replay {out} failed: {r.stderr[-2000:]}")
+            images[name, bool(effects)] = read_png(os.path.join(out, "frame-000001.png"))[2]
+    plain = images["weapon", False]
+    weapon = [(x, y) for y in range(H) for x in range(W) if plain[y][x] != images["no-weapon", False][y][x]]
+    check(len(weapon) > 2000, f"the weapon is not where the test expects it ({len(weapon)} pixels)")
+    touched = sum(1 for x, y in weapon if images["weapon", True][y][x] != plain[y][x])
+    inside_weapon = set(weapon)
+    unlike = sum(1 for y in range(H) for x in range(W) if (x, y) not in inside_weapon and
+                 max(abs(p - q) for p, q in zip(images["weapon", True][y][x], images["no-weapon", True][y][x])) > 2)
+    print(f"view model: the passes changed {touched} of the weapon's {len(weapon)} pixels; {unlike} other pixels "
+          f"more than 2 levels off the scene without it")
+    check(touched == 0, f"the passes changed {touched} of the weapon's {len(weapon)} pixels")
+    check(unlike == 0, f"with the weapon, {unlike} scene pixels differ from the scene without it")
+
+
 def main():
     shutil.rmtree(OUT, ignore_errors=True)
     os.makedirs(OUT)
@@ -136,6 +172,7 @@ def main():
         print(f"{frame}: the HUD's {len(hud)} pixels untouched; {scene} of the scene's pixels decorated")
     painter(headless)
     offscreen(headless)
+    view_model(headless)
 
 
 if __name__ == "__main__":
