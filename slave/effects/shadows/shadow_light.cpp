@@ -27,9 +27,18 @@ glm::dvec3 centroid(const std::array<glm::dvec3, 8>& corners) {
 
 }  // namespace
 
+bool is_headlight(const glm::dvec4& p) {
+    const double cos_limit = std::cos(glm::radians(10.0)), sin_limit = std::sin(glm::radians(10.0));
+    const glm::dvec3 v(p);
+    const double n = glm::length(v);
+    if (p.w == 0) return n > 0 && v.z >= cos_limit * n;  // towards the light: the eye's +Z
+    const glm::dvec3 at = v / p.w;
+    return glm::length(at) < 1e-9 || (at.z > 0 && glm::length(glm::dvec2(at)) <= sin_limit * glm::length(at));
+}
+
 ShadowLight choose_light(const FrameView& view, const ShadowSettings& settings) {
-    const glm::dvec4 gl_position =
-        settings.use_program_light && view.light.known ? view.light.eye_position : settings.fallback_light;
+    const bool program = settings.use_program_light && view.light.known && !is_headlight(view.light.eye_position);
+    const glm::dvec4 gl_position = program ? view.light.eye_position : settings.fallback_light;
     ShadowLight light;
     light.directional = gl_position.w == 0;
     if (light.directional) {
@@ -49,10 +58,16 @@ std::array<glm::dvec3, 8> view_frustum_corners(const glm::dmat4& projection, dou
         const glm::dvec4 e = inv * ndc;
         c[i] = glm::dvec3(e) / e.w;
     }
+    // Far corners beyond max_distance, or at infinity (an infinite far plane, as programs with
+    // shadow volumes project: NDC z = 1 unprojects to w = 0), move along their ray, which the
+    // near corner and the point at NDC z = 0 (finite for every projection) span.
     for (int i = 0; i < 4; ++i) {
-        const glm::dvec3 n = c[i], f = c[i + 4];
-        const double dn = -n.z, df = -f.z;
-        if (df > max_distance && df > dn) c[i + 4] = n + (f - n) * (std::max(max_distance, dn) - dn) / (df - dn);
+        const glm::dvec4 mid = inv * glm::dvec4((i & 1) ? 1 : -1, (i & 2) ? 1 : -1, 0, 1);
+        const glm::dvec3 n = c[i], m = glm::dvec3(mid) / mid.w, f = c[i + 4];
+        const double dn = -n.z, dm = -m.z, df = -f.z;
+        const bool finite = std::isfinite(df) && std::isfinite(f.x) && std::isfinite(f.y) && df > dn;
+        if ((!finite || df > max_distance) && dm != dn)
+            c[i + 4] = n + (m - n) * (std::max(max_distance, dn) - dn) / (dm - dn);
     }
     return c;
 }

@@ -23,8 +23,12 @@ struct ShadowLight {
     glm::dvec3 direction{0.0, 1.0, 0.0}; // directional: unit vector from the scene towards the light
 };
 
-// The program's first enabled light when it has one and settings allow, else the settings'
-// light (FrameView::light and the fallback are both eye-space GL_POSITIONs).
+// A light at the eye or shining along the view axis (within 10 degrees): a viewer's headlight
+// (osgviewer's default). Every shadow it casts lies behind its caster, out of sight.
+bool is_headlight(const glm::dvec4& eye_gl_position);
+
+// The program's first enabled light when it has one, settings allow and it is no headlight,
+// else the settings' light (FrameView::light and the fallback are both eye-space GL_POSITIONs).
 ShadowLight choose_light(const FrameView& view, const ShadowSettings& settings);
 
 // The 8 corners (near then far, each (-1,-1), (1,-1), (-1,1), (1,1) in NDC) of the frustum

@@ -46,6 +46,24 @@ TEST(ShadowLight, FrustumCornersArePulledInToTheMaximumDistance) {
     EXPECT_NEAR(-unclamped[4].z, 100.0, 1e-6);
 }
 
+// Programs with shadow volumes (the Castle Game Engine's view3dscene) project with an infinite far
+// plane: NDC z = 1 lies at infinity. The far corners are then the rays' points at the maximum
+// distance; before, they were inf/NaN and the shadow map was empty (no shadow on view3dscene).
+TEST(ShadowLight, FrustumCornersOfAnInfiniteFarPlaneAreAtTheMaximumDistance) {
+    const glm::dmat4 infinite = glm::infinitePerspective(glm::radians(45.0), 4.0 / 3.0, 0.06);
+    const auto corners = view_frustum_corners(infinite, 60.0);
+    for (int i = 0; i < 8; ++i)
+        for (int k = 0; k < 3; ++k) ASSERT_TRUE(std::isfinite(corners[i][k])) << "corner " << i;
+    for (int i = 0; i < 4; ++i) EXPECT_NEAR(-corners[i].z, 0.06, 1e-9);
+    for (int i = 4; i < 8; ++i) EXPECT_NEAR(-corners[i].z, 60.0, 1e-6);
+    for (int i = 0; i < 4; ++i)
+        EXPECT_NEAR(glm::dot(glm::normalize(corners[i]), glm::normalize(corners[i + 4])), 1.0, 1e-12);
+    ShadowLight light;
+    light.directional = true;
+    light.direction = glm::normalize(glm::dvec3(0.4, 1.0, 0.5));
+    expect_covers(fit_light_frame(light, corners, 150), corners);
+}
+
 TEST(ShadowLight, DirectionalFrameIsOrthographicAlongTheLightAndCoversTheView) {
     ShadowLight light;
     light.directional = true;
@@ -136,6 +154,25 @@ TEST(ShadowLight, ProgramLightUnlessTheSettingsSayOtherwise) {
     view.light.known = false;
     s.use_program_light = true;
     EXPECT_TRUE(choose_light(view, s).directional);
+}
+
+// osgviewer lights its scene with a headlight (GL_LIGHT0 at (0, 0, 1, 0) in eye space): its shadows
+// would all lie behind the boxes that cast them. The settings' light is used instead.
+TEST(ShadowLight, AHeadlightGivesWayToTheSettingsLight) {
+    EXPECT_TRUE(is_headlight({0.0, 0.0, 1.0, 0.0}));
+    EXPECT_TRUE(is_headlight({0.0, 0.1, 1.0, 0.0}));   // 5.7 degrees off the axis
+    EXPECT_FALSE(is_headlight({0.0, 0.3, 1.0, 0.0}));  // 16.7 degrees
+    EXPECT_TRUE(is_headlight({0.0, 0.0, 0.0, 1.0}));   // at the eye
+    EXPECT_TRUE(is_headlight({0.0, 0.0, 2.0, 2.0}));   // behind the eye, on the axis
+    EXPECT_FALSE(is_headlight({5.0, 10.0, -4.0, 1.0}));
+    EXPECT_FALSE(is_headlight({0.0, 0.0, -1.0, 0.0}));  // facing the viewer from behind the scene
+    FrameView view;
+    view.light.known = true;
+    view.light.eye_position = {0.0, 0.0, 1.0, 0.0};
+    ShadowSettings s;
+    s.fallback_light = {0.0, 3.0, 4.0, 0.0};
+    const ShadowLight l = choose_light(view, s);
+    EXPECT_NEAR(glm::length(l.direction - glm::dvec3(0.0, 0.6, 0.8)), 0.0, 1e-12);
 }
 
 TEST(ShadowSettings, ParametersAreReadAndBadMethodsNamed) {
