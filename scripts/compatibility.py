@@ -17,6 +17,7 @@ hacks with --doc '' (no table written).
 """
 import argparse
 import json
+import math
 import os
 import re
 import shutil
@@ -53,32 +54,74 @@ PROGRAMS = [
                                 "+set", "r_customwidth", "640", "+set", "r_customheight", "480", "+set",
                                 "r_fullscreen", "0", "+set", "s_initsound", "0", "+set", "com_introplayed", "1",
                                 "+demo", "demo088-test1"], 300),
-    ("osgviewer", "openscenegraph", ["osgviewer", "--window", "0", "0", "640", "480", "{scene}"], 60),
-    ("view3dscene", "view3dscene", ["view3dscene", "--geometry", "640x480", "{scene}"], 60),
+    # osgviewer's default camera looks level along +Y at the model (Z up); ".25,0,0.rot" (OSG's rotation
+    # pseudo-loader) tips the scene's far side up by 25 degrees, so that it looks down onto the ground.
+    ("osgviewer", "openscenegraph", ["osgviewer", "--window", "0", "0", "640", "480", "{scene}.25,0,0.rot"], 60),
+    ("view3dscene", "view3dscene", ["view3dscene", "--geometry", "640x480", "{x3d}"], 60),
     ("openscad", "openscad", ["openscad", "{scad}"], 60),
 ]
-# {scene}: a ground and three boxes (Wavefront OBJ), {scad}: the same in OpenSCAD, written to --out.
-SCAD = """cube([10, 10, 0.2], center = true);
+# {scene}: a ground and three boxes (Wavefront OBJ), {x3d}: the same in X3D with a viewpoint looking down
+# onto it, {scad}: in OpenSCAD with its viewport ($vp*), written to --out. Without a viewpoint the three
+# viewers look straight down at the ground, where a light from the viewer's side hides each shadow.
+SCAD = """$vpt = [0, 0, 1];
+$vpr = [60, 0, 30];
+$vpd = 28;
+cube([10, 10, 0.2], center = true);
 translate([-2, 0, 1]) cube(2, center = true);
 translate([2, 1, 0.75]) cube([1.5, 1.5, 1.5], center = true);
 translate([0, -2, 1.5]) sphere(1, $fn = 32);
 """
 
 
+# A ground (10 x 10) and three boxes standing on it: centre x, y, bottom z, size x, y, z (z up).
+BOXES = [(0, 0, -0.1, 10, 10, 0.2), (-2, 0, 0, 2, 2, 2), (2, 1, 0, 1.5, 1.5, 1.5), (0, -2.5, 0, 1, 1, 3)]
+
+
 def write_scene(path):
-    """A ground (10 x 10) and three boxes standing on it, with normals."""
-    boxes = [(0, 0, -0.1, 10, 10, 0.2), (-2, 0, 0, 2, 2, 2), (2, 1, 0, 1.5, 1.5, 1.5), (0, -2.5, 0, 1, 1, 3)]
-    lines, v = ["vn 1 0 0", "vn -1 0 0", "vn 0 1 0", "vn 0 -1 0", "vn 0 0 1", "vn 0 0 -1"], 0
+    """The boxes as a Wavefront OBJ, with normals, Y up as OBJ files are (OSG turns them Z up)."""
+    lines, v = ["vn 1 0 0", "vn -1 0 0", "vn 0 0 -1", "vn 0 0 1", "vn 0 1 0", "vn 0 -1 0"], 0
     faces = [((1, 2, 6, 5), 1), ((0, 4, 7, 3), 2), ((2, 3, 7, 6), 3), ((0, 1, 5, 4), 4), ((4, 5, 6, 7), 5),
              ((0, 3, 2, 1), 6)]
-    for cx, cy, z0, sx, sy, sz in boxes:  # z up, as most modelling tools write
+    for cx, cy, z0, sx, sy, sz in BOXES:
         for k in range(8):
             x = cx + (sx / 2 if k in (1, 2, 5, 6) else -sx / 2)
             y = cy + (sy / 2 if k in (2, 3, 6, 7) else -sy / 2)
-            lines.append(f"v {x} {y} {z0 + (sz if k >= 4 else 0)}")
+            lines.append(f"v {x} {z0 + (sz if k >= 4 else 0)} {-y}")  # (x, y, z) Z-up -> (x, z, -y) Y-up
         for quad, n in faces:
             lines.append("f " + " ".join(f"{v + i + 1}//{n}" for i in quad))
         v += 8
+    with open(path, "w") as f:
+        f.write("\n".join(lines) + "\n")
+
+
+def look_at_orientation(eye, target):
+    """X3D's Viewpoint orientation (axis, angle) that turns its default view (along -Z, Y up) to look
+    from `eye` at `target` with Y up."""
+    def norm(a):
+        n = sum(c * c for c in a) ** 0.5
+        return [c / n for c in a]
+
+    def cross(a, b):
+        return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+    back = norm([e - t for e, t in zip(eye, target)])       # the camera's +Z
+    right = norm(cross([0, 1, 0], back))                    # its +X
+    up = cross(back, right)                                 # its +Y
+    m = [[right[i], up[i], back[i]] for i in range(3)]     # columns: the camera's axes in the world
+    angle = math.acos(max(-1.0, min(1.0, (m[0][0] + m[1][1] + m[2][2] - 1) / 2)))
+    axis = norm([m[2][1] - m[1][2], m[0][2] - m[2][0], m[1][0] - m[0][1]])
+    return axis, angle
+
+
+def write_x3d(path):
+    """The boxes in X3D (classic encoding, Y up), with a viewpoint looking down onto them at about 35 degrees."""
+    eye, target = (7.0, 8.0, 9.0), (0.0, 0.5, 0.0)
+    axis, angle = look_at_orientation(eye, target)
+    lines = ["#X3D V3.2 utf8", "PROFILE Interchange",
+             f"Viewpoint {{ position {eye[0]} {eye[1]} {eye[2]} orientation {axis[0]:.6f} {axis[1]:.6f} {axis[2]:.6f} "
+             f"{angle:.6f} fieldOfView 0.785398 }}"]
+    for cx, cy, z0, sx, sy, sz in BOXES:
+        lines.append(f"Transform {{ translation {cx} {z0 + sz / 2} {-cy} children Shape {{ appearance Appearance {{ "
+                     f"material Material {{ diffuseColor 0.8 0.8 0.8 }} }} geometry Box {{ size {sx} {sz} {sy} }} }} }}")
     with open(path, "w") as f:
         f.write("\n".join(lines) + "\n")
 EFFECTS = [("shadows", "shadows"), ("cover", "cover,icicles"), ("snow", "snow")]
@@ -100,12 +143,23 @@ KNOWN = """## What the table does not show
   rasterizer, flips 390 pixels on the same mosaic (208 of them the same). The table's mosaic
   column makes this check itself when a mosaic is over the tolerance, and says "rounding".
 - **Shadows on shader programs** are re-rendered through their patched vertex shaders
-  (docs/effects.md, "How redraw works"; test `shadows_e2e_core_scene`), but the shader programs
-  here give them little to fall on: glmark2's two scenes are one object on black (the horse
-  shades 5 pixels of itself, the convex cube none), and view3dscene, osgviewer and openscad
-  look straight down at the test scene (their default camera for a Z-up model), where the light
-  (`shadows.light_*`, from the viewer's side) hides each shadow under its box. glmark2's `ideas`
-  scene (not in the table) draws its table with the depth test off: not a caster.
+  (docs/effects.md, "How redraw works"; test `shadows_e2e_core_scene`). glmark2's two scenes
+  give them little to fall on: one object on black (the horse shades 5 pixels of itself, the
+  convex cube none); its `ideas` scene (not in the table) draws its table with the depth test
+  off: not a caster. The viewers get a scene with a viewpoint looking down onto the ground
+  (X3D for view3dscene; OSG's `.rot` pseudo-loader for osgviewer; `$vp*` for openscad): before,
+  they looked straight down at it, where the default light hid each shadow under its box.
+  view3dscene projects with an infinite far plane (for its shadow volumes); the shadow map's
+  frustum was then NaN and no shadow was drawn: now its boxes cast contact shadows (and its green
+  bounding-box lines thin ones). osgviewer lights with a headlight (GL_LIGHT0 along the view
+  axis), whose shadows all lie behind their casters: a headlight gives way to the default light
+  (docs/shadows.md), and the boxes' shadows show.
+- **openscad** (Qt, `QOpenGLWidget`) draws its 3D view into a framebuffer object of the
+  widget's size only when the view changes, and each shown frame only composites that texture
+  into the window with Qt's own shader: the frames shown have no scene, so the cover, the
+  shadows and the snow's depth have nothing to work on (snow falls over the whole window).
+  Effects for such programs need the scene of an earlier frame kept and a scene target smaller
+  than the window; not done.
 - **openarena** (a recorded match): its renderer draws the scene into a framebuffer object of
   the window's size, copies it to the window with a full-window draw, then draws the HUD (3D
   head icons in small viewports among it). Until this stop the passes took a HUD icon for the
@@ -114,9 +168,10 @@ KNOWN = """## What the table does not show
   offscreen scene's and everything drawn to the window after the copy is an overlay
   (docs/effects.md, "Scenes drawn offscreen"), and the cover finds Quake's world up (+Z) by
   itself (docs/winter.md, "Up"): snow on the bridge, icicles under the railings, the HUD
-  untouched. The weapon is drawn into the scene, so snow falls on it too. Shadows: no
-  fixed-function light, so the default light (from behind the viewer) is used; the weapon,
-  drawn with the scene's projection, casts one onto the floor.
+  untouched. The weapon is drawn among the scene's draws with `glDepthRange(0, 0.3)`: a view
+  model, left as the program drew it (docs/effects.md, "View models"; before, snow lay on it and
+  icicles hung from it). Shadows: no fixed-function light, so the default light (from behind
+  the viewer) is used.
 - **neverball**: its star field is drawn first with the depth test off, then additive star
   sprites without depth writes, then its level's reflection (mirrored with `glScalef(1, -1, 1)`,
   depth writes on). None of them is the main view now: backdrops write no depth, and a mirrored
@@ -241,11 +296,12 @@ def rounding(glcast, capture, out, frame, canvas, large):
 def one(glcast, name, argv, frames, out, images):
     row = {"program": name}
     os.makedirs(out, exist_ok=True)
-    scene, scad = os.path.join(out, "scene.obj"), os.path.join(out, "scene.scad")
+    scene, x3d, scad = (os.path.join(out, f) for f in ("scene.obj", "scene.x3dv", "scene.scad"))
     write_scene(scene)
+    write_x3d(x3d)
     with open(scad, "w") as f:
         f.write(SCAD)
-    argv = [a.replace("{scene}", scene).replace("{scad}", scad) for a in argv]
+    argv = [a.replace("{scene}", scene).replace("{x3d}", x3d).replace("{scad}", scad) for a in argv]
     slug = re.sub(r"[^a-z0-9]+", "-", name.lower()).strip("-")
     work = os.path.join(out, slug)
     shutil.rmtree(work, ignore_errors=True)
