@@ -30,13 +30,28 @@ static std::atomic<uint32_t> g_unserialized[kOpcodeCount];
 static std::once_flag g_stream_once;
 static std::unique_ptr<Stream> g_stream;
 
+namespace {
+// The calling thread's state, found with one instruction: a trivial pointer in the initial-exec
+// TLS model (the shim is preloaded, so it has static TLS; 8 bytes fit glibc's surplus even if
+// something dlopens it). A thread_local with a constructor in a shared library costs a
+// __tls_get_addr call and a guard test on every access: 8% of a glVertex3f's time in the shim
+// (bench/call_cost.c under perf), and a call makes four.
+[[gnu::tls_model("initial-exec")]] thread_local ThreadState* t_state = nullptr;
+}  // namespace
+
 ThreadState& thread_state() {
-    // thread_local with a constructor: each thread gets its own scratch buffer and sizes.
-    static thread_local ThreadState state;
+    if (t_state) [[likely]] return *t_state;
+    static thread_local ThreadState state;  // each thread's scratch buffers and sizes; freed at its exit
+    t_state = &state;
     return state;
 }
 
+// Set once the stream exists: std::call_once writes two thread_locals of libstdc++'s (through
+// __tls_get_addr) on every call, even when done, and stream() is asked on every GL call.
+static std::atomic<Stream*> g_stream_ready{nullptr};
+
 Stream* stream() {
+    if (Stream* s = g_stream_ready.load(std::memory_order_acquire)) [[likely]] return s;
     std::call_once(g_stream_once, [] {
         const ShimConfig& c = shim_config();
         std::vector<std::unique_ptr<MessageSink>> sinks;
@@ -58,6 +73,7 @@ Stream* stream() {
             return;
         }
         g_stream = std::make_unique<Stream>(std::move(sinks), c.zstd_level, 16, c.inter_frame);
+        g_stream_ready.store(g_stream.get(), std::memory_order_release);
     });
     return g_stream.get();
 }

@@ -15,9 +15,9 @@ struct ThreadState {
     int depth = 0;                  // > 0 while inside one of our entry points
     uint32_t opcode = 0;            // the outermost call being recorded
     uint32_t context_id = 0;        // this thread's current context (0: none)
-    std::vector<uint8_t> scratch;   // the tuple being encoded
+    ByteVector scratch;             // the tuple being encoded
     Encoder encoder{scratch};
-    std::vector<uint8_t> synthetic; // a synthetic tuple, encoded while `scratch` is in use
+    ByteVector synthetic;           // a synthetic tuple, encoded while `scratch` is in use
     Encoder synthetic_encoder{synthetic};
     DriverSizeQueries sizes;
 };

@@ -57,7 +57,7 @@ void SnapshotWriter::raw(const Tuple& tuples, uint32_t context) {
         }
         from = &copy;
     }
-    buf_ = *from;
+    buf_.assign(from->data(), from->data() + from->size());
     flush();
 }
 

@@ -66,7 +66,7 @@ private:
     const GlApi& gl_;
     const KeptCalls& kept_;
     const TupleOut& out_;
-    std::vector<uint8_t> buf_;
+    ByteVector buf_;
     Encoder e_;
     SnapshotSizeQueries sz_;
     SnapshotReport report_;

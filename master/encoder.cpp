@@ -19,13 +19,6 @@ void Encoder::end() {
     std::memcpy(out_.data() + start_ + 8, &body, 4);
 }
 
-void Encoder::put(const void* p, size_t n) {
-    // insert, not resize + memcpy: no zero fill of what is written next (resize's
-    // _M_default_append was 1.2% of moebius's time while publishing).
-    const auto* bytes = static_cast<const uint8_t*>(p);
-    if (n) out_.insert(out_.end(), bytes, bytes + n);
-}
-
 bool Encoder::checked_bytes(int64_t count, size_t elem_bytes, uint32_t& out_count) {
     if (count < 0) count = 0;
     if (count > kMaxArrayBytes / int64_t(elem_bytes ? elem_bytes : 1)) {

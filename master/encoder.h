@@ -4,11 +4,15 @@
 
 #include <cstdint>
 #include <cstring>
+#include <memory>
 #include <string>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include <X11/Xutil.h>
+
+#include "common/byte_vector.h"
 
 #include "protocol/command_info.h"
 
@@ -26,13 +30,14 @@ using f32_t = float;
 using f64_t = double;
 
 
+
 // Largest array the encoder will read from the application: anything bigger is treated as
 // an unknown size (forwarded and counted), never a giant read.
 inline constexpr int64_t kMaxArrayBytes = int64_t(1) << 30;
 
 class Encoder {
 public:
-    explicit Encoder(std::vector<uint8_t>& out) : out_(out) {}
+    explicit Encoder(ByteVector& out) : out_(out) {}
 
     void begin(uint32_t opcode);
     void end();                      // patches the body length
@@ -85,11 +90,11 @@ public:
     void clear_failure() { failure_.clear(); }
 
 private:
-    void put(const void* p, size_t n);
+    void put(const void* p, size_t n) { out_.append(p, n); }
     void tag(PtrTag t) { value<uint8_t>(static_cast<uint8_t>(t)); }
     bool checked_bytes(int64_t count, size_t elem_bytes, uint32_t& out_count);
 
-    std::vector<uint8_t>& out_;
+    ByteVector& out_;
     size_t start_ = 0;
     uint32_t opcode_ = 0;
     uint32_t context_ = 0;

@@ -41,7 +41,7 @@ void Stream::append(const uint8_t* tuple, size_t bytes) {
     if (open_.size() + bytes > kBatchBytes && !open_.empty()) seal_locked(false);
     // Lossless sinks: a full queue makes the application wait rather than drop data.
     queue_changed_.wait(lock, [&] { return queue_.size() < queue_depth_ || stopping_; });
-    open_.insert(open_.end(), tuple, tuple + bytes);
+    open_.append(tuple, bytes);
     stats_.tuples++;
     stats_.raw_bytes += bytes;
 }
@@ -119,8 +119,10 @@ void Stream::writer_loop() {
     const long level = nice && *nice ? std::strtol(nice, nullptr, 10) : 10;
     if (level > 0 && level < 20) setpriority(PRIO_PROCESS, pid_t(syscall(SYS_gettid)), int(level));
     ZSTD_CCtx* cctx = ZSTD_createCCtx();
-    std::vector<uint8_t> message, previous;  // previous: the last message's payload, the next one's prefix
-    std::vector<uint8_t> xored, alternative, probe;  // kept across messages: no allocation per message
+    std::vector<uint8_t> message;
+    ByteVector previous;  // the last message's payload, the next one's prefix
+    ByteVector xored;
+    std::vector<uint8_t> alternative, probe;  // kept across messages: no allocation per message
     // The level XOR residuals are compressed at: the lazy level where it pays, re-decided on
     // every kXorProbeInterval-th XORed message by compressing it at both.
     const int lazy_level = std::max(zstd_level_, kXorResidualLevel);
@@ -145,9 +147,9 @@ void Stream::writer_loop() {
         size_t stored = batch.payload.size();
         const auto compress_start = std::chrono::steady_clock::now();
         if (zstd_level_ > 0 && !batch.payload.empty()) {
-            const std::vector<uint8_t>& raw = batch.payload;
+            const ByteVector& raw = batch.payload;
             const bool coded = inter_frame_ && batch.sequence % kKeyIntervalMessages != 0 && !previous.empty();
-            auto compress = [&](uint8_t* dst, size_t capacity, const std::vector<uint8_t>& src, bool with_prefix,
+            auto compress = [&](uint8_t* dst, size_t capacity, const ByteVector& src, bool with_prefix,
                                 int level) {
                 ZSTD_CCtx_reset(cctx, ZSTD_reset_session_and_parameters);
                 ZSTD_CCtx_setParameter(cctx, ZSTD_c_compressionLevel, level);

@@ -13,6 +13,8 @@
 #include <thread>
 #include <vector>
 
+#include "master/encoder.h"
+
 namespace glcast {
 
 class MessageSink {
@@ -50,7 +52,7 @@ private:
     void writer_loop();
 
     struct Batch {
-        std::vector<uint8_t> payload;
+        ByteVector payload;
         uint64_t sequence;
         uint32_t frame;
         bool frame_end;
@@ -58,8 +60,8 @@ private:
 
     mutable std::mutex mutex_;
     std::condition_variable queue_changed_;
-    std::vector<uint8_t> open_;       // the batch being filled
-    std::vector<uint8_t> spare_;      // a payload buffer the writer is done with, for the next batch
+    ByteVector open_;                 // the batch being filled
+    ByteVector spare_;                // a payload buffer the writer is done with, for the next batch
     uint32_t open_frame_ = 0;
     std::deque<Batch> queue_;
     size_t queue_depth_;

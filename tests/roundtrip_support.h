@@ -69,7 +69,7 @@ private:
     uint64_t pick(const char* name, uint32_t sample_pname);
 
     uint32_t opcode_ = 0;
-    std::vector<uint8_t> out_;
+    ByteVector out_;
     Encoder encoder_{out_};
     FakeSizes sizes_;
     std::map<int, uint64_t> values_;

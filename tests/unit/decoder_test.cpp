@@ -21,7 +21,8 @@ using namespace glcast;
 namespace {
 
 // One uncompressed message that ends frame `seq` (one frame per message).
-std::vector<uint8_t> message(const std::vector<uint8_t>& payload, uint64_t seq) {
+template <class Bytes>
+std::vector<uint8_t> message(const Bytes& payload, uint64_t seq) {
     MessageHeader h{};
     h.magic = kMessageMagic;
     h.flags = kMsgFrameEnd;
@@ -37,7 +38,7 @@ std::vector<uint8_t> message(const std::vector<uint8_t>& payload, uint64_t seq) 
 
 std::vector<uint8_t> valid_capture() {
     roundtrip::FakeSizes sz;
-    std::vector<uint8_t> payload;
+    ByteVector payload;
     Encoder e(payload);
     GLuint names[2] = {1, 2};
     encode_glGenTextures(e, sz, 2, names);

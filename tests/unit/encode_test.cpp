@@ -30,7 +30,7 @@ struct Encoded {
 };
 
 template <class F>
-Call encode_decode(std::vector<uint8_t>& out, SizeQueries& sz, F&& f) {
+Call encode_decode(ByteVector& out, SizeQueries& sz, F&& f) {
     out.clear();
     Encoder e(out);
     f(e, sz);
@@ -47,7 +47,8 @@ Call encode_decode(std::vector<uint8_t>& out, SizeQueries& sz, F&& f) {
 
 TEST(Encode, TexImage2DFollowsUnpackState) {
     Sizes sz;
-    std::vector<uint8_t> pixels(4096, 7), out;
+    std::vector<uint8_t> pixels(4096, 7);
+    ByteVector out;
     // RGB bytes, 5 pixels wide: rows padded to the default 4-byte alignment = 16 bytes
     Call c = encode_decode(out, sz, [&](Encoder& e, SizeQueries& s) {
         encode_glTexImage2D(e, s, GL_TEXTURE_2D, 0, GL_RGB, 5, 3, 0, GL_RGB, GL_UNSIGNED_BYTE, pixels.data());
@@ -72,7 +73,7 @@ TEST(Encode, TexImage2DFollowsUnpackState) {
 
 TEST(Encode, EnumDependentCounts) {
     Sizes sz;
-    std::vector<uint8_t> out;
+    ByteVector out;
     const GLfloat v[16] = {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16};
     auto light = [&](GLenum pname) {
         return encode_decode(out, sz, [&](Encoder& e, SizeQueries& s) { encode_glLightfv(e, s, GL_LIGHT0, pname, v); })
@@ -99,7 +100,7 @@ TEST(Encode, EnumDependentCounts) {
 
 TEST(Encode, UnknownPnameIsRefusedNotGuessed) {
     Sizes sz;
-    std::vector<uint8_t> out;
+    ByteVector out;
     Encoder e(out);
     GLfloat v[4] = {};
     encode_glLightfv(e, sz, GL_LIGHT0, 0x1234, v);
@@ -108,7 +109,7 @@ TEST(Encode, UnknownPnameIsRefusedNotGuessed) {
 
 TEST(Encode, CallListsSizedByType) {
     Sizes sz;
-    std::vector<uint8_t> out;
+    ByteVector out;
     const GLuint lists[3] = {1, 2, 3};
     Call c = encode_decode(out, sz, [&](Encoder& e, SizeQueries& s) { encode_glCallLists(e, s, 3, GL_UNSIGNED_INT, lists); });
     EXPECT_EQ(c.args[2].ptr.count, 12u);
@@ -118,7 +119,7 @@ TEST(Encode, CallListsSizedByType) {
 
 TEST(Encode, ShaderSourceStringArray) {
     Sizes sz;
-    std::vector<uint8_t> out;
+    ByteVector out;
     const GLchar* strings[2] = {"#version 330 core\n", "void main() {} // tail ignored"};
     const GLint lengths[2] = {-1, 14};
     Call c = encode_decode(out, sz, [&](Encoder& e, SizeQueries& s) { encode_glShaderSource(e, s, 5, 2, strings, lengths); });
@@ -132,7 +133,7 @@ TEST(Encode, ShaderSourceStringArray) {
 
 TEST(Encode, DrawElementsClientAndBufferIndices) {
     Sizes sz;
-    std::vector<uint8_t> out;
+    ByteVector out;
     const GLushort idx[6] = {5, 0, 9, 9, 1, 2};
     Call c = encode_decode(out, sz, [&](Encoder& e, SizeQueries& s) {
         encode_glDrawElements(e, s, GL_TRIANGLES, 6, GL_UNSIGNED_SHORT, idx);
@@ -160,7 +161,7 @@ TEST(Encode, IndexRangeUsesMaxIndexNotCount) {
 
 TEST(Encode, MapBufferRangeReturnsAddress) {
     Sizes sz;
-    std::vector<uint8_t> out;
+    ByteVector out;
     void* mapped = reinterpret_cast<void*>(uintptr_t(0xabc000));
     Call c = encode_decode(out, sz, [&](Encoder& e, SizeQueries& s) {
         encode_glMapBufferRange(e, s, GL_ARRAY_BUFFER, 16, 64, GL_MAP_WRITE_BIT, mapped);
@@ -171,7 +172,7 @@ TEST(Encode, MapBufferRangeReturnsAddress) {
 
 TEST(Encode, GenTexturesReplyCarriesNames) {
     Sizes sz;
-    std::vector<uint8_t> out;
+    ByteVector out;
     GLuint names[3] = {4, 7, 9};
     Call c = encode_decode(out, sz, [&](Encoder& e, SizeQueries& s) { encode_glGenTextures(e, s, 3, names); });
     ASSERT_EQ(c.args[1].reply.count, 3u);

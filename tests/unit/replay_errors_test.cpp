@@ -23,7 +23,7 @@ using namespace glcast;
 namespace {
 
 struct StreamBuilder {
-    std::vector<uint8_t> payload;
+    ByteVector payload;
     Encoder e{payload};
     roundtrip::FakeSizes sz;
 
