@@ -5,7 +5,7 @@ system, from rusage) of each program natively, capturing to a file, publishing w
 its own process, not counted). The configurations run interleaved, REPEATS times each; medians.
 Writes a markdown table to stdout.
 
-    bench/program_cost_bench.py BUILD_DIR [--frames N] [--repeats R]
+    bench/program_cost_bench.py BUILD_DIR [--frames N] [--repeats R] [--only a,b] [--baseline OTHER_SHIM.so]
 """
 import argparse
 import os
@@ -55,6 +55,7 @@ def main():
     ap.add_argument("--frames", type=int, default=400)
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--only", help="comma-separated program names")
+    ap.add_argument("--baseline", help="another libglcast.so: adds publishing with it (an A/B of a change)")
     a = ap.parse_args()
     build = os.path.abspath(a.build)
     shim, glcast = os.path.join(build, "libglcast.so"), os.path.join(build, "glcast")
@@ -76,6 +77,8 @@ def main():
                 "slave": dict(publish, GLCAST_WAIT_SUBSCRIBERS="1"),
                 "publish_nice0": dict(publish, GLCAST_WRITER_NICE="0"),  # the writer at the program's priority
             }
+            if a.baseline:
+                configs["baseline"] = dict(publish, LD_PRELOAD=f"{counter}:{os.path.abspath(a.baseline)}")
             results = {k: [] for k in configs}
             for _ in range(a.repeats):
                 for k, env in configs.items():
@@ -95,14 +98,17 @@ def main():
 
     print(f"Median of {a.repeats} interleaved runs of {a.frames} frames (fps over frames 10 on; CPU: the program's "
           "user + system time over the whole run / frames), 640x480, llvmpipe under Xvfb, 2 cores.\n")
-    print("| program | native fps | capture | publish, no slave | publish, one slave | publish, writer not niced | "
-          "native CPU ms/frame | capture | publish, no slave | publish, one slave | publish, writer not niced |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|")
+    columns = [("capture", "capture"), ("publish", "publish, no slave"), ("slave", "publish, one slave"),
+               ("publish_nice0", "publish, writer not niced")] + ([("baseline", "publish, baseline shim")]
+                                                                   if a.baseline else [])
+    heads = " | ".join(h for _, h in columns)
+    print(f"| program | native fps | {heads} | native CPU ms/frame | {heads} |")
+    print("|---" * (3 + 2 * len(columns)) + "|")
     for name, m in rows:
         nf, nc = m["native"]
-        print(f"| {name} | {nf:.0f} | {m['capture'][0] / nf:.2f} | {m['publish'][0] / nf:.2f} | {m['slave'][0] / nf:.2f} | "
-              f"{m['publish_nice0'][0] / nf:.2f} | {nc:.2f} | {m['capture'][1] / nc:.2f} | {m['publish'][1] / nc:.2f} | "
-              f"{m['slave'][1] / nc:.2f} | {m['publish_nice0'][1] / nc:.2f} |")
+        fps = " | ".join(f"{m[k][0] / nf:.2f}" for k, _ in columns)
+        cpu = " | ".join(f"{m[k][1] / nc:.2f}" for k, _ in columns)
+        print(f"| {name} | {nf:.0f} | {fps} | {nc:.2f} | {cpu} |")
 
 
 if __name__ == "__main__":

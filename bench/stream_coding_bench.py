@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Bytes per frame of the stream (issue 15): each message compressed alone (GLCAST_INTER_FRAME=0,
 the coding before format version 2), against the previous message (version 2's inter-frame
-coding, the default), and apitrace's trace of the same frames; at zstd levels 1 and 3. Every
+coding, the default), and apitrace's trace of the same frames (whole, and its steady bytes a
+frame: a trace of FRAMES frames less one of 10, over FRAMES - 10); at zstd levels 1 and 3. Every
 program draws FRAMES frames at 640x480 under Xvfb; the first 10 (start-up: textures, lists)
 are counted apart, so the steady state shows. Writes a markdown table to stdout.
 
@@ -73,11 +74,17 @@ def main():
                 row[label + "_ms"] = float(m.group(1)) if m else float("nan")
                 row[label] = summary_bytes(glcast, capture, *steady) / (steady[1] - steady[0] + 1)
                 row[label + "_all"] = os.path.getsize(capture) / a.frames
-            trace = os.path.join(tmp, f"{name}.trace")
-            subprocess.run(["apitrace", "trace", "-o", trace, "--"] + cmd,
-                           env=dict(os.environ, LD_PRELOAD=counter, FRAME_COUNTER_EXIT=str(a.frames),
-                                    FRAME_COUNTER_SKIP="1"), capture_output=True, timeout=600)
-            row["apitrace_all"] = os.path.getsize(trace) / a.frames if os.path.exists(trace) else float("nan")
+            # apitrace's whole trace of the frames, and its steady bytes a frame: what a trace of
+            # `frames` frames holds more than one of `steady[0]` frames (its start-up), per frame.
+            sizes = {}
+            for frames in (steady[0], a.frames):
+                trace = os.path.join(tmp, f"{name}-{frames}.trace")
+                subprocess.run(["apitrace", "trace", "-o", trace, "--"] + cmd,
+                               env=dict(os.environ, LD_PRELOAD=counter, FRAME_COUNTER_EXIT=str(frames),
+                                        FRAME_COUNTER_SKIP="1"), capture_output=True, timeout=600)
+                sizes[frames] = os.path.getsize(trace) if os.path.exists(trace) else float("nan")
+            row["apitrace_all"] = sizes[a.frames] / a.frames
+            row["apitrace_steady"] = (sizes[a.frames] - sizes[steady[0]]) / (a.frames - steady[0])
             rows.append(row)
             print(f"{name}: {row}", file=sys.stderr)
 
@@ -86,13 +93,14 @@ def main():
           f"compression time per frame (GLCAST_VERBOSE's summary). KB/s per tile: steady inter-1 bytes x 60 (a unicast "
           f"tile receives the whole stream).\n")
     print("| program | raw | zstd-1 alone | zstd-1 inter-frame | zstd-3 alone | zstd-3 inter-frame | inter-1 / alone-1 | "
-          "all frames: inter-1 | all frames: apitrace | inter-1 / apitrace (all) | ms/frame alone-1 | ms/frame inter-1 | "
-          "KB/s per tile at 60 fps |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+          "all frames: inter-1 | all frames: apitrace | inter-1 / apitrace (all) | steady: apitrace | "
+          "inter-1 / apitrace (steady) | ms/frame alone-1 | ms/frame inter-1 | KB/s per tile at 60 fps |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for r in rows:
         print(f"| {r['name']} | {r['raw']:,.0f} | {r['alone1']:,.0f} | {r['inter1']:,.0f} | {r['alone3']:,.0f} | "
               f"{r['inter3']:,.0f} | {r['inter1'] / max(r['alone1'], 1):.3f} | {r['inter1_all']:,.0f} | "
-              f"{r['apitrace_all']:,.0f} | {r['inter1_all'] / r['apitrace_all']:.3f} | {r['alone1_ms']:.3f} | "
+              f"{r['apitrace_all']:,.0f} | {r['inter1_all'] / r['apitrace_all']:.3f} | {r['apitrace_steady']:,.0f} | "
+              f"{r['inter1'] / r['apitrace_steady']:.3f} | {r['alone1_ms']:.3f} | "
               f"{r['inter1_ms']:.3f} | {r['inter1'] * 60 / 1000:,.1f} |")
 
 
