@@ -128,6 +128,16 @@ void Stream::writer_loop() {
     const int lazy_level = std::max(zstd_level_, kXorResidualLevel);
     int xor_level = lazy_level;
     uint64_t xored_messages = 0;
+    // A program whose frames XOR far better than the prefix codes them (CPU-animated vertices:
+    // atlantis, engine, ff_scene's flag) does so frame after frame: while the last message coded
+    // both ways came out at least a quarter smaller XORed, the prefix coding is skipped (half the
+    // writer's time there) and tried again on every kXorProbeInterval-th message, or when the
+    // XOR residual is half as large again as the last one or over an eighth of the frame (a frame
+    // unlike the last, where the prefix coding may win by far: atlantis now and then). Measured on
+    // the same raw frames (docs/performance.md): as many bytes, 30-35% fewer compressions.
+    bool xor_mode = false;
+    uint64_t coded_messages = 0;
+    size_t last_xor_bytes = 0;
     for (;;) {
         Batch batch;
         {
@@ -146,11 +156,13 @@ void Stream::writer_loop() {
         message.resize(sizeof h + ZSTD_compressBound(batch.payload.size()));
         size_t stored = batch.payload.size();
         const auto compress_start = std::chrono::steady_clock::now();
+        uint64_t compressions = 0;
         if (zstd_level_ > 0 && !batch.payload.empty()) {
             const ByteVector& raw = batch.payload;
             const bool coded = inter_frame_ && batch.sequence % kKeyIntervalMessages != 0 && !previous.empty();
             auto compress = [&](uint8_t* dst, size_t capacity, const ByteVector& src, bool with_prefix,
                                 int level) {
+                compressions++;
                 ZSTD_CCtx_reset(cctx, ZSTD_reset_session_and_parameters);
                 ZSTD_CCtx_setParameter(cctx, ZSTD_c_compressionLevel, level);
                 if (with_prefix) {
@@ -177,9 +189,12 @@ void Stream::writer_loop() {
             // superquadrics 9,960 -> 4,547 bytes a frame, ff_scene 1,378 -> 359, engine 6,134 ->
             // 4,776; but on atlantis 4,953 -> 4,734 for 5x the time. So the writer probes both
             // levels now and then and keeps the lazy one only while it saves a tenth.
-            size_t n = compress(message.data() + sizeof h, message.size() - sizeof h, raw, coded, zstd_level_);
+            const bool same_length = coded && previous.size() == raw.size();
+            const bool xor_only = same_length && xor_mode && coded_messages++ % kXorProbeInterval != 0;
+            size_t n = xor_only ? static_cast<size_t>(-1)  // not tried: an error code for ZSTD_isError
+                                : compress(message.data() + sizeof h, message.size() - sizeof h, raw, coded, zstd_level_);
             uint32_t how = coded ? uint32_t(kMsgDelta) : 0u;
-            if (coded && previous.size() == raw.size() && !ZSTD_isError(n) && n > raw.size() / 64) {
+            if (same_length && (xor_only || (!ZSTD_isError(n) && n > raw.size() / 64))) {
                 xor_with_previous();
                 alternative.resize(ZSTD_compressBound(xored.size()));
                 size_t x = compress(alternative.data(), alternative.size(), xored, false, xor_level);
@@ -193,11 +208,17 @@ void Stream::writer_loop() {
                         if (y < x) alternative.swap(probe), x = y;
                     }
                 }
-                if (!ZSTD_isError(x) && x < n) {
+                if (xor_only && (ZSTD_isError(x) || x > raw.size() / 8 || 2 * x > 3 * last_xor_bytes))  // both
+                    n = compress(message.data() + sizeof h, message.size() - sizeof h, raw, true, zstd_level_);
+                if (!ZSTD_isError(x)) last_xor_bytes = x;
+                if (!ZSTD_isError(n) && !ZSTD_isError(x)) xor_mode = x * 4 <= n * 3;  // both tried
+                if (!ZSTD_isError(x) && (ZSTD_isError(n) || x < n)) {
                     std::memcpy(message.data() + sizeof h, alternative.data(), x);
                     n = x;
                     how = kMsgXor;
                 }
+            } else if (coded && !xor_only) {
+                xor_mode = false;  // the prefix coding left too little for XOR to be tried
             }
             if (!ZSTD_isError(n) && n < raw.size()) {
                 stored = n;
@@ -220,6 +241,7 @@ void Stream::writer_loop() {
         stats_.messages++;
         stats_.stored_bytes += message.size();
         stats_.compress_seconds += compress_seconds;
+        stats_.compressions += compressions;
         in_flight_--;
         queue_changed_.notify_all();
     }

@@ -29,6 +29,7 @@ struct StreamStats {
     uint64_t frames = 0, tuples = 0, raw_bytes = 0, stored_bytes = 0, messages = 0;
     uint64_t unserialized = 0, array_cache_hits = 0, array_cache_misses = 0;
     double compress_seconds = 0;  // the writer thread's time compressing (all messages)
+    uint64_t compressions = 0;    // zstd runs by the writer (a coded message may be compressed two ways)
 };
 
 class Stream {

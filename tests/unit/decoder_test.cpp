@@ -30,9 +30,9 @@ std::vector<uint8_t> message(const Bytes& payload, uint64_t seq) {
     h.frame = uint32_t(seq);
     h.stored_bytes = h.raw_bytes = uint32_t(payload.size());
     h.crc32 = uint32_t(crc32(0, payload.data(), uInt(payload.size())));
-    std::vector<uint8_t> m(sizeof h);
+    std::vector<uint8_t> m(sizeof h + payload.size());
     std::memcpy(m.data(), &h, sizeof h);
-    m.insert(m.end(), payload.begin(), payload.end());
+    if (payload.size()) std::memcpy(m.data() + sizeof h, payload.data(), payload.size());
     return m;
 }
 

@@ -48,7 +48,8 @@ std::vector<std::vector<uint8_t>> frames_of_a_program(int frames, bool moving = 
     return out;
 }
 
-std::vector<std::vector<uint8_t>> encode(const std::vector<std::vector<uint8_t>>& frames, bool inter_frame) {
+std::vector<std::vector<uint8_t>> encode(const std::vector<std::vector<uint8_t>>& frames, bool inter_frame,
+                                         StreamStats* stats = nullptr) {
     std::vector<std::vector<uint8_t>> messages;
     std::vector<std::unique_ptr<MessageSink>> sinks;
     sinks.push_back(std::make_unique<MemorySink>(messages));
@@ -58,6 +59,7 @@ std::vector<std::vector<uint8_t>> encode(const std::vector<std::vector<uint8_t>>
         stream.end_frame();
     }
     stream.close();
+    if (stats) *stats = stream.stats();
     return messages;
 }
 
@@ -155,6 +157,33 @@ TEST(InterFrame, XorResidualsAreCompressedWithTheLazyMatchFinderWhereItPays) {
     }
     ASSERT_GT(greedy, 0u) << "no frame was XORed";
     EXPECT_LT(stored * 2, greedy) << "stored " << stored << ", level 1 would store " << greedy;
+}
+
+// A program whose frames XOR far better than the prefix codes them does so frame after frame:
+// the writer stops compressing each such frame both ways (it did: 2 zstd runs a message on
+// ff_scene's flag frames) and probes the prefix coding only now and then, for the same bytes.
+TEST(InterFrame, SteadyXorFramesAreCompressedOnceEach) {
+    CaptureReader reader(open_file_source(GLCAST_SOURCE_DIR "/tests/data/ff_scene.glcs"));
+    std::vector<std::vector<uint8_t>> first;
+    Message m;
+    while (reader.next(m))
+        if (!m.payload.empty()) first.push_back(m.payload);
+    ASSERT_GE(first.size(), 3u);
+    // 48 frames: the capture's last frames again and again, the flag waving between two of them.
+    std::vector<std::vector<uint8_t>> frames;
+    for (int i = 0; i < 48; ++i) frames.push_back(first[first.size() - 2 + i % 2]);
+    StreamStats stats;
+    const auto coded = encode(frames, true, &stats);
+    size_t xored = 0;
+    for (const auto& message : coded) xored += (header_of(message).flags & kMsgXor) != 0;
+    ASSERT_GT(xored, 30u) << "the frames were not XOR-coded";
+    EXPECT_LT(double(stats.compressions), 1.4 * double(coded.size()))
+        << stats.compressions << " zstd runs for " << coded.size() << " messages";
+    MessageChain chain;  // and they read back exactly
+    for (size_t i = 0; i < coded.size(); ++i) {
+        decode_message(coded[i].data(), coded[i].size(), 0, m, &chain);
+        ASSERT_EQ(m.payload, frames[i]) << "message " << i;
+    }
 }
 
 TEST(InterFrame, AReaderWithoutThePreviousMessageRefusesIt) {
