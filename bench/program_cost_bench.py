@@ -24,9 +24,12 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 HACKS = "/usr/libexec/xscreensaver"
 
 
-def programs():
+def programs(build):
     geometry = ["-window", "-geometry", "640x480", "-delay", "0"]
     out = {"glxgears": ["glxgears", "-geometry", "640x480"]}
+    # the committed test programs (tests/apps), flat out until the frame counter stops them
+    for name in ("ff_scene", "core_scene"):
+        out[name] = [os.path.join(build, "tests", "apps", name), "--size", "640x480", "--frames", "100000"]
     for name in ("moebius", "atlantis", "sproingies", "gears", "pipes", "superquadrics", "engine"):
         if os.path.exists(os.path.join(HACKS, name)):
             out[name] = [os.path.join(HACKS, name)] + geometry
@@ -67,7 +70,7 @@ def main():
     publish = {"LD_PRELOAD": f"{counter}:{shim}", "GLCAST_PUBLISH": stream, "GLCAST_JOURNAL_ENDPOINT": stream + "-journal"}
     rows = []
     with Xvfb():
-        for name, cmd in programs().items():
+        for name, cmd in programs(build).items():
             if a.only and name not in a.only.split(","):
                 continue
             configs = {
