@@ -176,11 +176,17 @@ KNOWN = """## What the table does not show
   sprites without depth writes, then its level's reflection (mirrored with `glScalef(1, -1, 1)`,
   depth writes on). None of them is the main view now: backdrops write no depth, and a mirrored
   modelview is no camera (docs/effects.md); the main view is the level's, the star field keeps
-  its bytes, the menu (overlays) stays untouched. The redraw still misses the level's surfaces
-  in these menu frames (why is not found yet: its view and up, +Y, are right, and the menu's
-  overlays start only after the level); the cover now takes the normals of visible surfaces the
-  redraw leaves out from the depth (docs/winter.md), so the level holds snow and icicles hang
-  from its edges.
+  its bytes, the menu (overlays) stays untouched. The redraw seemed to miss the level's surfaces
+  in these menu frames at stop 22; in the table's frame 119 it draws the floor (the shadows'
+  re-rendered depth has it), so the cause may have been elsewhere. The cover takes the normals
+  of visible surfaces the redraw leaves out from the depth (docs/winter.md), so the level holds
+  snow and icicles hang from its edges.
+- **neverball's shadows** are dark hard bars along its floor's edges rather than shadows of
+  anything: with a larger polygon offset for the shadow map (`shadows.offset_factor=8`,
+  `shadows.offset_units=64`) 13,695 darkened pixels of frame 119 drop to 4,556, so most of it is
+  acne between its floor's coinciding layers (the stencil mirror plane, the translucent floor
+  over its reflection); with the window's depth instead of the re-rendered one
+  (`shadows.rerender_depth=0`) there are none. Not fixed: the defaults hold for the other programs.
 - **foobillardplus** crashes at its start on this machine without glcast as well (a strcpy of a
   NULL string after it looks for a web browser and a dialog program); no frame to compare.
 - **chromium-bsu**'s menu is 2D: no main view, so cover and shadows have nothing to work on.
