@@ -176,11 +176,11 @@ KNOWN = """## What the table does not show
   sprites without depth writes, then its level's reflection (mirrored with `glScalef(1, -1, 1)`,
   depth writes on). None of them is the main view now: backdrops write no depth, and a mirrored
   modelview is no camera (docs/effects.md); the main view is the level's, the star field keeps
-  its bytes, the menu (overlays) stays untouched. The redraw seemed to miss the level's surfaces
-  in these menu frames at stop 22; in the table's frame 119 it draws the floor (the shadows'
-  re-rendered depth has it), so the cause may have been elsewhere. The cover takes the normals
-  of visible surfaces the redraw leaves out from the depth (docs/winter.md), so the level holds
-  snow and icicles hang from its edges.
+  its bytes, the menu (overlays) stays untouched. The redraw does not reproduce its floor's
+  depth in these menu frames (the shadows' re-rendered camera depth has slab-like surfaces where
+  the window's depth has the floor; the cause is not found: the main view is right, found after
+  the reflection pass). The cover takes the normals of visible surfaces the redraw leaves out
+  from the depth (docs/winter.md), so the level holds snow and icicles hang from its edges.
 - **neverball's shadows** are dark hard bars along its floor's edges rather than shadows of
   anything: with a larger polygon offset for the shadow map (`shadows.offset_factor=8`,
   `shadows.offset_units=64`) 13,695 darkened pixels of frame 119 drop to 4,556, so most of it is
