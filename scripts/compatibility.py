@@ -176,17 +176,15 @@ KNOWN = """## What the table does not show
   sprites without depth writes, then its level's reflection (mirrored with `glScalef(1, -1, 1)`,
   depth writes on). None of them is the main view now: backdrops write no depth, and a mirrored
   modelview is no camera (docs/effects.md); the main view is the level's, the star field keeps
-  its bytes, the menu (overlays) stays untouched. The redraw does not reproduce its floor's
-  depth in these menu frames (the shadows' re-rendered camera depth has slab-like surfaces where
-  the window's depth has the floor; the cause is not found: the main view is right, found after
-  the reflection pass). The cover takes the normals of visible surfaces the redraw leaves out
-  from the depth (docs/winter.md), so the level holds snow and icicles hang from its edges.
-- **neverball's shadows** are dark hard bars along its floor's edges rather than shadows of
-  anything: with a larger polygon offset for the shadow map (`shadows.offset_factor=8`,
-  `shadows.offset_units=64`) 13,695 darkened pixels of frame 119 drop to 4,556, so most of it is
-  acne between its floor's coinciding layers (the stencil mirror plane, the translucent floor
-  over its reflection); with the window's depth instead of the re-rendered one
-  (`shadows.rerender_depth=0`) there are none. Not fixed: the defaults hold for the other programs.
+  its bytes, the menu (overlays) stays untouched. Its redraw missed the floor in these menu
+  frames until this stop: it ran with the menu's culling (off), so the backs of the level's rails
+  hid the floor (see its shadows below). The cover takes the normals of visible surfaces the
+  redraw leaves out from the depth (docs/winter.md), so the level holds snow and icicles hang
+  from its edges.
+- **neverball's shadows** were dark hard bars along its floor (13,695 pixels darkened on frame
+  119): the redraw ran with the culling its menu leaves (off), so the backs of its level's rails
+  hid the floor from the passes. A redraw now culls what the program culled (docs/effects.md,
+  "How redraw works"): 137 pixels darkened; the menu hides what little its ball and coins cast.
 - **foobillardplus** crashes at its start on this machine without glcast as well (a strcpy of a
   NULL string after it looks for a web browser and a dialog program); no frame to compare.
 - **chromium-bsu**'s menu is 2D: no main view, so cover and shadows have nothing to work on.

@@ -38,6 +38,11 @@ double view_model_depth_range(const GlApi& gl) {
     return range[0] == 0 && range[1] > 0 && range[1] < 1 ? range[1] : 0;
 }
 
+void set_enabled(const GlApi& gl, GLenum cap, bool on) {
+    if (on) gl.glEnable(cap);
+    else gl.glDisable(cap);
+}
+
 bool compatibility_context(const GlApi& gl) {
     GLint profile = 0;
     gl.glGetIntegerv(GL_CONTEXT_PROFILE_MASK, &profile);
@@ -160,6 +165,13 @@ void FrameRecorder::record(const Call& c, const uint8_t* tuple, size_t tuple_siz
             }
             e.main = rec.main_known && app == rec.projection && depth && framebuffer == rec.scene_framebuffer;
         }
+        if (e.main) {
+            GLint cull_face = GL_BACK, front_face = GL_CCW;
+            gl.glGetIntegerv(GL_CULL_FACE_MODE, &cull_face);
+            gl.glGetIntegerv(GL_FRONT_FACE, &front_face);
+            e.cull = gl.glIsEnabled(GL_CULL_FACE);
+            e.cull_face = uint16_t(cull_face), e.front_face = uint16_t(front_face);
+        }
         if (kind == RedrawKind::Begin) rec.in_begin_end = true, rec.begin_is_main = e.main;
     } else if (rec.in_begin_end) {
         e.draw = true;
@@ -266,9 +278,21 @@ void FrameRecorder::redraw_main_view(SlaveContext& ctx, const glm::dmat4& correc
         ctx.current_program = rec.start_program_stream;
     }
     tile_.begin_redraw(correction, programs);
+    // Face culling is the program's, draw by draw, and the caller's again afterwards.
+    const bool caller_cull = gl.glIsEnabled(GL_CULL_FACE);
+    GLint caller_cull_face = GL_BACK, caller_front_face = GL_CCW;
+    gl.glGetIntegerv(GL_CULL_FACE_MODE, &caller_cull_face);
+    gl.glGetIntegerv(GL_FRONT_FACE, &caller_front_face);
+    bool cull = caller_cull;
+    GLenum cull_face = GLenum(caller_cull_face), front_face = GLenum(caller_front_face);
     Call c;
     for (const FrameRecord::Entry& e : rec.entries) {
         if ((e.draw && !e.main) || (e.program_state && !programs)) continue;
+        if (e.opens) {
+            if (e.cull != cull) set_enabled(gl, GL_CULL_FACE, cull = e.cull);
+            if (e.cull_face != cull_face) gl.glCullFace(cull_face = e.cull_face);
+            if (e.front_face != front_face) gl.glFrontFace(front_face = e.front_face);
+        }
         ByteReader r(rec.bytes.data() + e.begin, e.size, 0);
         decode_tuple(r, c);
         try {
@@ -279,6 +303,9 @@ void FrameRecorder::redraw_main_view(SlaveContext& ctx, const glm::dmat4& correc
         }
     }
     tile_.end_redraw();
+    set_enabled(gl, GL_CULL_FACE, caller_cull);
+    gl.glCullFace(GLenum(caller_cull_face));
+    gl.glFrontFace(GLenum(caller_front_face));
     ctx.list_base = saved_list_base;
     ctx.current_program = saved_program_stream;
     ctx.client_range_pending = saved_range_pending, ctx.client_arrays_refused = saved_refused;

@@ -30,6 +30,12 @@ struct FrameRecord {
         bool main = false;     // ... of the main view
         bool program_state = false;  // shader-program state: replayed only in frames with shader draws
         bool offscreen = false;      // a draw into the framebuffer object that holds the scene
+        // Face culling as the draw had it (GL_CULL_FACE, glCullFace, glFrontFace): a redraw culls
+        // what the program culled, whatever the frame's last draws left set (neverball culls its
+        // level's back faces, then draws its menu without culling: redrawn without it, the backs
+        // of its rails hid the floor from the passes).
+        bool cull = false;
+        uint16_t cull_face = 0, front_face = 0;
     };
     std::vector<uint8_t> bytes;
     std::vector<Entry> entries;

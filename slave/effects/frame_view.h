@@ -56,9 +56,9 @@ struct FrameView {
     // view's projection) into whatever framebuffer, viewport and program are bound, with
     //     clip = correction * P_app * modelview * vertex
     // and the program's own fragment state, vertex-array object and 2D textures (as the frame
-    // left them), except: color, depth and stencil state, blending, culling, polygon offset,
-    // scissor, the bound program (0 for the program's fixed-function shading) and the bound
-    // framebuffer are the caller's. Empty when
+    // left them) and face culling as each draw had it, except: color, depth and stencil state,
+    // blending, polygon offset, scissor, the bound program (0 for the program's fixed-function
+    // shading) and the bound framebuffer are the caller's. Empty when
     // the stream cannot be re-rendered.
     // When redraw_binds_programs is true (the frame draws with shader programs) the draws bind
     // the program's own programs, textures and uniforms: the caller's program is not used, and

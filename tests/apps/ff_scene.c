@@ -37,6 +37,11 @@
  * glDepthRange(0, 0.3), as Quake 3 draws its weapon, so that no wall can hide it
  * (docs/effects.md: a view model is not the scene).
  *
+ * With --culled a quad facing away from the eye is drawn over the lower half of the view, 4 units in
+ * front of it, with back faces culled (so the program never shows it), and culling is off again
+ * for the frame's last draws, as neverball culls its level and then draws its menu
+ * (docs/effects.md: a redraw culls what the program culled).
+ *
  * Prints to stdout:
  *   ff_scene: GL_RENDERER <string>
  *   ff_scene: GL_VERSION <string>
@@ -327,6 +332,7 @@ static void draw_ground(void)
 static int backdrop;
 static int reflection;
 static int weapon;
+static int culled;
 
 static void draw_backdrop(void)
 {
@@ -456,6 +462,23 @@ static void draw_frame(int frame, int dolly, int w, int h, GLuint tex_ground, GL
         glPopMatrix();
     }
 
+    if (culled) {
+        glEnable(GL_CULL_FACE);
+        glCullFace(GL_BACK);
+        glPushMatrix();
+        glLoadIdentity();
+        glColor3f(1.0f, 0.0f, 1.0f);
+        glBegin(GL_QUADS); /* clockwise as the eye sees it: a back face */
+        glNormal3f(0.0f, 0.0f, -1.0f);
+        glVertex3f(-3.0f, -2.0f, -4.0f);
+        glVertex3f(-3.0f, 0.0f, -4.0f);
+        glVertex3f(3.0f, 0.0f, -4.0f);
+        glVertex3f(3.0f, -2.0f, -4.0f);
+        glEnd();
+        glPopMatrix();
+        glDisable(GL_CULL_FACE);
+    }
+
     /* flag pole: same display list, untextured */
     glColor3f(0.55f, 0.55f, 0.6f);
     glPushMatrix();
@@ -571,6 +594,7 @@ int main(int argc, char **argv)
     backdrop = app_take_flag(&argc, &argv, "--backdrop");
     reflection = app_take_flag(&argc, &argv, "--reflection");
     weapon = app_take_flag(&argc, &argv, "--weapon");
+    culled = app_take_flag(&argc, &argv, "--culled");
     app_parse_args(PROG, argc, argv, &args);
 
     dpy = XOpenDisplay(NULL);
