@@ -4,16 +4,13 @@
 
 #include <cstdint>
 #include <cstring>
-#include <memory>
 #include <string>
 #include <type_traits>
-#include <utility>
 #include <vector>
 
 #include <X11/Xutil.h>
 
 #include "common/byte_vector.h"
-
 #include "protocol/command_info.h"
 
 namespace glcast {
@@ -28,8 +25,6 @@ using u64_t = uint64_t;
 using i64_t = int64_t;
 using f32_t = float;
 using f64_t = double;
-
-
 
 // Largest array the encoder will read from the application: anything bigger is treated as
 // an unknown size (forwarded and counted), never a giant read.

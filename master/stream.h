@@ -13,7 +13,7 @@
 #include <thread>
 #include <vector>
 
-#include "master/encoder.h"
+#include "common/byte_vector.h"
 
 namespace glcast {
 

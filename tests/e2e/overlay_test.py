@@ -66,18 +66,14 @@ def painter(headless):
                                     "taken for overlays")
 
 
-def offscreen(headless):
-    """core_scene --offscreen against core_scene: the same scene, once drawn into a framebuffer
-    object and copied to the window (then a HUD panel), once drawn in the window. With every
-    pass, both come out alike (the main view, the redraw and the depth are the offscreen
-    scene's), and the panel is untouched. Before, the passes found no main view in the window
-    (the copy and the panel are flat draws): shadows and cover did nothing."""
-    hud = [(x, H - 1 - y) for y in range(8, 8 + 24) for x in range(8, 8 + 96)]  # HUD_X, HUD_Y, HUD_W, HUD_H
+def plain_and_decorated(app, variants, headless):
+    """Captures `app` with each variant's extra arguments (2 frames) and replays each capture
+    plain and with every pass: {(name, decorated): frame 1's pixels}."""
     captures = {}
     with Xvfb():
-        for name, extra in (("direct", []), ("offscreen", ["--offscreen"])):
-            captures[name] = os.path.join(OUT, f"core_scene_{name}.glcs")
-            r = subprocess.run([GLCAST, "capture", "-o", captures[name], "--", os.path.join(APPS, "core_scene"), *extra,
+        for name, extra in variants:
+            captures[name] = os.path.join(OUT, f"{app}_{name}.glcs")
+            r = subprocess.run([GLCAST, "capture", "-o", captures[name], "--", os.path.join(APPS, app), *extra,
                                 "--size", f"{W}x{H}", "--frames", "2"], capture_output=True, text=True, timeout=300)
             check(r.returncode == 0, f"capture {name} failed: {r.stderr[-2000:]}")
     images = {}
@@ -89,6 +85,17 @@ def offscreen(headless):
                                capture_output=True, text=True, timeout=300, env=headless)
             check(r.returncode == 0, f"replay {out} failed: {r.stderr[-2000:]}")
             images[name, bool(effects)] = read_png(os.path.join(out, "frame-000001.png"))[2]
+    return images
+
+
+def offscreen(headless):
+    """core_scene --offscreen against core_scene: the same scene, once drawn into a framebuffer
+    object and copied to the window (then a HUD panel), once drawn in the window. With every
+    pass, both come out alike (the main view, the redraw and the depth are the offscreen
+    scene's), and the panel is untouched. Before, the passes found no main view in the window
+    (the copy and the panel are flat draws): shadows and cover did nothing."""
+    hud = [(x, H - 1 - y) for y in range(8, 8 + 24) for x in range(8, 8 + 96)]  # HUD_X, HUD_Y, HUD_W, HUD_H
+    images = plain_and_decorated("core_scene", (("direct", []), ("offscreen", ["--offscreen"])), headless)
     outside = [(x, y) for y in range(H) for x in range(W) if (x, y) not in set(hud)]
 
     def off(a, b, points):
@@ -113,22 +120,7 @@ def view_model(headless):
     glDepthRange(0, 0.3) (Quake 3's depth hack). With every pass its pixels are the plain
     replay's, and every other pixel is what the passes make of the same scene without it. Before,
     the passes changed 5,045-5,137 of its 5,619 pixels (snow fell over it, cover on its top)."""
-    captures = {}
-    with Xvfb():
-        for name, extra in (("no-weapon", []), ("weapon", ["--weapon"])):
-            captures[name] = os.path.join(OUT, f"ff_scene_{name}.glcs")
-            r = subprocess.run([GLCAST, "capture", "-o", captures[name], "--", os.path.join(APPS, "ff_scene"), *extra,
-                                "--size", f"{W}x{H}", "--frames", "2"], capture_output=True, text=True, timeout=300)
-            check(r.returncode == 0, f"capture {name} failed: {r.stderr[-2000:]}")
-    images = {}
-    for name, capture in captures.items():
-        for effects in ("", "shadows,cover,icicles,snow"):
-            out = os.path.join(OUT, f"{name}-{effects or 'plain'}")
-            r = subprocess.run([GLCAST, "replay", capture, "--backend", "egl", "--out", out] +
-                               (["--effects", effects] if effects else []),
-                               capture_output=True, text=True, timeout=300, env=headless)
-            check(r.returncode == 0, f"replay {out} failed: {r.stderr[-2000:]}")
-            images[name, bool(effects)] = read_png(os.path.join(out, "frame-000001.png"))[2]
+    images = plain_and_decorated("ff_scene", (("no-weapon", []), ("weapon", ["--weapon"])), headless)
     plain = images["weapon", False]
     weapon = [(x, y) for y in range(H) for x in range(W) if plain[y][x] != images["no-weapon", False][y][x]]
     check(len(weapon) > 2000, f"the weapon is not where the test expects it ({len(weapon)} pixels)")

@@ -133,12 +133,18 @@ TEST(InterFrame, SmallerAndReadBackExactly) {
 // one. The writer probes both and keeps the lazy level while it saves a tenth. The frames of
 // the committed ff_scene capture (a fixed-function scene whose vertices move): its XORed frame
 // stores less than half of what level 1 would.
-TEST(InterFrame, XorResidualsAreCompressedWithTheLazyMatchFinderWhereItPays) {
+// The payloads of the committed ff_scene capture (a fixed-function scene whose vertices move).
+static std::vector<std::vector<uint8_t>> ff_scene_payloads() {
     CaptureReader reader(open_file_source(GLCAST_SOURCE_DIR "/tests/data/ff_scene.glcs"));
-    std::vector<std::vector<uint8_t>> frames;
+    std::vector<std::vector<uint8_t>> payloads;
     Message m;
     while (reader.next(m))
-        if (!m.payload.empty()) frames.push_back(m.payload);
+        if (!m.payload.empty()) payloads.push_back(m.payload);
+    return payloads;
+}
+
+TEST(InterFrame, XorResidualsAreCompressedWithTheLazyMatchFinderWhereItPays) {
+    const std::vector<std::vector<uint8_t>> frames = ff_scene_payloads();
     ASSERT_GE(frames.size(), 3u);
     const auto coded = encode(frames, true);
     size_t stored = 0, greedy = 0;
@@ -163,11 +169,7 @@ TEST(InterFrame, XorResidualsAreCompressedWithTheLazyMatchFinderWhereItPays) {
 // the writer stops compressing each such frame both ways (it did: 2 zstd runs a message on
 // ff_scene's flag frames) and probes the prefix coding only now and then, for the same bytes.
 TEST(InterFrame, SteadyXorFramesAreCompressedOnceEach) {
-    CaptureReader reader(open_file_source(GLCAST_SOURCE_DIR "/tests/data/ff_scene.glcs"));
-    std::vector<std::vector<uint8_t>> first;
-    Message m;
-    while (reader.next(m))
-        if (!m.payload.empty()) first.push_back(m.payload);
+    const std::vector<std::vector<uint8_t>> first = ff_scene_payloads();
     ASSERT_GE(first.size(), 3u);
     // 48 frames: the capture's last frames again and again, the flag waving between two of them.
     std::vector<std::vector<uint8_t>> frames;
@@ -180,6 +182,7 @@ TEST(InterFrame, SteadyXorFramesAreCompressedOnceEach) {
     EXPECT_LT(double(stats.compressions), 1.4 * double(coded.size()))
         << stats.compressions << " zstd runs for " << coded.size() << " messages";
     MessageChain chain;  // and they read back exactly
+    Message m;
     for (size_t i = 0; i < coded.size(); ++i) {
         decode_message(coded[i].data(), coded[i].size(), 0, m, &chain);
         ASSERT_EQ(m.payload, frames[i]) << "message " << i;
