@@ -43,6 +43,29 @@ void set_enabled(const GlApi& gl, GLenum cap, bool on) {
     else gl.glDisable(cap);
 }
 
+// The depth format of a framebuffer attachment, from what GL says of it: a depth blit needs the
+// same format on both sides. 0 when it has no depth.
+GLenum depth_format(const GlApi& gl, GLenum target) {
+    GLint type = GL_NONE, name = 0, stencil_type = GL_NONE, stencil_name = 0, bits = 0, component = GL_NONE;
+    gl.glGetFramebufferAttachmentParameteriv(target, GL_DEPTH_ATTACHMENT, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE, &type);
+    if (type == GL_NONE) return 0;
+    gl.glGetFramebufferAttachmentParameteriv(target, GL_DEPTH_ATTACHMENT, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_NAME, &name);
+    gl.glGetFramebufferAttachmentParameteriv(target, GL_DEPTH_ATTACHMENT, GL_FRAMEBUFFER_ATTACHMENT_DEPTH_SIZE, &bits);
+    gl.glGetFramebufferAttachmentParameteriv(target, GL_DEPTH_ATTACHMENT, GL_FRAMEBUFFER_ATTACHMENT_COMPONENT_TYPE,
+                                             &component);
+    gl.glGetFramebufferAttachmentParameteriv(target, GL_STENCIL_ATTACHMENT, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE,
+                                             &stencil_type);
+    if (stencil_type != GL_NONE)
+        gl.glGetFramebufferAttachmentParameteriv(target, GL_STENCIL_ATTACHMENT, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_NAME,
+                                                 &stencil_name);
+    const bool packed = stencil_type == type && stencil_name == name;  // one depth-stencil image
+    if (component == GL_FLOAT) return packed ? GL_DEPTH32F_STENCIL8 : GL_DEPTH_COMPONENT32F;
+    if (bits <= 16) return GL_DEPTH_COMPONENT16;
+    if (bits <= 24) return packed ? GL_DEPTH24_STENCIL8 : GL_DEPTH_COMPONENT24;
+    return GL_DEPTH_COMPONENT32;
+}
+
+
 bool compatibility_context(const GlApi& gl) {
     GLint profile = 0;
     gl.glGetIntegerv(GL_CONTEXT_PROFILE_MASK, &profile);
@@ -77,6 +100,13 @@ void FrameRecord::clear() {
     camera_probes = 0;
     view_model_far = 0;
     light = effects::SceneLight{};
+    scene_texture = scene_depth_name = 0;
+    scene_depth_type = GL_NONE, scene_depth_format = 0;
+    scene_size[0] = scene_size[1] = 0;
+    complete = placement_pending = false;
+    borrowed_from = 0;
+    placement_from = 0;
+    std::fill(placement, placement + 4, 0);
 }
 
 void FrameRecorder::record(const Call& c, const uint8_t* tuple, size_t tuple_size) {
@@ -87,6 +117,13 @@ void FrameRecorder::record(const Call& c, const uint8_t* tuple, size_t tuple_siz
             if (st->program_cameras) st->program_cameras->forget();
     FrameRecord& rec = state(ctx).record;
     const GlApi& gl = core_.api();
+    if (rec.placement_pending && !rec.in_begin_end && rec.entries.size() > rec.placement_from)
+        place_borrowed_scene(ctx);  // the draw that shows a borrowed scene has run
+    if (rec.complete && !ctx.drawing_to_window) {  // a lent scene is kept until its next
+        GLint bound = 0;
+        gl.glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &bound);
+        if (GLuint(bound) == rec.scene_framebuffer) rec.clear();
+    }
     if (!rec.started) {
         rec.started = true;
         gl.glGetIntegerv(GL_CURRENT_PROGRAM, &rec.start_program);
@@ -122,6 +159,7 @@ void FrameRecorder::record(const Call& c, const uint8_t* tuple, size_t tuple_siz
     FrameRecord::Entry e{rec.bytes.size(), tuple_size, false, false, false, kind == RedrawKind::ProgramState,
                          !to_window};
     if (opens) {
+        if (to_window && !rec.main_known && !rec.overlay) borrow_scene(ctx, rec);
         GLint program = 0;
         gl.glGetIntegerv(GL_CURRENT_PROGRAM, &program);
         e.draw = e.opens = true;
@@ -151,6 +189,7 @@ void FrameRecorder::record(const Call& c, const uint8_t* tuple, size_t tuple_siz
                 // (a push made inside a reflection is not the view)
                 rec.modelview = rec.pushed && !mirrored(rec.last_push) ? rec.last_push : modelview;
                 tile_.program_viewport(rec.viewport);
+                note_lendable_scene(ctx, rec);
                 GLboolean lighting = GL_FALSE;
                 gl.glGetBooleanv(GL_LIGHTING, &lighting);
                 for (GLenum light = GL_LIGHT0; lighting && light < GL_LIGHT0 + 8; ++light) {
@@ -219,6 +258,7 @@ bool FrameRecorder::shader_draw_is_main(SlaveContext& ctx, FrameRecord& rec, GLu
         rec.projection = camera.projection;
         rec.modelview = camera.modelview;
         tile_.program_viewport(rec.viewport);
+        note_lendable_scene(ctx, rec);
     }
     return !rec.overlay && camera.projection == rec.projection && writes_depth(gl) && framebuffer == rec.scene_framebuffer;
 }
@@ -232,12 +272,205 @@ bool FrameRecorder::offscreen_scene(SlaveContext& ctx, const FrameRecord& rec, G
     if (rec.overlay || rec.presented || !framebuffer) return false;
     int32_t viewport[4];
     tile_.program_viewport(viewport);
-    if (viewport[0] != 0 || viewport[1] != 0 || viewport[2] != ctx.master_width || viewport[3] != ctx.master_height)
-        return false;
+    if (viewport[0] != 0 || viewport[1] != 0) return false;
+    if (viewport[2] != ctx.master_width || viewport[3] != ctx.master_height) {
+        // A context that has never presented, beside another of its share group, draws for it
+        // (a toolkit's GL widget): its scene target has the widget's size, and a colour texture
+        // the other can show. (A program's only context has not presented in its first frame
+        // either: its smaller targets are not scenes.)
+        if (state(ctx).presents || !shares_with_another(ctx)) return false;
+        GLint color = GL_NONE;
+        gl.glGetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0,
+                                                 GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE, &color);
+        if (color != GL_TEXTURE) return false;
+    }
     GLint type = GL_NONE;
     gl.glGetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, GL_DEPTH_ATTACHMENT,
                                              GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE, &type);
     return type != GL_NONE;
+}
+
+bool FrameRecorder::shares_with_another(const SlaveContext& ctx) const {
+    for (const auto& [id, other] : core_.contexts())
+        if (id != ctx.id && other->names.shared == ctx.names.shared) return true;
+    return false;
+}
+
+void FrameRecorder::note_lendable_scene(SlaveContext& ctx, FrameRecord& rec) {
+    if (!rec.scene_framebuffer || state(ctx).presents) return;
+    const GlApi& gl = core_.api();
+    GLint type = GL_NONE, name = 0;
+    gl.glGetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0,
+                                             GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE, &type);
+    if (type != GL_TEXTURE) return;
+    gl.glGetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0,
+                                             GL_FRAMEBUFFER_ATTACHMENT_OBJECT_NAME, &name);
+    rec.scene_texture = GLuint(name);
+    gl.glGetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, GL_DEPTH_ATTACHMENT,
+                                             GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE, &type);
+    gl.glGetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, GL_DEPTH_ATTACHMENT,
+                                             GL_FRAMEBUFFER_ATTACHMENT_OBJECT_NAME, &name);
+    rec.scene_depth_type = GLenum(type);
+    rec.scene_depth_name = GLuint(name);
+    rec.scene_depth_format = depth_format(gl, GL_DRAW_FRAMEBUFFER);
+    rec.scene_size[0] = rec.viewport[2], rec.scene_size[1] = rec.viewport[3];
+}
+
+const FrameRecord& FrameRecorder::scene_record(const SlaveContext& ctx) {
+    FrameRecord& rec = state(ctx).record;
+    if (!rec.borrowed_from) return rec;
+    auto it = states_.find(rec.borrowed_from);
+    return it != states_.end() ? it->second->record : rec;
+}
+
+void FrameRecorder::borrow_scene(SlaveContext& ctx, FrameRecord& rec) {
+    const GlApi& gl = core_.api();
+    GLint sampled[8] = {}, active = GL_TEXTURE0;
+    bool lenders = false;
+    for (auto& [id, other] : states_) lenders = lenders || (id != ctx.id && other->record.scene_texture);
+    if (!lenders) return;
+    gl.glGetIntegerv(GL_ACTIVE_TEXTURE, &active);
+    for (int unit = 0; unit < 8; ++unit) {
+        gl.glActiveTexture(GLenum(GL_TEXTURE0 + unit));
+        gl.glGetIntegerv(GL_TEXTURE_BINDING_2D, &sampled[unit]);
+    }
+    gl.glActiveTexture(GLenum(active));
+    for (auto& [id, other] : states_) {
+        const FrameRecord& lent = other->record;
+        if (id == ctx.id || other->presents || !lent.main_known || !lent.scene_texture || lent.overflow) continue;
+        const SlaveContext* lender = core_.context(id);
+        if (!lender || lender->names.shared != ctx.names.shared) continue;  // the same name, another texture
+        if (std::find(sampled, sampled + 8, GLint(lent.scene_texture)) == sampled + 8) continue;
+        EffectsState& st = state(ctx);
+        // Its depth, attached to a framebuffer object of this context.
+        GLint read = 0;
+        gl.glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &read);
+        if (!st.lender_fb) gl.glGenFramebuffers(1, &st.lender_fb);
+        gl.glBindFramebuffer(GL_READ_FRAMEBUFFER, st.lender_fb);
+        gl.glFramebufferRenderbuffer(GL_READ_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, 0);
+        const bool packed = lent.scene_depth_format == GL_DEPTH24_STENCIL8 || lent.scene_depth_format == GL_DEPTH32F_STENCIL8;
+        const GLenum attachment = packed ? GL_DEPTH_STENCIL_ATTACHMENT : GL_DEPTH_ATTACHMENT;
+        if (lent.scene_depth_type == GL_RENDERBUFFER)
+            gl.glFramebufferRenderbuffer(GL_READ_FRAMEBUFFER, attachment, GL_RENDERBUFFER, lent.scene_depth_name);
+        else if (lent.scene_depth_type == GL_TEXTURE)
+            gl.glFramebufferTexture2D(GL_READ_FRAMEBUFFER, attachment, GL_TEXTURE_2D, lent.scene_depth_name, 0);
+        gl.glBindFramebuffer(GL_READ_FRAMEBUFFER, GLuint(read));
+        rec.borrowed_from = id;
+        rec.main_known = rec.presented = true;
+        rec.scene_framebuffer = st.lender_fb;
+        rec.projection = lent.projection, rec.modelview = lent.modelview, rec.light = lent.light;
+        std::copy(lent.viewport, lent.viewport + 4, rec.viewport);
+        rec.placement_pending = true;
+        rec.placement_from = rec.entries.size();
+        return;
+    }
+}
+
+// The draw that showed a borrowed scene, drawn again in the master's window coordinates (the
+// program's viewport, no tile mapping) into a depth-only target with every fragment at depth 0:
+// the rectangle it covered is where the scene is, whatever matrix or vertices put it there.
+void FrameRecorder::place_borrowed_scene(SlaveContext& ctx) {
+    EffectsState& st = state(ctx);
+    FrameRecord& rec = st.record;
+    rec.placement_pending = false;
+    const GlApi& gl = core_.api();
+    const int W = std::max(1, ctx.master_width), H = std::max(1, ctx.master_height);
+    const bool compatibility = compatibility_context(gl);
+    std::vector<uint8_t> depth(size_t(W) * size_t(H), 255);
+    const bool saved_range_pending = ctx.client_range_pending, saved_refused = ctx.client_arrays_refused;
+    const int64_t saved_first = ctx.client_first, saved_end = ctx.client_end;
+    const std::vector<ClientInstanceRange> saved_instances = ctx.client_instances;
+    try {
+        GlStateGuard guard(gl, kGuardPass | kGuardPixelPack |
+                                   (compatibility ? kGuardMatrixStacks | kGuardMatrixMode : 0));
+        if (st.placement_sizes[0] != W || st.placement_sizes[1] != H) {
+            if (st.placement_fb) gl.glDeleteFramebuffers(1, &st.placement_fb), gl.glDeleteTextures(1, &st.placement_depth);
+            st.placement_depth = effects::make_texture(gl, GL_DEPTH_COMPONENT24, W, H);
+            st.placement_fb = effects::make_framebuffer(gl, 0, st.placement_depth);
+            st.placement_sizes[0] = W, st.placement_sizes[1] = H;
+        }
+        GLint program = 0;
+        gl.glGetIntegerv(GL_CURRENT_PROGRAM, &program);
+        gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, st.placement_fb);
+        gl.glViewport(0, 0, W, H);
+        gl.glEnable(GL_DEPTH_TEST);
+        gl.glDepthFunc(GL_ALWAYS);
+        gl.glDepthMask(GL_TRUE);
+        gl.glClearDepth(1.0);
+        gl.glClear(GL_DEPTH_BUFFER_BIT);
+        GLdouble range[2] = {0, 1};
+        gl.glGetDoublev(GL_DEPTH_RANGE, range);
+        gl.glDepthRange(0, 0);
+        tile_.begin_redraw(glm::dmat4(1.0), program != 0);
+        Call c;
+        for (size_t i = rec.placement_from; i < rec.entries.size(); ++i) {
+            const FrameRecord::Entry& e = rec.entries[i];
+            if (i > rec.placement_from && (!e.draw || e.opens)) break;  // that draw only
+            ByteReader r(rec.bytes.data() + e.begin, e.size, 0);
+            decode_tuple(r, c);
+            try {
+                core_.redispatch(c);
+            } catch (const ReplayError&) {
+            } catch (const GlMissing&) {
+            }
+        }
+        tile_.end_redraw();
+        gl.glDepthRange(range[0], range[1]);
+        gl.glBindFramebuffer(GL_READ_FRAMEBUFFER, st.placement_fb);
+        if (gl.has(OP_glBindBuffer)) gl.glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+        gl.glPixelStorei(GL_PACK_ALIGNMENT, 1);
+        gl.glPixelStorei(GL_PACK_ROW_LENGTH, 0);
+        gl.glPixelStorei(GL_PACK_SKIP_ROWS, 0);
+        gl.glPixelStorei(GL_PACK_SKIP_PIXELS, 0);
+        gl.glReadPixels(0, 0, W, H, GL_DEPTH_COMPONENT, GL_UNSIGNED_BYTE, depth.data());
+    } catch (const std::runtime_error& e) {
+        std::fprintf(stderr, "glcast: effects: cannot place another context's scene: %s\n", e.what());
+    }
+    ctx.client_range_pending = saved_range_pending, ctx.client_arrays_refused = saved_refused;
+    ctx.client_first = saved_first, ctx.client_end = saved_end;
+    ctx.client_instances = saved_instances;
+    int x0 = W, y0 = H, x1 = 0, y1 = 0;
+    for (int y = 0; y < H; ++y) {
+        const uint8_t* row = depth.data() + size_t(y) * size_t(W);
+        for (int x = 0; x < W; ++x) {
+            if (row[x] == 255) continue;
+            x0 = std::min(x0, x), x1 = std::max(x1, x + 1), y0 = std::min(y0, y), y1 = std::max(y1, y + 1);
+        }
+    }
+    auto lender = states_.find(rec.borrowed_from);
+    if (x0 >= x1 || y0 >= y1 || lender == states_.end()) {  // it drew nothing: the scene is not shown
+        rec.borrowed_from = 0;
+        rec.main_known = rec.presented = false;
+        rec.scene_framebuffer = 0;
+        rec.light = effects::SceneLight{};
+        return;
+    }
+    const FrameRecord& lent = lender->second->record;
+    rec.placement[0] = x0, rec.placement[1] = y0, rec.placement[2] = x1, rec.placement[3] = y1;
+    // The lender's viewport, in its target's pixels, placed and scaled as the window shows them.
+    const double sx = double(x1 - x0) / std::max(1, lent.scene_size[0]);
+    const double sy = double(y1 - y0) / std::max(1, lent.scene_size[1]);
+    rec.viewport[0] = int32_t(std::lround(x0 + lent.viewport[0] * sx));
+    rec.viewport[1] = int32_t(std::lround(y0 + lent.viewport[1] * sy));
+    rec.viewport[2] = int32_t(std::lround(lent.viewport[2] * sx));
+    rec.viewport[3] = int32_t(std::lround(lent.viewport[3] * sy));
+}
+
+// Where the frame's scene is in this tile's pixels: the whole window, or the rectangle a borrowed
+// scene was drawn to.
+void FrameRecorder::scene_rect(SlaveContext& ctx, int32_t out[4]) {
+    const FrameRecord& rec = state(ctx).record;
+    out[0] = out[1] = 0, out[2] = ctx.width, out[3] = ctx.height;
+    if (!rec.borrowed_from || rec.placement[2] <= rec.placement[0]) return;
+    const TileMapping& t = core_.options().tile;
+    const int W = ctx.master_width, H = ctx.master_height;
+    const int32_t* p = rec.placement;
+    if (!t.enabled) {
+        std::copy(p, p + 4, out);
+        return;
+    }
+    out[0] = int32_t(t.map_x(p[0], W)), out[1] = int32_t(t.map_y(p[1], H));
+    out[2] = out[0] + int32_t(t.map_w(p[0], p[2] - p[0], W)), out[3] = out[1] + int32_t(t.map_h(p[1], p[3] - p[1], H));
 }
 
 // Re-executes the recorded calls of the main view with `correction` premultiplied into the
@@ -249,7 +482,8 @@ bool FrameRecorder::offscreen_scene(SlaveContext& ctx, const FrameRecord& rec, G
 // frame's calls that set them are replayed in its order.
 void FrameRecorder::redraw_main_view(SlaveContext& ctx, const glm::dmat4& correction) {
     EffectsState& st = state(ctx);
-    FrameRecord& rec = st.record;
+    const FrameRecord& rec = scene_record(ctx);  // a borrowed scene: the lender's draws
+    const bool borrowed = &rec != &st.record;
     const GlApi& gl = core_.api();
     const bool compatibility = compatibility_context(gl);
     if (rec.entries.empty() || (!compatibility && !rec.shader_draws)) return;
@@ -264,10 +498,12 @@ void FrameRecorder::redraw_main_view(SlaveContext& ctx, const glm::dmat4& correc
     gl.glGetIntegerv(GL_ACTIVE_TEXTURE, &active_texture);
     GlStateGuard guard(gl, kGuardProgram | kGuardVertexArray |
                                (compatibility ? kGuardAttribStacks | kGuardMatrixStacks | kGuardMatrixMode : 0));
-    gl.glBindVertexArray(GLuint(st.program_vao));
+    // (A borrowed scene's draws start from no vertex-array object and no textures: this
+    // context's are not the lender's.)
+    gl.glBindVertexArray(borrowed ? 0 : GLuint(st.program_vao));
     for (int unit = 0; unit < 8; ++unit) {
         gl.glActiveTexture(GLenum(GL_TEXTURE0 + unit));
-        gl.glBindTexture(GL_TEXTURE_2D, GLuint(st.program_textures[unit]));
+        gl.glBindTexture(GL_TEXTURE_2D, borrowed ? 0 : GLuint(st.program_textures[unit]));
     }
     gl.glActiveTexture(GLenum(st.program_active_texture));
     // A frame of fixed-function draws keeps the caller's program (a pass's own shading);
@@ -333,31 +569,6 @@ unsigned FrameRecorder::window_copy(SlaveContext& ctx, bool depth) {
     return depth ? st.depth_texture : st.color_texture;
 }
 
-namespace {
-
-// The depth format of a framebuffer attachment, from what GL says of it: a depth blit needs the
-// same format on both sides. 0 when it has no depth.
-GLenum depth_format(const GlApi& gl, GLenum target) {
-    GLint type = GL_NONE, name = 0, stencil_type = GL_NONE, stencil_name = 0, bits = 0, component = GL_NONE;
-    gl.glGetFramebufferAttachmentParameteriv(target, GL_DEPTH_ATTACHMENT, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE, &type);
-    if (type == GL_NONE) return 0;
-    gl.glGetFramebufferAttachmentParameteriv(target, GL_DEPTH_ATTACHMENT, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_NAME, &name);
-    gl.glGetFramebufferAttachmentParameteriv(target, GL_DEPTH_ATTACHMENT, GL_FRAMEBUFFER_ATTACHMENT_DEPTH_SIZE, &bits);
-    gl.glGetFramebufferAttachmentParameteriv(target, GL_DEPTH_ATTACHMENT, GL_FRAMEBUFFER_ATTACHMENT_COMPONENT_TYPE,
-                                             &component);
-    gl.glGetFramebufferAttachmentParameteriv(target, GL_STENCIL_ATTACHMENT, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE,
-                                             &stencil_type);
-    if (stencil_type != GL_NONE)
-        gl.glGetFramebufferAttachmentParameteriv(target, GL_STENCIL_ATTACHMENT, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_NAME,
-                                                 &stencil_name);
-    const bool packed = stencil_type == type && stencil_name == name;  // one depth-stencil image
-    if (component == GL_FLOAT) return packed ? GL_DEPTH32F_STENCIL8 : GL_DEPTH_COMPONENT32F;
-    if (bits <= 16) return GL_DEPTH_COMPONENT16;
-    if (bits <= 24) return packed ? GL_DEPTH24_STENCIL8 : GL_DEPTH_COMPONENT24;
-    return GL_DEPTH_COMPONENT32;
-}
-
-}  // namespace
 
 unsigned FrameRecorder::scene_depth_copy(SlaveContext& ctx) {
     EffectsState& st = state(ctx);
@@ -371,6 +582,12 @@ unsigned FrameRecorder::scene_depth_copy(SlaveContext& ctx) {
     }
     const int W = std::max(1, ctx.master_width), H = std::max(1, ctx.master_height);
     const int sizes[4] = {W, H, ctx.width, ctx.height};
+    // The scene's target in the master's window: all of it, or where a borrowed scene was drawn.
+    const FrameRecord& scene = scene_record(ctx);
+    const bool placed = st.record.borrowed_from != 0;
+    const int32_t* p = st.record.placement;
+    const int from[4] = {0, 0, placed ? scene.scene_size[0] : W, placed ? scene.scene_size[1] : H};
+    const int target[4] = {placed ? p[0] : 0, placed ? p[1] : 0, placed ? p[2] : W, placed ? p[3] : H};
     if (format != st.scene_depth_format || !std::equal(sizes, sizes + 4, st.scene_depth_sizes)) {
         if (st.scene_depth_full) {
             const GLuint textures[] = {st.scene_depth_full, st.scene_depth}, fbs[] = {st.scene_depth_full_fb, st.scene_depth_fb};
@@ -391,7 +608,13 @@ unsigned FrameRecorder::scene_depth_copy(SlaveContext& ctx) {
     // (the canvas stretches it) drawn over the tile's size.
     gl.glBindFramebuffer(GL_READ_FRAMEBUFFER, st.record.scene_framebuffer);
     gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, st.scene_depth_full_fb);
-    gl.glBlitFramebuffer(0, 0, W, H, 0, 0, W, H, GL_DEPTH_BUFFER_BIT, GL_NEAREST);
+    if (placed) {  // nothing but the scene's rectangle: the far plane around it
+        gl.glDepthMask(GL_TRUE);
+        gl.glClearDepth(1.0);
+        gl.glClear(GL_DEPTH_BUFFER_BIT);
+    }
+    gl.glBlitFramebuffer(from[0], from[1], from[2], from[3], target[0], target[1], target[2], target[3],
+                         GL_DEPTH_BUFFER_BIT, GL_NEAREST);
     const TileMapping& t = core_.options().tile;
     glm::dvec4 source(0, 0, W, H);
     if (t.enabled && !core_.options().view.enabled)
@@ -522,9 +745,14 @@ void FrameRecorder::frame_view(SlaveContext& ctx, effects::FrameView& v) {
     SlaveContext* c = &ctx;
     v.color_texture = [this, c] { return window_copy(*c, false); };
     v.depth_texture = [this, c] { return window_copy(*c, true); };
-    if (rec.main_known && !rec.overflow && (rec.shader_draws ? core_.options().effects.redraws() : compatibility_context(gl))) {
+    // A borrowed scene's shader draws name the lender's vertex-array objects, which this context
+    // does not share: only fixed-function scenes are re-rendered from another context.
+    const FrameRecord& scene = scene_record(ctx);
+    const bool borrowed = &scene != &rec;
+    if (rec.main_known && !scene.overflow && !(borrowed && scene.shader_draws) &&
+        (scene.shader_draws ? core_.options().effects.redraws() : compatibility_context(gl))) {
         v.redraw = [this, c](const glm::dmat4& correction) { redraw_main_view(*c, correction); };
-        v.redraw_binds_programs = rec.shader_draws;
+        v.redraw_binds_programs = scene.shader_draws;
     }
 }
 
@@ -603,10 +831,27 @@ void FrameRecorder::put_overlays_back(SlaveContext& ctx, bool overlays) {
     gl.glUniform1i(effects::uniform(gl, st.overlay_program, "scene_depth"), 2);
     gl.glUniform1i(effects::uniform(gl, st.overlay_program, "overlays"), overlays);
     gl.glUniform1f(effects::uniform(gl, st.overlay_program, "view_model_far"), GLfloat(st.record.view_model_far));
+    int32_t rect[4];
+    scene_rect(ctx, rect);
+    gl.glUniform4f(effects::uniform(gl, st.overlay_program, "scene_rect"), GLfloat(rect[0]), GLfloat(rect[1]),
+                   GLfloat(rect[2]), GLfloat(rect[3]));
     effects::draw_fullscreen(gl, st.overlay_vao);
 }
 
-void FrameRecorder::end_frame(SlaveContext& ctx) { run_effects(ctx); }
+void FrameRecorder::end_frame(SlaveContext& ctx) {
+    state(ctx).presents = true;
+    if (state(ctx).record.placement_pending) place_borrowed_scene(ctx);
+    run_effects(ctx);
+    // Contexts that never present: a scene they drew is kept for the frames that show it again
+    // (until they draw the next), anything else they recorded is let go, so that their records
+    // hold at most one frame's calls.
+    for (auto& [id, st] : states_) {
+        FrameRecord& other = st->record;
+        if (id == ctx.id || st->presents || other.in_begin_end || other.compiling_list) continue;
+        if (other.main_known && other.scene_texture) other.complete = true;
+        else other.clear();
+    }
+}
 
 void FrameRecorder::run_effects(SlaveContext& ctx) {
     EffectsState& st = state(ctx);
@@ -631,10 +876,13 @@ void FrameRecorder::run_effects(SlaveContext& ctx) {
         if (overlays) copy_window(ctx, st.scene_image_fb, false, /*back=*/true);  // the scene alone
         const bool view_model = st.record.view_model_far > 0 && st.copies_width == ctx.width &&
                                 st.copies_height == ctx.height;
+        // A borrowed scene covers part of the window: the rest is the program's.
+        const bool placed = st.record.borrowed_from != 0 && st.copies_width == ctx.width &&
+                            st.copies_height == ctx.height;
         if (view_model) st.view_model_depth = window_copy(ctx, true);  // before any pass draws
         else st.record.view_model_far = 0;
         st.pipeline->run(view);
-        if (overlays || view_model) put_overlays_back(ctx, overlays);
+        if (overlays || view_model || placed) put_overlays_back(ctx, overlays);
         if (core_.after_effects) core_.after_effects(view);
     } catch (const std::runtime_error& e) {
         throw EffectsError(std::string("effects: ") + e.what());

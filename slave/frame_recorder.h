@@ -70,6 +70,22 @@ struct FrameRecord {
     // are overlays. If that first draw writes depth instead, the object was not the scene.
     GLuint scene_framebuffer = 0;
     bool presented = false;
+    // A scene drawn by another context (docs/effects.md "A scene another context draws"): a
+    // toolkit's GL widget (Qt's QOpenGLWidget) draws its view with a context of its own, which
+    // never presents, into a framebuffer object of the widget's size, and only when the view
+    // changes; the window's context draws that object's colour texture into the window every
+    // frame. The lending context's record keeps the scene (its texture, depth attachment and
+    // size below) until it draws the next; the presenting context's record borrows it when a
+    // draw to the window samples the texture (`borrowed_from`: the lender's context id), and
+    // finds where that draw put it (`placement`: x0, y0, x1, y1 in the master's window pixels).
+    GLuint scene_texture = 0, scene_depth_name = 0;
+    GLenum scene_depth_type = GL_NONE, scene_depth_format = 0;
+    int32_t scene_size[2] = {0, 0};
+    bool complete = false;  // lender: a frame was presented since it drew its scene
+    uint32_t borrowed_from = 0;
+    bool placement_pending = false;  // from entry placement_from on, the draw that shows it
+    size_t placement_from = 0;
+    int32_t placement[4] = {0, 0, 0, 0};
     glm::dmat4 projection{1.0}, modelview{1.0};
     int32_t viewport[4] = {0, 0, 0, 0};  // the program's, master window coordinates
     effects::SceneLight light;
@@ -96,6 +112,14 @@ struct EffectsState {
     GLuint scene_depth_program = 0, scene_depth_vao = 0;
     GLenum scene_depth_format = 0;
     int scene_depth_sizes[4] = {0, 0, 0, 0};  // full width, height; tile width, height
+    // This context has presented a frame: a context that never has may lend its scene.
+    bool presents = false;
+    // A borrowed scene: a framebuffer object of this context with the lender's depth attached
+    // (framebuffer objects are not shared, their attachments are), and the depth-only target
+    // of the master's window size on which the draw that shows the scene is drawn again to
+    // find where it went.
+    GLuint lender_fb = 0, placement_fb = 0, placement_depth = 0;
+    int placement_sizes[2] = {0, 0};
     bool color_copied = false, depth_copied = false;
     // The program's own picture of the frame, saved before the passes draw over it and put back
     // after present: a program that never clears draws its next frame over its own image, not
@@ -137,6 +161,7 @@ public:
     void end_frame(SlaveContext& ctx) override;
     void presented(SlaveContext& ctx) override;
     void reset() override { states_.clear(); }
+    void context_removed(uint32_t id) override { states_.erase(id); }
 
 private:
     EffectsState& state(const SlaveContext& ctx);
@@ -152,6 +177,15 @@ private:
     // draws into whole at the window's size and with a depth buffer.
     bool offscreen_scene(SlaveContext& ctx, const FrameRecord& rec, GLuint& framebuffer);
     unsigned scene_depth_copy(SlaveContext& ctx);  // the offscreen scene's depth, tile pixels
+    // Another context's scene, shown by the draw about to run (a draw to the window sampling the
+    // lender's colour texture): taken as this frame's main view.
+    void borrow_scene(SlaveContext& ctx, FrameRecord& rec);
+    void place_borrowed_scene(SlaveContext& ctx);  // after that draw ran
+    void note_lendable_scene(SlaveContext& ctx, FrameRecord& rec);  // the main view found offscreen
+    bool shares_with_another(const SlaveContext& ctx) const;  // objects with another live context
+    // The record whose draws and camera are the frame's scene: the lender's for a borrowed one.
+    const FrameRecord& scene_record(const SlaveContext& ctx);
+    void scene_rect(SlaveContext& ctx, int32_t out[4]);  // where the scene is, tile pixels
     void frame_view(SlaveContext& ctx, effects::FrameView& view);
     unsigned window_copy(SlaveContext& ctx, bool depth);  // a GL texture name
     void size_copies(SlaveContext& ctx);                   // the copies, at the window's size

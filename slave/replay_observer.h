@@ -39,6 +39,8 @@ public:
     virtual void end_frame(SlaveContext& ctx) { (void)ctx; }
     // ... and presented: what the window holds now is what the program's next frame draws over.
     virtual void presented(SlaveContext& ctx) { (void)ctx; }
+    // The context `id` was destroyed.
+    virtual void context_removed(uint32_t id) { (void)id; }
     // The slave starts over (every context is gone).
     virtual void reset() {}
 };

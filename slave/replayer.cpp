@@ -100,6 +100,7 @@ void Replayer::remove_context(uint32_t id) {
     }
     backend_->destroy_context(id);
     contexts_.erase(id);
+    for (ReplayObserver* o : observers_) o->context_removed(id);
 }
 
 void Replayer::make_current(uint32_t id, uint64_t drawable, int width, int height) {

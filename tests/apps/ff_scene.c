@@ -42,6 +42,16 @@
  * for the frame's last draws, as neverball culls its level and then draws its menu
  * (docs/effects.md: a redraw culls what the program culled).
  *
+ * With --widget the scene is drawn as a Qt program's QOpenGLWidget draws it: by a second context
+ * (sharing objects with the window's, current on a 1x1 pbuffer) into a framebuffer object of the
+ * widget's size (5/8 x 3/4 of the window, its colour a texture, depth and stencil one
+ * renderbuffer), and only every WIDGET_REDRAW-th frame (the frame's scene is that of the last
+ * multiple of it: a viewer redraws when its view changes). Every frame the window's context
+ * composites: a grey background, the widget's texture at (width/4, height/8) with a
+ * fixed-function textured quad, then the toolkit's widgets over it: a blue toolbar along the top
+ * of the window and a label inside the widget's lower left corner (docs/effects.md: a scene
+ * drawn by another context).
+ *
  * Prints to stdout:
  *   ff_scene: GL_RENDERER <string>
  *   ff_scene: GL_VERSION <string>
@@ -333,6 +343,8 @@ static int backdrop;
 static int reflection;
 static int weapon;
 static int culled;
+static int widget;
+#define WIDGET_REDRAW 4
 
 static void draw_backdrop(void)
 {
@@ -540,6 +552,117 @@ static void draw_frame(int frame, int dolly, int w, int h, GLuint tex_ground, GL
     glDisableClientState(GL_VERTEX_ARRAY);
 }
 
+/* ---------------------------------------------------------------- --widget */
+
+struct widget_target {
+    GLXContext context;
+    GLXPbuffer pbuffer;
+    GLuint framebuffer, texture, depth;
+    int x, y, width, height; /* where the window shows it */
+};
+
+/* The scene's context: shares objects with `window_context`, current on a 1x1 pbuffer of the
+ * window's visual, with a framebuffer object of the widget's size. Leaves it current. */
+static int widget_create(Display *dpy, XVisualInfo *vi, GLXContext window_context, int w, int h,
+                         struct widget_target *t)
+{
+    static const int pbuffer_attribs[] = {GLX_PBUFFER_WIDTH, 1, GLX_PBUFFER_HEIGHT, 1, None};
+    PFNGLGENFRAMEBUFFERSPROC gen_framebuffers =
+        (PFNGLGENFRAMEBUFFERSPROC)glXGetProcAddressARB((const GLubyte *)"glGenFramebuffers");
+    PFNGLBINDFRAMEBUFFERPROC bind_framebuffer =
+        (PFNGLBINDFRAMEBUFFERPROC)glXGetProcAddressARB((const GLubyte *)"glBindFramebuffer");
+    PFNGLFRAMEBUFFERTEXTURE2DPROC framebuffer_texture =
+        (PFNGLFRAMEBUFFERTEXTURE2DPROC)glXGetProcAddressARB((const GLubyte *)"glFramebufferTexture2D");
+    PFNGLGENRENDERBUFFERSPROC gen_renderbuffers =
+        (PFNGLGENRENDERBUFFERSPROC)glXGetProcAddressARB((const GLubyte *)"glGenRenderbuffers");
+    PFNGLBINDRENDERBUFFERPROC bind_renderbuffer =
+        (PFNGLBINDRENDERBUFFERPROC)glXGetProcAddressARB((const GLubyte *)"glBindRenderbuffer");
+    PFNGLRENDERBUFFERSTORAGEPROC renderbuffer_storage =
+        (PFNGLRENDERBUFFERSTORAGEPROC)glXGetProcAddressARB((const GLubyte *)"glRenderbufferStorage");
+    PFNGLFRAMEBUFFERRENDERBUFFERPROC framebuffer_renderbuffer =
+        (PFNGLFRAMEBUFFERRENDERBUFFERPROC)glXGetProcAddressARB((const GLubyte *)"glFramebufferRenderbuffer");
+    PFNGLCHECKFRAMEBUFFERSTATUSPROC check_status =
+        (PFNGLCHECKFRAMEBUFFERSTATUSPROC)glXGetProcAddressARB((const GLubyte *)"glCheckFramebufferStatus");
+    GLXFBConfig *configs, config = NULL;
+    int n = 0, i;
+    configs = glXGetFBConfigs(dpy, vi->screen, &n);
+    for (i = 0; i < n && config == NULL; i++) {
+        int visual = 0, types = 0;
+        glXGetFBConfigAttrib(dpy, configs[i], GLX_VISUAL_ID, &visual);
+        glXGetFBConfigAttrib(dpy, configs[i], GLX_DRAWABLE_TYPE, &types);
+        if ((VisualID)visual == vi->visualid && (types & GLX_PBUFFER_BIT))
+            config = configs[i];
+    }
+    if (configs != NULL)
+        XFree(configs);
+    if (config == NULL || gen_framebuffers == NULL || check_status == NULL) {
+        fprintf(stderr, "%s: --widget: no pbuffer config for the window's visual, or no framebuffer objects\n", PROG);
+        return -1;
+    }
+    t->context = glXCreateNewContext(dpy, config, GLX_RGBA_TYPE, window_context, True);
+    t->pbuffer = glXCreatePbuffer(dpy, config, pbuffer_attribs);
+    if (t->context == NULL || !glXMakeContextCurrent(dpy, t->pbuffer, t->pbuffer, t->context)) {
+        fprintf(stderr, "%s: --widget: cannot make the scene's context current\n", PROG);
+        return -1;
+    }
+    t->width = w * 5 / 8, t->height = h * 3 / 4, t->x = w / 4, t->y = h / 8;
+    glGenTextures(1, &t->texture);
+    glBindTexture(GL_TEXTURE_2D, t->texture);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, t->width, t->height, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    gen_renderbuffers(1, &t->depth);
+    bind_renderbuffer(GL_RENDERBUFFER, t->depth);
+    renderbuffer_storage(GL_RENDERBUFFER, GL_DEPTH24_STENCIL8, t->width, t->height);
+    gen_framebuffers(1, &t->framebuffer);
+    bind_framebuffer(GL_FRAMEBUFFER, t->framebuffer);
+    framebuffer_texture(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, t->texture, 0);
+    framebuffer_renderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, t->depth);
+    framebuffer_renderbuffer(GL_FRAMEBUFFER, GL_STENCIL_ATTACHMENT, GL_RENDERBUFFER, t->depth);
+    if (check_status(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+        fprintf(stderr, "%s: --widget: the widget's framebuffer object is not complete\n", PROG);
+        return -1;
+    }
+    return 0;
+}
+
+static void widget_bind(const struct widget_target *t, int bind)
+{
+    static PFNGLBINDFRAMEBUFFERPROC bind_framebuffer;
+    if (bind_framebuffer == NULL)
+        bind_framebuffer = (PFNGLBINDFRAMEBUFFERPROC)glXGetProcAddressARB((const GLubyte *)"glBindFramebuffer");
+    bind_framebuffer(GL_FRAMEBUFFER, bind ? t->framebuffer : 0);
+}
+
+/* The window's context: the toolkit's frame around the widget's picture. */
+static void widget_composite(const struct widget_target *t, int w, int h)
+{
+    glViewport(0, 0, w, h);
+    glClearColor(0.78f, 0.78f, 0.78f, 1.0f);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glMatrixMode(GL_PROJECTION);
+    glLoadIdentity();
+    glOrtho(0, w, 0, h, -1, 1);
+    glMatrixMode(GL_MODELVIEW);
+    glLoadIdentity();
+    glDisable(GL_DEPTH_TEST);
+    glEnable(GL_TEXTURE_2D);
+    glBindTexture(GL_TEXTURE_2D, t->texture);
+    glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_REPLACE);
+    glBegin(GL_QUADS);
+    glTexCoord2f(0, 0); glVertex2i(t->x, t->y);
+    glTexCoord2f(1, 0); glVertex2i(t->x + t->width, t->y);
+    glTexCoord2f(1, 1); glVertex2i(t->x + t->width, t->y + t->height);
+    glTexCoord2f(0, 1); glVertex2i(t->x, t->y + t->height);
+    glEnd();
+    glBindTexture(GL_TEXTURE_2D, 0);
+    glDisable(GL_TEXTURE_2D);
+    glColor3ub(40, 90, 200);
+    glRecti(0, h - 16, w, h);                          /* toolbar */
+    glRecti(t->x + 4, t->y + 4, t->x + 64, t->y + 20); /* label over the widget */
+}
+
 /* ---------------------------------------------------------------- main */
 
 /* A game's HUD: 2D, drawn last, without depth. */
@@ -582,6 +705,7 @@ int main(int argc, char **argv)
     Window win;
     XEvent ev;
     GLXContext ctx;
+    struct widget_target target;
     GLuint tex[2], box_list;
     PFNGLLOCKARRAYSEXTPROC lock = NULL;
     PFNGLUNLOCKARRAYSEXTPROC unlock = NULL;
@@ -595,6 +719,7 @@ int main(int argc, char **argv)
     reflection = app_take_flag(&argc, &argv, "--reflection");
     weapon = app_take_flag(&argc, &argv, "--weapon");
     culled = app_take_flag(&argc, &argv, "--culled");
+    widget = app_take_flag(&argc, &argv, "--widget");
     app_parse_args(PROG, argc, argv, &args);
 
     dpy = XOpenDisplay(NULL);
@@ -638,6 +763,9 @@ int main(int argc, char **argv)
             lock = NULL, unlock = NULL, have_cva = 0;
     }
     printf("%s: GL_EXT_compiled_vertex_array %s\n", PROG, have_cva ? "yes" : "no");
+    /* --widget: the scene's objects and state are made in the scene's context */
+    if (widget && widget_create(dpy, vi, ctx, args.width, args.height, &target) != 0)
+        return 1;
 
     build_unit_box();
     build_client_boxes();
@@ -714,7 +842,20 @@ int main(int argc, char **argv)
     for (frame = 0; frame < args.frames; frame++) {
         while (XPending(dpy) > 0)
             XNextEvent(dpy, &ev);
-        draw_frame(frame, args.dolly, args.width, args.height, tex[0], tex[1], box_list, lock, unlock);
+        if (widget) {
+            if (frame % WIDGET_REDRAW == 0) {
+                glXMakeContextCurrent(dpy, target.pbuffer, target.pbuffer, target.context);
+                widget_bind(&target, 1);
+                draw_frame(frame, args.dolly, target.width, target.height, tex[0], tex[1], box_list, lock, unlock);
+                widget_bind(&target, 0);
+                glFlush();
+                check_gl_errors(frame);
+            }
+            glXMakeCurrent(dpy, win, ctx);
+            widget_composite(&target, args.width, args.height);
+        } else {
+            draw_frame(frame, args.dolly, args.width, args.height, tex[0], tex[1], box_list, lock, unlock);
+        }
         if (hud)
             draw_hud(args.width, args.height, frame);
         if (frame == args.frames - 1 && args.screenshot != NULL) {
@@ -731,6 +872,10 @@ int main(int argc, char **argv)
     glDeleteTextures(2, tex);
     check_gl_errors(args.frames);
     glXMakeCurrent(dpy, None, NULL);
+    if (widget) {
+        glXDestroyPbuffer(dpy, target.pbuffer);
+        glXDestroyContext(dpy, target.context);
+    }
     glXDestroyContext(dpy, ctx);
     XDestroyWindow(dpy, win);
     XFreeColormap(dpy, cmap);

@@ -9,7 +9,10 @@ a HUD. And a scene drawn offscreen (core_scene --offscreen: into a framebuffer o
 window's size, then copied to the window, then a HUD panel) is decorated as the same scene drawn
 in the window is, its HUD untouched; before, the passes saw only the window's copy and the HUD.
 And a first-person weapon drawn with glDepthRange(0, 0.3) among the scene's draws (ff_scene
---weapon) is left as the program drew it.
+--weapon) is left as the program drew it. And a scene another context draws into a texture only
+every fourth frame, which the window's context shows in part of the window every frame (ff_scene
+--widget, as Qt's QOpenGLWidget does), is decorated in every frame, where it is shown, and nothing
+else is.
 
     overlay_test.py     with GLCAST, GLCAST_SHIM, APPS_DIR, OUT_DIR in the environment
 """
@@ -134,6 +137,63 @@ def view_model(headless):
     check(unlike == 0, f"with the weapon, {unlike} scene pixels differ from the scene without it")
 
 
+def widget(headless):
+    """ff_scene --widget (320x240): a second context draws the scene into a framebuffer object of
+    200x180 in frames 0 and 4 only; every frame the window's context draws a grey background,
+    that texture at (80, 30), a toolbar and a label over the widget. With every pass, frames 0-5
+    are decorated inside the widget and not one pixel outside it or of the label changes; with
+    shadows and cover, the widget's frames 0-3 are within 2% of ff_scene drawn directly at 200x180
+    with the same passes (screen-space filters shift some shadow-edge pixels). Before, the passes
+    found no scene in any frame (cover and shadows did nothing) and snow fell over the whole
+    window, toolbar and label included."""
+    x0, y0, x1, y1 = 80, 30, 280, 210  # the widget, GL window pixels
+    label = {(x, H - 1 - y) for y in range(y0 + 4, y0 + 20) for x in range(x0 + 4, x0 + 64)}
+    widget_px = [(x, H - 1 - y) for y in range(y0, y1) for x in range(x0, x1) if (x, H - 1 - y) not in label]
+    rect = set(widget_px) | label
+    outside = [(x, y) for y in range(H) for x in range(W) if (x, y) not in rect] + sorted(label)
+    frames = 6
+    captures = {"widget": os.path.join(OUT, "ff_scene_widget.glcs"), "direct": os.path.join(OUT, "ff_scene_direct.glcs")}
+    with Xvfb():
+        for name, args in (("widget", ["--widget", "--size", f"{W}x{H}", "--frames", str(frames)]),
+                           ("direct", ["--size", f"{x1 - x0}x{y1 - y0}", "--frames", "1"])):
+            r = subprocess.run([GLCAST, "capture", "-o", captures[name], "--", os.path.join(APPS, "ff_scene"), *args],
+                               capture_output=True, text=True, timeout=300)
+            check(r.returncode == 0, f"capture {name} failed: {r.stderr[-2000:]}")
+    runs = {}
+    for name, effects in (("widget", ""), ("widget", "shadows,cover,icicles,snow"), ("widget", "shadows,cover"),
+                          ("direct", ""), ("direct", "shadows,cover")):
+        out = os.path.join(OUT, f"{name}-{effects or 'plain'}")
+        r = subprocess.run([GLCAST, "replay", captures[name], "--backend", "egl", "--out", out] +
+                           (["--effects", effects] if effects else []),
+                           capture_output=True, text=True, timeout=300, env=headless)
+        check(r.returncode == 0, f"replay {out} failed: {r.stderr[-2000:]}")
+        runs[name, effects] = out
+
+    def frame(name, effects, k):
+        return read_png(os.path.join(runs[name, effects], f"frame-{k:06d}.png"))[2]
+
+    def off(a, b, dx=0, dy=0):  # widget pixels more than 2 levels off the direct scene's
+        return sum(1 for x, y in widget_px if max(abs(p - q) for p, q in zip(a[y][x], b[y - dy][x - dx])) > 2)
+
+    direct_plain, direct_decorated = frame("direct", "", 0), frame("direct", "shadows,cover", 0)
+    dx, dy = x0, H - y1  # the widget's top left corner in image rows
+    check(off(frame("widget", "", 1), direct_plain, dx, dy) <= len(widget_px) // 1000,
+          "the widget's picture is not the direct scene where the test expects it")
+    for k in range(frames):
+        plain, decorated = frame("widget", "", k), frame("widget", "shadows,cover,icicles,snow", k)
+        touched = sum(1 for x, y in outside if plain[y][x] != decorated[y][x])
+        changed = sum(1 for x, y in widget_px if plain[y][x] != decorated[y][x])
+        unlike = off(frame("widget", "shadows,cover", k), direct_decorated, dx, dy) if k < 4 else -1
+        print(f"widget frame {k}{' (scene drawn)' if k % 4 == 0 else ' (scene kept)'}: the passes changed {changed} "
+              f"of the widget's {len(widget_px)} pixels and {touched} of the {len(outside)} outside it and of the "
+              f"label" + (f"; shadows and cover: {unlike} pixels more than 2 levels off the direct scene's"
+                          if unlike >= 0 else ""))
+        check(touched == 0, f"frame {k}: the passes changed {touched} pixels outside the widget or of its label")
+        check(changed > len(widget_px) // 2, f"frame {k}: the passes changed only {changed} of the widget's pixels")
+        check(unlike <= len(widget_px) // 50, f"frame {k}: decorated, the widget differs from the direct scene in "
+                                              f"{unlike} pixels")
+
+
 def main():
     shutil.rmtree(OUT, ignore_errors=True)
     os.makedirs(OUT)
@@ -165,6 +225,7 @@ def main():
     painter(headless)
     offscreen(headless)
     view_model(headless)
+    widget(headless)
 
 
 if __name__ == "__main__":
