@@ -154,12 +154,16 @@ KNOWN = """## What the table does not show
   bounding-box lines thin ones). osgviewer lights with a headlight (GL_LIGHT0 along the view
   axis), whose shadows all lie behind their casters: a headlight gives way to the default light
   (docs/shadows.md), and the boxes' shadows show.
-- **openscad** (Qt, `QOpenGLWidget`) draws its 3D view into a framebuffer object of the
-  widget's size only when the view changes, and each shown frame only composites that texture
-  into the window with Qt's own shader: the frames shown have no scene, so the cover, the
-  shadows and the snow's depth have nothing to work on (snow falls over the whole window).
-  Effects for such programs need the scene of an earlier frame kept and a scene target smaller
-  than the window; not done.
+- **openscad** (Qt, `QOpenGLWidget`) draws its 3D view with a context of its own (current on a
+  1x1 pbuffer, never presenting) into a framebuffer object of the widget's size, and only when
+  the view changes (frames 0 and 7 of 60 here); each shown frame, the window's context only
+  composites that texture into the window with Qt's shader, then the other widgets over it.
+  Until this stop the frames shown had no scene: cover and shadows did nothing and snow fell
+  over the whole window. Now the window's context borrows the other context's scene when a draw
+  samples its texture, finds where that draw put it, and keeps it until the next is drawn
+  (docs/effects.md, "A scene another context draws"): snow falls inside the 3D view only, the
+  model's plate holds cover, the sphere and cubes cast shadows on it, icicles hang from its
+  edges, and the editor, console and toolbars keep every pixel.
 - **openarena** (a recorded match): its renderer draws the scene into a framebuffer object of
   the window's size, copies it to the window with a full-window draw, then draws the HUD (3D
   head icons in small viewports among it). Until this stop the passes took a HUD icon for the
