@@ -369,14 +369,23 @@ void FrameRecorder::borrow_scene(SlaveContext& ctx, FrameRecord& rec) {
 // The draw that showed a borrowed scene, drawn again in the master's window coordinates (the
 // program's viewport, no tile mapping) into a depth-only target with every fragment at depth 0:
 // the rectangle it covered is where the scene is, whatever matrix or vertices put it there.
+static constexpr int kMaxPlacementSize = 4096;
+
 void FrameRecorder::place_borrowed_scene(SlaveContext& ctx) {
     EffectsState& st = state(ctx);
     FrameRecord& rec = st.record;
     rec.placement_pending = false;
     const GlApi& gl = core_.api();
-    const int W = std::max(1, ctx.master_width), H = std::max(1, ctx.master_height);
+    // At the master's window size, but at most kMaxPlacementSize a side (a stream may claim a
+    // window of 16384 squared): the placement is then to a few pixels.
+    const int master_w = std::max(1, ctx.master_width), master_h = std::max(1, ctx.master_height);
+    const double scale = std::min(1.0, double(kMaxPlacementSize) / std::max(master_w, master_h));
+    const int W = std::max(1, int(std::lround(master_w * scale))), H = std::max(1, int(std::lround(master_h * scale)));
+    int32_t viewport[4];
+    tile_.program_viewport(viewport);  // the program's, for that draw
     const bool compatibility = compatibility_context(gl);
-    std::vector<uint8_t> depth(size_t(W) * size_t(H), 255);
+    std::vector<uint8_t>& depth = st.placement_pixels;
+    depth.assign(size_t(W) * size_t(H), 255);
     const bool saved_range_pending = ctx.client_range_pending, saved_refused = ctx.client_arrays_refused;
     const int64_t saved_first = ctx.client_first, saved_end = ctx.client_end;
     const std::vector<ClientInstanceRange> saved_instances = ctx.client_instances;
@@ -392,7 +401,8 @@ void FrameRecorder::place_borrowed_scene(SlaveContext& ctx) {
         GLint program = 0;
         gl.glGetIntegerv(GL_CURRENT_PROGRAM, &program);
         gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, st.placement_fb);
-        gl.glViewport(0, 0, W, H);
+        gl.glViewport(GLint(std::lround(viewport[0] * scale)), GLint(std::lround(viewport[1] * scale)),
+                      GLsizei(std::lround(viewport[2] * scale)), GLsizei(std::lround(viewport[3] * scale)));
         gl.glEnable(GL_DEPTH_TEST);
         gl.glDepthFunc(GL_ALWAYS);
         gl.glDepthMask(GL_TRUE);
@@ -446,6 +456,10 @@ void FrameRecorder::place_borrowed_scene(SlaveContext& ctx) {
         return;
     }
     const FrameRecord& lent = lender->second->record;
+    if (scale < 1) {  // back to the master's pixels
+        x0 = int(std::floor(x0 / scale)), y0 = int(std::floor(y0 / scale));
+        x1 = std::min(master_w, int(std::ceil(x1 / scale))), y1 = std::min(master_h, int(std::ceil(y1 / scale)));
+    }
     rec.placement[0] = x0, rec.placement[1] = y0, rec.placement[2] = x1, rec.placement[3] = y1;
     // The lender's viewport, in its target's pixels, placed and scaled as the window shows them.
     const double sx = double(x1 - x0) / std::max(1, lent.scene_size[0]);

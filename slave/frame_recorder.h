@@ -120,6 +120,7 @@ struct EffectsState {
     // find where it went.
     GLuint lender_fb = 0, placement_fb = 0, placement_depth = 0;
     int placement_sizes[2] = {0, 0};
+    std::vector<uint8_t> placement_pixels;  // its depth read back, one byte a pixel
     bool color_copied = false, depth_copied = false;
     // The program's own picture of the frame, saved before the passes draw over it and put back
     // after present: a program that never clears draws its next frame over its own image, not

@@ -48,7 +48,7 @@
  * renderbuffer), and only every WIDGET_REDRAW-th frame (the frame's scene is that of the last
  * multiple of it: a viewer redraws when its view changes). Every frame the window's context
  * composites: a grey background, the widget's texture at (width/4, height/8) with a
- * fixed-function textured quad, then the toolkit's widgets over it: a blue toolbar along the top
+ * fixed-function textured quad over a viewport of the widget's rectangle, then the toolkit's widgets over it: a blue toolbar along the top
  * of the window and a label inside the widget's lower left corner (docs/effects.md: a scene
  * drawn by another context).
  *
@@ -643,21 +643,26 @@ static void widget_composite(const struct widget_target *t, int w, int h)
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     glMatrixMode(GL_PROJECTION);
     glLoadIdentity();
-    glOrtho(0, w, 0, h, -1, 1);
     glMatrixMode(GL_MODELVIEW);
     glLoadIdentity();
     glDisable(GL_DEPTH_TEST);
     glEnable(GL_TEXTURE_2D);
     glBindTexture(GL_TEXTURE_2D, t->texture);
     glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_REPLACE);
+    /* placed by the viewport: a quad over all of it */
+    glViewport(t->x, t->y, t->width, t->height);
     glBegin(GL_QUADS);
-    glTexCoord2f(0, 0); glVertex2i(t->x, t->y);
-    glTexCoord2f(1, 0); glVertex2i(t->x + t->width, t->y);
-    glTexCoord2f(1, 1); glVertex2i(t->x + t->width, t->y + t->height);
-    glTexCoord2f(0, 1); glVertex2i(t->x, t->y + t->height);
+    glTexCoord2f(0, 0); glVertex2f(-1, -1);
+    glTexCoord2f(1, 0); glVertex2f(1, -1);
+    glTexCoord2f(1, 1); glVertex2f(1, 1);
+    glTexCoord2f(0, 1); glVertex2f(-1, 1);
     glEnd();
     glBindTexture(GL_TEXTURE_2D, 0);
     glDisable(GL_TEXTURE_2D);
+    glViewport(0, 0, w, h);
+    glMatrixMode(GL_PROJECTION);
+    glOrtho(0, w, 0, h, -1, 1);
+    glMatrixMode(GL_MODELVIEW);
     glColor3ub(40, 90, 200);
     glRecti(0, h - 16, w, h);                          /* toolbar */
     glRecti(t->x + 4, t->y + 4, t->x + 64, t->y + 20); /* label over the widget */
