@@ -626,7 +626,17 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
         std::abort();
     }
     // One replayer for the whole run: creating the EGL display costs far more than one input.
-    g_replayer = std::make_unique<slave::Replayer>(std::move(backend), slave::ReplayOptions{});
+    // GLCAST_FUZZ_EFFECTS=shadows,cover,...: with the injected passes, so that the frame recorder
+    // (what it keeps, borrows from another context, redraws) meets the mutated streams too.
+    slave::ReplayOptions options;
+    if (const char* effects = std::getenv("GLCAST_FUZZ_EFFECTS"); effects && *effects) {
+        std::string error;
+        if (!options.effects.enable(effects, error)) {
+            std::fprintf(stderr, "fuzz_replay: GLCAST_FUZZ_EFFECTS: %s\n", error.c_str());
+            std::abort();
+        }
+    }
+    g_replayer = std::make_unique<slave::Replayer>(std::move(backend), options);
     return 0;
 }
 

@@ -24,6 +24,7 @@ capture() {  # name frames program args...
 capture ff_scene 3 "$apps/ff_scene" --size 160x120 --frames 3
 capture ff_scene_backdrop 3 "$apps/ff_scene" --backdrop --size 160x120 --frames 3
 capture ff_scene_reflection 3 "$apps/ff_scene" --reflection --size 160x120 --frames 3
+capture ff_scene_widget 4 "$apps/ff_scene" --widget --size 160x120 --frames 4
 capture core_scene 3 "$apps/core_scene" --size 160x120 --frames 3
 capture glfw_dynamic 3 "$apps/glfw_dynamic" --size 128x96 --frames 3
 capture glxgears 3 glxgears -geometry 128x128
