@@ -25,6 +25,12 @@ bool is_pack(GLenum p) {
 
 }  // namespace
 
+bool compatibility_profile(const GlApi& gl) {
+    GLint profile = 0;
+    gl.glGetIntegerv(GL_CONTEXT_PROFILE_MASK, &profile);
+    return gl.has(OP_glPushAttrib) && !(profile & GL_CONTEXT_CORE_PROFILE_BIT);
+}
+
 GlStateGuard::GlStateGuard(const GlApi& gl, uint32_t groups) : gl_(gl), groups_(groups) {
     if (has(kGuardMatrixMode)) gl.glGetIntegerv(GL_MATRIX_MODE, &matrix_mode_);
     if (has(kGuardFramebuffers)) {
@@ -44,11 +50,7 @@ GlStateGuard::GlStateGuard(const GlApi& gl, uint32_t groups) : gl_(gl), groups_(
         gl.glGetIntegerv(GL_VIEWPORT, viewport_);
         gl.glGetIntegerv(GL_SCISSOR_BOX, scissor_);
     }
-    if (has(kGuardRaster | kGuardTextures)) {
-        GLint profile = 0;
-        gl.glGetIntegerv(GL_CONTEXT_PROFILE_MASK, &profile);
-        compatibility_ = gl.has(OP_glPushAttrib) && !(profile & GL_CONTEXT_CORE_PROFILE_BIT);
-    }
+    if (has(kGuardRaster | kGuardTextures)) compatibility_ = compatibility_profile(gl);
     if (has(kGuardRaster)) save_raster();
     if (has(kGuardProgram)) gl.glGetIntegerv(GL_CURRENT_PROGRAM, &program_);
     if (has(kGuardVertexArray)) {

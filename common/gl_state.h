@@ -42,6 +42,10 @@ enum GlStateGroup : uint32_t {
                  kGuardPixelStore | kGuardTextures,
 };
 
+// The current context has the fixed-function pipeline (a compatibility profile or GL before
+// 3.2): matrix stacks, attribute stacks, glBegin.
+bool compatibility_profile(const GlApi& gl);
+
 class GlStateGuard {
 public:
     GlStateGuard(const GlApi& gl, uint32_t groups);

@@ -66,11 +66,6 @@ GLenum depth_format(const GlApi& gl, GLenum target) {
 }
 
 
-bool compatibility_context(const GlApi& gl) {
-    GLint profile = 0;
-    gl.glGetIntegerv(GL_CONTEXT_PROFILE_MASK, &profile);
-    return gl.has(OP_glPushAttrib) && !(profile & GL_CONTEXT_CORE_PROFILE_BIT);
-}
 
 }  // namespace
 
@@ -383,7 +378,7 @@ void FrameRecorder::place_borrowed_scene(SlaveContext& ctx) {
     const int W = std::max(1, int(std::lround(master_w * scale))), H = std::max(1, int(std::lround(master_h * scale)));
     int32_t viewport[4];
     tile_.program_viewport(viewport);  // the program's, for that draw
-    const bool compatibility = compatibility_context(gl);
+    const bool compatibility = compatibility_profile(gl);
     std::vector<uint8_t>& depth = st.placement_pixels;
     depth.assign(size_t(W) * size_t(H), 255);
     const bool saved_range_pending = ctx.client_range_pending, saved_refused = ctx.client_arrays_refused;
@@ -499,7 +494,7 @@ void FrameRecorder::redraw_main_view(SlaveContext& ctx, const glm::dmat4& correc
     const FrameRecord& rec = scene_record(ctx);  // a borrowed scene: the lender's draws
     const bool borrowed = &rec != &st.record;
     const GlApi& gl = core_.api();
-    const bool compatibility = compatibility_context(gl);
+    const bool compatibility = compatibility_profile(gl);
     if (rec.entries.empty() || (!compatibility && !rec.shader_draws)) return;
     const uint32_t saved_list_base = ctx.list_base;
     const uint64_t saved_program_stream = ctx.current_program;
@@ -764,7 +759,7 @@ void FrameRecorder::frame_view(SlaveContext& ctx, effects::FrameView& v) {
     const FrameRecord& scene = scene_record(ctx);
     const bool borrowed = &scene != &rec;
     if (rec.main_known && !scene.overflow && !(borrowed && scene.shader_draws) &&
-        (scene.shader_draws ? core_.options().effects.redraws() : compatibility_context(gl))) {
+        (scene.shader_draws ? core_.options().effects.redraws() : compatibility_profile(gl))) {
         v.redraw = [this, c](const glm::dmat4& correction) { redraw_main_view(*c, correction); };
         v.redraw_binds_programs = scene.shader_draws;
     }

@@ -5,11 +5,9 @@
 namespace glcast::slave::effects {
 
 SurfaceBuffers::SurfaceBuffers(const GlApi& gl) : gl_(gl) {
-    GLint profile = 0;
-    gl.glGetIntegerv(GL_CONTEXT_PROFILE_MASK, &profile);
     // A core context has no fixed-function attributes to re-render; FrameView::redraw is
     // empty there anyway, and the depth reconstruction serves.
-    if (!(profile & GL_CONTEXT_CORE_PROFILE_BIT)) geometry_program_ = build_program(gl, "winter_normals.vert", "winter_normals.frag");
+    if (compatibility_profile(gl)) geometry_program_ = build_program(gl, "winter_normals.vert", "winter_normals.frag");
     depth_program_ = build_program(gl, "fullscreen.vert", "winter_depth_normals.frag");
     gl.glGenVertexArrays(1, &empty_vao_);
 }
