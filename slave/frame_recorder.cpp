@@ -132,6 +132,9 @@ void FrameRecorder::record(const Call& c, const uint8_t* tuple, size_t tuple_siz
     if (kind == RedrawKind::Ignored && !rec.in_begin_end) return;
     if (rec.compiling_list) return;
     const bool to_window = ctx.drawing_to_window;
+    if (kind == RedrawKind::Copy && !to_window && rec.main_known && rec.scene_framebuffer && !rec.scene_texture &&
+        !state(ctx).presents)
+        note_resolved_scene(rec);
     // Into a framebuffer object: shader-program and vertex state are kept (the scene may be drawn
     // there), draws only into the one that can hold the scene.
     GLuint framebuffer = 0;
@@ -271,13 +274,14 @@ bool FrameRecorder::offscreen_scene(SlaveContext& ctx, const FrameRecord& rec, G
     if (viewport[2] != ctx.master_width || viewport[3] != ctx.master_height) {
         // A context that has never presented, beside another of its share group, draws for it
         // (a toolkit's GL widget): its scene target has the widget's size, and a colour texture
-        // the other can show. (A program's only context has not presented in its first frame
-        // either: its smaller targets are not scenes.)
+        // (or multisampled renderbuffers resolved into one) the other can show. (A program's
+        // only context has not presented in its first frame either: its smaller targets are not
+        // scenes.)
         if (state(ctx).presents || !shares_with_another(ctx)) return false;
         GLint color = GL_NONE;
         gl.glGetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0,
                                                  GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE, &color);
-        if (color != GL_TEXTURE) return false;
+        if (color == GL_NONE) return false;
     }
     GLint type = GL_NONE;
     gl.glGetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, GL_DEPTH_ATTACHMENT,
@@ -297,10 +301,9 @@ void FrameRecorder::note_lendable_scene(SlaveContext& ctx, FrameRecord& rec) {
     GLint type = GL_NONE, name = 0;
     gl.glGetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0,
                                              GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE, &type);
-    if (type != GL_TEXTURE) return;
     gl.glGetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0,
                                              GL_FRAMEBUFFER_ATTACHMENT_OBJECT_NAME, &name);
-    rec.scene_texture = GLuint(name);
+    rec.scene_texture = type == GL_TEXTURE ? GLuint(name) : 0;  // else: the texture it is resolved into
     gl.glGetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, GL_DEPTH_ATTACHMENT,
                                              GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE, &type);
     gl.glGetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, GL_DEPTH_ATTACHMENT,
@@ -309,6 +312,21 @@ void FrameRecorder::note_lendable_scene(SlaveContext& ctx, FrameRecord& rec) {
     rec.scene_depth_name = GLuint(name);
     rec.scene_depth_format = depth_format(gl, GL_DRAW_FRAMEBUFFER);
     rec.scene_size[0] = rec.viewport[2], rec.scene_size[1] = rec.viewport[3];
+}
+
+// A lending context's multisampled scene resolved (glBlitFramebuffer) into a framebuffer object
+// whose colour is a texture: that texture shows the scene.
+void FrameRecorder::note_resolved_scene(FrameRecord& rec) {
+    const GlApi& gl = core_.api();
+    GLint read = 0, type = GL_NONE, name = 0;
+    gl.glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &read);
+    if (GLuint(read) != rec.scene_framebuffer) return;
+    gl.glGetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0,
+                                             GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE, &type);
+    if (type != GL_TEXTURE) return;
+    gl.glGetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0,
+                                             GL_FRAMEBUFFER_ATTACHMENT_OBJECT_NAME, &name);
+    rec.scene_texture = GLuint(name);
 }
 
 const FrameRecord& FrameRecorder::scene_record(const SlaveContext& ctx) {

@@ -184,6 +184,7 @@ private:
     void place_borrowed_scene(SlaveContext& ctx);  // after that draw ran
     void note_lendable_scene(SlaveContext& ctx, FrameRecord& rec);  // the main view found offscreen
     bool shares_with_another(const SlaveContext& ctx) const;  // objects with another live context
+    void note_resolved_scene(FrameRecord& rec);  // a glBlitFramebuffer from the lent scene's target
     // The record whose draws and camera are the frame's scene: the lender's for a borrowed one.
     const FrameRecord& scene_record(const SlaveContext& ctx);
     void scene_rect(SlaveContext& ctx, int32_t out[4]);  // where the scene is, tile pixels

@@ -50,7 +50,8 @@
  * composites: a grey background, the widget's texture at (width/4, height/8) with a
  * fixed-function textured quad over a viewport of the widget's rectangle, then the toolkit's widgets over it: a blue toolbar along the top
  * of the window and a label inside the widget's lower left corner (docs/effects.md: a scene
- * drawn by another context).
+ * drawn by another context). --widget-samples N (implies --widget): the scene is drawn with N
+ * samples into renderbuffers and its colour resolved into the texture with glBlitFramebuffer.
  *
  * Prints to stdout:
  *   ff_scene: GL_RENDERER <string>
@@ -558,8 +559,25 @@ struct widget_target {
     GLXContext context;
     GLXPbuffer pbuffer;
     GLuint framebuffer, texture, depth;
+    /* --widget-samples N: the scene is drawn into multisampled renderbuffers (framebuffer
+     * `framebuffer`) and resolved into the texture's framebuffer `resolved`, as a QOpenGLWidget
+     * with samples does */
+    int samples;
+    GLuint resolved, color;
     int x, y, width, height; /* where the window shows it */
 };
+
+static PFNGLGENFRAMEBUFFERSPROC gen_framebuffers;
+static PFNGLBINDFRAMEBUFFERPROC bind_framebuffer;
+static PFNGLFRAMEBUFFERTEXTURE2DPROC framebuffer_texture;
+static PFNGLGENRENDERBUFFERSPROC gen_renderbuffers;
+static PFNGLBINDRENDERBUFFERPROC bind_renderbuffer;
+static PFNGLRENDERBUFFERSTORAGEMULTISAMPLEPROC renderbuffer_storage_multisample;
+static PFNGLFRAMEBUFFERRENDERBUFFERPROC framebuffer_renderbuffer;
+static PFNGLCHECKFRAMEBUFFERSTATUSPROC check_status;
+static PFNGLBLITFRAMEBUFFERPROC blit_framebuffer;
+
+#define GL_PROC(type, name) (type)glXGetProcAddressARB((const GLubyte *)name)
 
 /* The scene's context: shares objects with `window_context`, current on a 1x1 pbuffer of the
  * window's visual, with a framebuffer object of the widget's size. Leaves it current. */
@@ -567,24 +585,18 @@ static int widget_create(Display *dpy, XVisualInfo *vi, GLXContext window_contex
                          struct widget_target *t)
 {
     static const int pbuffer_attribs[] = {GLX_PBUFFER_WIDTH, 1, GLX_PBUFFER_HEIGHT, 1, None};
-    PFNGLGENFRAMEBUFFERSPROC gen_framebuffers =
-        (PFNGLGENFRAMEBUFFERSPROC)glXGetProcAddressARB((const GLubyte *)"glGenFramebuffers");
-    PFNGLBINDFRAMEBUFFERPROC bind_framebuffer =
-        (PFNGLBINDFRAMEBUFFERPROC)glXGetProcAddressARB((const GLubyte *)"glBindFramebuffer");
-    PFNGLFRAMEBUFFERTEXTURE2DPROC framebuffer_texture =
-        (PFNGLFRAMEBUFFERTEXTURE2DPROC)glXGetProcAddressARB((const GLubyte *)"glFramebufferTexture2D");
-    PFNGLGENRENDERBUFFERSPROC gen_renderbuffers =
-        (PFNGLGENRENDERBUFFERSPROC)glXGetProcAddressARB((const GLubyte *)"glGenRenderbuffers");
-    PFNGLBINDRENDERBUFFERPROC bind_renderbuffer =
-        (PFNGLBINDRENDERBUFFERPROC)glXGetProcAddressARB((const GLubyte *)"glBindRenderbuffer");
-    PFNGLRENDERBUFFERSTORAGEPROC renderbuffer_storage =
-        (PFNGLRENDERBUFFERSTORAGEPROC)glXGetProcAddressARB((const GLubyte *)"glRenderbufferStorage");
-    PFNGLFRAMEBUFFERRENDERBUFFERPROC framebuffer_renderbuffer =
-        (PFNGLFRAMEBUFFERRENDERBUFFERPROC)glXGetProcAddressARB((const GLubyte *)"glFramebufferRenderbuffer");
-    PFNGLCHECKFRAMEBUFFERSTATUSPROC check_status =
-        (PFNGLCHECKFRAMEBUFFERSTATUSPROC)glXGetProcAddressARB((const GLubyte *)"glCheckFramebufferStatus");
     GLXFBConfig *configs, config = NULL;
     int n = 0, i;
+    gen_framebuffers = GL_PROC(PFNGLGENFRAMEBUFFERSPROC, "glGenFramebuffers");
+    bind_framebuffer = GL_PROC(PFNGLBINDFRAMEBUFFERPROC, "glBindFramebuffer");
+    framebuffer_texture = GL_PROC(PFNGLFRAMEBUFFERTEXTURE2DPROC, "glFramebufferTexture2D");
+    gen_renderbuffers = GL_PROC(PFNGLGENRENDERBUFFERSPROC, "glGenRenderbuffers");
+    bind_renderbuffer = GL_PROC(PFNGLBINDRENDERBUFFERPROC, "glBindRenderbuffer");
+    renderbuffer_storage_multisample =
+        GL_PROC(PFNGLRENDERBUFFERSTORAGEMULTISAMPLEPROC, "glRenderbufferStorageMultisample");
+    framebuffer_renderbuffer = GL_PROC(PFNGLFRAMEBUFFERRENDERBUFFERPROC, "glFramebufferRenderbuffer");
+    check_status = GL_PROC(PFNGLCHECKFRAMEBUFFERSTATUSPROC, "glCheckFramebufferStatus");
+    blit_framebuffer = GL_PROC(PFNGLBLITFRAMEBUFFERPROC, "glBlitFramebuffer");
     configs = glXGetFBConfigs(dpy, vi->screen, &n);
     for (i = 0; i < n && config == NULL; i++) {
         int visual = 0, types = 0;
@@ -595,7 +607,7 @@ static int widget_create(Display *dpy, XVisualInfo *vi, GLXContext window_contex
     }
     if (configs != NULL)
         XFree(configs);
-    if (config == NULL || gen_framebuffers == NULL || check_status == NULL) {
+    if (config == NULL || gen_framebuffers == NULL || check_status == NULL || blit_framebuffer == NULL) {
         fprintf(stderr, "%s: --widget: no pbuffer config for the window's visual, or no framebuffer objects\n", PROG);
         return -1;
     }
@@ -614,24 +626,44 @@ static int widget_create(Display *dpy, XVisualInfo *vi, GLXContext window_contex
     glBindTexture(GL_TEXTURE_2D, 0);
     gen_renderbuffers(1, &t->depth);
     bind_renderbuffer(GL_RENDERBUFFER, t->depth);
-    renderbuffer_storage(GL_RENDERBUFFER, GL_DEPTH24_STENCIL8, t->width, t->height);
+    renderbuffer_storage_multisample(GL_RENDERBUFFER, t->samples, GL_DEPTH24_STENCIL8, t->width, t->height);
     gen_framebuffers(1, &t->framebuffer);
     bind_framebuffer(GL_FRAMEBUFFER, t->framebuffer);
-    framebuffer_texture(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, t->texture, 0);
+    if (t->samples) {
+        gen_renderbuffers(1, &t->color);
+        bind_renderbuffer(GL_RENDERBUFFER, t->color);
+        renderbuffer_storage_multisample(GL_RENDERBUFFER, t->samples, GL_RGBA8, t->width, t->height);
+        framebuffer_renderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, t->color);
+    } else {
+        framebuffer_texture(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, t->texture, 0);
+    }
     framebuffer_renderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, t->depth);
     framebuffer_renderbuffer(GL_FRAMEBUFFER, GL_STENCIL_ATTACHMENT, GL_RENDERBUFFER, t->depth);
     if (check_status(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
         fprintf(stderr, "%s: --widget: the widget's framebuffer object is not complete\n", PROG);
         return -1;
     }
+    if (t->samples) {
+        gen_framebuffers(1, &t->resolved);
+        bind_framebuffer(GL_FRAMEBUFFER, t->resolved);
+        framebuffer_texture(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, t->texture, 0);
+        if (check_status(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+            fprintf(stderr, "%s: --widget: the resolve framebuffer object is not complete\n", PROG);
+            return -1;
+        }
+    }
+    bind_framebuffer(GL_FRAMEBUFFER, 0);
     return 0;
 }
 
+/* Before the scene (bind), after it (unbind; multisampled: its colour resolved into the texture). */
 static void widget_bind(const struct widget_target *t, int bind)
 {
-    static PFNGLBINDFRAMEBUFFERPROC bind_framebuffer;
-    if (bind_framebuffer == NULL)
-        bind_framebuffer = (PFNGLBINDFRAMEBUFFERPROC)glXGetProcAddressARB((const GLubyte *)"glBindFramebuffer");
+    if (!bind && t->samples) {
+        bind_framebuffer(GL_READ_FRAMEBUFFER, t->framebuffer);
+        bind_framebuffer(GL_DRAW_FRAMEBUFFER, t->resolved);
+        blit_framebuffer(0, 0, t->width, t->height, 0, 0, t->width, t->height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    }
     bind_framebuffer(GL_FRAMEBUFFER, bind ? t->framebuffer : 0);
 }
 
@@ -725,6 +757,15 @@ int main(int argc, char **argv)
     weapon = app_take_flag(&argc, &argv, "--weapon");
     culled = app_take_flag(&argc, &argv, "--culled");
     widget = app_take_flag(&argc, &argv, "--widget");
+    target.samples = 0;
+    for (int i = 1; i + 1 < argc; i++)
+        if (strcmp(argv[i], "--widget-samples") == 0) {
+            target.samples = atoi(argv[i + 1]);
+            memmove(&argv[i], &argv[i + 2], (size_t)(argc - i - 1) * sizeof argv[0]);
+            argc -= 2;
+            widget = 1;
+            break;
+        }
     app_parse_args(PROG, argc, argv, &args);
 
     dpy = XOpenDisplay(NULL);
