@@ -19,6 +19,9 @@ WallLink::WallLink(std::string endpoint, std::string tile, std::string machine)
     socket_->set(zmq::sockopt::linger, 0);
     socket_->set(zmq::sockopt::sndhwm, 16);
     socket_->set(zmq::sockopt::maxmsgsize, int64_t(64));  // "GO n"
+    // Nothing is queued while no run serves the wall: what this tile says between two runs (the
+    // last program's frames, its READYs) would reach the next run as if about its program.
+    socket_->set(zmq::sockopt::immediate, 1);
     net::secure_client(*socket_, endpoint_);
     socket_->connect(endpoint_);
 }

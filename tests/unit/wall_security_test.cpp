@@ -14,6 +14,7 @@
 
 #include "cli/wall_control.h"
 #include "net/security.h"
+#include "slave/wall_link.h"
 
 using glcast::cli::BarrierState;
 using glcast::cli::WallControl;
@@ -252,4 +253,40 @@ TEST(WallControlChannel, GarbageIsIgnored) {
     EXPECT_EQ(status.at("c").age_seconds, -1);  // never reported
     // "a": only the report with one word too many was well formed up to the machine: it counts.
     EXPECT_EQ(status.at("a").machine, "host");
+}
+
+// One `glcast run` after another on the same wall: what a slave said while no run was serving
+// (the previous program's last frames, queued by its socket) must not reach the next run, whose
+// status line and swap barrier would take it for the new program's.
+TEST(WallControlChannel, WhatATileSaidBetweenRunsIsNotDeliveredToTheNext) {
+    unsetenv("GLCAST_KEYS");
+    const std::string endpoint = "ipc://" + temp_dir() + "/control";
+    glcast::slave::WallLink link(endpoint, "a", "host-a");
+    glcast::slave::TileReport report;
+    report.state = "live";
+    auto wait_for = [](auto&& done) {
+        for (int i = 0; i < 100 && !done(); i++) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        return done();
+    };
+    {
+        WallControl first(endpoint, kTiles, true);
+        report.frame = 1;
+        EXPECT_TRUE(wait_for([&] {
+            link.report(report);
+            return first.status().at("a").frame == 1;
+        }));
+    }
+    // Between the runs: the old program's frames go on for a while.
+    report.frame = 5000;
+    link.report(report);
+    EXPECT_FALSE(link.barrier(5000, 100));
+    WallControl second(endpoint, kTiles, true);
+    std::this_thread::sleep_for(std::chrono::milliseconds(600));  // the link reconnects (100 ms)
+    EXPECT_LT(second.status().at("a").age_seconds, 0) << "a report from before this run arrived: frame "
+                                                      << second.status().at("a").frame;
+    report.frame = 7;
+    EXPECT_TRUE(wait_for([&] {
+        link.report(report);
+        return second.status().at("a").frame == 7;
+    }));
 }
