@@ -198,6 +198,28 @@ def widget(headless, samples=0):
         check(changed > len(widget_px) // 2, f"frame {k}: the passes changed only {changed} of the widget's pixels")
         check(unlike <= len(widget_px) // 50, f"frame {k}: decorated, the widget differs from the direct scene in "
                                               f"{unlike} pixels")
+    if not samples:
+        widget_mosaic(captures["widget"], headless)
+
+
+def widget_mosaic(capture, headless):
+    """The widget's capture on a 640x480 canvas as a 2x2 wall, with shadows and cover: the four
+    tiles' frame 1 (a kept scene) stitched equal the canvas's within rounding: the scene's place,
+    its depth and the pixels put back outside it are mapped to each tile."""
+    def replay(name, rect):
+        out = os.path.join(OUT, f"widget-tile-{name}")
+        r = subprocess.run([GLCAST, "replay", capture, "--backend", "egl", "--canvas", "640x480", "--tile-rect", rect,
+                            "--out", out, "--effects", "shadows,cover", "--frames", "1:1"],
+                           capture_output=True, text=True, timeout=300, env=headless)
+        check(r.returncode == 0, f"replay {out} failed: {r.stderr[-2000:]}")
+        return read_png(os.path.join(out, "frame-000001.png"))[2]
+
+    canvas = replay("canvas", "0,0,640,480")
+    tiles = {(x, y): replay(f"{x}-{y}", f"{x},{y},320,240") for y in (0, 240) for x in (0, 320)}
+    off = sum(1 for y in range(480) for x in range(640)
+              if max(abs(p - q) for p, q in zip(tiles[x // 320 * 320, y // 240 * 240][y % 240][x % 320], canvas[y][x])) > 2)
+    print(f"widget on a 2x2 wall: {off} of 307,200 pixels more than 2 levels off the canvas")
+    check(off <= 640 * 480 // 500, f"the 2x2 wall of the widget differs from the canvas in {off} pixels")
 
 
 def main():
