@@ -16,6 +16,7 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "common/xor_bytes.h"
 #include "glcast_commands.h"
 #include "protocol/format.h"
 
@@ -176,7 +177,7 @@ void Stream::writer_loop() {
             };
             auto xor_with_previous = [&] {
                 xored.resize(raw.size());
-                for (size_t i = 0; i < xored.size(); i++) xored[i] = raw[i] ^ previous[i];
+                xor_bytes(xored.data(), raw.data(), previous.data(), xored.size());
             };
             // A frame of the same calls as the last, with numbers that moved (animated vertices):
             // XORed with the last, what stayed is zeros and what moved keeps its high bytes alike

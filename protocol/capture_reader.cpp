@@ -7,6 +7,7 @@
 #include <cerrno>
 #include <cstring>
 
+#include "common/xor_bytes.h"
 #include "glcast_commands.h"
 #include "protocol/decoder.h"
 
@@ -130,7 +131,7 @@ void MessageChain::unpack_delta(const MessageHeader& h, const uint8_t* stored, u
         throw DecodeError(payload_at, std::string("bad zstd payload (coded against the previous message): ") +
                                           (ZSTD_isError(n) ? ZSTD_getErrorName(n) : "length differs from header"));
     if (xor_coded)
-        for (size_t i = 0; i < out.size(); i++) out[i] ^= payload_[i];
+        xor_bytes(out.data(), out.data(), payload_.data(), out.size());
 }
 
 // The checks every message gets, wherever it came from.

@@ -10,6 +10,7 @@
 #include <iterator>
 #include <random>
 
+#include "common/xor_bytes.h"
 #include "master/stream.h"
 #include "protocol/decoder.h"
 #include "protocol/format.h"
@@ -247,3 +248,20 @@ TEST(InterFrame, VersionsAndBadDeltasAreRefusedClearly) {
 }
 
 }  // namespace glcast
+
+// The residual and its inverse, word at a time: equal to the byte loop for every length and
+// alignment, in place too.
+TEST(InterFrame, XorBytesIsTheByteLoop) {
+    std::vector<uint8_t> a(80), b(80);
+    for (size_t i = 0; i < a.size(); i++) a[i] = uint8_t(i * 37 + 5), b[i] = uint8_t(i * 101 + 3);
+    for (size_t offset = 0; offset < 8; offset++)
+        for (size_t n = 0; n + offset <= 64; n++) {
+            std::vector<uint8_t> out(n), in_place(a.begin() + long(offset), a.begin() + long(offset + n));
+            glcast::xor_bytes(out.data(), a.data() + offset, b.data() + offset, n);
+            glcast::xor_bytes(in_place.data(), in_place.data(), b.data() + offset, n);
+            for (size_t i = 0; i < n; i++) {
+                ASSERT_EQ(out[i], uint8_t(a[offset + i] ^ b[offset + i])) << "offset " << offset << ", n " << n;
+                ASSERT_EQ(in_place[i], out[i]);
+            }
+        }
+}
