@@ -95,6 +95,7 @@ struct FrameRecord {
     glm::dmat4 last_push{1.0};
 
     void clear();
+    void drop_borrowed();  // the frame shows no other context's scene after all
 };
 constexpr size_t kMaxRecordBytes = size_t(256) << 20;
 constexpr int kMaxCameraProbes = 64;
@@ -121,6 +122,11 @@ struct EffectsState {
     GLuint lender_fb = 0, placement_fb = 0, placement_depth = 0;
     int placement_sizes[2] = {0, 0};
     std::vector<uint8_t> placement_pixels;  // its depth read back, one byte a pixel
+    // The last rectangle measured, and what it was measured for (place_borrowed_scene).
+    bool placement_known = false;
+    uint64_t placement_key = 0;
+    int placement_age = 0;
+    int32_t placement_rect[4] = {0, 0, 0, 0};
     bool color_copied = false, depth_copied = false;
     // The program's own picture of the frame, saved before the passes draw over it and put back
     // after present: a program that never clears draws its next frame over its own image, not
@@ -182,6 +188,8 @@ private:
     // lender's colour texture): taken as this frame's main view.
     void borrow_scene(SlaveContext& ctx, FrameRecord& rec);
     void place_borrowed_scene(SlaveContext& ctx);  // after that draw ran
+    // That draw (entries placement_from..end) drawn again: the rectangle it covers, master pixels.
+    bool measure_placement(SlaveContext& ctx, size_t end, int32_t out[4]);
     void note_lendable_scene(SlaveContext& ctx, FrameRecord& rec);  // the main view found offscreen
     bool shares_with_another(const SlaveContext& ctx) const;  // objects with another live context
     void note_resolved_scene(FrameRecord& rec);  // a glBlitFramebuffer from the lent scene's target
