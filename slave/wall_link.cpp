@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <thread>
 
 #include "net/security.h"
 
@@ -33,8 +34,13 @@ WallLink::~WallLink() {
 
 bool WallLink::barrier(uint64_t frame, int timeout_ms) {
     const std::string ready = "READY " + tile_ + " " + std::to_string(frame), go = "GO " + std::to_string(frame);
-    if (!socket_->send(zmq::buffer(ready), zmq::send_flags::dontwait)) return false;
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
+    // Nothing is queued before the run's channel is connected (CURVE's handshake takes a while
+    // across machines): the READY is offered again until it is taken, within the same wait.
+    while (!socket_->send(zmq::buffer(ready), zmq::send_flags::dontwait)) {
+        if (std::chrono::steady_clock::now() >= deadline) return false;
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
     while (std::chrono::steady_clock::now() < deadline) {
         zmq::pollitem_t item{socket_->handle(), 0, ZMQ_POLLIN, 0};
         zmq::poll(&item, 1, std::chrono::milliseconds(50));
