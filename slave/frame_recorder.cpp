@@ -382,6 +382,12 @@ void FrameRecorder::borrow_scene(SlaveContext& ctx, FrameRecord& rec) {
         std::copy(lent.viewport, lent.viewport + 4, rec.viewport);
         rec.placement_pending = true;
         rec.placement_from = rec.entries.size();
+        if (!said_borrowed_) {
+            said_borrowed_ = true;
+            std::fprintf(stderr, "glcast: effects: from frame %" PRIu64 " on, context %u shows the scene context %u draws "
+                                 "into a texture (docs/effects.md, \"A scene another context draws\")\n",
+                         core_.frame(), ctx.id, id);
+        }
         return;
     }
 }

@@ -207,6 +207,7 @@ private:
     std::unordered_map<uint32_t, std::unique_ptr<EffectsState>> states_;  // by context id
     bool checked_ = false;  // the driver has every function the passes need
     bool warned_no_camera_ = false;
+    bool said_borrowed_ = false;
 };
 
 }  // namespace glcast::slave
