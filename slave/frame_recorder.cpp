@@ -153,6 +153,12 @@ void FrameRecorder::record(const Call& c, const uint8_t* tuple, size_t tuple_siz
         if (rec.scene_framebuffer && !rec.overlay) rec.presented = true;
         return;
     }
+    if (rec.borrowed_from && to_window && opens && writes_depth(gl)) {
+        // A 3D draw to the window: the other context's texture was a picture in this program's
+        // own scene (a preview), not its view; the main view is looked for among the window's.
+        rec.drop_borrowed();
+        rec.overlay = false;
+    }
     if (rec.main_known && !rec.overlay && !rec.in_begin_end && to_window) watch_overlays(ctx, kind);
     if (rec.overflow || kind == RedrawKind::Pixels) return;
     if (c.info && c.info->sem.redraw_first_count) {  // e.g. only the targets glPushClientAttrib restores
@@ -382,12 +388,6 @@ void FrameRecorder::borrow_scene(SlaveContext& ctx, FrameRecord& rec) {
         std::copy(lent.viewport, lent.viewport + 4, rec.viewport);
         rec.placement_pending = true;
         rec.placement_from = rec.entries.size();
-        if (!said_borrowed_) {
-            said_borrowed_ = true;
-            std::fprintf(stderr, "glcast: effects: from frame %" PRIu64 " on, context %u shows the scene context %u draws "
-                                 "into a texture (docs/effects.md, \"A scene another context draws\")\n",
-                         core_.frame(), ctx.id, id);
-        }
         return;
     }
 }
@@ -964,6 +964,12 @@ void FrameRecorder::run_effects(SlaveContext& ctx) {
         st.pipeline->run(view);
         if (overlays || view_model || placed) put_overlays_back(ctx, overlays);
         if (core_.after_effects) core_.after_effects(view);
+        if (st.record.borrowed_from && !said_borrowed_) {
+            said_borrowed_ = true;
+            std::fprintf(stderr, "glcast: effects: from frame %" PRIu64 " on, context %u shows the scene context %u draws "
+                                 "into a texture (docs/effects.md, \"A scene another context draws\")\n",
+                         core_.frame(), ctx.id, st.record.borrowed_from);
+        }
     } catch (const std::runtime_error& e) {
         throw EffectsError(std::string("effects: ") + e.what());
     }

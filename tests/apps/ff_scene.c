@@ -52,6 +52,9 @@
  * of the window and a label inside the widget's lower left corner (docs/effects.md: a scene
  * drawn by another context). --widget-samples N (implies --widget): the scene is drawn with N
  * samples into renderbuffers and its colour resolved into the texture with glBlitFramebuffer.
+ * --preview (implies --widget): the window's context draws that texture small in the top left
+ * corner of its sky, then its own scene over the window without clearing the colour: a picture
+ * in the program's own scene, not the scene (docs/effects.md).
  *
  * Prints to stdout:
  *   ff_scene: GL_RENDERER <string>
@@ -346,6 +349,8 @@ static int weapon;
 static int culled;
 static int widget;
 #define WIDGET_REDRAW 4
+/* --preview: the window's context draws the widget's texture small first, then its own scene */
+static int preview, preview_first;
 
 static void draw_backdrop(void)
 {
@@ -392,7 +397,7 @@ static void draw_frame(int frame, int dolly, int w, int h, GLuint tex_ground, GL
 
     glViewport(0, 0, w, h);
     glClearColor(0.53f, 0.75f, 0.95f, 1.0f);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glClear(preview_first ? GL_DEPTH_BUFFER_BIT : GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
 
     glMatrixMode(GL_PROJECTION);
     glLoadIdentity();
@@ -700,6 +705,54 @@ static void widget_composite(const struct widget_target *t, int w, int h)
     glRecti(t->x + 4, t->y + 4, t->x + 64, t->y + 20); /* label over the widget */
 }
 
+/* --preview: the widget's picture drawn small in the top left corner of the sky, before the
+ * window's own scene (which does not clear the colour): a picture in the program's own scene. */
+static void widget_preview(const struct widget_target *t, int w, int h)
+{
+    glClearColor(0.53f, 0.75f, 0.95f, 1.0f);
+    glClear(GL_COLOR_BUFFER_BIT);
+    glPushAttrib(GL_ENABLE_BIT | GL_TEXTURE_BIT);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_LIGHTING);
+    glMatrixMode(GL_PROJECTION);
+    glLoadIdentity();
+    glMatrixMode(GL_MODELVIEW);
+    glLoadIdentity();
+    glEnable(GL_TEXTURE_2D);
+    glBindTexture(GL_TEXTURE_2D, t->texture);
+    glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_REPLACE);
+    glViewport(4, h - 4 - h / 5, w / 5, h / 5);
+    glBegin(GL_QUADS);
+    glTexCoord2f(0, 0); glVertex2f(-1, -1);
+    glTexCoord2f(1, 0); glVertex2f(1, -1);
+    glTexCoord2f(1, 1); glVertex2f(1, 1);
+    glTexCoord2f(0, 1); glVertex2f(-1, 1);
+    glEnd();
+    glBindTexture(GL_TEXTURE_2D, 0);
+    glPopAttrib();
+    glViewport(0, 0, w, h);
+}
+
+static void init_fixed_state(void)
+{
+    const GLfloat amb[4] = {0.25f, 0.25f, 0.28f, 1.0f};
+    const GLfloat dif[4] = {0.9f, 0.9f, 0.85f, 1.0f};
+    const GLfloat spc[4] = {0.7f, 0.7f, 0.7f, 1.0f};
+    const GLfloat global_amb[4] = {0.1f, 0.1f, 0.12f, 1.0f};
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glEnable(GL_LIGHTING);
+    glEnable(GL_LIGHT0);
+    glEnable(GL_NORMALIZE);
+    glLightfv(GL_LIGHT0, GL_AMBIENT, amb);
+    glLightfv(GL_LIGHT0, GL_DIFFUSE, dif);
+    glLightfv(GL_LIGHT0, GL_SPECULAR, spc);
+    glLightModelfv(GL_LIGHT_MODEL_AMBIENT, global_amb);
+    glColorMaterial(GL_FRONT_AND_BACK, GL_AMBIENT_AND_DIFFUSE);
+    glEnable(GL_COLOR_MATERIAL);
+    glShadeModel(GL_SMOOTH);
+}
+
 /* ---------------------------------------------------------------- main */
 
 /* A game's HUD: 2D, drawn last, without depth. */
@@ -757,6 +810,8 @@ int main(int argc, char **argv)
     weapon = app_take_flag(&argc, &argv, "--weapon");
     culled = app_take_flag(&argc, &argv, "--culled");
     widget = app_take_flag(&argc, &argv, "--widget");
+    preview = app_take_flag(&argc, &argv, "--preview");
+    widget = widget || preview;
     target.samples = 0;
     for (int i = 1; i + 1 < argc; i++)
         if (strcmp(argv[i], "--widget-samples") == 0) {
@@ -861,25 +916,11 @@ int main(int argc, char **argv)
     }
     glEndList();
 
-    /* fixed state */
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
-    glEnable(GL_LIGHTING);
-    glEnable(GL_LIGHT0);
-    glEnable(GL_NORMALIZE);
-    {
-        const GLfloat amb[4] = {0.25f, 0.25f, 0.28f, 1.0f};
-        const GLfloat dif[4] = {0.9f, 0.9f, 0.85f, 1.0f};
-        const GLfloat spc[4] = {0.7f, 0.7f, 0.7f, 1.0f};
-        const GLfloat global_amb[4] = {0.1f, 0.1f, 0.12f, 1.0f};
-        glLightfv(GL_LIGHT0, GL_AMBIENT, amb);
-        glLightfv(GL_LIGHT0, GL_DIFFUSE, dif);
-        glLightfv(GL_LIGHT0, GL_SPECULAR, spc);
-        glLightModelfv(GL_LIGHT_MODEL_AMBIENT, global_amb);
+    init_fixed_state();
+    if (preview) { /* the window's context draws the scene too */
+        glXMakeCurrent(dpy, win, ctx);
+        init_fixed_state();
     }
-    glColorMaterial(GL_FRONT_AND_BACK, GL_AMBIENT_AND_DIFFUSE);
-    glEnable(GL_COLOR_MATERIAL);
-    glShadeModel(GL_SMOOTH);
     check_gl_errors(-1);
 
     printf("%s: frames %d\n", PROG, args.frames);
@@ -898,7 +939,14 @@ int main(int argc, char **argv)
                 check_gl_errors(frame);
             }
             glXMakeCurrent(dpy, win, ctx);
-            widget_composite(&target, args.width, args.height);
+            if (preview) {
+                widget_preview(&target, args.width, args.height);
+                preview_first = 1;
+                draw_frame(frame, args.dolly, args.width, args.height, tex[0], tex[1], box_list, lock, unlock);
+                preview_first = 0;
+            } else {
+                widget_composite(&target, args.width, args.height);
+            }
         } else {
             draw_frame(frame, args.dolly, args.width, args.height, tex[0], tex[1], box_list, lock, unlock);
         }
