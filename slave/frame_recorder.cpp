@@ -434,23 +434,35 @@ bool FrameRecorder::measure_placement(SlaveContext& ctx, size_t end, int32_t out
         gl.glDepthMask(GL_TRUE);
         gl.glClearDepth(1.0);
         gl.glClear(GL_DEPTH_BUFFER_BIT);
-        GLdouble range[2] = {0, 1};
-        gl.glGetDoublev(GL_DEPTH_RANGE, range);
-        gl.glDepthRange(0, 0);
-        tile_.begin_redraw(glm::dmat4(1.0), program != 0);
-        Call c;
-        for (size_t i = rec.placement_from; i < end; ++i) {
-            const FrameRecord::Entry& e = rec.entries[i];
-            ByteReader r(rec.bytes.data() + e.begin, e.size, 0);
-            decode_tuple(r, c);
-            try {
-                core_.redispatch(c);
-            } catch (const ReplayError&) {
-            } catch (const GlMissing&) {
+        // The depth range and the tile's redraw mode are put back however the redraw ends.
+        struct Redrawing {
+            const GlApi& gl;
+            TileAdapter& tile;
+            GLdouble range[2] = {0, 1};
+            Redrawing(const GlApi& g, TileAdapter& t, bool programs) : gl(g), tile(t) {
+                gl.glGetDoublev(GL_DEPTH_RANGE, range);
+                gl.glDepthRange(0, 0);
+                tile.begin_redraw(glm::dmat4(1.0), programs);
+            }
+            ~Redrawing() {
+                tile.end_redraw();
+                gl.glDepthRange(range[0], range[1]);
+            }
+        };
+        {
+            Redrawing redrawing(gl, tile_, program != 0);
+            Call c;
+            for (size_t i = rec.placement_from; i < end; ++i) {
+                const FrameRecord::Entry& e = rec.entries[i];
+                ByteReader r(rec.bytes.data() + e.begin, e.size, 0);
+                decode_tuple(r, c);
+                try {
+                    core_.redispatch(c);
+                } catch (const ReplayError&) {
+                } catch (const GlMissing&) {
+                }
             }
         }
-        tile_.end_redraw();
-        gl.glDepthRange(range[0], range[1]);
         gl.glBindFramebuffer(GL_READ_FRAMEBUFFER, st.placement_fb);
         if (gl.has(OP_glBindBuffer)) gl.glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
         gl.glPixelStorei(GL_PACK_ALIGNMENT, 1);
