@@ -67,6 +67,29 @@ GLenum depth_format(const GlApi& gl, GLenum target) {
 
 
 
+// The pending client-array ranges of a context (slave/replayer.h), put back when a redraw ends:
+// a glcast.client_arrays tuple whose draw the redraw leaves out would otherwise stay pending and
+// be checked against the program's next draw.
+class PendingClientArrays {
+public:
+    explicit PendingClientArrays(SlaveContext& ctx)
+        : ctx_(ctx), pending_(ctx.client_range_pending), refused_(ctx.client_arrays_refused), first_(ctx.client_first),
+          end_(ctx.client_end), instances_(ctx.client_instances) {}
+    ~PendingClientArrays() {
+        ctx_.client_range_pending = pending_, ctx_.client_arrays_refused = refused_;
+        ctx_.client_first = first_, ctx_.client_end = end_;
+        ctx_.client_instances = std::move(instances_);
+    }
+    PendingClientArrays(const PendingClientArrays&) = delete;
+    PendingClientArrays& operator=(const PendingClientArrays&) = delete;
+
+private:
+    SlaveContext& ctx_;
+    bool pending_, refused_;
+    int64_t first_, end_;
+    std::vector<ClientInstanceRange> instances_;
+};
+
 }  // namespace
 
 FrameRecorder::~FrameRecorder() = default;
@@ -302,6 +325,18 @@ bool FrameRecorder::offscreen_scene(SlaveContext& ctx, const FrameRecord& rec, G
     return type != GL_NONE;
 }
 
+// Runs one recorded call again (a redraw): a call the stream got wrong was reported when the
+// frame was replayed, and is skipped here.
+void FrameRecorder::redispatch_entry(const FrameRecord& rec, const FrameRecord::Entry& e, Call& c) {
+    ByteReader r(rec.bytes.data() + e.begin, e.size, 0);
+    decode_tuple(r, c);
+    try {
+        core_.redispatch(c);
+    } catch (const ReplayError&) {
+    } catch (const GlMissing&) {
+    }
+}
+
 bool FrameRecorder::shares_with_another(const SlaveContext& ctx) const {
     for (const auto& [id, other] : core_.contexts())
         if (id != ctx.id && other->names.shared == ctx.names.shared) return true;
@@ -412,9 +447,7 @@ bool FrameRecorder::measure_placement(SlaveContext& ctx, size_t end, int32_t out
     const bool compatibility = compatibility_profile(gl);
     std::vector<uint8_t>& depth = st.placement_pixels;
     depth.assign(size_t(W) * size_t(H), 255);
-    const bool saved_range_pending = ctx.client_range_pending, saved_refused = ctx.client_arrays_refused;
-    const int64_t saved_first = ctx.client_first, saved_end = ctx.client_end;
-    const std::vector<ClientInstanceRange> saved_instances = ctx.client_instances;
+    const PendingClientArrays pending(ctx);
     try {
         GlStateGuard guard(gl, kGuardPass | kGuardPixelPack |
                                    (compatibility ? kGuardMatrixStacks | kGuardMatrixMode : 0));
@@ -452,16 +485,7 @@ bool FrameRecorder::measure_placement(SlaveContext& ctx, size_t end, int32_t out
         {
             Redrawing redrawing(gl, tile_, program != 0);
             Call c;
-            for (size_t i = rec.placement_from; i < end; ++i) {
-                const FrameRecord::Entry& e = rec.entries[i];
-                ByteReader r(rec.bytes.data() + e.begin, e.size, 0);
-                decode_tuple(r, c);
-                try {
-                    core_.redispatch(c);
-                } catch (const ReplayError&) {
-                } catch (const GlMissing&) {
-                }
-            }
+            for (size_t i = rec.placement_from; i < end; ++i) redispatch_entry(rec, rec.entries[i], c);
         }
         gl.glBindFramebuffer(GL_READ_FRAMEBUFFER, st.placement_fb);
         if (gl.has(OP_glBindBuffer)) gl.glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
@@ -473,9 +497,6 @@ bool FrameRecorder::measure_placement(SlaveContext& ctx, size_t end, int32_t out
     } catch (const std::runtime_error& e) {
         std::fprintf(stderr, "glcast: effects: cannot place another context's scene: %s\n", e.what());
     }
-    ctx.client_range_pending = saved_range_pending, ctx.client_arrays_refused = saved_refused;
-    ctx.client_first = saved_first, ctx.client_end = saved_end;
-    ctx.client_instances = saved_instances;
     int x0 = W, y0 = H, x1 = 0, y1 = 0;
     for (int y = 0; y < H; ++y) {
         const uint8_t* row = depth.data() + size_t(y) * size_t(W);
@@ -581,11 +602,7 @@ void FrameRecorder::redraw_main_view(SlaveContext& ctx, const glm::dmat4& correc
     if (rec.entries.empty() || (!compatibility && !rec.shader_draws)) return;
     const uint32_t saved_list_base = ctx.list_base;
     const uint64_t saved_program_stream = ctx.current_program;
-    // A glcast.client_arrays tuple whose draw the redraw leaves out would otherwise stay
-    // pending and be checked against the program's next draw (which it refused).
-    const bool saved_range_pending = ctx.client_range_pending, saved_refused = ctx.client_arrays_refused;
-    const int64_t saved_first = ctx.client_first, saved_end = ctx.client_end;
-    const std::vector<ClientInstanceRange> saved_instances = ctx.client_instances;
+    const PendingClientArrays pending(ctx);
     GLint active_texture = GL_TEXTURE0;
     gl.glGetIntegerv(GL_ACTIVE_TEXTURE, &active_texture);
     GlStateGuard guard(gl, kGuardProgram | kGuardVertexArray |
@@ -621,14 +638,7 @@ void FrameRecorder::redraw_main_view(SlaveContext& ctx, const glm::dmat4& correc
             if (e.cull_face != cull_face) gl.glCullFace(cull_face = e.cull_face);
             if (e.front_face != front_face) gl.glFrontFace(front_face = e.front_face);
         }
-        ByteReader r(rec.bytes.data() + e.begin, e.size, 0);
-        decode_tuple(r, c);
-        try {
-            core_.redispatch(c);
-        } catch (const ReplayError&) {
-            // reported when the frame was replayed
-        } catch (const GlMissing&) {
-        }
+        redispatch_entry(rec, e, c);
     }
     tile_.end_redraw();
     set_enabled(gl, GL_CULL_FACE, caller_cull);
@@ -636,9 +646,6 @@ void FrameRecorder::redraw_main_view(SlaveContext& ctx, const glm::dmat4& correc
     gl.glFrontFace(GLenum(caller_front_face));
     ctx.list_base = saved_list_base;
     ctx.current_program = saved_program_stream;
-    ctx.client_range_pending = saved_range_pending, ctx.client_arrays_refused = saved_refused;
-    ctx.client_first = saved_first, ctx.client_end = saved_end;
-    ctx.client_instances = saved_instances;
     gl.glActiveTexture(GLenum(active_texture));
 }
 

@@ -192,6 +192,7 @@ private:
     bool measure_placement(SlaveContext& ctx, size_t end, int32_t out[4]);
     void note_lendable_scene(SlaveContext& ctx, FrameRecord& rec);  // the main view found offscreen
     bool shares_with_another(const SlaveContext& ctx) const;  // objects with another live context
+    void redispatch_entry(const FrameRecord& rec, const FrameRecord::Entry& e, Call& c);
     void note_resolved_scene(FrameRecord& rec);  // a glBlitFramebuffer from the lent scene's target
     // The record whose draws and camera are the frame's scene: the lender's for a borrowed one.
     const FrameRecord& scene_record(const SlaveContext& ctx);

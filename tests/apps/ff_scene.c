@@ -672,6 +672,17 @@ static void widget_bind(const struct widget_target *t, int bind)
     bind_framebuffer(GL_FRAMEBUFFER, bind ? t->framebuffer : 0);
 }
 
+/* The bound texture over the whole viewport (the matrices are the identity). */
+static void draw_viewport_quad(void)
+{
+    glBegin(GL_QUADS);
+    glTexCoord2f(0, 0); glVertex2f(-1, -1);
+    glTexCoord2f(1, 0); glVertex2f(1, -1);
+    glTexCoord2f(1, 1); glVertex2f(1, 1);
+    glTexCoord2f(0, 1); glVertex2f(-1, 1);
+    glEnd();
+}
+
 /* The window's context: the toolkit's frame around the widget's picture. */
 static void widget_composite(const struct widget_target *t, int w, int h)
 {
@@ -688,12 +699,7 @@ static void widget_composite(const struct widget_target *t, int w, int h)
     glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_REPLACE);
     /* placed by the viewport: a quad over all of it */
     glViewport(t->x, t->y, t->width, t->height);
-    glBegin(GL_QUADS);
-    glTexCoord2f(0, 0); glVertex2f(-1, -1);
-    glTexCoord2f(1, 0); glVertex2f(1, -1);
-    glTexCoord2f(1, 1); glVertex2f(1, 1);
-    glTexCoord2f(0, 1); glVertex2f(-1, 1);
-    glEnd();
+    draw_viewport_quad();
     glBindTexture(GL_TEXTURE_2D, 0);
     glDisable(GL_TEXTURE_2D);
     glViewport(0, 0, w, h);
@@ -722,12 +728,7 @@ static void widget_preview(const struct widget_target *t, int w, int h)
     glBindTexture(GL_TEXTURE_2D, t->texture);
     glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_REPLACE);
     glViewport(4, h - 4 - h / 5, w / 5, h / 5);
-    glBegin(GL_QUADS);
-    glTexCoord2f(0, 0); glVertex2f(-1, -1);
-    glTexCoord2f(1, 0); glVertex2f(1, -1);
-    glTexCoord2f(1, 1); glVertex2f(1, 1);
-    glTexCoord2f(0, 1); glVertex2f(-1, 1);
-    glEnd();
+    draw_viewport_quad();
     glBindTexture(GL_TEXTURE_2D, 0);
     glPopAttrib();
     glViewport(0, 0, w, h);
