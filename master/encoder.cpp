@@ -6,19 +6,6 @@
 
 namespace glcast {
 
-void Encoder::begin(uint32_t opcode) {
-    opcode_ = opcode;
-    start_ = out_.size();
-    value<uint32_t>(opcode);
-    value<uint32_t>(context_);
-    value<uint32_t>(0);  // body length, patched by end()
-}
-
-void Encoder::end() {
-    const uint32_t body = uint32_t(out_.size() - start_ - kTupleHeaderBytes);
-    std::memcpy(out_.data() + start_ + 8, &body, 4);
-}
-
 bool Encoder::checked_bytes(int64_t count, size_t elem_bytes, uint32_t& out_count) {
     if (count < 0) count = 0;
     if (count > kMaxArrayBytes / int64_t(elem_bytes ? elem_bytes : 1)) {

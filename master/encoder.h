@@ -12,6 +12,7 @@
 
 #include "common/byte_vector.h"
 #include "protocol/command_info.h"
+#include "protocol/format.h"
 
 namespace glcast {
 
@@ -34,8 +35,17 @@ class Encoder {
 public:
     explicit Encoder(ByteVector& out) : out_(out) {}
 
-    void begin(uint32_t opcode);
-    void end();                      // patches the body length
+    // Inline: every recorded call makes both, from the generated encoders in another file.
+    void begin(uint32_t opcode) {
+        opcode_ = opcode;
+        start_ = out_.size();
+        const uint32_t header[3] = {opcode, context_, 0};  // body length patched by end()
+        put(header, sizeof header);
+    }
+    void end() {
+        const uint32_t body = uint32_t(out_.size() - start_ - kTupleHeaderBytes);
+        std::memcpy(out_.data() + start_ + 8, &body, 4);
+    }
     void set_context(uint32_t ctx) { context_ = ctx; }
     uint32_t opcode() const { return opcode_; }
 

@@ -37,51 +37,59 @@ Stream::Stream(std::vector<std::unique_ptr<MessageSink>> sinks, int zstd_level, 
 Stream::~Stream() { close(); }
 
 void Stream::append(const uint8_t* tuple, size_t bytes) {
-    std::unique_lock lock(mutex_);
+    std::lock_guard lock(open_lock_);
     if (closed_) return;
-    if (open_.size() + bytes > kBatchBytes && !open_.empty()) seal_locked(false);
-    // Lossless sinks: a full queue makes the application wait rather than drop data.
-    queue_changed_.wait(lock, [&] { return queue_.size() < queue_depth_ || stopping_; });
+    if (open_.size() + bytes > kBatchBytes && !open_.empty()) seal_open(false);
     open_.append(tuple, bytes);
-    stats_.tuples++;
-    stats_.raw_bytes += bytes;
+    open_tuples_++;
+    open_raw_bytes_ += bytes;
 }
 
 void Stream::end_frame() {
-    std::unique_lock lock(mutex_);
+    std::lock_guard lock(open_lock_);
     if (closed_) return;
-    queue_changed_.wait(lock, [&] { return queue_.size() < queue_depth_ || stopping_; });
-    seal_locked(true);
-    stats_.frames++;
-    open_frame_ = uint32_t(stats_.frames);
+    seal_open(true);
 }
 
-void Stream::seal_locked(bool frame_end) {
+// Lossless sinks: a full queue makes the program wait here rather than drop data; what waits is
+// the thread that fills the batch (the program's calls go on into the next batch only when the
+// writer has room for this one).
+void Stream::seal_open(bool frame_end) {
     if (open_.empty() && !frame_end) return;
+    std::unique_lock lock(mutex_);
+    queue_changed_.wait(lock, [&] { return queue_.size() < queue_depth_ || stopping_; });
     queue_.push_back(Batch{std::move(open_), next_sequence_++, open_frame_, frame_end});
     // The next batch fills a buffer the writer is done with: in a steady run appending a call
     // allocates nothing.
     open_ = std::move(spare_);
     spare_ = {};
     open_.clear();
+    stats_.tuples += open_tuples_;
+    stats_.raw_bytes += open_raw_bytes_;
+    open_tuples_ = open_raw_bytes_ = 0;
+    if (frame_end) open_frame_ = uint32_t(++stats_.frames);
     in_flight_++;
     queue_changed_.notify_all();
 }
 
 void Stream::flush() {
+    {
+        std::lock_guard lock(open_lock_);
+        if (closed_) return;
+        seal_open(false);
+    }
     std::unique_lock lock(mutex_);
-    if (closed_) return;
-    seal_locked(false);
     queue_changed_.wait(lock, [&] { return in_flight_ == 0; });
 }
 
 void Stream::close() {
     {
-        std::unique_lock lock(mutex_);
+        std::lock_guard open_lock(open_lock_);
         if (closed_) return;
-        seal_locked(false);
-        stopping_ = true;
+        seal_open(false);
         closed_ = true;
+        std::lock_guard lock(mutex_);
+        stopping_ = true;
         queue_changed_.notify_all();
     }
     if (writer_.joinable()) writer_.join();
@@ -94,8 +102,12 @@ uint64_t Stream::frame() const {
 }
 
 StreamStats Stream::stats() const {
+    std::lock_guard open_lock(open_lock_);
     std::lock_guard lock(mutex_);
-    return stats_;
+    StreamStats s = stats_;
+    s.tuples += open_tuples_;
+    s.raw_bytes += open_raw_bytes_;
+    return s;
 }
 
 void Stream::count_cache(bool hit) {

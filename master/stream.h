@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "common/byte_vector.h"
+#include "common/spin_lock.h"
 
 namespace glcast {
 
@@ -49,7 +50,7 @@ public:
     void count_unserialized();
 
 private:
-    void seal_locked(bool frame_end);
+    void seal_open(bool frame_end);  // with open_lock_ held
     void writer_loop();
 
     struct Batch {
@@ -59,16 +60,22 @@ private:
         bool frame_end;
     };
 
+    // Two locks: open_lock_ over the batch being filled, which the program's threads take once a
+    // call; mutex_ over the queue and the writer's side, taken once a batch (and per frame).
+    // Always open_lock_ first.
+    mutable SpinLock open_lock_;
+    ByteVector open_;                 // the batch being filled
+    uint32_t open_frame_ = 0;
+    uint64_t open_tuples_ = 0, open_raw_bytes_ = 0;  // not yet in stats_
+    bool closed_ = false;
+
     mutable std::mutex mutex_;
     std::condition_variable queue_changed_;
-    ByteVector open_;                 // the batch being filled
     ByteVector spare_;                // a payload buffer the writer is done with, for the next batch
-    uint32_t open_frame_ = 0;
     std::deque<Batch> queue_;
     size_t queue_depth_;
     size_t in_flight_ = 0;
     bool stopping_ = false;
-    bool closed_ = false;
     uint64_t next_sequence_ = 0;
     StreamStats stats_;
     int zstd_level_;
