@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """The time a GL call costs the calling thread with glcast (issue 15): bench/call_cost.c (20,000
-immediate-mode calls a frame into an 8x8 window) natively, capturing to a file, and publishing
-on ipc:// with the journal and no slave; its thread CPU time per call, interleaved runs, medians.
+immediate-mode calls a frame into an 8x8 window) natively, under the shim with no consumer,
+capturing to a file, and publishing on ipc:// with the journal and no slave; its thread CPU time
+per call, interleaved runs, medians.
 Each SHIM=PATH argument adds a column for another build of the shim (an A/B of a change).
 
     bench/call_cost_bench.py BUILD_DIR [NAME=SHIM.so ...] [--repeats N]
@@ -31,6 +32,8 @@ def main():
     shims.update(s.split("=", 1) for s in a.shims)
     modes = {"native": {}}
     for name, shim in shims.items():
+        # interposition alone: the shim's entry points with nothing recording (the floor of any shim)
+        modes[f"no consumer ({name})"] = {"LD_PRELOAD": shim}
         modes[f"capture ({name})"] = {"LD_PRELOAD": shim, "GLCAST_CAPTURE": os.path.join(tmp, "c.glcs")}
         stream = f"ipc://{tmp}/s"
         modes[f"publish ({name})"] = {"LD_PRELOAD": shim, "GLCAST_PUBLISH": stream,

@@ -1,20 +1,30 @@
 /* Benchmark helper, preloaded before whatever is measured: counts glXSwapBuffers and
  * eglSwapBuffers, and after FRAME_COUNTER_EXIT frames prints the time from frame
- * FRAME_COUNTER_SKIP to the last one and ends the program. Costs one clock read per frame. */
+ * FRAME_COUNTER_SKIP to the last one, and the CPU time the whole process (every thread: the
+ * program's, the driver's, glcast's writer) spent in those frames, and ends the program. Start-up
+ * (context creation, the driver's shader compiles) is left out of both. Costs one clock read per
+ * frame. */
 #define _GNU_SOURCE
 #include <dlfcn.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <sys/resource.h>
 #include <time.h>
 #include <unistd.h>
 
 static long frames, skip = 10, stop;
-static double t0;
+static double t0, cpu0;
 
 static double now(void) {
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+static double process_cpu(void) {
+    struct rusage r;
+    getrusage(RUSAGE_SELF, &r);
+    return r.ru_utime.tv_sec + r.ru_utime.tv_usec * 1e-6 + r.ru_stime.tv_sec + r.ru_stime.tv_usec * 1e-6;
 }
 
 static void frame(void) {
@@ -24,10 +34,14 @@ static void frame(void) {
         stop = s ? atol(s) : 1000000000L;
         if (k) skip = atol(k);
     }
-    if (++frames == skip) t0 = now();
+    if (++frames == skip) {
+        t0 = now();
+        cpu0 = process_cpu();
+    }
     if (frames == stop) {
-        const double dt = now() - t0;
-        fprintf(stderr, "frame_counter: %ld frames in %.4f s = %.2f fps\n", frames - skip, dt, (frames - skip) / dt);
+        const double dt = now() - t0, cpu = process_cpu() - cpu0;
+        fprintf(stderr, "frame_counter: %ld frames in %.4f s = %.2f fps, cpu %.4f s\n", frames - skip, dt,
+                (frames - skip) / dt, cpu);
         fflush(stderr);
         _exit(0);
     }
