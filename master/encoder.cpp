@@ -16,7 +16,7 @@ bool Encoder::checked_bytes(int64_t count, size_t elem_bytes, uint32_t& out_coun
     return true;
 }
 
-void Encoder::data(const void* p, int64_t count, size_t elem_bytes) {
+void Encoder::data_checked(const void* p, int64_t count, size_t elem_bytes) {
     uint32_t n = 0;
     if (!p) { tag(PtrTag::Null); return; }
     if (!checked_bytes(count, elem_bytes, n)) { tag(PtrTag::Null); return; }

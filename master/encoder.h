@@ -58,7 +58,19 @@ public:
 
     // Pointer records (PtrTag). `count` is in elements of `elem_bytes`; a negative count
     // (the application's error: GL reads nothing) encodes as zero elements.
-    void data(const void* p, int64_t count, size_t elem_bytes);
+    void data(const void* p, int64_t count, size_t elem_bytes) {
+        // Inline for the common case, a few numbers (glVertex3fv, glMultMatrixf): one append of
+        // tag and count, one of the data. Anything else takes the checks out of line.
+        if (p && count >= 0 && count <= kInlineDataElements && elem_bytes <= 8) [[likely]] {
+            uint8_t head[5] = {static_cast<uint8_t>(PtrTag::Data)};
+            const uint32_t n = uint32_t(count);
+            std::memcpy(head + 1, &n, 4);
+            put(head, sizeof head);
+            put(p, size_t(count) * elem_bytes);
+            return;
+        }
+        data_checked(p, count, elem_bytes);
+    }
     void offset(const void* p);
     void deferred(const void* p, bool in_buffer);
     void string(const char* s);
@@ -95,6 +107,8 @@ public:
     void clear_failure() { failure_.clear(); }
 
 private:
+    static constexpr int64_t kInlineDataElements = 4096;  // at most 32 KB: far inside kMaxArrayBytes
+    void data_checked(const void* p, int64_t count, size_t elem_bytes);
     void put(const void* p, size_t n) { out_.append(p, n); }
     void tag(PtrTag t) { value<uint8_t>(static_cast<uint8_t>(t)); }
     bool checked_bytes(int64_t count, size_t elem_bytes, uint32_t& out_count);
