@@ -132,7 +132,8 @@ void Stream::writer_loop() {
     const long level = nice && *nice ? std::strtol(nice, nullptr, 10) : 10;
     if (level > 0 && level < 20) setpriority(PRIO_PROCESS, pid_t(syscall(SYS_gettid)), int(level));
     ZSTD_CCtx* cctx = ZSTD_createCCtx();
-    std::vector<uint8_t> message;
+    std::vector<uint8_t> message;  // header + stored payload, as the sinks take it
+    ByteVector body;  // the compressed payload, before it is known how long it is: never zero-filled
     ByteVector previous;  // the last message's payload, the next one's prefix
     ByteVector xored;
     std::vector<uint8_t> alternative, probe;  // kept across messages: no allocation per message
@@ -166,7 +167,7 @@ void Stream::writer_loop() {
         h.sequence = batch.sequence;
         h.frame = batch.frame;
         h.raw_bytes = uint32_t(batch.payload.size());
-        message.resize(sizeof h + ZSTD_compressBound(batch.payload.size()));
+        body.resize(ZSTD_compressBound(batch.payload.size()));
         size_t stored = batch.payload.size();
         const auto compress_start = std::chrono::steady_clock::now();
         uint64_t compressions = 0;
@@ -205,7 +206,7 @@ void Stream::writer_loop() {
             const bool same_length = coded && previous.size() == raw.size();
             const bool xor_only = same_length && xor_mode && coded_messages++ % kXorProbeInterval != 0;
             size_t n = xor_only ? static_cast<size_t>(-1)  // not tried: an error code for ZSTD_isError
-                                : compress(message.data() + sizeof h, message.size() - sizeof h, raw, coded, zstd_level_);
+                                : compress(body.data(), body.size(), raw, coded, zstd_level_);
             uint32_t how = coded ? uint32_t(kMsgDelta) : 0u;
             if (same_length && (xor_only || (!ZSTD_isError(n) && n > raw.size() / 64))) {
                 xor_with_previous();
@@ -222,11 +223,11 @@ void Stream::writer_loop() {
                     }
                 }
                 if (xor_only && (ZSTD_isError(x) || x > raw.size() / 8 || 2 * x > 3 * last_xor_bytes))  // both
-                    n = compress(message.data() + sizeof h, message.size() - sizeof h, raw, true, zstd_level_);
+                    n = compress(body.data(), body.size(), raw, true, zstd_level_);
                 if (!ZSTD_isError(x)) last_xor_bytes = x;
                 if (!ZSTD_isError(n) && !ZSTD_isError(x)) xor_mode = x * 4 <= n * 3;  // both tried
                 if (!ZSTD_isError(x) && (ZSTD_isError(n) || x < n)) {
-                    std::memcpy(message.data() + sizeof h, alternative.data(), x);
+                    std::memcpy(body.data(), alternative.data(), x);
                     n = x;
                     how = kMsgXor;
                 }
@@ -240,13 +241,16 @@ void Stream::writer_loop() {
         }
         const double compress_seconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - compress_start).count();
-        if (!(h.flags & kMsgCompressed) && stored)
-            std::memcpy(message.data() + sizeof h, batch.payload.data(), stored);
+        // Sized to what is stored: resizing it to zstd's bound zero-filled a whole raw frame
+        // (180 KB on atlantis) for every message.
+        message.resize(sizeof h + stored);
+        if (stored)
+            std::memcpy(message.data() + sizeof h, (h.flags & kMsgCompressed) ? body.data() : batch.payload.data(),
+                        stored);
         if (batch.frame_end) h.flags |= kMsgFrameEnd;
         h.stored_bytes = uint32_t(stored);
         h.crc32 = uint32_t(crc32(0, message.data() + sizeof h, uInt(stored)));
         std::memcpy(message.data(), &h, sizeof h);
-        message.resize(sizeof h + stored);
         for (auto& s : sinks_) s->write(message);
         previous.swap(batch.payload);  // the batch is done with: no copy
         std::lock_guard lock(mutex_);
