@@ -2,8 +2,9 @@
 // of the master's stream, which every recorded GL call appends to. Taking it is one atomic
 // exchange, giving it back a plain store; std::mutex costs two atomic read-modify-writes and two
 // calls into libc (a fifth of a recorded call's cost, bench/call_cost.c under perf).
-// A waiter spins briefly, then yields, then sleeps: the holder may be waiting for the writer
-// thread (a full queue), and a sleeping waiter must not take the core the holder needs.
+// A waiter spins briefly, then yields, then sleeps: the holder may itself be waiting for the
+// writer thread (a full queue), and a waiter that went on spinning would take the core that the
+// holder or the writer needs.
 #pragma once
 
 #include <sched.h>
