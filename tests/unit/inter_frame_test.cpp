@@ -14,18 +14,10 @@
 #include "master/stream.h"
 #include "protocol/decoder.h"
 #include "protocol/format.h"
+#include "tests/unit/memory_sink.h"
 
 namespace glcast {
 namespace {
-
-class MemorySink : public MessageSink {
-public:
-    explicit MemorySink(std::vector<std::vector<uint8_t>>& out) : out_(out) {}
-    void write(const std::vector<uint8_t>& message) override { out_.push_back(message); }
-
-private:
-    std::vector<std::vector<uint8_t>>& out_;
-};
 
 // Frames that repeat with small changes, as an immediate-mode program's do: one tuple each of a
 // fake opcode with 40 KB of floats, a few of them moved a little, or (moving) all of them.

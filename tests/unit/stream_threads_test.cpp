@@ -11,18 +11,10 @@
 #include "master/stream.h"
 #include "protocol/decoder.h"
 #include "protocol/format.h"
+#include "tests/unit/memory_sink.h"
 
 namespace glcast {
 namespace {
-
-class MemorySink : public MessageSink {
-public:
-    explicit MemorySink(std::vector<std::vector<uint8_t>>& out) : out_(out) {}
-    void write(const std::vector<uint8_t>& message) override { out_.push_back(message); }
-
-private:
-    std::vector<std::vector<uint8_t>>& out_;
-};
 
 struct Tagged {
     uint32_t opcode, context, body, thread, counter;
