@@ -50,6 +50,7 @@ OUTPUTS = {  # template -> generated file
     "synthetic_encode.h.j2": "glcast_synthetic_encode.h",
     "snapshot_state.h.j2": "glcast_snapshot_state.h",
     "snapshot_state.cpp.j2": "glcast_snapshot_state.cpp",
+    "recording_gl.cpp.j2": "glcast_recording_gl.cpp",
 }
 
 

@@ -6,7 +6,7 @@
 
 #include "common/gl_headers.h"
 #include "common/window_readback.h"
-#include "slave/frame_recorder.h"
+#include "slave/effects_runner.h"
 #include "slave/replay_sizes.h"
 #include "slave/tile_adapter.h"
 #include "slave/verifier.h"
@@ -27,8 +27,8 @@ Replayer::Replayer(std::unique_ptr<Backend> backend, ReplayOptions options)
     add_observer(window_system_.get());
     add_observer(tile_.get());
     if (options_.effects.any()) {
-        recorder_ = std::make_unique<FrameRecorder>(*this, *tile_);
-        add_observer(recorder_.get());
+        effects_ = std::make_unique<EffectsRunner>(*this, *tile_);
+        add_observer(effects_.get());
     }
     if (options_.verify) {
         verifier_ = std::make_unique<Verifier>(*this);

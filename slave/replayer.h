@@ -5,7 +5,7 @@
 //
 //   WindowSystem   contexts, drawables, frames (slave/window_system.h)
 //   TileAdapter    viewports, pixel sizes and projections on a tile (slave/tile_adapter.h)
-//   FrameRecorder  what the injected passes redraw, and running them (slave/frame_recorder.h)
+//   EffectsRunner  the frame's scene for the injected passes, and running them (slave/effects_runner.h)
 //   Verifier       `--verify`: reply-only calls re-asked and compared (slave/verifier.h)
 //
 // Errors in one call (a name never generated, a deferred array never sent, a context that
@@ -43,7 +43,7 @@ struct FrameView;
 }  // namespace effects
 class WindowSystem;
 class TileAdapter;
-class FrameRecorder;
+class EffectsRunner;
 class Verifier;
 
 class ReplayError : public std::runtime_error {
@@ -292,7 +292,7 @@ private:
     // Observers, in the order they see a call; interest_[opcode] has bit i for observers_[i].
     std::unique_ptr<WindowSystem> window_system_;
     std::unique_ptr<TileAdapter> tile_;
-    std::unique_ptr<FrameRecorder> recorder_;
+    std::unique_ptr<EffectsRunner> effects_;
     std::unique_ptr<Verifier> verifier_;
     std::vector<ReplayObserver*> observers_;
     std::vector<uint8_t> interest_;       // by opcode

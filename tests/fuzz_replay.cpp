@@ -31,7 +31,7 @@
 #include "glcast_synthetic.h"
 #include "protocol/decoder.h"
 #include "protocol/format.h"
-#include "slave/frame_recorder.h"
+#include "slave/effects_runner.h"
 #include "slave/replayer.h"
 
 #ifndef GLCAST_FUZZ_DATA_DIR

@@ -17,63 +17,12 @@
 #include "protocol/format.h"
 #include "slave/replayer.h"
 #include "tests/roundtrip_support.h"
+#include "tests/unit/stream_builder.h"
 
 using namespace glcast;
 
-namespace {
-
-struct StreamBuilder {
-    ByteVector payload;
-    Encoder e{payload};
-    roundtrip::FakeSizes sz;
-
-    void context(uint32_t id) { e.set_context(id); }
-    template <class F>
-    void synthetic(uint32_t op, F&& body) {
-        e.begin(op);
-        body(e);
-        e.end();
-    }
-    std::vector<uint8_t> file() const {
-        const FileHeader fh = make_file_header();
-        std::vector<uint8_t> f(reinterpret_cast<const uint8_t*>(&fh), reinterpret_cast<const uint8_t*>(&fh) + sizeof fh);
-        MessageHeader h{};
-        h.magic = kMessageMagic;
-        h.flags = kMsgFrameEnd;
-        h.stored_bytes = h.raw_bytes = uint32_t(payload.size());
-        h.crc32 = uint32_t(crc32(0, payload.data(), uInt(payload.size())));
-        f.insert(f.end(), reinterpret_cast<const uint8_t*>(&h), reinterpret_cast<const uint8_t*>(&h) + sizeof h);
-        f.insert(f.end(), payload.begin(), payload.end());
-        return f;
-    }
-};
-
-// A GLX context `handle` made as context 1 (with a glcast.context_format of `samples` if
-// non-zero) and current on a 32x16 window.
-void open_window(StreamBuilder& s, GLXContext handle, int32_t samples = 0) {
-    s.context(0);
-    encode_glXCreateContext(s.e, s.sz, nullptr, nullptr, nullptr, True, handle);
-    if (samples)
-        s.synthetic(kSynthContextFormat, [&](Encoder& e) {
-            e.address(handle);
-            e.value<int32_t>(samples);
-        });
-    s.synthetic(kSynthContext, [&](Encoder& e) {
-        e.value<uint32_t>(1);
-        e.address(handle);
-        e.value<uint32_t>(0);
-        e.value<uint8_t>(0);
-    });
-    s.context(1);
-    s.synthetic(kSynthDrawableSize, [&](Encoder& e) {
-        e.value<uint64_t>(7);
-        e.value<int32_t>(32);
-        e.value<int32_t>(16);
-    });
-    encode_glXMakeCurrent(s.e, s.sz, nullptr, 7, handle, True);
-}
-
-}  // namespace
+using testing_support::open_window;
+using testing_support::StreamBuilder;
 
 TEST(ReplayErrors, ReportedCountedAndSkipped) {
     std::string error;

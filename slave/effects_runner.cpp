@@ -1,0 +1,310 @@
+// Running the injected passes at the end of each frame (effects_runner.h).
+#include "slave/effects_runner.h"
+
+#include <algorithm>
+#include <cinttypes>
+#include <cstdio>
+#include <string>
+
+#include "common/gl_headers.h"
+#include "common/gl_state.h"
+#include "protocol/format.h"
+#include "slave/effects/gl_util.h"
+#include "slave/replayer.h"
+#include "slave/scene/redraw.h"
+#include "slave/tile_adapter.h"
+
+namespace glcast::slave {
+
+namespace {
+
+void set_enabled(const GlApi& gl, GLenum cap, bool on) {
+    if (on) gl.glEnable(cap);
+    else gl.glDisable(cap);
+}
+
+}  // namespace
+
+EffectsRunner::EffectsRunner(Replayer& core, TileAdapter& tile) : core_(core), tile_(tile), scenes_(core, tile) {
+    // The window as the scene left it, before the first overlay: what the passes decorate.
+    scenes_.on_overlays_start = [this](SlaveContext& ctx) {
+        WindowCopies& copies = passes(ctx).copies;
+        copies.size(ctx);
+        copies.copy(ctx, copies.scene_image_fb, false);
+    };
+}
+
+EffectsRunner::~EffectsRunner() = default;
+
+EffectsRunner::ContextPasses& EffectsRunner::passes(const SlaveContext& ctx) {
+    auto& p = passes_[ctx.id];
+    if (!p) p = std::make_unique<ContextPasses>(core_);
+    return *p;
+}
+
+// Everything the record may keep (semantics.yaml redraw) and, inside glBegin/glEnd, every call.
+bool EffectsRunner::wants(uint32_t opcode, const CommandInfo* info) const {
+    return info ? true : opcode == kSynthClientArrays;
+}
+
+void EffectsRunner::before_call(const Call& c, const uint8_t* tuple, size_t bytes) {
+    if (SlaveContext* ctx = core_.current_or_null()) scenes_.record(*ctx, c, tuple, bytes);
+}
+
+void EffectsRunner::reset() {
+    scenes_.reset();
+    passes_.clear();
+}
+
+void EffectsRunner::context_removed(uint32_t id) {
+    scenes_.forget(id);
+    passes_.erase(id);
+}
+
+void EffectsRunner::end_frame(SlaveContext& ctx) {
+    scenes_.frame_drawn(ctx);
+    run_effects(ctx);
+    scenes_.frame_decorated(ctx);
+}
+
+void EffectsRunner::presented(SlaveContext& ctx) {
+    WindowCopies& copies = passes(ctx).copies;
+    if (!copies.program_image_saved) return;
+    copies.program_image_saved = false;
+    if (!copies.sized(ctx)) return;  // resized: a new picture anyway
+    copies.copy(ctx, copies.program_image_fb, false, true);
+}
+
+void EffectsRunner::run_effects(SlaveContext& ctx) {
+    ContextPasses& st = passes(ctx);
+    ContextScene& scene = scenes_.scene(ctx);
+    if (ctx.width <= 0 || ctx.height <= 0) {  // nothing shown: nothing to decorate
+        scene.next_frame();
+        return;
+    }
+    const GlApi& gl = core_.api();
+    if (!checked_) {
+        const std::string missing = effects::missing_pass_function(gl);
+        if (!missing.empty()) throw EffectsError("effects: " + missing);
+        checked_ = true;
+    }
+    try {
+        if (!st.pipeline) st.pipeline = std::make_unique<effects::Pipeline>(gl, core_.options().effects);
+        effects::FrameView view;
+        frame_view(ctx, view);
+        WindowCopies& copies = st.copies;
+        copies.size(ctx);
+        copies.copy(ctx, copies.program_image_fb, false);
+        copies.program_image_saved = true;
+        const bool sized = copies.sized(ctx);
+        const bool overlays = scene.facts.overlay && sized;
+        if (overlays) copies.copy(ctx, copies.scene_image_fb, false, /*back=*/true);  // the scene alone
+        const bool view_model = scene.facts.view_model_far > 0 && sized;
+        // A borrowed scene covers part of the window: the rest is the program's.
+        const bool placed = scene.loan.borrowed_from != 0 && sized;
+        if (view_model) st.view_model_depth = copies.window_copy(ctx, true, scene, scenes_.scene_shown(ctx));  // before any pass draws
+        else scene.facts.view_model_far = 0;
+        st.pipeline->run(view);
+        if (overlays || view_model || placed) put_overlays_back(ctx, overlays);
+        if (core_.after_effects) core_.after_effects(view);
+        if (scene.loan.borrowed_from && !said_borrowed_) {
+            said_borrowed_ = true;
+            std::fprintf(stderr, "glcast: effects: from frame %" PRIu64 " on, context %u shows the scene context %u draws "
+                                 "into a texture (docs/effects.md, \"A scene another context draws\")\n",
+                         core_.frame(), ctx.id, scene.loan.borrowed_from);
+        }
+    } catch (const std::runtime_error& e) {
+        throw EffectsError(std::string("effects: ") + e.what());
+    }
+    scene.next_frame();
+}
+
+void EffectsRunner::frame_view(SlaveContext& ctx, effects::FrameView& v) {
+    ContextScene& scene = scenes_.scene(ctx);
+    SceneFacts& facts = scene.facts;
+    const ReplayOptions& options = core_.options();
+    const TileMapping& t = options.tile;
+    v.frame = core_.frame();
+    v.frame_time = 1.0 / 60;
+    v.time = double(v.frame) * v.frame_time;
+    v.width = ctx.width, v.height = ctx.height;
+    v.canvas_x = t.enabled ? t.place_x : 0;
+    v.canvas_y = t.enabled ? t.place_y : 0;
+    v.canvas_width = t.enabled ? t.place_canvas_width : ctx.width;
+    v.canvas_height = t.enabled ? t.place_canvas_height : ctx.height;
+    v.light = facts.light;
+    v.view_known = facts.main_known;
+    if (!facts.main_known && facts.shader_draws && options.view.program_fov_y_deg) {
+        v.view_known = true;  // a shader program: the projection the display config states
+        facts.projection = options.view.program_projection(double(ctx.master_width) / std::max(1, ctx.master_height));
+        facts.viewport[0] = facts.viewport[1] = 0;
+        facts.viewport[2] = ctx.master_width, facts.viewport[3] = ctx.master_height;
+    }
+    if (!v.view_known && facts.shader_draws && !warned_no_camera_) {
+        warned_no_camera_ = true;
+        std::fprintf(stderr, "glcast: effects: no draw with a perspective projection among the shader programs' "
+                             "matrices in frame %" PRIu64 ": passes that need the scene's view skip such frames "
+                             "(program_projection in the display config states it)\n", core_.frame());
+    }
+    if (v.view_known) {
+        v.projection = facts.projection;
+        v.modelview = facts.modelview;
+        // The program's viewport as this slave applies it, in tile pixels.
+        const int32_t* p = facts.viewport;
+        const int W = ctx.master_width, H = ctx.master_height;
+        double vx = p[0], vy = p[1], vw = p[2], vh = p[3];
+        if (t.enabled) {
+            vx = double(t.map_x(p[0], W)), vy = double(t.map_y(p[1], H));
+            vw = double(t.map_w(p[0], p[2], W)), vh = double(t.map_h(p[1], p[3], H));
+        }
+        // app NDC -> tile NDC through both viewports, as a matrix on clip coordinates.
+        glm::dmat4 planar(1.0);
+        planar[0][0] = vw / ctx.width;
+        planar[3][0] = (2 * vx + vw) / ctx.width - 1;
+        planar[1][1] = vh / ctx.height;
+        planar[3][1] = (2 * vy + vh) / ctx.height - 1;
+        const glm::dmat4 rotated = options.view.enabled ? options.view.correction(facts.projection) : glm::dmat4(1.0);
+        v.tile_clip_from_app_clip = planar * rotated;
+        v.tile_clip_from_eye = v.tile_clip_from_app_clip * v.projection;
+        v.eye_from_tile_clip = glm::inverse(v.tile_clip_from_eye);
+    }
+    ContextPasses* st = &passes(ctx);
+    st->copies.new_frame();
+    const GlApi& gl = core_.api();
+    gl.glGetIntegerv(GL_VERTEX_ARRAY_BINDING, &st->program_vao);
+    gl.glGetIntegerv(GL_ACTIVE_TEXTURE, &st->program_active_texture);
+    for (int unit = 0; unit < 8; ++unit) {
+        gl.glActiveTexture(GLenum(GL_TEXTURE0 + unit));
+        gl.glGetIntegerv(GL_TEXTURE_BINDING_2D, &st->program_textures[unit]);
+    }
+    gl.glActiveTexture(GLenum(st->program_active_texture));
+    SlaveContext* c = &ctx;
+    ContextScene* sc = &scene;
+    v.color_texture = [this, c, st, sc] { return st->copies.window_copy(*c, false, *sc, scenes_.scene_shown(*c)); };
+    v.depth_texture = [this, c, st, sc] { return st->copies.window_copy(*c, true, *sc, scenes_.scene_shown(*c)); };
+    // A borrowed scene's shader draws name the lender's vertex-array objects, which this context
+    // does not share: only fixed-function scenes are re-rendered from another context.
+    const ContextScene& shown = scenes_.scene_shown(ctx);
+    const bool borrowed = &shown != &scene;
+    if (facts.main_known && !shown.record.overflow && !(borrowed && shown.facts.shader_draws) &&
+        (shown.facts.shader_draws ? core_.options().effects.redraws() : compatibility_profile(gl))) {
+        v.redraw = [this, c](const glm::dmat4& correction) { redraw_main_view(*c, correction); };
+        v.redraw_binds_programs = shown.facts.shader_draws;
+    }
+}
+
+// Re-executes the recorded calls of the main view with `correction` premultiplied into the
+// program's projection (fixed function) or set as glcast_clip (shader programs, whose vertex
+// shaders the slave patched). Everything it changes is put back: attributes and client
+// attributes, the three matrix stacks (depth and top), the vertex array, the caller's program,
+// the trackers (list base, current program, pending client-array ranges); uniform values and
+// uniform buffers end as the frame left them because the frame's calls that set them are
+// replayed in its order.
+void EffectsRunner::redraw_main_view(SlaveContext& ctx, const glm::dmat4& correction) {
+    ContextPasses& st = passes(ctx);
+    const ContextScene& shown = scenes_.scene_shown(ctx);  // a borrowed scene: the lender's draws
+    const bool borrowed = &shown != &scenes_.scene(ctx);
+    const FrameRecord& rec = shown.record;
+    const GlApi& gl = core_.api();
+    const bool compatibility = compatibility_profile(gl);
+    if (rec.entries.empty() || (!compatibility && !shown.facts.shader_draws)) return;
+    const uint32_t saved_list_base = ctx.list_base;
+    const uint64_t saved_program_stream = ctx.current_program;
+    const PendingClientArrays pending(ctx);
+    GLint active_texture = GL_TEXTURE0;
+    gl.glGetIntegerv(GL_ACTIVE_TEXTURE, &active_texture);
+    GlStateGuard guard(gl, kGuardProgram | kGuardVertexArray |
+                               (compatibility ? kGuardAttribStacks | kGuardMatrixStacks | kGuardMatrixMode : 0));
+    // (A borrowed scene's draws start from no vertex-array object and no textures: this
+    // context's are not the lender's.)
+    gl.glBindVertexArray(borrowed ? 0 : GLuint(st.program_vao));
+    for (int unit = 0; unit < 8; ++unit) {
+        gl.glActiveTexture(GLenum(GL_TEXTURE0 + unit));
+        gl.glBindTexture(GL_TEXTURE_2D, borrowed ? 0 : GLuint(st.program_textures[unit]));
+    }
+    gl.glActiveTexture(GLenum(st.program_active_texture));
+    // A frame of fixed-function draws keeps the caller's program (a pass's own shading);
+    // shader draws bring theirs, from the one current when the frame began.
+    const bool programs = shown.facts.shader_draws;
+    if (programs) {
+        gl.glUseProgram(GLuint(rec.start_program));
+        ctx.current_program = rec.start_program_stream;
+    }
+    tile_.begin_redraw(correction, programs);
+    // Face culling is the program's, draw by draw, and the caller's again afterwards.
+    const bool caller_cull = gl.glIsEnabled(GL_CULL_FACE);
+    GLint caller_cull_face = GL_BACK, caller_front_face = GL_CCW;
+    gl.glGetIntegerv(GL_CULL_FACE_MODE, &caller_cull_face);
+    gl.glGetIntegerv(GL_FRONT_FACE, &caller_front_face);
+    bool cull = caller_cull;
+    GLenum cull_face = GLenum(caller_cull_face), front_face = GLenum(caller_front_face);
+    Call c;
+    for (const RecordEntry& e : rec.entries) {
+        if ((e.draw && !e.main) || (e.program_state && !programs)) continue;
+        if (e.opens) {
+            if (e.cull != cull) set_enabled(gl, GL_CULL_FACE, cull = e.cull);
+            if (e.cull_face != cull_face) gl.glCullFace(cull_face = e.cull_face);
+            if (e.front_face != front_face) gl.glFrontFace(front_face = e.front_face);
+        }
+        redispatch_entry(core_, rec, e, c);
+    }
+    tile_.end_redraw();
+    set_enabled(gl, GL_CULL_FACE, caller_cull);
+    gl.glCullFace(GLenum(caller_cull_face));
+    gl.glFrontFace(GLenum(caller_front_face));
+    ctx.list_base = saved_list_base;
+    ctx.current_program = saved_program_stream;
+    gl.glActiveTexture(GLenum(active_texture));
+}
+
+void EffectsRunner::put_overlays_back(SlaveContext& ctx, bool overlays) {
+    ContextPasses& st = passes(ctx);
+    const ContextScene& scene = scenes_.scene(ctx);
+    const GlApi& gl = core_.api();
+    if (!st.overlay_program) {
+        st.overlay_program = effects::build_program(gl, "fullscreen.vert", "overlays.frag");
+        gl.glGenVertexArrays(1, &st.overlay_vao);
+    }
+    effects::StateGuard guard(gl);
+    gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
+    gl.glViewport(0, 0, ctx.width, ctx.height);
+    gl.glDisable(GL_BLEND);
+    gl.glDisable(GL_DEPTH_TEST);
+    gl.glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    gl.glUseProgram(st.overlay_program);
+    gl.glActiveTexture(GL_TEXTURE0);
+    gl.glBindTexture(GL_TEXTURE_2D, st.copies.program_image);
+    gl.glActiveTexture(GL_TEXTURE1);
+    gl.glBindTexture(GL_TEXTURE_2D, st.copies.scene_image);
+    gl.glActiveTexture(GL_TEXTURE2);
+    gl.glBindTexture(GL_TEXTURE_2D, scene.facts.view_model_far > 0 ? st.view_model_depth : 0);
+    gl.glUniform1i(effects::uniform(gl, st.overlay_program, "final_image"), 0);
+    gl.glUniform1i(effects::uniform(gl, st.overlay_program, "scene_image"), 1);
+    gl.glUniform1i(effects::uniform(gl, st.overlay_program, "scene_depth"), 2);
+    gl.glUniform1i(effects::uniform(gl, st.overlay_program, "overlays"), overlays);
+    gl.glUniform1f(effects::uniform(gl, st.overlay_program, "view_model_far"), GLfloat(scene.facts.view_model_far));
+    int32_t rect[4];
+    scene_rect(ctx, rect);
+    gl.glUniform4f(effects::uniform(gl, st.overlay_program, "scene_rect"), GLfloat(rect[0]), GLfloat(rect[1]),
+                   GLfloat(rect[2]), GLfloat(rect[3]));
+    effects::draw_fullscreen(gl, st.overlay_vao);
+}
+
+// Where the frame's scene is in this tile's pixels: the whole window, or the rectangle a borrowed
+// scene was drawn to.
+void EffectsRunner::scene_rect(SlaveContext& ctx, int32_t out[4]) {
+    const SceneLoan& loan = scenes_.scene(ctx).loan;
+    out[0] = out[1] = 0, out[2] = ctx.width, out[3] = ctx.height;
+    if (!loan.borrowed_from || loan.placement[2] <= loan.placement[0]) return;
+    const TileMapping& t = core_.options().tile;
+    const int W = ctx.master_width, H = ctx.master_height;
+    const int32_t* p = loan.placement;
+    if (!t.enabled) {
+        std::copy(p, p + 4, out);
+        return;
+    }
+    out[0] = int32_t(t.map_x(p[0], W)), out[1] = int32_t(t.map_y(p[1], H));
+    out[2] = out[0] + int32_t(t.map_w(p[0], p[2] - p[0], W)), out[3] = out[1] + int32_t(t.map_h(p[1], p[3] - p[1], H));
+}
+
+}  // namespace glcast::slave

@@ -1,0 +1,75 @@
+// The injected passes' observer of the replay (docs/effects.md): before each call it hands the
+// call to the scene recorder (slave/scene/scene_recorder.h), which keeps what a pass may redraw
+// and finds the frame's scene; at the end of each frame it describes the frame to the passes
+// (effects::FrameView), runs them (slave/effects/pipeline.h) and puts the program's overlays
+// back over what they drew.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <stdexcept>
+#include <unordered_map>
+
+#include <glm/glm.hpp>
+
+#include "slave/effects/frame_view.h"
+#include "slave/effects/pipeline.h"
+#include "slave/replay_observer.h"
+#include "slave/scene/scene_recorder.h"
+#include "slave/scene/window_copies.h"
+
+namespace glcast::slave {
+
+// The effects could not run (a shader that does not compile, a driver without GL 3.3): fatal
+// for the slave, with the reason.
+class EffectsError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+class Replayer;
+class TileAdapter;
+
+class EffectsRunner : public ReplayObserver {
+public:
+    EffectsRunner(Replayer& core, TileAdapter& tile);
+    ~EffectsRunner() override;
+
+    bool wants(uint32_t opcode, const CommandInfo* info) const override;
+    void before_call(const Call& c, const uint8_t* tuple, size_t bytes) override;
+    void end_frame(SlaveContext& ctx) override;
+    void presented(SlaveContext& ctx) override;
+    void reset() override;
+    void context_removed(uint32_t id) override;
+
+    SceneRecorder& scenes() { return scenes_; }
+
+private:
+    // Per slave context: its pipeline, the copies of its window, the overlays' program, and the
+    // program's vertex-array object and 2D textures (units 0..7) as the frame left them, before
+    // any pass: a redraw gives them back to the program's draws, whatever a pass bound.
+    struct ContextPasses {
+        explicit ContextPasses(Replayer& core) : copies(core) {}
+        std::unique_ptr<effects::Pipeline> pipeline;
+        WindowCopies copies;
+        GLuint overlay_program = 0, overlay_vao = 0;
+        GLuint view_model_depth = 0;  // the depth the passes saw, for the view model's pixels
+        GLint program_vao = 0, program_active_texture = GL_TEXTURE0, program_textures[8] = {};
+    };
+    ContextPasses& passes(const SlaveContext& ctx);
+    void run_effects(SlaveContext& ctx);
+    void frame_view(SlaveContext& ctx, effects::FrameView& view);
+    void redraw_main_view(SlaveContext& ctx, const glm::dmat4& correction);
+    void put_overlays_back(SlaveContext& ctx, bool overlays);
+    void scene_rect(SlaveContext& ctx, int32_t out[4]);  // where the scene is, tile pixels
+
+    Replayer& core_;
+    TileAdapter& tile_;
+    SceneRecorder scenes_;
+    std::unordered_map<uint32_t, std::unique_ptr<ContextPasses>> passes_;  // by context id
+    bool checked_ = false;  // the driver has every function the passes need
+    bool warned_no_camera_ = false;
+    bool said_borrowed_ = false;
+};
+
+}  // namespace glcast::slave

@@ -1,0 +1,139 @@
+// The scene's decisions (scene_classifier.h).
+#include "slave/scene/scene_classifier.h"
+
+#include <algorithm>
+
+namespace glcast::slave {
+namespace {
+
+void found_view(SceneFacts& f, DrawState& s, GLuint framebuffer, const glm::dmat4& projection,
+                const glm::dmat4& modelview) {
+    f.main_known = true;
+    f.scene_framebuffer = framebuffer;
+    f.projection = projection;
+    f.modelview = modelview;
+    s.viewport(f.viewport);
+}
+
+// A fixed-function draw: the first with a perspective projection that writes depth, unless
+// its modelview is mirrored, is the main view; later ones with the same projection into the
+// same target belong to it. A backdrop drawn first without depth writes (a star field) is
+// neither the main view nor, after it, the start of the overlays; the window's depth does
+// not have it, and the redraw leaves it out.
+bool fixed_function_draw_is_main(SceneFacts& f, DrawState& s, GLuint framebuffer, bool& found) {
+    const glm::dmat4 app = s.projection();
+    const bool depth = s.writes_depth();
+    if (!f.main_known && is_perspective(app) && depth) {
+        const glm::dmat4 modelview = s.modelview();
+        if (!mirrored(modelview)) {
+            // (a push made inside a reflection is not the view)
+            found_view(f, s, framebuffer, app, f.pushed && !mirrored(f.last_push) ? f.last_push : modelview);
+            f.light = s.light();
+            found = true;
+        }
+    }
+    return f.main_known && app == f.projection && depth && framebuffer == f.scene_framebuffer;
+}
+
+// A shader program's draw belongs to the main view when its camera (found from its matrices,
+// program_camera.h) has the main view's projection, the first such draw making the main view;
+// with a configured projection, every draw to the window before the overlays does. Only draws
+// that write depth with the depth test on: a sky drawn without depth is no caster, and the
+// window's depth does not have it either.
+bool shader_draw_is_main(SceneFacts& f, DrawState& s, GLuint program, GLuint framebuffer,
+                         const ClassifierSettings& settings, bool& found) {
+    if (f.main_known && !settings.redraws) return false;  // no pass re-renders: the camera is all we need
+    if (settings.configured_projection)
+        return settings.redraws && !f.overlay && s.writes_depth() && framebuffer == 0;
+    if (!f.main_known && f.camera_probes >= kMaxCameraProbes) return false;
+    ProgramCamera camera;
+    if (!f.main_known) f.camera_probes++;
+    if (!s.camera(program, camera)) return false;
+    if (!f.main_known && mirrored(camera.modelview)) return false;  // a reflection's camera
+    if (!f.main_known) {
+        found_view(f, s, framebuffer, camera.projection, camera.modelview);
+        found = true;
+    }
+    return !f.overlay && camera.projection == f.projection && s.writes_depth() && framebuffer == f.scene_framebuffer;
+}
+
+}  // namespace
+
+DrawVerdict classify_draw(SceneFacts& f, DrawState& s, GLuint framebuffer, const ClassifierSettings& settings) {
+    DrawVerdict v;
+    if (const double far = s.view_model_far()) {
+        // Neither the main view nor a part of it: its pixels go back as the program drew them.
+        if (f.main_known && !f.overlay) f.view_model_far = std::max(f.view_model_far, far);
+        if (s.program()) f.shader_draws = true;
+        return v;
+    }
+    if (const GLuint program = s.program()) {
+        f.shader_draws = true;
+        v.main = shader_draw_is_main(f, s, program, framebuffer, settings, v.found_view);
+    } else {
+        v.main = fixed_function_draw_is_main(f, s, framebuffer, v.found_view);
+    }
+    if (v.main) v.cull = s.cull();
+    return v;
+}
+
+bool offscreen_scene(const SceneFacts& f, DrawState& s, int master_width, int master_height, bool may_lend,
+                     GLuint& framebuffer) {
+    framebuffer = s.draw_framebuffer();
+    if (f.main_known) return f.scene_framebuffer != 0 && framebuffer == f.scene_framebuffer;
+    if (f.overlay || f.presented || !framebuffer) return false;
+    int32_t viewport[4];
+    s.viewport(viewport);
+    if (viewport[0] != 0 || viewport[1] != 0) return false;
+    if (viewport[2] != master_width || viewport[3] != master_height) {
+        // A context that has never presented, beside another of its share group, draws for it
+        // (a toolkit's GL widget): its scene target has the widget's size, and a colour texture
+        // (or multisampled renderbuffers resolved into one) the other can show. (A program's
+        // only context has not presented in its first frame either: its smaller targets are not
+        // scenes.)
+        if (!may_lend || s.color_attachment_type() == GL_NONE) return false;
+    }
+    return s.depth_attachment_type() != GL_NONE;
+}
+
+// A scene drawn offscreen is complete when the program shows it in the window (a full-window
+// draw with the depth test off, or a blit); whatever the window gets after that is overlay (a
+// game's HUD, its 3D icons included). Programs draw their HUD and text last, with the depth
+// test off or an orthographic projection; a 3D draw after the HUD (a weapon) is an overlay too.
+WindowDrawMeaning window_draw(SceneFacts& f, DrawState& s, RedrawKind kind) {
+    if (kind != RedrawKind::Draw && kind != RedrawKind::Begin && kind != RedrawKind::Pixels)
+        return WindowDrawMeaning::Scene;
+    if (f.scene_framebuffer && !f.presented) {
+        if (kind == RedrawKind::Pixels || !s.writes_depth()) {
+            f.presented = true;  // the scene's image drawn over the window
+            return WindowDrawMeaning::Scene;
+        }
+        // A 3D draw to the window: what was drawn offscreen was not the scene.
+        f.main_known = false;
+        f.scene_framebuffer = 0;
+        f.light = effects::SceneLight{};
+        return WindowDrawMeaning::NotTheScene;
+    }
+    if (!f.scene_framebuffer && !starts_overlays(f, s, kind)) return WindowDrawMeaning::Scene;
+    f.overlay = true;
+    return WindowDrawMeaning::StartsOverlays;
+}
+
+bool starts_overlays(const SceneFacts& f, DrawState& s, RedrawKind kind) {
+    const GLuint program = kind != RedrawKind::Pixels ? s.program() : 0;
+    bool flat = kind == RedrawKind::Pixels || !s.depth_test();
+    if (!flat) flat = !program && !is_perspective(s.projection());
+    // A shader program that paints its 3D scene in order with the depth test off draws it with
+    // the main view's camera: scene, not overlay.
+    ProgramCamera camera;
+    if (flat && program && s.camera(program, camera) && camera.projection == f.projection) flat = false;
+    return flat;
+}
+
+void note_push(SceneFacts& f, DrawState& s) {
+    if (s.matrix_mode() != GL_MODELVIEW) return;  // the value a push saves is the one on top before it
+    f.last_push = s.modelview();
+    f.pushed = true;
+}
+
+}  // namespace glcast::slave

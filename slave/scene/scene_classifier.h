@@ -1,0 +1,96 @@
+// Which of a frame's draws are its scene: the main view (the camera the passes decorate
+// through), a scene drawn offscreen into a framebuffer object, and from where on the window
+// gets overlays (HUD, text, menus) that the passes leave alone. Decisions only: every fact
+// about GL state comes from a DrawState (draw_state.h), every finding goes into SceneFacts, so
+// each rule is tested without a driver (tests/unit/scene_classifier_test.cpp).
+#pragma once
+
+#include <cstdint>
+
+#include <glm/glm.hpp>
+
+#include "protocol/command_info.h"
+#include "slave/effects/frame_view.h"
+#include "slave/scene/draw_state.h"
+
+namespace glcast::slave {
+
+// What one context's frame has shown of its scene so far; a new frame starts from SceneFacts{}.
+struct SceneFacts {
+    bool shader_draws = false;  // some draw to the window used a shader program
+    // Overlays: from the first draw after the main view that is two-dimensional (an
+    // orthographic projection, the depth test off, pixels at the raster position) on, the
+    // frame's draws are the program's HUD and text, drawn over what the passes decorate.
+    bool overlay = false;
+    // A first-person view model (a game's weapon): draws after the main view squeezed into the
+    // front of the depth range (glDepthRange(0, f), f < 1) so that nothing in the world hides
+    // them. Not the scene: not redrawn, and the pixels whose depth is below the largest such f
+    // are the program's, as an overlay's are. 0: none this frame.
+    double view_model_far = 0;
+    // Shader draws whose matrices were read for a camera this frame: a 2D program with
+    // thousands of draws stops asking after kMaxCameraProbes.
+    int camera_probes = 0;
+    // The main view: the first draw to the window with a perspective projection (fixed
+    // function: that also writes depth; shader programs: whose matrices split as a camera).
+    bool main_known = false;
+    // A scene drawn offscreen: the main view was found in the program's framebuffer object
+    // `scene_framebuffer` (the slave's name; 0: the window), one the program draws into whole at
+    // the window's size with a depth buffer (a post-processing engine's scene target). The first
+    // draw or copy to the window after it shows it there (`presented`); later draws to the window
+    // are overlays. If that first draw writes depth instead, the object was not the scene.
+    GLuint scene_framebuffer = 0;
+    bool presented = false;
+    glm::dmat4 projection{1.0}, modelview{1.0};
+    int32_t viewport[4] = {0, 0, 0, 0};  // the program's, master window coordinates
+    effects::SceneLight light;
+    // The modelview the program pushed last (glPushMatrix on GL_MODELVIEW) before the main
+    // view's first draw: the view transform of programs that push per object.
+    bool pushed = false;
+    glm::dmat4 last_push{1.0};
+};
+
+constexpr int kMaxCameraProbes = 64;
+
+struct ClassifierSettings {
+    // The display config states the shader programs' projection (program_projection): every
+    // shader draw to the window before the overlays is the main view's.
+    bool configured_projection = false;
+    bool redraws = false;  // some pass re-renders the main view
+};
+
+// A draw (or glBegin) about to run.
+struct DrawVerdict {
+    bool main = false;        // it belongs to the main view
+    bool found_view = false;  // ... and is its first: the main view was found with it
+    CullState cull;           // a main draw's face culling
+};
+
+// What a draw to the window after the main view means for the overlays.
+enum class WindowDrawMeaning {
+    Scene,           // nothing changes
+    StartsOverlays,  // the window as the scene left it is the passes' to decorate
+    NotTheScene,     // the offscreen scene was not one: the window's draws find the main view again
+};
+
+DrawVerdict classify_draw(SceneFacts& facts, DrawState& state, GLuint framebuffer, const ClassifierSettings& settings);
+
+// A draw into the bound framebuffer object that may hold the scene: the one the main view was
+// found in, or, before it is known, one the program draws into whole at the window's size
+// (master_width x master_height) with a depth buffer. `may_lend`: the context never presented and
+// shares objects with another, so a scene target of any size with a colour attachment counts
+// (a toolkit's GL widget). `framebuffer` is set to the bound one.
+bool offscreen_scene(const SceneFacts& facts, DrawState& state, int master_width, int master_height, bool may_lend,
+                     GLuint& framebuffer);
+
+// A draw of `kind` to the window while the main view is known and overlays have not started.
+WindowDrawMeaning window_draw(SceneFacts& facts, DrawState& state, RedrawKind kind);
+
+// A flat draw to the window after a main view drawn there: pixels at the raster position, the
+// depth test off, or a fixed-function orthographic projection; a shader program drawing with
+// the main view's camera is scene whatever its depth test.
+bool starts_overlays(const SceneFacts& facts, DrawState& state, RedrawKind kind);
+
+// glPushMatrix before the main view is known: a push of the modelview may save the view.
+void note_push(SceneFacts& facts, DrawState& state);
+
+}  // namespace glcast::slave

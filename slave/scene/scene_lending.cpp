@@ -1,0 +1,264 @@
+// Scenes lent between contexts (scene_lending.h).
+#include "slave/scene/scene_lending.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+#include "common/gl_state.h"
+#include "slave/effects/gl_util.h"
+#include "slave/replayer.h"
+#include "slave/scene/redraw.h"
+#include "slave/scene/scene_recorder.h"
+#include "slave/scene/window_copies.h"
+#include "slave/tile_adapter.h"
+
+namespace glcast::slave {
+
+namespace {
+
+// The draw that showed a borrowed scene is drawn again at the master's window size, but at most
+// kMaxPlacementSize a side (a stream may claim a window of 16384 squared): the placement is then
+// to a few pixels. Its rectangle is kept while what places it is unchanged, for at most
+// kPlacementKeptFrames frames (a placement moved by a buffer upload, which the record does not
+// hold, is found again then).
+constexpr int kMaxPlacementSize = 4096;
+constexpr int kPlacementKeptFrames = 30;
+
+}  // namespace
+
+void drop_borrowed(ContextScene& scene) {
+    scene.loan.borrowed_from = 0;
+    scene.loan.placement_pending = false;
+    scene.facts.main_known = scene.facts.presented = false;
+    scene.facts.scene_framebuffer = 0;
+    scene.facts.light = effects::SceneLight{};
+}
+
+bool SceneLending::shares_with_another(const SlaveContext& ctx) const {
+    for (const auto& [id, other] : core_.contexts())
+        if (id != ctx.id && other->names.shared == ctx.names.shared) return true;
+    return false;
+}
+
+void SceneLending::note_lendable_scene(SlaveContext&, ContextScene& scene) {
+    if (!scene.facts.scene_framebuffer || scene.presents) return;
+    const GlApi& gl = core_.api();
+    SceneLoan& loan = scene.loan;
+    GLint type = GL_NONE, name = 0;
+    gl.glGetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0,
+                                             GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE, &type);
+    gl.glGetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0,
+                                             GL_FRAMEBUFFER_ATTACHMENT_OBJECT_NAME, &name);
+    loan.scene_texture = type == GL_TEXTURE ? GLuint(name) : 0;  // else: the texture it is resolved into
+    gl.glGetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, GL_DEPTH_ATTACHMENT,
+                                             GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE, &type);
+    gl.glGetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, GL_DEPTH_ATTACHMENT,
+                                             GL_FRAMEBUFFER_ATTACHMENT_OBJECT_NAME, &name);
+    loan.scene_depth_type = GLenum(type);
+    loan.scene_depth_name = GLuint(name);
+    loan.scene_depth_format = depth_format(gl, GL_DRAW_FRAMEBUFFER);
+    loan.scene_size[0] = scene.facts.viewport[2], loan.scene_size[1] = scene.facts.viewport[3];
+}
+
+void SceneLending::note_resolved_scene(ContextScene& scene, DrawState& state) {
+    if (state.read_framebuffer() != scene.facts.scene_framebuffer) return;
+    if (state.color_attachment_type() != GL_TEXTURE) return;
+    const GlApi& gl = core_.api();
+    GLint name = 0;
+    gl.glGetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0,
+                                             GL_FRAMEBUFFER_ATTACHMENT_OBJECT_NAME, &name);
+    scene.loan.scene_texture = GLuint(name);
+}
+
+const ContextScene& SceneLending::scene_of(const ContextScene& scene) const {
+    if (!scene.loan.borrowed_from) return scene;
+    auto it = scenes_.find(scene.loan.borrowed_from);
+    return it != scenes_.end() ? *it->second : scene;
+}
+
+void SceneLending::borrow_scene(SlaveContext& ctx, ContextScene& scene) {
+    const GlApi& gl = core_.api();
+    GLint sampled[8] = {}, active = GL_TEXTURE0;
+    bool lenders = false;
+    for (auto& [id, other] : scenes_) lenders = lenders || (id != ctx.id && other->loan.scene_texture);
+    if (!lenders) return;
+    gl.glGetIntegerv(GL_ACTIVE_TEXTURE, &active);
+    for (int unit = 0; unit < 8; ++unit) {
+        gl.glActiveTexture(GLenum(GL_TEXTURE0 + unit));
+        gl.glGetIntegerv(GL_TEXTURE_BINDING_2D, &sampled[unit]);
+    }
+    gl.glActiveTexture(GLenum(active));
+    for (auto& [id, other] : scenes_) {
+        const SceneLoan& lent = other->loan;
+        const SceneFacts& lent_facts = other->facts;
+        if (id == ctx.id || other->presents || !lent_facts.main_known || !lent.scene_texture || other->record.overflow)
+            continue;
+        const SlaveContext* lender = core_.context(id);
+        if (!lender || lender->names.shared != ctx.names.shared) continue;  // the same name, another texture
+        if (std::find(sampled, sampled + 8, GLint(lent.scene_texture)) == sampled + 8) continue;
+        BorrowerObjects& objects = scene.borrower;
+        // Its depth, attached to a framebuffer object of this context.
+        GLint read = 0;
+        gl.glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &read);
+        if (!objects.lender_fb) gl.glGenFramebuffers(1, &objects.lender_fb);
+        gl.glBindFramebuffer(GL_READ_FRAMEBUFFER, objects.lender_fb);
+        gl.glFramebufferRenderbuffer(GL_READ_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, 0);
+        const bool packed = lent.scene_depth_format == GL_DEPTH24_STENCIL8 || lent.scene_depth_format == GL_DEPTH32F_STENCIL8;
+        const GLenum attachment = packed ? GL_DEPTH_STENCIL_ATTACHMENT : GL_DEPTH_ATTACHMENT;
+        if (lent.scene_depth_type == GL_RENDERBUFFER)
+            gl.glFramebufferRenderbuffer(GL_READ_FRAMEBUFFER, attachment, GL_RENDERBUFFER, lent.scene_depth_name);
+        else if (lent.scene_depth_type == GL_TEXTURE)
+            gl.glFramebufferTexture2D(GL_READ_FRAMEBUFFER, attachment, GL_TEXTURE_2D, lent.scene_depth_name, 0);
+        gl.glBindFramebuffer(GL_READ_FRAMEBUFFER, GLuint(read));
+        SceneFacts& facts = scene.facts;
+        scene.loan.borrowed_from = id;
+        facts.main_known = facts.presented = true;
+        facts.scene_framebuffer = objects.lender_fb;
+        facts.projection = lent_facts.projection, facts.modelview = lent_facts.modelview, facts.light = lent_facts.light;
+        std::copy(lent_facts.viewport, lent_facts.viewport + 4, facts.viewport);
+        scene.loan.placement_pending = true;
+        scene.loan.placement_from = scene.record.entries.size();
+        return;
+    }
+}
+
+// The draw that showed a borrowed scene, drawn again in the master's window coordinates (the
+// program's viewport, no tile mapping) into a depth-only target with every fragment at depth 0:
+// the rectangle it covered is where the scene is, whatever matrix or vertices put it there.
+bool SceneLending::measure_placement(SlaveContext& ctx, ContextScene& scene, size_t end, int32_t out[4]) {
+    BorrowerObjects& st = scene.borrower;
+    const FrameRecord& rec = scene.record;
+    const GlApi& gl = core_.api();
+    const int master_w = std::max(1, ctx.master_width), master_h = std::max(1, ctx.master_height);
+    const double scale = std::min(1.0, double(kMaxPlacementSize) / std::max(master_w, master_h));
+    const int W = std::max(1, int(std::lround(master_w * scale))), H = std::max(1, int(std::lround(master_h * scale)));
+    int32_t viewport[4];
+    tile_.program_viewport(viewport);  // the program's, for that draw
+    const bool compatibility = compatibility_profile(gl);
+    std::vector<uint8_t>& depth = st.placement_pixels;
+    depth.assign(size_t(W) * size_t(H), 255);
+    const PendingClientArrays pending(ctx);
+    try {
+        GlStateGuard guard(gl, kGuardPass | kGuardPixelPack |
+                                   (compatibility ? kGuardMatrixStacks | kGuardMatrixMode : 0));
+        if (st.placement_sizes[0] != W || st.placement_sizes[1] != H) {
+            if (st.placement_fb) gl.glDeleteFramebuffers(1, &st.placement_fb), gl.glDeleteTextures(1, &st.placement_depth);
+            st.placement_depth = effects::make_texture(gl, GL_DEPTH_COMPONENT24, W, H);
+            st.placement_fb = effects::make_framebuffer(gl, 0, st.placement_depth);
+            st.placement_sizes[0] = W, st.placement_sizes[1] = H;
+        }
+        GLint program = 0;
+        gl.glGetIntegerv(GL_CURRENT_PROGRAM, &program);
+        gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, st.placement_fb);
+        gl.glViewport(GLint(std::lround(viewport[0] * scale)), GLint(std::lround(viewport[1] * scale)),
+                      GLsizei(std::lround(viewport[2] * scale)), GLsizei(std::lround(viewport[3] * scale)));
+        gl.glEnable(GL_DEPTH_TEST);
+        gl.glDepthFunc(GL_ALWAYS);
+        gl.glDepthMask(GL_TRUE);
+        gl.glClearDepth(1.0);
+        gl.glClear(GL_DEPTH_BUFFER_BIT);
+        // The depth range and the tile's redraw mode are put back however the redraw ends.
+        struct Redrawing {
+            const GlApi& gl;
+            TileAdapter& tile;
+            GLdouble range[2] = {0, 1};
+            Redrawing(const GlApi& g, TileAdapter& t, bool programs) : gl(g), tile(t) {
+                gl.glGetDoublev(GL_DEPTH_RANGE, range);
+                gl.glDepthRange(0, 0);
+                tile.begin_redraw(glm::dmat4(1.0), programs);
+            }
+            ~Redrawing() {
+                tile.end_redraw();
+                gl.glDepthRange(range[0], range[1]);
+            }
+        };
+        {
+            Redrawing redrawing(gl, tile_, program != 0);
+            Call c;
+            for (size_t i = scene.loan.placement_from; i < end; ++i) redispatch_entry(core_, rec, rec.entries[i], c);
+        }
+        gl.glBindFramebuffer(GL_READ_FRAMEBUFFER, st.placement_fb);
+        if (gl.has(OP_glBindBuffer)) gl.glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+        gl.glPixelStorei(GL_PACK_ALIGNMENT, 1);
+        gl.glPixelStorei(GL_PACK_ROW_LENGTH, 0);
+        gl.glPixelStorei(GL_PACK_SKIP_ROWS, 0);
+        gl.glPixelStorei(GL_PACK_SKIP_PIXELS, 0);
+        gl.glReadPixels(0, 0, W, H, GL_DEPTH_COMPONENT, GL_UNSIGNED_BYTE, depth.data());
+    } catch (const std::runtime_error& e) {
+        std::fprintf(stderr, "glcast: effects: cannot place another context's scene: %s\n", e.what());
+    }
+    int x0 = W, y0 = H, x1 = 0, y1 = 0;
+    for (int y = 0; y < H; ++y) {
+        const uint8_t* row = depth.data() + size_t(y) * size_t(W);
+        for (int x = 0; x < W; ++x) {
+            if (row[x] == 255) continue;
+            x0 = std::min(x0, x), x1 = std::max(x1, x + 1), y0 = std::min(y0, y), y1 = std::max(y1, y + 1);
+        }
+    }
+    if (x0 >= x1 || y0 >= y1) return false;
+    if (scale < 1) {  // back to the master's pixels
+        x0 = int(std::floor(x0 / scale)), y0 = int(std::floor(y0 / scale));
+        x1 = std::min(master_w, int(std::ceil(x1 / scale))), y1 = std::min(master_h, int(std::ceil(y1 / scale)));
+    }
+    out[0] = x0, out[1] = y0, out[2] = x1, out[3] = y1;
+    return true;
+}
+
+// Measuring costs a draw, a clear and a read-back of the master's window size (docs/performance.md),
+// so the last frame's rectangle is kept while the frame's calls up to that draw are the same
+// bytes, with the same viewport and lender.
+void SceneLending::place_borrowed_scene(SlaveContext& ctx, ContextScene& scene) {
+    BorrowerObjects& st = scene.borrower;
+    FrameRecord& rec = scene.record;
+    SceneLoan& loan = scene.loan;
+    loan.placement_pending = false;
+    auto lender = scenes_.find(loan.borrowed_from);
+    if (rec.entries.size() <= loan.placement_from || lender == scenes_.end()) {  // the draw was not kept
+        drop_borrowed(scene);
+        return;
+    }
+    size_t end = loan.placement_from + 1;  // the draw only: its opening call and its block
+    while (end < rec.entries.size() && rec.entries[end].draw && !rec.entries[end].opens) end++;
+    int32_t viewport[4];
+    tile_.program_viewport(viewport);
+    const RecordEntry& last = rec.entries[end - 1];
+    uint64_t key = 1469598103934665603ull;  // FNV-1a of what places it
+    auto mix = [&key](const void* p, size_t n) {
+        for (size_t i = 0; i < n; ++i) key = (key ^ static_cast<const uint8_t*>(p)[i]) * 1099511628211ull;
+    };
+    mix(rec.bytes.data(), last.begin + last.size);
+    mix(viewport, sizeof viewport);
+    mix(&loan.borrowed_from, sizeof loan.borrowed_from);
+    mix(&ctx.master_width, sizeof ctx.master_width);
+    mix(&ctx.master_height, sizeof ctx.master_height);
+    int32_t rect[4];
+    if (st.placement_known && st.placement_key == key && st.placement_age < kPlacementKeptFrames) {
+        std::copy(st.placement_rect, st.placement_rect + 4, rect);
+        st.placement_age++;
+    } else if (measure_placement(ctx, scene, end, rect)) {
+        std::copy(rect, rect + 4, st.placement_rect);
+        st.placement_known = true, st.placement_key = key, st.placement_age = 0;
+    } else {
+        st.placement_known = false;
+        rect[0] = rect[2] = 0;
+    }
+    if (rect[0] >= rect[2]) {  // it drew nothing: the scene is not shown
+        drop_borrowed(scene);
+        return;
+    }
+    const SceneLoan& lent = lender->second->loan;
+    const SceneFacts& lent_facts = lender->second->facts;
+    std::copy(rect, rect + 4, loan.placement);
+    // The lender's viewport, in its target's pixels, placed and scaled as the window shows them.
+    const double sx = double(rect[2] - rect[0]) / std::max(1, lent.scene_size[0]);
+    const double sy = double(rect[3] - rect[1]) / std::max(1, lent.scene_size[1]);
+    int32_t* v = scene.facts.viewport;
+    v[0] = int32_t(std::lround(rect[0] + lent_facts.viewport[0] * sx));
+    v[1] = int32_t(std::lround(rect[1] + lent_facts.viewport[1] * sy));
+    v[2] = int32_t(std::lround(lent_facts.viewport[2] * sx));
+    v[3] = int32_t(std::lround(lent_facts.viewport[3] * sy));
+}
+
+}  // namespace glcast::slave

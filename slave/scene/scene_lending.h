@@ -1,0 +1,87 @@
+// A scene another context draws (docs/effects.md "A scene another context draws"): a
+// toolkit's GL widget (Qt's QOpenGLWidget) draws its view with a context of its own, which
+// never presents, into a framebuffer object of the widget's size, and only when the view
+// changes; the window's context draws that object's colour texture into the window every
+// frame. The lending context's record keeps its scene (texture, depth attachment, size) until
+// it draws the next; the presenting context borrows it when a draw to the window samples the
+// texture, and finds where that draw put it by drawing it again in the master's window
+// coordinates into a depth-only target.
+#pragma once
+
+#include <cstdint>
+#include <unordered_map>
+#include <memory>
+#include <vector>
+
+#include "common/gl_headers.h"
+
+namespace glcast::slave {
+
+class Replayer;
+class TileAdapter;
+struct SlaveContext;
+struct ContextScene;
+class DrawState;
+
+// This frame's side of a loan; a new frame starts from SceneLoan{}.
+struct SceneLoan {
+    // Lender: its scene's colour texture, depth attachment and size.
+    GLuint scene_texture = 0, scene_depth_name = 0;
+    GLenum scene_depth_type = GL_NONE, scene_depth_format = 0;
+    int32_t scene_size[2] = {0, 0};
+    bool complete = false;  // a frame was presented since it drew its scene
+    // Borrower: the lender's context id, and where the draw that shows the scene put it
+    // (x0, y0, x1, y1 in the master's window pixels) once measured.
+    uint32_t borrowed_from = 0;
+    bool placement_pending = false;  // from entry placement_from on, the draw that shows it
+    size_t placement_from = 0;
+    int32_t placement[4] = {0, 0, 0, 0};
+};
+
+// A borrower's GL objects and its last measured placement; they outlive frames.
+struct BorrowerObjects {
+    // A framebuffer object of this context with the lender's depth attached (framebuffer objects
+    // are not shared, their attachments are), and the depth-only target of the master's window
+    // size on which the draw that shows the scene is drawn again.
+    GLuint lender_fb = 0, placement_fb = 0, placement_depth = 0;
+    int placement_sizes[2] = {0, 0};
+    std::vector<uint8_t> placement_pixels;  // its depth read back, one byte a pixel
+    bool placement_known = false;
+    uint64_t placement_key = 0;  // what the last rectangle was measured for
+    int placement_age = 0;
+    int32_t placement_rect[4] = {0, 0, 0, 0};
+};
+
+using ContextScenes = std::unordered_map<uint32_t, std::unique_ptr<ContextScene>>;
+
+class SceneLending {
+public:
+    SceneLending(Replayer& core, TileAdapter& tile, ContextScenes& scenes) : core_(core), tile_(tile), scenes_(scenes) {}
+
+    // The main view was just found in a framebuffer object of a context that never presented:
+    // what it lends, read from that framebuffer's attachments.
+    void note_lendable_scene(SlaveContext& ctx, ContextScene& scene);
+    // A lender's multisampled scene resolved (glBlitFramebuffer) into a framebuffer object whose
+    // colour is a texture: that texture shows the scene.
+    void note_resolved_scene(ContextScene& scene, DrawState& state);
+    // Another context's scene, shown by the draw about to run (a draw to the window sampling the
+    // lender's colour texture): taken as this frame's main view.
+    void borrow_scene(SlaveContext& ctx, ContextScene& scene);
+    // After that draw ran: where it put the scene, and the scene's viewport in the window.
+    void place_borrowed_scene(SlaveContext& ctx, ContextScene& scene);
+    // The scene whose draws and camera are this context's frame's: the lender's when borrowed.
+    const ContextScene& scene_of(const ContextScene& scene) const;
+    bool shares_with_another(const SlaveContext& ctx) const;  // objects with another live context
+
+private:
+    bool measure_placement(SlaveContext& ctx, ContextScene& scene, size_t end, int32_t out[4]);
+
+    Replayer& core_;
+    TileAdapter& tile_;
+    ContextScenes& scenes_;
+};
+
+// The frame shows no other context's scene after all.
+void drop_borrowed(ContextScene& scene);
+
+}  // namespace glcast::slave

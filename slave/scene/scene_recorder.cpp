@@ -1,0 +1,132 @@
+// Recording the frame's scene, call by call (scene_recorder.h).
+#include "slave/scene/scene_recorder.h"
+
+#include <algorithm>
+#include <cinttypes>
+#include <cstdio>
+
+#include "protocol/format.h"
+#include "slave/replayer.h"
+#include "slave/tile_adapter.h"
+
+namespace glcast::slave {
+
+ContextScene& SceneRecorder::scene(const SlaveContext& ctx) {
+    auto& s = scenes_[ctx.id];
+    if (!s) s = std::make_unique<ContextScene>();
+    return *s;
+}
+
+ClassifierSettings SceneRecorder::settings() const {
+    return ClassifierSettings{core_.options().view.program_fov_y_deg != 0, core_.options().effects.redraws()};
+}
+
+void SceneRecorder::record(SlaveContext& ctx, const Call& c, const uint8_t* tuple, size_t tuple_size) {
+    if (c.opcode >= kSynthBase && c.opcode != kSynthClientArrays) return;
+    if (c.info && (c.info->sem.flags & kSemLinksProgram))  // which matrices a program has may change
+        for (auto& [id, s] : scenes_)
+            if (s->program_cameras) s->program_cameras->forget();
+    ContextScene& sc = scene(ctx);
+    FrameRecord& rec = sc.record;
+    SceneFacts& facts = sc.facts;
+    const GlApi& gl = core_.api();
+    if (sc.loan.placement_pending && !rec.in_begin_end && rec.entries.size() > sc.loan.placement_from)
+        lending_.place_borrowed_scene(ctx, sc);  // the draw that shows a borrowed scene has run
+    DriverDrawState state(gl, tile_, sc.cameras(gl));
+    if (sc.loan.complete && !ctx.drawing_to_window && state.draw_framebuffer() == facts.scene_framebuffer)
+        sc.next_frame();  // a lent scene is kept until its next
+    if (!rec.started) {
+        rec.started = true;
+        rec.start_program = GLint(state.program());
+        rec.start_program_stream = ctx.current_program;
+    }
+    const RedrawKind kind = c.opcode >= kSynthBase ? RedrawKind::State : c.info->sem.redraw;
+    if (kind == RedrawKind::NewList || kind == RedrawKind::EndList) {  // never re-executed
+        rec.compiling_list = kind == RedrawKind::NewList;
+        return;
+    }
+    if (kind == RedrawKind::Ignored && !rec.in_begin_end) return;
+    if (rec.compiling_list) return;
+    const bool to_window = ctx.drawing_to_window;
+    if (kind == RedrawKind::Copy && !to_window && facts.main_known && facts.scene_framebuffer &&
+        !sc.loan.scene_texture && !sc.presents)
+        lending_.note_resolved_scene(sc, state);
+    // Into a framebuffer object: shader-program and vertex state are kept (the scene may be drawn
+    // there), draws only into the one that can hold the scene.
+    GLuint framebuffer = 0;
+    const bool opens = (kind == RedrawKind::Draw || kind == RedrawKind::Begin) && !rec.in_begin_end;
+    if (!to_window && !rec.in_begin_end &&
+        (opens ? !offscreen_scene(facts, state, ctx.master_width, ctx.master_height,
+                                  !sc.presents && lending_.shares_with_another(ctx), framebuffer)
+               : kind != RedrawKind::State && kind != RedrawKind::ProgramState))
+        return;
+    if (kind == RedrawKind::Copy) {  // a blit to the window shows an offscreen scene there
+        if (facts.scene_framebuffer && !facts.overlay) facts.presented = true;
+        return;
+    }
+    if (sc.loan.borrowed_from && to_window && opens && state.writes_depth()) {
+        // A 3D draw to the window: the other context's texture was a picture in this program's
+        // own scene (a preview), not its view; the main view is looked for among the window's.
+        drop_borrowed(sc);
+        facts.overlay = false;
+    }
+    if (facts.main_known && !facts.overlay && !rec.in_begin_end && to_window) {
+        switch (window_draw(facts, state, kind)) {
+        case WindowDrawMeaning::Scene: break;
+        case WindowDrawMeaning::StartsOverlays:
+            if (on_overlays_start) on_overlays_start(ctx);
+            break;
+        case WindowDrawMeaning::NotTheScene:
+            for (RecordEntry& e : rec.entries) e.main = e.main && !e.offscreen;
+            break;
+        }
+    }
+    if (rec.overflow || kind == RedrawKind::Pixels) return;
+    if (c.info && c.info->sem.redraw_first_count) {  // e.g. only the targets glPushClientAttrib restores
+        const uint64_t first = c.args[0].bits;
+        const uint32_t* v = c.info->sem.redraw_first_values;
+        if (std::find(v, v + c.info->sem.redraw_first_count, first) == v + c.info->sem.redraw_first_count) return;
+    }
+
+    RecordEntry e;
+    e.begin = rec.bytes.size(), e.size = tuple_size;
+    e.program_state = kind == RedrawKind::ProgramState;
+    e.offscreen = !to_window;
+    if (opens) {
+        if (to_window && !facts.main_known && !facts.overlay) lending_.borrow_scene(ctx, sc);
+        e.draw = e.opens = true;
+        const DrawVerdict verdict = classify_draw(facts, state, framebuffer, settings());
+        if (verdict.found_view) lending_.note_lendable_scene(ctx, sc);
+        e.main = verdict.main;
+        if (e.main) {
+            e.cull = verdict.cull.enabled;
+            e.cull_face = uint16_t(verdict.cull.cull_face), e.front_face = uint16_t(verdict.cull.front_face);
+        }
+        if (kind == RedrawKind::Begin) rec.in_begin_end = true, rec.begin_is_main = e.main;
+    } else if (rec.in_begin_end) {
+        e.draw = true;
+        e.main = rec.begin_is_main;
+        if (kind == RedrawKind::End) rec.in_begin_end = false;
+    } else if (!facts.main_known && to_window && c.info && c.info->sem.matrix == MatrixOp::Push) {
+        note_push(facts, state);
+    }
+    if (!rec.append(tuple, tuple_size, e))
+        std::fprintf(stderr, "glcast replay: frame %" PRIu64 " records more than %zu MiB of draws: the injected passes "
+                     "cannot re-render it\n", core_.frame(), kMaxRecordBytes >> 20);
+}
+
+void SceneRecorder::frame_drawn(SlaveContext& ctx) {
+    ContextScene& sc = scene(ctx);
+    sc.presents = true;
+    if (sc.loan.placement_pending) lending_.place_borrowed_scene(ctx, sc);
+}
+
+void SceneRecorder::frame_decorated(SlaveContext& ctx) {
+    for (auto& [id, other] : scenes_) {
+        if (id == ctx.id || other->presents || other->record.in_begin_end || other->record.compiling_list) continue;
+        if (other->facts.main_known && other->loan.scene_texture) other->loan.complete = true;
+        else other->next_frame();
+    }
+}
+
+}  // namespace glcast::slave

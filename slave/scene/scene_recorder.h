@@ -1,0 +1,80 @@
+// Per call, per context: keeps in the frame's record what a pass may redraw (frame_record.h)
+// and tells the scene classifier (scene_classifier.h) about each draw, so that at the frame's
+// end the scene, its camera and where its overlays begin are known. Scenes lent between
+// contexts go through SceneLending (scene_lending.h).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+
+#include "protocol/command_info.h"
+#include "slave/program_camera.h"
+#include "slave/scene/frame_record.h"
+#include "slave/scene/scene_classifier.h"
+#include "slave/scene/scene_lending.h"
+
+namespace glcast {
+struct Call;
+class GlApi;
+}
+
+namespace glcast::slave {
+
+class Replayer;
+class TileAdapter;
+struct SlaveContext;
+
+// One context's scene in the frame being replayed.
+struct ContextScene {
+    FrameRecord record;
+    SceneFacts facts;
+    SceneLoan loan;
+    bool presents = false;     // this context has presented a frame: it may not lend its scene
+    BorrowerObjects borrower;  // GL objects, kept across frames
+    std::unique_ptr<ProgramCameras> program_cameras;
+
+    ProgramCameras& cameras(const GlApi& gl) {
+        if (!program_cameras) program_cameras = std::make_unique<ProgramCameras>(gl);
+        return *program_cameras;
+    }
+    void next_frame() {  // the record, the facts and the loan start over
+        record.clear();
+        facts = SceneFacts{};
+        loan = SceneLoan{};
+    }
+};
+
+class SceneRecorder {
+public:
+    SceneRecorder(Replayer& core, TileAdapter& tile) : core_(core), tile_(tile), lending_(core, tile, scenes_) {}
+
+    // Called when a draw to the window starts the overlays, before it runs: the window then
+    // holds the scene alone (the effects runner copies it).
+    std::function<void(SlaveContext&)> on_overlays_start;
+
+    // Before each call the replay runs on the current context `ctx`.
+    void record(SlaveContext& ctx, const Call& c, const uint8_t* tuple, size_t bytes);
+    // The frame of `ctx` is drawn, before the passes run: a borrowed scene's draw is placed.
+    void frame_drawn(SlaveContext& ctx);
+    // ... and decorated: contexts that never present keep a scene they lend for the frames
+    // that show it again (until they draw the next) and let go of anything else they
+    // recorded, so that their records hold at most one frame's calls.
+    void frame_decorated(SlaveContext& ctx);
+
+    ContextScene& scene(const SlaveContext& ctx);
+    const ContextScene& scene_shown(const SlaveContext& ctx) { return lending_.scene_of(scene(ctx)); }
+    SceneLending& lending() { return lending_; }
+    void forget(uint32_t id) { scenes_.erase(id); }
+    void reset() { scenes_.clear(); }
+
+private:
+    ClassifierSettings settings() const;
+
+    Replayer& core_;
+    TileAdapter& tile_;
+    ContextScenes scenes_;  // by context id
+    SceneLending lending_;
+};
+
+}  // namespace glcast::slave

@@ -1,0 +1,155 @@
+// Copies of the window framebuffer (window_copies.h).
+#include "slave/scene/window_copies.h"
+
+#include <algorithm>
+
+#include <glm/glm.hpp>
+
+#include "slave/effects/gl_util.h"
+#include "slave/replayer.h"
+#include "slave/scene/scene_recorder.h"
+
+namespace glcast::slave {
+
+GLenum depth_format(const GlApi& gl, GLenum target) {
+    GLint type = GL_NONE, name = 0, stencil_type = GL_NONE, stencil_name = 0, bits = 0, component = GL_NONE;
+    gl.glGetFramebufferAttachmentParameteriv(target, GL_DEPTH_ATTACHMENT, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE, &type);
+    if (type == GL_NONE) return 0;
+    gl.glGetFramebufferAttachmentParameteriv(target, GL_DEPTH_ATTACHMENT, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_NAME, &name);
+    gl.glGetFramebufferAttachmentParameteriv(target, GL_DEPTH_ATTACHMENT, GL_FRAMEBUFFER_ATTACHMENT_DEPTH_SIZE, &bits);
+    gl.glGetFramebufferAttachmentParameteriv(target, GL_DEPTH_ATTACHMENT, GL_FRAMEBUFFER_ATTACHMENT_COMPONENT_TYPE,
+                                             &component);
+    gl.glGetFramebufferAttachmentParameteriv(target, GL_STENCIL_ATTACHMENT, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE,
+                                             &stencil_type);
+    if (stencil_type != GL_NONE)
+        gl.glGetFramebufferAttachmentParameteriv(target, GL_STENCIL_ATTACHMENT, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_NAME,
+                                                 &stencil_name);
+    const bool packed = stencil_type == type && stencil_name == name;  // one depth-stencil image
+    if (component == GL_FLOAT) return packed ? GL_DEPTH32F_STENCIL8 : GL_DEPTH_COMPONENT32F;
+    if (bits <= 16) return GL_DEPTH_COMPONENT16;
+    if (bits <= 24) return packed ? GL_DEPTH24_STENCIL8 : GL_DEPTH_COMPONENT24;
+    return GL_DEPTH_COMPONENT32;
+}
+
+bool WindowCopies::sized(const SlaveContext& ctx) const { return width_ == ctx.width && height_ == ctx.height; }
+
+void WindowCopies::size(SlaveContext& ctx) {
+    if (sized(ctx)) return;
+    const GlApi& gl = core_.api();
+    effects::StateGuard guard(gl);  // making them binds textures and framebuffers: the program's
+    GLuint textures[4] = {color_texture_, depth_texture_, program_image, scene_image};
+    GLuint fbs[4] = {color_fb_, depth_fb_, program_image_fb, scene_image_fb};
+    if (color_texture_) gl.glDeleteTextures(4, textures), gl.glDeleteFramebuffers(4, fbs);
+    color_texture_ = effects::make_texture(gl, GL_RGBA8, ctx.width, ctx.height);
+    depth_texture_ = effects::make_texture(gl, GL_DEPTH24_STENCIL8, ctx.width, ctx.height);
+    program_image = effects::make_texture(gl, GL_RGBA8, ctx.width, ctx.height);
+    scene_image = effects::make_texture(gl, GL_RGBA8, ctx.width, ctx.height);
+    color_fb_ = effects::make_framebuffer(gl, color_texture_, 0);
+    depth_fb_ = effects::make_framebuffer(gl, 0, depth_texture_, GL_DEPTH_STENCIL_ATTACHMENT);
+    program_image_fb = effects::make_framebuffer(gl, program_image, 0);
+    scene_image_fb = effects::make_framebuffer(gl, scene_image, 0);
+    width_ = ctx.width, height_ = ctx.height;
+}
+
+// Between the window's colour buffer (the one the program draws to) and one of the copies.
+void WindowCopies::copy(SlaveContext& ctx, GLuint copy_fb, bool depth, bool back) {
+    const GlApi& gl = core_.api();
+    effects::StateGuard guard(gl);
+    const GLenum window = ctx.double_buffered ? GL_BACK : GL_FRONT;
+    gl.glBindFramebuffer(GL_READ_FRAMEBUFFER, back ? copy_fb : 0);
+    gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, back ? 0 : copy_fb);
+    // The window's own draw or read buffer is the program's state: set for the blit, then restored.
+    GLint program_buffer = 0;
+    gl.glGetIntegerv(back ? GL_DRAW_BUFFER : GL_READ_BUFFER, &program_buffer);
+    if (back) gl.glDrawBuffer(window);
+    else gl.glReadBuffer(window);
+    gl.glBlitFramebuffer(0, 0, ctx.width, ctx.height, 0, 0, ctx.width, ctx.height,
+                         depth ? GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT : GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    if (back) gl.glDrawBuffer(GLenum(program_buffer));
+    else gl.glReadBuffer(GLenum(program_buffer));
+}
+
+GLuint WindowCopies::window_copy(SlaveContext& ctx, bool depth, ContextScene& scene, const ContextScene& shown) {
+    if (depth && scene.facts.scene_framebuffer) {
+        if (depth_copied_) return scene_depth_;
+        const GLuint copy = scene_depth_copy(ctx, scene, shown);
+        depth_copied_ = true;
+        return copy;
+    }
+    size(ctx);
+    bool& done = depth ? depth_copied_ : color_copied_;
+    if (!done) {
+        copy(ctx, depth ? depth_fb_ : color_fb_, depth);
+        done = true;
+    }
+    return depth ? depth_texture_ : color_texture_;
+}
+
+GLuint WindowCopies::scene_depth_copy(SlaveContext& ctx, ContextScene& scene, const ContextScene& shown) {
+    const GlApi& gl = core_.api();
+    effects::StateGuard guard(gl);
+    gl.glBindFramebuffer(GL_READ_FRAMEBUFFER, scene.facts.scene_framebuffer);
+    const GLenum format = depth_format(gl, GL_READ_FRAMEBUFFER);
+    if (!format) {  // its depth went away since: the window's
+        scene.facts.scene_framebuffer = 0;
+        return window_copy(ctx, true, scene, shown);
+    }
+    const int W = std::max(1, ctx.master_width), H = std::max(1, ctx.master_height);
+    const int sizes[4] = {W, H, ctx.width, ctx.height};
+    // The scene's target in the master's window: all of it, or where a borrowed scene was drawn.
+    const bool placed = scene.loan.borrowed_from != 0;
+    const int32_t* p = scene.loan.placement;
+    const int from[4] = {0, 0, placed ? shown.loan.scene_size[0] : W, placed ? shown.loan.scene_size[1] : H};
+    const int target[4] = {placed ? p[0] : 0, placed ? p[1] : 0, placed ? p[2] : W, placed ? p[3] : H};
+    if (format != scene_depth_format_ || !std::equal(sizes, sizes + 4, scene_depth_sizes_)) {
+        if (scene_depth_full_) {
+            const GLuint textures[] = {scene_depth_full_, scene_depth_}, fbs[] = {scene_depth_full_fb_, scene_depth_fb_};
+            gl.glDeleteTextures(2, textures);
+            gl.glDeleteFramebuffers(2, fbs);
+        }
+        const bool packed = format == GL_DEPTH24_STENCIL8 || format == GL_DEPTH32F_STENCIL8;
+        scene_depth_full_ = effects::make_texture(gl, format, W, H, /*linear=*/true);
+        scene_depth_full_fb_ = effects::make_framebuffer(gl, 0, scene_depth_full_,
+                                                         packed ? GL_DEPTH_STENCIL_ATTACHMENT : GL_DEPTH_ATTACHMENT);
+        scene_depth_ = effects::make_texture(gl, GL_DEPTH_COMPONENT32F, ctx.width, ctx.height);
+        scene_depth_fb_ = effects::make_framebuffer(gl, 0, scene_depth_, GL_DEPTH_ATTACHMENT);
+        scene_depth_format_ = format;
+        std::copy(sizes, sizes + 4, scene_depth_sizes_);
+    }
+    // Resolved at the program's size (a multisampled source may not be scaled; a depth blit
+    // needs the same format on both sides), then this tile's rectangle of the program's window
+    // (the canvas stretches it) drawn over the tile's size.
+    gl.glBindFramebuffer(GL_READ_FRAMEBUFFER, scene.facts.scene_framebuffer);
+    gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, scene_depth_full_fb_);
+    if (placed) {  // nothing but the scene's rectangle: the far plane around it
+        gl.glDepthMask(GL_TRUE);
+        gl.glClearDepth(1.0);
+        gl.glClear(GL_DEPTH_BUFFER_BIT);
+    }
+    gl.glBlitFramebuffer(from[0], from[1], from[2], from[3], target[0], target[1], target[2], target[3],
+                         GL_DEPTH_BUFFER_BIT, GL_NEAREST);
+    const TileMapping& t = core_.options().tile;
+    glm::dvec4 source(0, 0, W, H);
+    if (t.enabled && !core_.options().view.enabled)
+        source = {t.x / t.sx(W), t.y / t.sy(H), (t.x + t.width) / t.sx(W), (t.y + t.height) / t.sy(H)};
+    if (!scene_depth_program_) {
+        scene_depth_program_ = effects::build_program(gl, "fullscreen.vert", "scene_depth.frag");
+        gl.glGenVertexArrays(1, &scene_depth_vao_);
+    }
+    gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, scene_depth_fb_);
+    gl.glViewport(0, 0, ctx.width, ctx.height);
+    gl.glEnable(GL_DEPTH_TEST);
+    gl.glDepthFunc(GL_ALWAYS);
+    gl.glDepthMask(GL_TRUE);
+    gl.glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    gl.glUseProgram(scene_depth_program_);
+    gl.glActiveTexture(GL_TEXTURE0);
+    gl.glBindTexture(GL_TEXTURE_2D, scene_depth_full_);
+    gl.glUniform1i(effects::uniform(gl, scene_depth_program_, "scene_depth"), 0);
+    gl.glUniform4f(effects::uniform(gl, scene_depth_program_, "source_rect"), GLfloat(source.x), GLfloat(source.y),
+                   GLfloat(source.z), GLfloat(source.w));
+    effects::draw_fullscreen(gl, scene_depth_vao_);
+    return scene_depth_;
+}
+
+}  // namespace glcast::slave

@@ -1,0 +1,56 @@
+// Copies of a context's window framebuffer that the injected passes read and the effects runner
+// puts back: its colour and depth as the frame left them, the program's own picture (restored
+// after present, so that a program that never clears draws over its own image, not over the
+// decorated one), the scene before the first overlay, and the depth of a scene drawn offscreen,
+// resolved and cut to this tile.
+#pragma once
+
+#include "common/gl_headers.h"
+
+namespace glcast {
+class GlApi;
+}
+
+namespace glcast::slave {
+
+class Replayer;
+struct SlaveContext;
+struct ContextScene;
+
+// The depth format of the bound framebuffer's depth attachment at `target`, from what GL says of
+// it (a depth blit needs the same format on both sides); 0 when it has no depth.
+GLenum depth_format(const GlApi& gl, GLenum target);
+
+class WindowCopies {
+public:
+    explicit WindowCopies(Replayer& core) : core_(core) {}
+
+    void size(SlaveContext& ctx);  // the copies at the window's size
+    bool sized(const SlaveContext& ctx) const;
+    // Blits the window's colour (or depth) into the framebuffer `copy_fb`, or back from it.
+    void copy(SlaveContext& ctx, GLuint copy_fb, bool depth, bool back = false);
+    // The window's colour (RGBA8) or depth (DEPTH24_STENCIL8) as it is now, a texture name made
+    // once a frame; the depth of a scene drawn offscreen comes from its framebuffer object
+    // (`shown`: the scene whose size it has, a lender's for a borrowed scene).
+    GLuint window_copy(SlaveContext& ctx, bool depth, ContextScene& scene, const ContextScene& shown);
+    void new_frame() { color_copied_ = depth_copied_ = false; }
+
+    GLuint program_image = 0, program_image_fb = 0;
+    bool program_image_saved = false;
+    GLuint scene_image = 0, scene_image_fb = 0;
+
+private:
+    GLuint scene_depth_copy(SlaveContext& ctx, ContextScene& scene, const ContextScene& shown);
+
+    Replayer& core_;
+    GLuint color_texture_ = 0, depth_texture_ = 0, color_fb_ = 0, depth_fb_ = 0;
+    int width_ = 0, height_ = 0;
+    bool color_copied_ = false, depth_copied_ = false;
+    // Resolved at the program's size, then this tile's part of it at the window's size.
+    GLuint scene_depth_full_ = 0, scene_depth_full_fb_ = 0, scene_depth_ = 0, scene_depth_fb_ = 0;
+    GLuint scene_depth_program_ = 0, scene_depth_vao_ = 0;
+    GLenum scene_depth_format_ = 0;
+    int scene_depth_sizes_[4] = {0, 0, 0, 0};  // full width, height; tile width, height
+};
+
+}  // namespace glcast::slave
