@@ -16,6 +16,13 @@ namespace glcast::slave::recording {
 
 enum class Show { Plain, Enum, Text };
 
+// The gl.xml group of parameter `index` of the call's command (names an enum by its group's
+// name: GL_TRIANGLES rather than GL_LINE_BIT for 4), or -1.
+inline int group_of(const RecordedCall& c, size_t index) {
+    const CommandInfo* info = command_info(c.opcode);
+    return info && info->params && index < info->param_count ? info->params[index].group : -1;
+}
+
 template <class T>
 void arg(RecordedCall& c, T v, Show show = Show::Plain) {
     uint64_t bits = 0;
@@ -39,7 +46,8 @@ void arg(RecordedCall& c, T v, Show show = Show::Plain) {
         std::snprintf(text, sizeof text, "%" PRId64, int64_t(v));
     } else {
         bits = uint64_t(v);
-        const char* name = show == Show::Enum ? enum_name(uint32_t(v)) : nullptr;
+        const int group = show == Show::Enum ? group_of(c, c.args.size()) : -1;
+        const char* name = show != Show::Enum ? nullptr : group >= 0 ? enum_name(uint32_t(v), group) : enum_name(uint32_t(v));
         if (name) std::snprintf(text, sizeof text, "%s", name);
         else std::snprintf(text, sizeof text, show == Show::Enum ? "0x%" PRIx64 : "%" PRIu64, uint64_t(v));
     }

@@ -1,0 +1,377 @@
+// The scene classifier's rules, each on a draw state given as values: no driver, no stream.
+// Which draw is the main view, where the overlays begin, what an offscreen scene target is.
+#include <gtest/gtest.h>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "slave/scene/frame_record.h"
+#include "slave/scene/scene_classifier.h"
+
+using namespace glcast;
+using namespace glcast::slave;
+
+namespace {
+
+// A draw state as a test states it; counts what the classifier asked.
+struct Given final : DrawState {
+    GLuint framebuffer = 0, read = 0, current_program = 0;
+    bool depth_on = true, depth_mask = true;
+    double far = 0;
+    glm::dmat4 proj = glm::frustum(-1.0, 1.0, -0.75, 0.75, 1.0, 100.0);
+    glm::dmat4 mv = glm::translate(glm::dmat4(1.0), glm::dvec3(0, -1, -5));
+    GLenum mode = GL_MODELVIEW;
+    effects::SceneLight lit;
+    CullState culling{true, GL_BACK, GL_CCW};
+    int32_t vp[4] = {0, 0, 640, 480};
+    bool has_camera = false;
+    ProgramCamera cam;
+    GLenum color = GL_TEXTURE, depth = GL_RENDERBUFFER;
+    int asked = 0;
+
+    GLuint draw_framebuffer() override { return asked++, framebuffer; }
+    GLuint read_framebuffer() override { return asked++, read; }
+    GLuint program() override { return asked++, current_program; }
+    bool depth_test() override { return asked++, depth_on; }
+    bool writes_depth() override { return asked++, depth_on && depth_mask; }
+    double view_model_far() override { return asked++, far; }
+    glm::dmat4 projection() override { return asked++, proj; }
+    glm::dmat4 modelview() override { return asked++, mv; }
+    GLenum matrix_mode() override { return asked++, mode; }
+    effects::SceneLight light() override { return asked++, lit; }
+    CullState cull() override { return asked++, culling; }
+    void viewport(int32_t out[4]) override { asked++, std::copy(vp, vp + 4, out); }
+    bool camera(GLuint, ProgramCamera& out) override {
+        asked++;
+        if (has_camera) out = cam;
+        return has_camera;
+    }
+    GLenum color_attachment_type() override { return asked++, color; }
+    GLenum depth_attachment_type() override { return asked++, depth; }
+};
+
+const ClassifierSettings kPasses{false, true};  // a pass redraws the scene
+const glm::dmat4 kOrtho = glm::ortho(0.0, 640.0, 0.0, 480.0, -1.0, 1.0);
+
+}  // namespace
+
+TEST(SceneClassifier, TheFirstPerspectiveDrawThatWritesDepthIsTheMainView) {
+    SceneFacts facts;
+    Given s;
+    s.lit = effects::SceneLight{true, glm::dvec4(1, 2, 3, 0)};
+    s.vp[0] = 10;
+    const DrawVerdict v = classify_draw(facts, s, 0, kPasses);
+    EXPECT_TRUE(v.main);
+    EXPECT_TRUE(v.found_view);
+    EXPECT_TRUE(facts.main_known);
+    EXPECT_EQ(facts.projection, s.proj);
+    EXPECT_EQ(facts.modelview, s.mv);
+    EXPECT_EQ(facts.viewport[0], 10);
+    EXPECT_TRUE(facts.light.known);
+    EXPECT_EQ(facts.light.eye_position, glm::dvec4(1, 2, 3, 0));
+    EXPECT_EQ(facts.scene_framebuffer, 0u);
+}
+
+TEST(SceneClassifier, LaterDrawsWithTheViewsProjectionBelongToIt) {
+    SceneFacts facts;
+    Given s;
+    classify_draw(facts, s, 0, kPasses);
+    s.mv = glm::rotate(s.mv, 0.5, glm::dvec3(0, 1, 0));  // another object
+    const DrawVerdict v = classify_draw(facts, s, 0, kPasses);
+    EXPECT_TRUE(v.main);
+    EXPECT_FALSE(v.found_view);
+    EXPECT_NE(facts.modelview, s.mv);  // the view stays the first draw's
+}
+
+TEST(SceneClassifier, ADrawWithAnotherProjectionIsNotTheMainViews) {
+    SceneFacts facts;
+    Given s;
+    classify_draw(facts, s, 0, kPasses);
+    s.proj = glm::frustum(-0.5, 0.5, -0.5, 0.5, 1.0, 10.0);
+    EXPECT_FALSE(classify_draw(facts, s, 0, kPasses).main);
+}
+
+TEST(SceneClassifier, ABackdropWithoutDepthWritesIsNeitherTheViewNorInIt) {
+    SceneFacts facts;
+    Given s;
+    s.depth_mask = false;
+    EXPECT_FALSE(classify_draw(facts, s, 0, kPasses).main);
+    EXPECT_FALSE(facts.main_known);
+    s.depth_mask = true;
+    EXPECT_TRUE(classify_draw(facts, s, 0, kPasses).found_view);
+}
+
+TEST(SceneClassifier, AnOrthographicDrawIsNoView) {
+    SceneFacts facts;
+    Given s;
+    s.proj = kOrtho;
+    EXPECT_FALSE(classify_draw(facts, s, 0, kPasses).main);
+    EXPECT_FALSE(facts.main_known);
+}
+
+TEST(SceneClassifier, AMirroredModelviewIsAReflectionNotTheView) {
+    SceneFacts facts;
+    Given s;
+    const glm::dmat4 view = s.mv;
+    s.mv = glm::scale(view, glm::dvec3(1, -1, 1));
+    EXPECT_FALSE(classify_draw(facts, s, 0, kPasses).main);
+    EXPECT_FALSE(facts.main_known);
+    s.mv = view;
+    EXPECT_TRUE(classify_draw(facts, s, 0, kPasses).found_view);
+    EXPECT_EQ(facts.modelview, view);
+}
+
+TEST(SceneClassifier, TheModelviewPushedBeforeTheFirstDrawIsTheView) {
+    SceneFacts facts;
+    Given s;
+    const glm::dmat4 view = s.mv;
+    note_push(facts, s);  // glPushMatrix with the view on top, then a model transform
+    s.mv = glm::translate(view, glm::dvec3(3, 0, 0));
+    classify_draw(facts, s, 0, kPasses);
+    EXPECT_EQ(facts.modelview, view);
+}
+
+TEST(SceneClassifier, APushOfAnotherStackOrOfAReflectionIsNotTheView) {
+    SceneFacts facts;
+    Given s;
+    s.mode = GL_PROJECTION;
+    note_push(facts, s);
+    EXPECT_FALSE(facts.pushed);
+    s.mode = GL_MODELVIEW;
+    const glm::dmat4 view = s.mv;
+    s.mv = glm::scale(view, glm::dvec3(1, -1, 1));
+    note_push(facts, s);  // pushed inside the reflection
+    s.mv = view;
+    classify_draw(facts, s, 0, kPasses);
+    EXPECT_EQ(facts.modelview, view);
+}
+
+TEST(SceneClassifier, AViewModelInTheFrontOfTheDepthRangeIsNotTheScene) {
+    SceneFacts facts;
+    Given s;
+    classify_draw(facts, s, 0, kPasses);
+    s.far = 0.3;  // glDepthRange(0, 0.3): a weapon
+    EXPECT_FALSE(classify_draw(facts, s, 0, kPasses).main);
+    EXPECT_DOUBLE_EQ(facts.view_model_far, 0.3);
+}
+
+TEST(SceneClassifier, MainDrawsKeepTheirFaceCulling) {
+    SceneFacts facts;
+    Given s;
+    s.culling = CullState{true, GL_FRONT, GL_CW};
+    const DrawVerdict v = classify_draw(facts, s, 0, kPasses);
+    EXPECT_TRUE(v.cull.enabled);
+    EXPECT_EQ(v.cull.cull_face, GLenum(GL_FRONT));
+    EXPECT_EQ(v.cull.front_face, GLenum(GL_CW));
+}
+
+TEST(SceneClassifier, AnOrthographicHudAfterTheMainViewStartsTheOverlays) {
+    SceneFacts facts;
+    Given s;
+    classify_draw(facts, s, 0, kPasses);
+    EXPECT_EQ(window_draw(facts, s, RedrawKind::Draw), WindowDrawMeaning::Scene);  // more of the scene
+    s.proj = kOrtho;  // glOrtho: the HUD
+    EXPECT_EQ(window_draw(facts, s, RedrawKind::Draw), WindowDrawMeaning::StartsOverlays);
+    EXPECT_TRUE(facts.overlay);
+}
+
+TEST(SceneClassifier, ADrawWithTheDepthTestOffStartsTheOverlays) {
+    SceneFacts facts;
+    Given s;
+    classify_draw(facts, s, 0, kPasses);
+    s.depth_on = false;
+    EXPECT_EQ(window_draw(facts, s, RedrawKind::Begin), WindowDrawMeaning::StartsOverlays);
+}
+
+TEST(SceneClassifier, PixelsAtTheRasterPositionStartTheOverlays) {
+    SceneFacts facts;
+    Given s;
+    classify_draw(facts, s, 0, kPasses);
+    EXPECT_EQ(window_draw(facts, s, RedrawKind::Pixels), WindowDrawMeaning::StartsOverlays);
+}
+
+TEST(SceneClassifier, StateCallsNeverStartTheOverlays) {
+    SceneFacts facts;
+    Given s;
+    classify_draw(facts, s, 0, kPasses);
+    s.depth_on = false;
+    EXPECT_EQ(window_draw(facts, s, RedrawKind::State), WindowDrawMeaning::Scene);
+    EXPECT_FALSE(facts.overlay);
+}
+
+TEST(SceneClassifier, AShaderDrawWhoseMatricesHoldACameraIsTheMainView) {
+    SceneFacts facts;
+    Given s;
+    s.current_program = 4;
+    EXPECT_FALSE(classify_draw(facts, s, 0, kPasses).main);  // no camera among its matrices
+    EXPECT_TRUE(facts.shader_draws);
+    s.has_camera = true;
+    s.cam.projection = s.proj;
+    s.cam.modelview = s.mv;
+    const DrawVerdict v = classify_draw(facts, s, 0, kPasses);
+    EXPECT_TRUE(v.main);
+    EXPECT_TRUE(v.found_view);
+    EXPECT_EQ(facts.projection, s.proj);
+}
+
+TEST(SceneClassifier, AShaderProgramPaintingInOrderWithTheViewsCameraIsScene) {
+    SceneFacts facts;
+    Given s;
+    s.current_program = 4;
+    s.has_camera = true;
+    s.cam.projection = s.proj;
+    classify_draw(facts, s, 0, kPasses);
+    s.depth_on = false;  // painter's order, the same camera
+    EXPECT_EQ(window_draw(facts, s, RedrawKind::Draw), WindowDrawMeaning::Scene);
+    s.cam.projection = kOrtho;  // its HUD program
+    EXPECT_EQ(window_draw(facts, s, RedrawKind::Draw), WindowDrawMeaning::StartsOverlays);
+}
+
+TEST(SceneClassifier, CameraProbesStopAfterTheirBound) {
+    SceneFacts facts;
+    Given s;
+    s.current_program = 4;
+    for (int i = 0; i < kMaxCameraProbes; ++i) classify_draw(facts, s, 0, kPasses);
+    EXPECT_EQ(facts.camera_probes, kMaxCameraProbes);
+    s.has_camera = true;
+    s.cam.projection = s.proj;
+    EXPECT_FALSE(classify_draw(facts, s, 0, kPasses).main);  // a 2D program: no longer asked
+    EXPECT_FALSE(facts.main_known);
+}
+
+TEST(SceneClassifier, AReflectionsShaderCameraIsNotTheView) {
+    SceneFacts facts;
+    Given s;
+    s.current_program = 4;
+    s.has_camera = true;
+    s.cam.projection = s.proj;
+    s.cam.modelview = glm::scale(s.mv, glm::dvec3(1, -1, 1));
+    EXPECT_FALSE(classify_draw(facts, s, 0, kPasses).main);
+    EXPECT_FALSE(facts.main_known);
+}
+
+TEST(SceneClassifier, AConfiguredProjectionMakesEveryDepthWritingShaderDrawToTheWindowMain) {
+    SceneFacts facts;
+    Given s;
+    s.current_program = 4;
+    const ClassifierSettings configured{true, true};
+    EXPECT_TRUE(classify_draw(facts, s, 0, configured).main);
+    EXPECT_FALSE(classify_draw(facts, s, 3, configured).main);  // into a framebuffer object
+    s.depth_mask = false;
+    EXPECT_FALSE(classify_draw(facts, s, 0, configured).main);
+    EXPECT_EQ(s.asked > 0, true);
+    EXPECT_FALSE(classify_draw(facts, s, 0, ClassifierSettings{true, false}).main);  // nothing redraws
+}
+
+TEST(SceneClassifier, WithoutARedrawingPassOnlyTheCameraIsLookedFor) {
+    SceneFacts facts;
+    Given s;
+    s.current_program = 4;
+    s.has_camera = true;
+    s.cam.projection = s.proj;
+    const ClassifierSettings camera_only{false, false};
+    EXPECT_TRUE(classify_draw(facts, s, 0, camera_only).found_view);
+    const int asked = s.asked;
+    EXPECT_FALSE(classify_draw(facts, s, 0, camera_only).main);
+    EXPECT_LT(s.asked - asked, 4);  // no camera asked for again
+}
+
+TEST(SceneClassifier, AWindowSizedTargetWithDepthMayHoldTheScene) {
+    SceneFacts facts;
+    Given s;
+    s.framebuffer = 3;
+    GLuint bound = 0;
+    EXPECT_TRUE(offscreen_scene(facts, s, 640, 480, false, bound));
+    EXPECT_EQ(bound, 3u);
+    s.depth = GL_NONE;
+    EXPECT_FALSE(offscreen_scene(facts, s, 640, 480, false, bound));  // no depth: a post-process target
+    s.depth = GL_TEXTURE;
+    s.vp[2] = 256, s.vp[3] = 256;  // a shadow map or a reflection texture
+    EXPECT_FALSE(offscreen_scene(facts, s, 640, 480, false, bound));
+    s.vp[0] = 8, s.vp[2] = 640, s.vp[3] = 480;
+    EXPECT_FALSE(offscreen_scene(facts, s, 640, 480, false, bound));  // not drawn whole
+    s.framebuffer = 0;
+    s.vp[0] = 0;
+    EXPECT_FALSE(offscreen_scene(facts, s, 640, 480, false, bound));  // the window is no offscreen target
+}
+
+TEST(SceneClassifier, AWidgetsSmallerTargetHoldsTheSceneOnlyForAContextThatMayLend) {
+    SceneFacts facts;
+    Given s;
+    s.framebuffer = 3;
+    s.vp[2] = 200, s.vp[3] = 250;
+    GLuint bound = 0;
+    EXPECT_FALSE(offscreen_scene(facts, s, 640, 480, false, bound));
+    EXPECT_TRUE(offscreen_scene(facts, s, 640, 480, true, bound));
+    s.color = GL_NONE;
+    EXPECT_FALSE(offscreen_scene(facts, s, 640, 480, true, bound));
+}
+
+TEST(SceneClassifier, OnceTheSceneIsFoundOffscreenOnlyItsTargetCounts) {
+    SceneFacts facts;
+    Given s;
+    s.framebuffer = 3;
+    GLuint bound = 0;
+    ASSERT_TRUE(offscreen_scene(facts, s, 640, 480, false, bound));
+    EXPECT_TRUE(classify_draw(facts, s, bound, kPasses).found_view);
+    EXPECT_EQ(facts.scene_framebuffer, 3u);
+    s.framebuffer = 5;
+    EXPECT_FALSE(offscreen_scene(facts, s, 640, 480, false, bound));
+    s.framebuffer = 3;
+    EXPECT_TRUE(offscreen_scene(facts, s, 640, 480, false, bound));
+}
+
+TEST(SceneClassifier, AFlatDrawToTheWindowShowsTheOffscreenSceneAndWhatFollowsIsOverlay) {
+    SceneFacts facts;
+    Given s;
+    classify_draw(facts, s, 3, kPasses);
+    ASSERT_EQ(facts.scene_framebuffer, 3u);
+    s.depth_on = false;  // the post-processed picture drawn over the window
+    EXPECT_EQ(window_draw(facts, s, RedrawKind::Draw), WindowDrawMeaning::Scene);
+    EXPECT_TRUE(facts.presented);
+    s.depth_on = true;  // a 3D icon of the HUD
+    EXPECT_EQ(window_draw(facts, s, RedrawKind::Draw), WindowDrawMeaning::StartsOverlays);
+}
+
+TEST(SceneClassifier, A3DDrawToTheWindowMeansTheOffscreenTargetWasNotTheScene) {
+    SceneFacts facts;
+    Given s;
+    s.lit.known = true;
+    classify_draw(facts, s, 3, kPasses);
+    EXPECT_EQ(window_draw(facts, s, RedrawKind::Draw), WindowDrawMeaning::NotTheScene);
+    EXPECT_FALSE(facts.main_known);
+    EXPECT_EQ(facts.scene_framebuffer, 0u);
+    EXPECT_FALSE(facts.light.known);
+    EXPECT_TRUE(classify_draw(facts, s, 0, kPasses).found_view);  // the window's draws find it again
+}
+
+TEST(FrameRecord, AppendKeepsTuplesInOrderAndClearStartsOverWithTheMemoryKept) {
+    FrameRecord rec;
+    const uint8_t a[3] = {1, 2, 3}, b[2] = {4, 5};
+    RecordEntry e;
+    e.main = true;
+    ASSERT_TRUE(rec.append(a, 3, e));
+    e.begin = 3;
+    ASSERT_TRUE(rec.append(b, 2, e));
+    EXPECT_EQ(rec.bytes, (std::vector<uint8_t>{1, 2, 3, 4, 5}));
+    EXPECT_EQ(rec.entries.size(), 2u);
+    rec.in_begin_end = rec.started = rec.overflow = true;
+    rec.start_program = 7;
+    const size_t capacity = rec.bytes.capacity();
+    rec.clear();
+    EXPECT_TRUE(rec.bytes.empty());
+    EXPECT_TRUE(rec.entries.empty());
+    EXPECT_FALSE(rec.in_begin_end || rec.started || rec.overflow);
+    EXPECT_EQ(rec.start_program, 0);
+    EXPECT_EQ(rec.bytes.capacity(), capacity);
+}
+
+TEST(FrameRecord, ATupleBeyondTheFramesLimitIsRefusedAndTheFrameMarked) {
+    FrameRecord rec;
+    const uint8_t a[1] = {1};
+    ASSERT_TRUE(rec.append(a, 1, RecordEntry{}));
+    // (the size alone is checked: the tuple is never read)
+    EXPECT_FALSE(rec.append(a, kMaxRecordBytes, RecordEntry{}));
+    EXPECT_TRUE(rec.overflow);
+    EXPECT_FALSE(rec.append(a, 1, RecordEntry{}));
+    EXPECT_EQ(rec.entries.size(), 1u);
+}

@@ -1,0 +1,169 @@
+// The tile adapter on the recording driver: window coordinates and pixel sizes of the program's
+// calls as they reach the driver of one tile of a wall, and the program's own framebuffer
+// objects left alone.
+#include "tests/unit/replay_harness.h"
+
+using namespace glcast;
+using testing_support::ReplayHarness;
+
+#define GL(fn, ...) encode_##fn(h.stream.e, h.stream.sz, __VA_ARGS__)
+
+namespace {
+
+std::vector<std::string> last(const std::vector<std::string>& calls, size_t n) {
+    return std::vector<std::string>(calls.end() - std::ptrdiff_t(std::min(n, calls.size())), calls.end());
+}
+
+// Tile (1, 0) of a 2x2 wall whose canvas is twice the program's 640x480 window each way: every
+// window pixel is 2x2 canvas pixels, and the tile shows the canvas' top-right quarter.
+void scaled_top_right(ReplayHarness& h) {
+    slave::TileMapping& t = h.options.tile;
+    t.enabled = true;
+    t.canvas_width = 1280, t.canvas_height = 960;
+    t.width = 640, t.height = 480, t.x = 640, t.y = 480;
+    t.place_x = t.x, t.place_y = t.y, t.place_canvas_width = 1280, t.place_canvas_height = 960;
+}
+
+}  // namespace
+
+TEST(TileAdapter, AViewportOnTheTopRightTileOfATwoByTwoWallReachesTheDriverShifted) {
+    ReplayHarness h;
+    h.tile(1, 0, 2, 2);
+    GL(glViewport, 0, 0, 640, 480);
+    h.replay();
+    EXPECT_EQ(h.calls("glViewport").back(), "glViewport(-320, -240, 640, 480)");
+}
+
+TEST(TileAdapter, TheBottomLeftTileSharesTheWindowsOrigin) {
+    ReplayHarness h;
+    h.tile(0, 1, 2, 2);
+    GL(glViewport, 10, 20, 300, 200);
+    h.replay();
+    EXPECT_EQ(h.calls("glViewport").back(), "glViewport(10, 20, 300, 200)");
+}
+
+TEST(TileAdapter, AScissorBoxIsMappedAsTheViewportIs) {
+    ReplayHarness h;
+    h.tile(1, 0, 2, 2);
+    GL(glScissor, 400, 300, 100, 50);
+    h.replay();
+    EXPECT_EQ(h.calls("glScissor").back(), "glScissor(80, 60, 100, 50)");
+}
+
+TEST(TileAdapter, ANewContextsViewportCoversTheWindowOnTheTile) {
+    ReplayHarness h;
+    h.tile(1, 1, 2, 2);
+    h.replay();
+    // Before any call of the program: GLX's initial viewport, the window, mapped.
+    EXPECT_EQ(h.calls("glViewport"), std::vector<std::string>{"glViewport(-320, 0, 640, 480)"});
+}
+
+TEST(TileAdapter, WithoutAWallTheViewportIsTheProgramsOwn) {
+    ReplayHarness h;
+    GL(glViewport, 5, 6, 70, 80);
+    h.replay();
+    EXPECT_EQ(h.calls("glViewport").back(), "glViewport(5, 6, 70, 80)");
+}
+
+TEST(TileAdapter, InsideAFramebufferObjectTheViewportIsLeftAsTheProgramSetIt) {
+    ReplayHarness h;
+    h.tile(1, 0, 2, 2);
+    GLuint fb[1] = {3};
+    GL(glGenFramebuffers, 1, fb);
+    GL(glBindFramebuffer, GL_FRAMEBUFFER, 3);
+    GL(glViewport, 0, 0, 256, 256);
+    h.replay();
+    EXPECT_EQ(h.calls("glViewport").back(), "glViewport(0, 0, 256, 256)");
+}
+
+TEST(TileAdapter, BackInTheWindowTheProgramsViewportIsMappedAgain) {
+    ReplayHarness h;
+    h.tile(1, 0, 2, 2);
+    GLuint fb[1] = {3};
+    GL(glGenFramebuffers, 1, fb);
+    GL(glBindFramebuffer, GL_FRAMEBUFFER, 3);
+    GL(glViewport, 0, 0, 256, 256);
+    GL(glBindFramebuffer, GL_FRAMEBUFFER, 0);
+    h.replay();
+    EXPECT_EQ(last(h.calls_from("glBindFramebuffer(GL_FRAMEBUFFER, 0)"), 2),
+              (std::vector<std::string>{"glViewport(-320, -240, 256, 256)", "glScissor(-320, -240, 640, 480)"}));
+}
+
+TEST(TileAdapter, OnAScaledCanvasWindowCoordinatesAndPixelSizesScale) {
+    ReplayHarness h;
+    scaled_top_right(h);
+    GL(glViewport, 0, 0, 640, 480);
+    GL(glLineWidth, 2.0f);
+    GL(glPointSize, 3.0f);
+    GL(glPixelZoom, 1.0f, -1.0f);
+    h.replay();
+    EXPECT_EQ(h.calls("glViewport").back(), "glViewport(-640, -480, 1280, 960)");
+    EXPECT_EQ(h.calls("glLineWidth"), std::vector<std::string>{"glLineWidth(4)"});
+    EXPECT_EQ(h.calls("glPointSize"), std::vector<std::string>{"glPointSize(6)"});
+    EXPECT_EQ(h.calls("glPixelZoom"), std::vector<std::string>{"glPixelZoom(2, -2)"});
+}
+
+TEST(TileAdapter, ABlitToTheWindowLandsWhereTheTileShowsIt) {
+    ReplayHarness h;
+    h.tile(1, 0, 2, 2);
+    GLuint fb[1] = {3};
+    GL(glGenFramebuffers, 1, fb);
+    GL(glBindFramebuffer, GL_READ_FRAMEBUFFER, 3);
+    GL(glBlitFramebuffer, 0, 0, 640, 480, 0, 0, 640, 480, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    h.replay();
+    const std::vector<std::string> blits = h.calls("glBlitFramebuffer");
+    ASSERT_EQ(blits.size(), 1u) << h.log;
+    EXPECT_EQ(blits[0], "glBlitFramebuffer(0, 0, 640, 480, -320, -240, 320, 240, 16384, GL_NEAREST)");
+}
+
+TEST(TileAdapter, AnIndexedViewportIsMappedByItsIndex) {
+    ReplayHarness h;
+    h.tile(1, 0, 2, 2);
+    std::vector<float> sent;  // the driver's array, read while the call is made
+    h.gl->answer = [&sent](slave::RecordedCall& c) {
+        if (c.opcode == OP_glViewportArrayv) sent.assign(c.pointer<const float>(2), c.pointer<const float>(2) + 4 * c.args[1]);
+    };
+    GL(glViewportIndexedf, 2u, 320.0f, 240.0f, 100.0f, 100.0f);
+    h.replay();
+    EXPECT_TRUE(h.calls("glViewportIndexedf").empty());  // every viewport, mapped, in one array
+    ASSERT_EQ(sent.size(), 4u * 16);
+    EXPECT_EQ(std::vector<float>(sent.begin() + 8, sent.begin() + 12), (std::vector<float>{0, 0, 100, 100}));
+    EXPECT_EQ(std::vector<float>(sent.begin(), sent.begin() + 4), (std::vector<float>{-320, -240, 640, 480}));
+}
+
+TEST(TileAdapter, ADrawOnARotatedTileGetsTheCorrectedProjectionFirst) {
+    ReplayHarness h;
+    h.options.view.enabled = true;
+    h.options.view.yaw_deg = 60;
+    // The driver's matrix mode, as the program left it.
+    GLint mode = GL_MODELVIEW;
+    h.gl->answer = [&mode](slave::RecordedCall& c) {
+        if (c.opcode == OP_glMatrixMode) mode = GLint(c.args[0]);
+        if (c.opcode == OP_glGetIntegerv && c.args[0] == GL_MATRIX_MODE) *c.pointer<GLint>(1) = mode;
+    };
+    GL(glMatrixMode, GL_PROJECTION);
+    GL(glFrustum, -1.0, 1.0, -0.75, 0.75, 1.0, 100.0);
+    GL(glMatrixMode, GL_MODELVIEW);
+    GL(glDrawArrays, GL_TRIANGLES, 0, 3);
+    h.replay();
+    const std::vector<std::string> calls = h.calls_from("glFrustum");
+    auto at = [&calls](const std::string& call) {
+        return std::find(calls.begin(), calls.end(), call) - calls.begin();
+    };
+    const auto draw = at("glDrawArrays(GL_TRIANGLES, 0, 3)");
+    ASSERT_LT(size_t(draw), calls.size());
+    // glMatrixMode(GL_PROJECTION), glLoadMatrixd(corrected), glMatrixMode(GL_MODELVIEW), the draw.
+    EXPECT_EQ(calls[size_t(draw) - 3], "glMatrixMode(GL_PROJECTION)");
+    EXPECT_EQ(calls[size_t(draw) - 2].rfind("glLoadMatrixd(", 0), 0u);
+    EXPECT_EQ(calls[size_t(draw) - 1], "glMatrixMode(GL_MODELVIEW)");
+}
+
+TEST(TileAdapter, AFlatTileLeavesTheProjectionAlone) {
+    ReplayHarness h;
+    h.tile(1, 0, 2, 2);
+    GL(glMatrixMode, GL_PROJECTION);
+    GL(glFrustum, -1.0, 1.0, -0.75, 0.75, 1.0, 100.0);
+    GL(glDrawArrays, GL_TRIANGLES, 0, 3);
+    h.replay();
+    EXPECT_TRUE(h.calls("glLoadMatrixd").empty());
+}
