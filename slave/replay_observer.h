@@ -24,6 +24,10 @@ public:
     // Which calls this observer sees: asked once per opcode when it is added, so that calls no
     // observer wants cost the core nothing. `info` is null for synthetic tuples.
     virtual bool wants(uint32_t opcode, const CommandInfo* info) const = 0;
+    // Whether it also sees the calls the injected passes replay again (Replayer::redispatch),
+    // every one of them whatever wants() says: what adapts a call to the tile does; what records
+    // or checks the program's stream does not.
+    virtual bool adapts_redraws() const { return false; }
 
     // Before the call runs, with the tuple's raw bytes (recorders keep them).
     virtual void before_call(const Call& c, const uint8_t* tuple, size_t bytes) { (void)c, (void)tuple, (void)bytes; }

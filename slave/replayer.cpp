@@ -43,8 +43,12 @@ Replayer::~Replayer() {
 }
 
 void Replayer::add_observer(ReplayObserver* o) {
+    if (observers_.size() >= kMaxObservers)
+        throw std::logic_error("a replay takes at most " + std::to_string(kMaxObservers) +
+                               " observers (an opcode's interest is a mask of that many bits)");
     const uint8_t bit = uint8_t(1u << observers_.size());
     observers_.push_back(o);
+    if (o->adapts_redraws()) redraw_observers_ |= bit;
     for (uint32_t op = 0; op < kOpcodeCount; ++op)
         if (o->wants(op, command_info(op))) interest_[op] |= bit;
     for (uint32_t k = 0; k < kSynthCount; ++k)
@@ -205,8 +209,13 @@ void Replayer::dispatch(const Call& c, const uint8_t* tuple, size_t bytes) {
                                          : kReplayKind[c.opcode] != ReplayKind::WindowSystem ||
                                                c.info->sem.context == ContextOp::Swap;
     if (follows) follow_context(c);
+    observe(c, tuple, bytes, mask, [this, &c] { run_default(c); });
+}
+
+template <class Run>
+void Replayer::observe(const Call& c, const uint8_t* tuple, size_t bytes, uint8_t mask, Run&& run) {
     if (!mask) {
-        run_default(c);
+        run();
         return;
     }
     for (size_t i = 0; i < observers_.size(); ++i)
@@ -214,7 +223,7 @@ void Replayer::dispatch(const Call& c, const uint8_t* tuple, size_t bytes) {
     bool replaced = false;
     for (size_t i = 0; i < observers_.size() && !replaced; ++i)
         if (mask & (1u << i)) replaced = observers_[i]->replace_call(c);
-    if (!replaced) run_default(c);
+    if (!replaced) run();
     for (size_t i = 0; i < observers_.size(); ++i)
         if (mask & (1u << i)) observers_[i]->after_call(c);
 }
@@ -226,11 +235,11 @@ void Replayer::redispatch(const Call& c) {
         return;
     }
     if (!kReplay[c.opcode]) return;  // recorded inside glBegin/glEnd, but not repeated by a slave
-    tile_->before_call(c, nullptr, 0);
-    if (tile_->redraw_refused()) return;
-    if (!tile_->replace_call(c)) kReplay[c.opcode](*this, c);
-    if (c.info->sem.program_use >= 0) current().current_program = c.args[size_t(c.info->sem.program_use)].bits;
-    tile_->after_call(c);
+    // (every call, whatever they asked for: a redraw changes what a call means to them)
+    observe(c, nullptr, 0, redraw_observers_, [this, &c] {
+        kReplay[c.opcode](*this, c);
+        if (c.info->sem.program_use >= 0) current().current_program = c.args[size_t(c.info->sem.program_use)].bits;
+    });
 }
 
 void Replayer::run_default(const Call& c) {

@@ -146,8 +146,10 @@ public:
     std::function<void(const effects::FrameView& view)> after_effects;
 
     void replay(MessageSource& source);  // throws DecodeError on a bad stream
-    // Adds an observer after the slave's own (at most 8 in all): a keeper's (keeper/kept_calls.h).
+    // Adds an observer after the slave's own (at most kMaxObservers in all; one more throws
+    // std::logic_error): a keeper's (keeper/kept_calls.h).
     void watch(ReplayObserver* observer) { add_observer(observer); }
+    static constexpr size_t kMaxObservers = 8;  // the bits of an opcode's interest mask
     const std::map<uint32_t, std::unique_ptr<SlaveContext>>& contexts() const { return contexts_; }
     // Forgets every context and name: the state of a slave that has seen nothing yet (a slave
     // that lost messages starts over from the master's snapshot).
@@ -257,13 +259,16 @@ public:
 
     TileAdapter& tile_adapter() { return *tile_; }
     // Replays one call through the generated or hand-written function and the observers that
-    // adapt it (tile adaptation), without recording or verifying it: the injected passes'
-    // redraw of recorded calls.
+    // adapt redraws (ReplayObserver::adapts_redraws: tile adaptation), without recording or
+    // verifying it: the injected passes' redraw of recorded calls.
     void redispatch(const Call& c);
 
 private:
     void add_observer(ReplayObserver* o);
     void dispatch(const Call& c, const uint8_t* tuple, size_t bytes);
+    // The observers of `mask` before, instead of (first taker) and after `run`.
+    template <class Run>
+    void observe(const Call& c, const uint8_t* tuple, size_t bytes, uint8_t mask, Run&& run);
     void run_default(const Call& c);
     void follow_context(const Call& c);
     void synthetic(const Call& c);
@@ -296,6 +301,7 @@ private:
     std::unique_ptr<Verifier> verifier_;
     std::vector<ReplayObserver*> observers_;
     std::vector<uint8_t> interest_;       // by opcode
+    uint8_t redraw_observers_ = 0;        // the bits of those that adapt redraws
     std::vector<uint8_t> synth_interest_;  // by synthetic opcode - kSynthBase
 };
 

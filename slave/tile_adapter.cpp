@@ -151,6 +151,7 @@ void TileAdapter::before_call(const Call& c, const uint8_t*, size_t) {
 // canvas. The program's rectangles are kept as it set them and applied mapped while the
 // window is the draw framebuffer, as they are while one of its own framebuffer objects is.
 bool TileAdapter::replace_call(const Call& c) {
+    if (redraw_refused_) return true;  // a redrawn draw that cannot be moved is left out
     const CommandSemantics& sem = c.info->sem;
     const int8_t* p = sem.window_params;
     auto arg = [&](int k) { return p[k]; };

@@ -33,6 +33,7 @@ public:
     ~TileAdapter() override;
 
     bool wants(uint32_t opcode, const CommandInfo* info) const override;
+    bool adapts_redraws() const override { return true; }
     void before_call(const Call& c, const uint8_t* tuple, size_t bytes) override;
     bool replace_call(const Call& c) override;
     void after_call(const Call& c) override;
@@ -52,9 +53,6 @@ public:
     // programs); end_redraw puts the projection tracking back as it was.
     void begin_redraw(const glm::dmat4& correction, bool programs);
     void end_redraw();
-    // The draw just prepared for a redraw cannot be moved (a shader program without the patch):
-    // the redraw leaves it out.
-    bool redraw_refused() const { return redraw_refused_; }
 
 private:
     struct State;
