@@ -1,6 +1,6 @@
 // The narrow hook between the replay core (decode, dispatch, name maps: slave/replayer.h) and
 // the parts of a slave that adapt or watch the stream: tile adaptation (slave/tile_adapter.h),
-// the frame recorder of the injected passes (slave/frame_recorder.h), `--verify`
+// the injected passes and their scene (slave/effects_runner.h), `--verify`
 // (slave/verifier.h) and the window system (slave/window_system.h). docs/architecture.md
 // shows the order in which they run for one call.
 #pragma once

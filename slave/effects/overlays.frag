@@ -1,4 +1,4 @@
-// The program's overlays over the decorated scene (slave/frame_recorder.cpp, put_overlays_back):
+// The program's overlays over the decorated scene (slave/effects_runner.cpp, put_overlays_back):
 // where the program's final picture differs from its scene before the first overlay, the
 // final picture (its HUD and text, untouched); so too where the depth the passes saw is in
 // front of `view_model_far` (a first-person weapon drawn with glDepthRange(0, 0.3)), and outside

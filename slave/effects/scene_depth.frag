@@ -1,4 +1,4 @@
-// A scene drawn offscreen, its depth brought to this tile (slave/frame_recorder.cpp,
+// A scene drawn offscreen, its depth brought to this tile (slave/scene/window_copies.cpp,
 // scene_depth_copy): the tile's rectangle of the program's window, stretched over the tile.
 // Window-space depth is linear across a planar surface: between four texels of one plane it is
 // interpolated, so depth reconstructed from it keeps surfaces flat where a nearest stretch would
