@@ -28,6 +28,7 @@
 #include "cli/launcher.h"
 #include "cli/options.h"
 #include "cli/paths.h"
+#include "cli/run_session.h"
 #include "cli/wall_control.h"
 #include "net/security.h"
 #include "slave/wall_link.h"
@@ -161,201 +162,190 @@ private:
     std::thread thread_;
 };
 
-int run(RunArgs& a, const std::vector<std::string>& program) {
-    const std::string &config_path = a.config_path, &backend = a.backend, &out_dir = a.out_dir;
-    const uint64_t frames = a.frames;
-    const bool lockstep = a.lockstep;
-    const std::vector<std::string>& effect_args = a.effect_args;
-    std::string endpoint = a.endpoint;
-    const std::string here = a.machine.empty() ? slave::machine_name() : a.machine;
-    std::vector<std::pair<std::string, std::string>> tiles;  // name, machine; every tile of the wall
-    std::vector<std::string> local_tiles, remote_tiles;
+// The wall as this machine runs it: every tile with its machine, and which are shown here.
+struct WallPlan {
+    std::vector<std::pair<std::string, std::string>> tiles;  // name, machine
+    std::vector<std::string> local_tiles, remote_tiles;      // "" for the one window without a config
     bool swap_barrier = false;
-    std::string keys = a.keys;
-    if (!config_path.empty()) {
-        slave::DisplayConfig config;
-        std::string error;
-        if (!slave::load_display_config(config_path, config, error)) {
-            std::fprintf(stderr, "glcast run: %s\n", error.c_str());
-            return 1;
-        }
-        for (const auto& t : config.tiles) {
-            const bool local = t.machine.empty() || t.machine == here;
-            tiles.push_back({t.name, local ? here : t.machine});
-            (local ? local_tiles : remote_tiles).push_back(t.name);
-        }
-        swap_barrier = config.swap_barrier;
-        if (keys.empty() && !config.keys.empty()) keys = relative_to(config_path, config.keys);
-        if (endpoint.empty() && config.master.given) endpoint = "tcp://*:" + std::to_string(config.master.port);
-    } else {
-        tiles.push_back({"window", here});
-        local_tiles.push_back("");
+    std::string keys, endpoint;
+};
+
+bool plan_wall(const RunArgs& a, const std::string& here, WallPlan& plan) {
+    plan.keys = a.keys;
+    plan.endpoint = a.endpoint;
+    if (a.config_path.empty()) {
+        plan.tiles.push_back({"window", here});
+        plan.local_tiles.push_back("");
+        return true;
     }
+    slave::DisplayConfig config;
     std::string error;
-    if (!use_keys(keys, a.insecure, "glcast run", error)) return 1;
-    if (!remote_tiles.empty() && endpoint.rfind("tcp://", 0) != 0 && endpoint.rfind("epgm://", 0) != 0) {
-        std::fprintf(stderr, "glcast run: tile %s is on machine %s, not this one (%s): give the config a \"master\" "
-                             "or --endpoint tcp://*:PORT so that it can be reached\n",
-                     remote_tiles[0].c_str(), std::find_if(tiles.begin(), tiles.end(), [&](auto& t) {
-                         return t.first == remote_tiles[0];
-                     })->second.c_str(), here.c_str());
-        return 1;
+    if (!slave::load_display_config(a.config_path, config, error)) {
+        std::fprintf(stderr, "glcast run: %s\n", error.c_str());
+        return false;
     }
-    char dir[] = "/tmp/glcast-run-XXXXXX";
-    if (!mkdtemp(dir)) {
-        std::fprintf(stderr, "glcast run: mkdtemp: %s\n", std::strerror(errno));
-        return 1;
+    for (const auto& t : config.tiles) {
+        const bool local = t.machine.empty() || t.machine == here;
+        plan.tiles.push_back({t.name, local ? here : t.machine});
+        (local ? plan.local_tiles : plan.remote_tiles).push_back(t.name);
     }
-    // Slaves elsewhere (--endpoint tcp://) may start at any time: a keeper lets them join from a
-    // snapshot of the live state once the journal no longer holds the stream's start.
+    plan.swap_barrier = config.swap_barrier;
+    if (plan.keys.empty() && !config.keys.empty()) plan.keys = relative_to(a.config_path, config.keys);
+    if (plan.endpoint.empty() && config.master.given) plan.endpoint = "tcp://*:" + std::to_string(config.master.port);
+    return true;
+}
+
+// The wall's four channels: the stream, the journal beside it, the keeper (slaves elsewhere may
+// start at any time and join from a snapshot) and the control channel (swap barrier, status).
+struct RunEndpoints {
+    std::string stream, journal, keeper, control;
+    std::string local;    // where this machine's slaves and keeper subscribe
+    std::string publish;  // where the program publishes
+    bool remote = false;
+};
+
+RunEndpoints plan_endpoints(std::string endpoint, const std::string& dir) {
+    RunEndpoints e;
     const bool multicast = endpoint.rfind("epgm://", 0) == 0 || endpoint.rfind("pgm://", 0) == 0;
-    const bool remote = endpoint.rfind("tcp://", 0) == 0 || multicast;
-    const std::string local_stream = std::string("ipc://") + dir + "/stream";
+    e.remote = endpoint.rfind("tcp://", 0) == 0 || multicast;
+    const std::string local_stream = "ipc://" + dir + "/stream";
     if (endpoint.empty()) endpoint = local_stream;
-    const std::string journal = journal_endpoint(endpoint);
+    e.stream = endpoint;
+    e.journal = journal_endpoint(endpoint);
     // Multicast does not loop back to the sending machine: the program publishes there too, on
     // an ipc:// path, for the local slaves and the keeper.
-    const std::string local = multicast ? local_stream : connectable(endpoint);
-    const std::string publish = multicast ? endpoint + "," + local_stream : endpoint;
-    const std::string keeper = remote ? next_port(journal, "-keeper") : "";
-    const std::string control = remote ? next_port(keeper, "") : std::string("ipc://") + dir + "/control";
-    try {  // refused here, before anything starts, rather than inside the program
-        for (const std::string& e : {endpoint, journal, keeper, control})
-            if (!e.empty()) net::check_endpoint(e, net::process_security(), true);
-    } catch (const std::exception& e) {
-        std::fprintf(stderr, "glcast run: %s\n", e.what());
-        ::rmdir(dir);
-        return 1;
-    }
-    std::fprintf(stderr, "glcast run: stream on %s, journal on %s%s%s, control on %s%s\n", endpoint.c_str(),
-                 journal.c_str(), remote ? ", keeper on " : "", keeper.c_str(), control.c_str(),
-                 net::process_security().keyed() ? " (CURVE)" : "");
-    if (!out_dir.empty() && !make_directories(out_dir, error)) {
-        std::fprintf(stderr, "glcast run: --out: %s\n", error.c_str());
-        return 1;
-    }
+    e.local = multicast ? local_stream : connectable(endpoint);
+    e.publish = multicast ? endpoint + "," + local_stream : endpoint;
+    e.keeper = e.remote ? next_port(e.journal, "-keeper") : "";
+    e.control = e.remote ? next_port(e.keeper, "") : "ipc://" + dir + "/control";
+    return e;
+}
 
-    // The control channel (swap barrier, status) outlives the program: slaves may present its
-    // last frames after it ended.
-    std::vector<std::string> tile_names;
-    for (const auto& t : tiles) tile_names.push_back(t.first);
-    std::unique_ptr<WallControl> wall;
-    try {
-        wall = std::make_unique<WallControl>(control, tile_names, swap_barrier);
-    } catch (const std::exception& e) {
-        std::fprintf(stderr, "glcast run: %s\n", e.what());
-        return 1;
-    }
-
-    // Slaves first: they join through the journal whenever the program starts publishing.
-    std::map<pid_t, std::string> slaves;
+void start_slaves(RunSession& session, const RunArgs& a, const WallPlan& plan, const RunEndpoints& e,
+                  const std::string& here) {
     const std::string exe = self_exe();
-    for (const std::string& tile : local_tiles) {
-        std::vector<std::string> argv = {exe,       "slave",   "--connect", local,  "--journal", connectable(journal),
-                                         "--backend", backend, "--wait",    "120",  "--control", connectable(control),
+    for (const std::string& tile : plan.local_tiles) {
+        const std::string name = tile.empty() ? "window" : tile;
+        std::vector<std::string> argv = {exe,       "slave",   "--connect", e.local, "--journal", connectable(e.journal),
+                                         "--backend", a.backend, "--wait",  "120",   "--control", connectable(e.control),
                                          "--quiet", "--machine", here};
-        if (!tile.empty()) argv.insert(argv.end(), {"--config", config_path, "--tile", tile});
-        if (!out_dir.empty()) argv.insert(argv.end(), {"--out", out_dir + "/" + (tile.empty() ? "window" : tile)});
-        if (swap_barrier) argv.push_back("--swap-barrier");
-        if (lockstep) argv.push_back("--lockstep");
-        argv.insert(argv.end(), effect_args.begin(), effect_args.end());
+        if (!tile.empty()) argv.insert(argv.end(), {"--config", a.config_path, "--tile", tile});
+        if (!a.out_dir.empty()) argv.insert(argv.end(), {"--out", a.out_dir + "/" + name});
+        if (plan.swap_barrier) argv.push_back("--swap-barrier");
+        if (a.lockstep) argv.push_back("--lockstep");
+        argv.insert(argv.end(), a.effect_args.begin(), a.effect_args.end());
         if (const char* log = std::getenv("GLCAST_TEST_PRESENT_LOG_DIR"))
-            setenv("GLCAST_TEST_PRESENT_LOG", (std::string(log) + "/" + (tile.empty() ? "window" : tile)).c_str(), 1);
-        slaves[spawn(argv)] = tile.empty() ? "window" : tile;
+            setenv("GLCAST_TEST_PRESENT_LOG", (std::string(log) + "/" + name).c_str(), 1);
+        session.start("slave " + name, argv, true);
     }
-    pid_t keeper_pid = -1;
-    if (remote)
-        keeper_pid = spawn({exe, "keeper", "--connect", local, "--journal", connectable(journal), "--bind",
-                            keeper, "--wait", "120"});
+    if (e.remote)
+        session.start("keeper", {exe, "keeper", "--connect", e.local, "--journal", connectable(e.journal), "--bind",
+                                 e.keeper, "--wait", "120"}, false);
+}
 
-    // The tiles of other machines: their slaves (glcast slave --service) report to the control
-    // channel while they wait for a program; they are waited for, counted and named.
-    int remote_here = 0;
-    if (!remote_tiles.empty()) {
-        const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(a.wait_tiles);
-        for (;;) {
-            const auto status = wall->status();
-            std::vector<std::string> missing;
-            for (const std::string& t : remote_tiles)
-                if (status.at(t).age_seconds < 0) missing.push_back(t);
-            remote_here = int(remote_tiles.size() - missing.size());
-            if (missing.empty() || std::chrono::steady_clock::now() > deadline) {
-                std::string names;
-                for (const std::string& t : missing) names += (names.empty() ? "" : ", ") + t;
-                std::fprintf(stderr, "glcast run: %d of %zu tiles on other machines are there%s%s%s\n", remote_here,
-                             remote_tiles.size(), missing.empty() ? "" : "; not yet: ", names.c_str(),
-                             missing.empty() ? "" : " (they join when they come)");
-                break;
-            }
-            std::this_thread::sleep_for(std::chrono::milliseconds(100));
+// The tiles of other machines: their slaves (glcast slave --service) report to the control
+// channel while they wait for a program; they are waited for, counted and named. Returns how
+// many are there.
+int wait_for_remote_tiles(const WallControl& wall, const std::vector<std::string>& remote_tiles, int seconds) {
+    if (remote_tiles.empty()) return 0;
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(seconds);
+    for (;;) {
+        const auto status = wall.status();
+        std::vector<std::string> missing;
+        for (const std::string& t : remote_tiles)
+            if (status.at(t).age_seconds < 0) missing.push_back(t);
+        const int here = int(remote_tiles.size() - missing.size());
+        if (missing.empty() || std::chrono::steady_clock::now() > deadline) {
+            std::string names;
+            for (const std::string& t : missing) names += (names.empty() ? "" : ", ") + t;
+            std::fprintf(stderr, "glcast run: %d of %zu tiles on other machines are there%s%s%s\n", here,
+                         remote_tiles.size(), missing.empty() ? "" : "; not yet: ", names.c_str(),
+                         missing.empty() ? "" : " (they join when they come)");
+            return here;
         }
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));
     }
-    std::map<std::string, std::string> env{
-        {"GLCAST_PUBLISH", publish},
-        {"GLCAST_JOURNAL_ENDPOINT", journal},
-        {"GLCAST_WAIT_SUBSCRIBERS", std::to_string(slaves.size() + remote_here + (remote ? 1 : 0))},
-        {"GLCAST_LOCKSTEP", lockstep ? std::to_string(tiles.size()) : "0"}};
-    if (frames) {
-        env["GLCAST_FRAMES"] = std::to_string(frames);
-        env["GLCAST_EXIT_AFTER_FRAMES"] = "1";
-    }
-    std::unique_ptr<StatusView> view;
-    try {
-        view = std::make_unique<StatusView>(*wall, tiles, a.status_json);
-    } catch (const std::exception& e) {
-        std::fprintf(stderr, "glcast run: %s\n", e.what());
-        return 1;
-    }
-    const int status = run_with_shim(program, env);
+}
 
-    // The program has ended: slaves finish the stream and exit; give them time, then stop them.
-    int failed = 0;
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
-    while (!slaves.empty()) {
-        int st = 0;
-        const pid_t pid = waitpid(-1, &st, WNOHANG);
-        if (pid > 0) {
-            if (pid == keeper_pid) continue;  // it ends with the stream; a failure is its own message
-            if (slaves.count(pid) && !(WIFEXITED(st) && WEXITSTATUS(st) == 0)) {
-                std::fprintf(stderr, "glcast run: slave %s failed\n", slaves[pid].c_str());
-                failed++;
-            }
-            slaves.erase(pid);
-            continue;
-        }
-        if (std::chrono::steady_clock::now() > deadline) {
-            for (auto& [p, name] : slaves) {
-                std::fprintf(stderr, "glcast run: slave %s did not finish; stopping it\n", name.c_str());
-                kill(p, SIGTERM);
-            }
-            failed += int(slaves.size());
-            break;
-        }
-        std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    }
-    // Tiles of other machines finish the program's last frames at the barrier this process serves:
-    // it stays until they say they are idle again (at most 30 s).
+// Tiles of other machines finish the program's last frames at the barrier this process serves:
+// it stays until they say they are idle again (at most 30 s).
+void wait_for_remote_tiles_idle(const WallControl& wall, const std::vector<std::string>& remote_tiles) {
     for (const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(30);
          !remote_tiles.empty() && std::chrono::steady_clock::now() < until;
          std::this_thread::sleep_for(std::chrono::milliseconds(100))) {
-        const auto status = wall->status();
+        const auto status = wall.status();
         if (std::none_of(remote_tiles.begin(), remote_tiles.end(), [&](const std::string& t) {
                 const TileStatus& s = status.at(t);
                 return s.age_seconds >= 0 && s.age_seconds < 3 && s.state != "idle";
             }))
-            break;
+            return;
     }
-    if (keeper_pid > 0 && waitpid(keeper_pid, nullptr, WNOHANG) == 0) {
-        kill(keeper_pid, SIGTERM);
-        waitpid(keeper_pid, nullptr, 0);
+}
+
+int run(RunArgs& a, const std::vector<std::string>& program) {
+    const std::string here = a.machine.empty() ? slave::machine_name() : a.machine;
+    WallPlan plan;
+    if (!plan_wall(a, here, plan)) return 1;
+    std::string error;
+    if (!use_keys(plan.keys, a.insecure, "glcast run", error)) return 1;
+    if (!plan.remote_tiles.empty() && plan.endpoint.rfind("tcp://", 0) != 0 && plan.endpoint.rfind("epgm://", 0) != 0) {
+        const std::string& tile = plan.remote_tiles[0];
+        const auto machine = std::find_if(plan.tiles.begin(), plan.tiles.end(), [&](auto& t) { return t.first == tile; });
+        std::fprintf(stderr, "glcast run: tile %s is on machine %s, not this one (%s): give the config a \"master\" "
+                             "or --endpoint tcp://*:PORT so that it can be reached\n",
+                     tile.c_str(), machine->second.c_str(), here.c_str());
+        return 1;
     }
-    view.reset();
-    wall.reset();
-    std::string cleanup = std::string(dir);
-    for (const char* f : {"/stream", "/stream-journal", "/control"}) ::unlink((cleanup + f).c_str());
-    ::rmdir(dir);
-    if (status != 0) return status < 0 ? 1 : status;
-    return failed ? 1 : 0;
+    if (!a.out_dir.empty() && !make_directories(a.out_dir, error)) {
+        std::fprintf(stderr, "glcast run: --out: %s\n", error.c_str());
+        return 1;
+    }
+    try {
+        RunSession session;  // its folder and children go however this block is left
+        const RunEndpoints e = plan_endpoints(plan.endpoint, session.dir());
+        // Refused here, before anything starts, rather than inside the program.
+        for (const std::string& endpoint : {e.stream, e.journal, e.keeper, e.control})
+            if (!endpoint.empty()) net::check_endpoint(endpoint, net::process_security(), true);
+        std::fprintf(stderr, "glcast run: stream on %s, journal on %s%s%s, control on %s%s\n", e.stream.c_str(),
+                     e.journal.c_str(), e.remote ? ", keeper on " : "", e.keeper.c_str(), e.control.c_str(),
+                     net::process_security().keyed() ? " (CURVE)" : "");
+        // The control channel (swap barrier, status) outlives the program: slaves may present its
+        // last frames after it ended.
+        std::vector<std::string> tile_names;
+        for (const auto& t : plan.tiles) tile_names.push_back(t.first);
+        WallControl wall(e.control, tile_names, plan.swap_barrier);
+        // Slaves first: they join through the journal whenever the program starts publishing.
+        start_slaves(session, a, plan, e, here);
+        const int remote_here = wait_for_remote_tiles(wall, plan.remote_tiles, a.wait_tiles);
+        std::map<std::string, std::string> env{
+            {"GLCAST_PUBLISH", e.publish},
+            {"GLCAST_JOURNAL_ENDPOINT", e.journal},
+            {"GLCAST_WAIT_SUBSCRIBERS", std::to_string(session.slaves() + size_t(remote_here) + (e.remote ? 1 : 0))},
+            {"GLCAST_LOCKSTEP", a.lockstep ? std::to_string(plan.tiles.size()) : "0"}};
+        if (a.frames) {
+            env["GLCAST_FRAMES"] = std::to_string(a.frames);
+            env["GLCAST_EXIT_AFTER_FRAMES"] = "1";
+        }
+        int status = 0, failed = 0;
+        {
+            StatusView view(wall, plan.tiles, a.status_json);
+            status = run_with_shim(program, env);
+            // A program that never ran (run_with_shim failed, or execvp exited 127) published nothing:
+            // its slaves have nothing to finish.
+            if (status < 0 || status == 127) {
+                std::fprintf(stderr, "glcast run: the program did not run; stopping the slaves\n");
+                session.stop_all();
+            }
+            // The program has ended: slaves finish the stream and exit; give them time, then stop them.
+            failed = session.wait_for_slaves(std::chrono::steady_clock::now() + std::chrono::seconds(120));
+            wait_for_remote_tiles_idle(wall, plan.remote_tiles);
+        }
+        if (status != 0) return status < 0 ? 1 : status;
+        return failed ? 1 : 0;
+    } catch (const std::exception& ex) {
+        std::fprintf(stderr, "glcast run: %s\n", ex.what());
+        return 1;
+    }
 }
 
 }  // namespace
