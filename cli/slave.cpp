@@ -49,177 +49,231 @@ void endpoints_from_config(const DisplayConfig& config, SlaveArgs& a) {
     a.swap_barrier |= config.swap_barrier;
 }
 
-int slave(SlaveArgs& a) {
-    const std::string &endpoint = a.endpoint, &journal = a.journal, &out_dir = a.out_dir, &tile_name = a.tile_name;
-    ReplayOptions& opt = a.opt;
-    const bool quiet = a.quiet, lockstep = a.lockstep;
+// Settles --config, the endpoints, the keys and the output folder; false (with the exit status
+// in `status`) when the slave cannot start.
+bool prepare(SlaveArgs& a, int& status) {
     std::string error;
+    status = 1;
     if (!a.config_path.empty()) {  // --config and --tile come together (CLI11 checks)
         DisplayConfig config;
-        if (!tile_options(a.config_path, tile_name, opt, error) || !load_display_config(a.config_path, config, error)) {
+        if (!tile_options(a.config_path, a.tile_name, a.opt, error) || !load_display_config(a.config_path, config, error)) {
             std::fprintf(stderr, "glcast slave: %s\n", error.c_str());
-            return 1;
+            return false;
         }
         endpoints_from_config(config, a);
         if (a.keys.empty() && !config.keys.empty()) a.keys = relative_to(a.config_path, config.keys);
     }
     if (a.endpoint.empty()) {
         std::fprintf(stderr, "glcast slave: no stream to subscribe to: give --connect, or --config with a \"master\"\n");
-        return 2;
+        status = 2;
+        return false;
     }
-    if (!use_keys(a.keys, a.insecure, "glcast slave", error)) return 1;
+    if (!use_keys(a.keys, a.insecure, "glcast slave", error)) return false;
     if (!a.machine.empty()) setenv("GLCAST_MACHINE", a.machine.c_str(), 1);
-    if (!out_dir.empty() && !make_directories(out_dir, error)) {
+    if (!a.out_dir.empty() && !make_directories(a.out_dir, error)) {
         std::fprintf(stderr, "glcast slave: --out: %s\n", error.c_str());
-        return 1;
+        return false;
     }
+    return true;
+}
+
+// One tile's slave: the replayer, its report to glcast run's control channel, and each program
+// it replays in turn (one, or every program that comes with --service).
+class SlaveRun {
+public:
+    SlaveRun(SlaveArgs& a, std::unique_ptr<Backend> backend)
+        : a_(a), label_(a.tile_name.empty() ? std::string("window") : a.tile_name) {
+        if (!a.control.empty()) link_ = std::make_unique<WallLink>(a.control, label_, machine_name());
+        replayer_ = std::make_unique<Replayer>(std::move(backend), a.opt);
+        if (const char* log = std::getenv("GLCAST_TEST_PRESENT_LOG")) present_log_.reset(std::fopen(log, "w"));
+    }
+    const std::string& label() const { return label_; }
+
+    int run() {
+        for (uint64_t program = 1;; program++) {
+            if (a_.service) wait_for_program();
+            std::unique_ptr<NetworkSource> source = join();
+            if (!source) continue;
+            const std::string out = program_folder(program);
+            try {
+                replay(*source, out);
+            } catch (const std::exception& e) {
+                if (!a_.service) throw;
+                std::fprintf(stderr, "\nglcast slave %s: %s; waiting for the next program\n", label_.c_str(), e.what());
+                continue;
+            }
+            const ReplayStats& s = replayer_->stats();
+            std::fprintf(stderr, "\nglcast slave %s: the program ended%s; %" PRIu64 " frames, %" PRIu64 " errors, %" PRIu64
+                                 " recoveries\n",
+                         label_.c_str(), source->replaced() ? " (a new one started)" : "", s.frames, s.errors,
+                         source->recoveries());
+            if (!a_.service) return s.errors ? 1 : 0;
+        }
+    }
+
+private:
+    struct FileCloser {
+        void operator()(FILE* f) const { std::fclose(f); }
+    };
+    // What the status line and the report count between two of their updates.
+    struct Rates {
+        std::chrono::steady_clock::time_point last = std::chrono::steady_clock::now();
+        uint64_t frames = 0, bytes = 0;
+    };
+
+    void say_status(bool force) {  // to glcast run's status line, at most once a second
+        const auto now = std::chrono::steady_clock::now();
+        if (!link_ || (!force && now - last_report_ < std::chrono::seconds(1))) return;
+        link_->report(report_);
+        last_report_ = now;
+    }
+
+    // Idle until a program publishes; a display machine's slave outlives every program.
+    void wait_for_program() {
+        report_ = TileReport{};
+        say_status(true);
+        std::fprintf(stderr, "glcast slave %s: waiting for a program on %s\n", label_.c_str(), a_.endpoint.c_str());
+        wait_for_stream(a_.endpoint, [this] { say_status(false); });
+        report_.state = "joining";
+        say_status(true);
+    }
+
+    // Subscribed and joined; null for a service whose program ended or vanished meanwhile.
+    std::unique_ptr<NetworkSource> join() {
+        try {
+            return std::make_unique<NetworkSource>(a_.endpoint, a_.journal, a_.wait_seconds, a_.keeper);
+        } catch (const std::exception& e) {
+            if (!a_.service) throw;
+            std::fprintf(stderr, "glcast slave %s: %s\n", label_.c_str(), e.what());
+            std::this_thread::sleep_for(std::chrono::seconds(1));
+            return nullptr;
+        }
+    }
+
+    // A service writes each program's frames to a folder of its own: DIR/program-N.
+    std::string program_folder(uint64_t program) const {
+        if (!a_.service || a_.out_dir.empty()) return a_.out_dir;
+        char sub[32];
+        std::snprintf(sub, sizeof sub, "/program-%04" PRIu64, program);
+        std::string error, folder = a_.out_dir + sub;
+        if (!make_directories(folder, error)) throw std::runtime_error("--out: " + error);
+        return folder;
+    }
+
+    void say_join(const NetworkSource& source) const {
+        const NetworkSource::JoinCost& j = source.join_cost();
+        if (j.state_messages || j.journal_messages)
+            std::fprintf(stderr, "glcast slave %s: joined at frame %" PRIu64 ": %" PRIu64 " snapshot and %" PRIu64
+                                 " journal messages, %" PRIu64 " bytes, in %.3f s (the keeper's state in %.3f s)\n",
+                         label_.c_str(), source.joined_frame(), j.state_messages, j.journal_messages, j.bytes, j.seconds,
+                         j.state_seconds);
+    }
+
+    void replay(NetworkSource& source, const std::string& out) {
+        Replayer& replayer = *replayer_;
+        replayer.reset();
+        replayer.set_frame(source.joined_frame());
+        say_join(source);
+        source.on_restart = [this, &replayer] {
+            std::fprintf(stderr, "glcast slave %s: the journal no longer holds them; starting over from %s\n",
+                         label_.c_str(), a_.keeper.empty() ? "the master's journal" : "the keeper");
+            replayer.reset();
+        };
+        source.on_joined = [this, &replayer, &source](uint64_t frame) {
+            replayer.set_frame(frame);
+            say_join(source);
+        };
+        source.on_gap = [this, &source] {
+            std::fprintf(stderr, "glcast slave %s: messages lost (%s); asking the master's journal for them\n",
+                         label_.c_str(), source.gap().c_str());
+        };
+        source.on_idle = [this] { say_status(false); };
+        replayer.before_present = [this, &source](uint64_t frame) { before_present(source, frame); };
+        Rates rates;
+        rates.frames = replayer.stats().frames;
+        replayer.on_frame = [this, &source, &rates, &out](uint64_t frame, int w, int h, const std::vector<uint8_t>& rgba) {
+            frame_shown(source, rates, out, frame, w, h, rgba);
+        };
+        // Frames are read back only when written; without --out the status line still needs the
+        // swap callback, which costs a readback: acceptable for a wall tile's status.
+        replayer.replay(source);
+    }
+
+    void before_present(NetworkSource& source, uint64_t frame) {
+        // After one wait in vain (glcast run is gone), later frames wait briefly until a GO comes again.
+        bool held = false;
+        if (link_ && a_.swap_barrier && source.live()) {
+            const int wait_ms = barrier_answered_ ? kBarrierWaitMs : 100;
+            held = barrier_answered_ = link_->barrier(frame, wait_ms);
+            if (!barrier_answered_ && wait_ms == kBarrierWaitMs)
+                std::fprintf(stderr, "\nglcast slave %s: swap barrier: frame %" PRIu64 " went alone after %d s\n",
+                             label_.c_str(), frame, kBarrierWaitMs / 1000);
+        }
+        if (present_log_) {
+            std::fprintf(present_log_.get(), "%" PRIu64 " %.6f %d\n", frame,
+                         std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(), held);
+            std::fflush(present_log_.get());
+        }
+        if (a_.lockstep && source.caught_up()) source.done(frame);
+    }
+
+    void frame_shown(const NetworkSource& source, Rates& rates, const std::string& out, uint64_t frame, int width,
+                     int height, const std::vector<uint8_t>& rgba) {
+        // Frames replayed while catching up from the journal are written too: they are the same
+        // frames, only late.
+        if (!out.empty()) {
+            char name[48];
+            std::snprintf(name, sizeof name, "/frame-%06" PRIu64 ".png", frame);
+            std::string err;
+            if (!write_png(out + name, Image{width, height, rgba}, err)) std::fprintf(stderr, "glcast slave: %s\n", err.c_str());
+        }
+        const auto now = std::chrono::steady_clock::now();
+        const double dt = std::chrono::duration<double>(now - rates.last).count();
+        report_.state = source.live() ? "live" : "joining";
+        report_.frame = frame;
+        report_.master_frame = source.master_frame();
+        report_.lag = std::max<int64_t>(0, int64_t(source.master_frame()) - int64_t(frame));  // 0 until live
+        report_.recoveries = source.recoveries();
+        if (dt >= 1.0) {
+            report_.fps = (replayer_->stats().frames - rates.frames) / dt;
+            report_.mbps = (source.bytes() - rates.bytes) / dt / 1e6;
+            if (!a_.quiet)
+                std::fprintf(stderr, "\rglcast slave %s: frame %" PRIu64 ", %.1f fps, %.2f MB/s, lag %" PRId64
+                                     " frames, %" PRIu64 " recoveries   ",
+                             label_.c_str(), frame, report_.fps, report_.mbps, report_.lag, report_.recoveries);
+            rates.last = now;
+            rates.frames = replayer_->stats().frames;
+            rates.bytes = source.bytes();
+        }
+        say_status(false);
+    }
+
+    SlaveArgs& a_;
+    const std::string label_;  // glcast run names a config-less slave's tile "window" too
+    std::unique_ptr<WallLink> link_;
+    std::unique_ptr<Replayer> replayer_;
+    std::unique_ptr<FILE, FileCloser> present_log_;  // test hook: "frame seconds held-by-the-barrier" a present
+    TileReport report_;
+    std::chrono::steady_clock::time_point last_report_ = std::chrono::steady_clock::now() - std::chrono::seconds(10);
+    bool barrier_answered_ = true;
+};
+
+int slave(SlaveArgs& a) {
+    int status = 0;
+    if (!prepare(a, status)) return status;
+    std::string error;
     std::unique_ptr<Backend> backend = make_backend(a.backend_kind, error);
     if (!backend) {
         std::fprintf(stderr, "glcast slave: %s\n", error.c_str());
         return 1;
     }
-    // glcast run names a config-less slave's tile "window" too (its status reports carry the label)
-    const std::string label = tile_name.empty() ? std::string("window") : tile_name;
+    const ReplayOptions& opt = a.opt;
     if (opt.tile.enabled && !opt.view.enabled)  // a window at its tile's place on the canvas
         backend->set_position(opt.tile.x, opt.tile.canvas_height - opt.tile.y - opt.tile.height);
-    std::unique_ptr<WallLink> link;
-    bool barrier_answered = true;
-    TileReport report;
-    auto last_report = std::chrono::steady_clock::now() - std::chrono::seconds(10);
-    auto say_status = [&](bool force) {  // to glcast run's status line, at most once a second
-        const auto now = std::chrono::steady_clock::now();
-        if (!link || (!force && now - last_report < std::chrono::seconds(1))) return;
-        link->report(report);
-        last_report = now;
-    };
+    const std::string label = a.tile_name.empty() ? std::string("window") : a.tile_name;
     try {
-        if (!a.control.empty()) link = std::make_unique<WallLink>(a.control, label, machine_name());
-        Replayer replayer(std::move(backend), opt);
-        FILE* present_log = nullptr;  // test hook: each present, "frame seconds held-by-the-barrier" per line
-        if (const char* log = std::getenv("GLCAST_TEST_PRESENT_LOG")) present_log = std::fopen(log, "w");
-        for (uint64_t program = 1;; program++) {
-            if (a.service) {
-                // Idle until a program publishes; a display machine's slave outlives every program.
-                report = TileReport{};
-                say_status(true);
-                std::fprintf(stderr, "glcast slave %s: waiting for a program on %s\n", label.c_str(), endpoint.c_str());
-                wait_for_stream(endpoint, [&] { say_status(false); });
-                report.state = "joining";
-                say_status(true);
-            }
-            std::unique_ptr<NetworkSource> joined;
-            try {
-                joined = std::make_unique<NetworkSource>(endpoint, journal, a.wait_seconds, a.keeper);
-            } catch (const std::exception& e) {
-                if (!a.service) throw;
-                // The program ended or vanished while this slave joined: wait for the next one.
-                std::fprintf(stderr, "glcast slave %s: %s\n", label.c_str(), e.what());
-                std::this_thread::sleep_for(std::chrono::seconds(1));
-                continue;
-            }
-            NetworkSource& source = *joined;
-            // A service writes each program's frames to a folder of its own: DIR/program-N.
-            std::string program_out = out_dir;
-            if (a.service && !out_dir.empty()) {
-                char sub[32];
-                std::snprintf(sub, sizeof sub, "/program-%04" PRIu64, program);
-                program_out += sub;
-                if (!make_directories(program_out, error)) throw std::runtime_error("--out: " + error);
-            }
-            replayer.reset();
-            replayer.set_frame(source.joined_frame());
-            auto say_join = [&] {
-                const NetworkSource::JoinCost& j = source.join_cost();
-                if (j.state_messages || j.journal_messages)
-                    std::fprintf(stderr, "glcast slave %s: joined at frame %" PRIu64 ": %" PRIu64 " snapshot and %" PRIu64
-                                         " journal messages, %" PRIu64 " bytes, in %.3f s (the keeper's state in %.3f s)\n",
-                                 label.c_str(), source.joined_frame(), j.state_messages, j.journal_messages, j.bytes,
-                                 j.seconds, j.state_seconds);
-            };
-            say_join();
-            source.on_restart = [&] {
-                std::fprintf(stderr, "glcast slave %s: the journal no longer holds them; starting over from %s\n",
-                             label.c_str(), a.keeper.empty() ? "the master's journal" : "the keeper");
-                replayer.reset();
-            };
-            source.on_joined = [&](uint64_t frame) {
-                replayer.set_frame(frame);
-                say_join();
-            };
-            source.on_gap = [&] {
-                std::fprintf(stderr, "glcast slave %s: messages lost (%s); asking the master's journal for them\n",
-                             label.c_str(), source.gap().c_str());
-            };
-            source.on_idle = [&] { say_status(false); };
-            replayer.before_present = [&](uint64_t frame) {
-                // After one wait in vain (glcast run is gone), later frames wait briefly until a GO comes again.
-                bool held = false;
-                if (link && a.swap_barrier && source.live()) {
-                    const int wait_ms = barrier_answered ? kBarrierWaitMs : 100;
-                    held = barrier_answered = link->barrier(frame, wait_ms);
-                    if (!barrier_answered && wait_ms == kBarrierWaitMs)
-                        std::fprintf(stderr, "\nglcast slave %s: swap barrier: frame %" PRIu64 " went alone after %d s\n",
-                                     label.c_str(), frame, kBarrierWaitMs / 1000);
-                }
-                if (present_log) {
-                    std::fprintf(present_log, "%" PRIu64 " %.6f %d\n", frame,
-                                 std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(),
-                                 held);
-                    std::fflush(present_log);
-                }
-                if (lockstep && source.caught_up()) source.done(frame);
-            };
-            auto last = std::chrono::steady_clock::now();
-            uint64_t frames_at_last = replayer.stats().frames, bytes_at_last = 0;
-            replayer.on_frame = [&](uint64_t frame, int w, int h, const std::vector<uint8_t>& rgba) {
-                // Frames replayed while catching up from the journal are written too: they are the
-                // same frames, only late.
-                if (!out_dir.empty()) {
-                    char name[48];
-                    std::snprintf(name, sizeof name, "/frame-%06" PRIu64 ".png", frame);
-                    std::string err;
-                    if (!write_png(program_out + name, Image{w, h, rgba}, err))
-                        std::fprintf(stderr, "glcast slave: %s\n", err.c_str());
-                }
-                const auto now = std::chrono::steady_clock::now();
-                const double dt = std::chrono::duration<double>(now - last).count();
-                report.state = source.live() ? "live" : "joining";
-                report.frame = frame;
-                report.master_frame = source.master_frame();
-                report.lag = std::max<int64_t>(0, int64_t(source.master_frame()) - int64_t(frame));  // 0 until live
-                report.recoveries = source.recoveries();
-                if (dt >= 1.0) {
-                    report.fps = (replayer.stats().frames - frames_at_last) / dt;
-                    report.mbps = (source.bytes() - bytes_at_last) / dt / 1e6;
-                    if (!quiet)
-                        std::fprintf(stderr, "\rglcast slave %s: frame %" PRIu64 ", %.1f fps, %.2f MB/s, lag %" PRId64
-                                             " frames, %" PRIu64 " recoveries   ",
-                                     label.c_str(), frame, report.fps, report.mbps, report.lag, report.recoveries);
-                    last = now;
-                    frames_at_last = replayer.stats().frames;
-                    bytes_at_last = source.bytes();
-                }
-                say_status(false);
-            };
-            // Frames are read back only when written; without --out the status line still needs the
-            // swap callback, which costs a readback: acceptable for a wall tile's status.
-            try {
-                replayer.replay(source);
-            } catch (const std::exception& e) {
-                if (!a.service) throw;
-                std::fprintf(stderr, "\nglcast slave %s: %s; waiting for the next program\n", label.c_str(), e.what());
-                continue;
-            }
-            const ReplayStats& s = replayer.stats();
-            std::fprintf(stderr, "\nglcast slave %s: the program ended%s; %" PRIu64 " frames, %" PRIu64 " errors, %" PRIu64
-                                 " recoveries\n",
-                         label.c_str(), source.replaced() ? " (a new one started)" : "", s.frames, s.errors,
-                         source.recoveries());
-            if (!a.service) {
-                if (present_log) std::fclose(present_log);
-                return s.errors ? 1 : 0;
-            }
-        }
+        SlaveRun run(a, std::move(backend));
+        return run.run();
     } catch (const std::exception& e) {
         std::fprintf(stderr, "glcast slave %s: %s\n", label.c_str(), e.what());
         return 1;
