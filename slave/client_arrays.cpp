@@ -29,6 +29,40 @@ static int64_t client_element_bytes(ClientSlot slot, int32_t size, GLenum type) 
     }
 }
 
+// The pointer call of the array's slot, at the slave's copy `p`.
+static void point_array(const GlApi& gl, const SynthClientArrays::Item& a, const void* p) {
+    const uint32_t index = a.index;
+    const int32_t size = a.size, stride = a.stride;
+    const GLenum type = a.type;
+    const auto slot = ClientSlot(a.slot);
+    switch (slot) {
+    case ClientSlot::Vertex: gl.glVertexPointer(size, type, stride, p); break;
+    case ClientSlot::Normal: gl.glNormalPointer(type, stride, p); break;
+    case ClientSlot::Color: gl.glColorPointer(size, type, stride, p); break;
+    case ClientSlot::SecondaryColor:
+        gl.glSecondaryColorPointer(size, type, stride, p);
+        break;
+    case ClientSlot::FogCoord: gl.glFogCoordPointer(type, stride, p); break;
+    case ClientSlot::Index: gl.glIndexPointer(type, stride, p); break;
+    case ClientSlot::EdgeFlag: gl.glEdgeFlagPointer(stride, p); break;
+    case ClientSlot::TexCoord: {
+        GLint active = GL_TEXTURE0;
+        gl.glGetIntegerv(GL_CLIENT_ACTIVE_TEXTURE, &active);
+        auto client_active = [&gl](GLenum unit) { gl.glClientActiveTexture(unit); };
+        client_active(GL_TEXTURE0 + index);
+        gl.glTexCoordPointer(size, type, stride, p);
+        client_active(GLenum(active));
+        break;
+    }
+    case ClientSlot::Attrib:
+        if (a.integer)
+            gl.glVertexAttribIPointer(index, size, type, stride, p);
+        else
+            gl.glVertexAttribPointer(index, size, type, a.normalized, stride, p);
+        break;
+    }
+}
+
 // Points the array at the slave's copy. The pointer calls must see no GL_ARRAY_BUFFER, or
 // they would take the address for a buffer offset; texture-coordinate arrays need their
 // client-active unit. Both are restored.
@@ -65,7 +99,6 @@ void Replayer::client_arrays(const Call& c) {
         const uint32_t index = a.index, handle = a.handle, first_byte = a.first_byte;
         const int32_t size = a.size, stride = a.stride;
         const GLenum type = a.type;
-        const uint8_t normalized = a.normalized, integer = a.integer;
         std::vector<uint8_t>& copy = ctx.client_arrays[handle];
         if (a.cached) {
             if (copy.empty()) {
@@ -101,32 +134,7 @@ void Replayer::client_arrays(const Call& c) {
         }
         // GL adds first * stride itself: hand it the address the master's range started from.
         const void* p = copy.data() - first_byte;
-        switch (slot) {
-        case ClientSlot::Vertex: api_.glVertexPointer(size, type, stride, p); break;
-        case ClientSlot::Normal: api_.glNormalPointer(type, stride, p); break;
-        case ClientSlot::Color: api_.glColorPointer(size, type, stride, p); break;
-        case ClientSlot::SecondaryColor:
-            api_.glSecondaryColorPointer(size, type, stride, p);
-            break;
-        case ClientSlot::FogCoord: api_.glFogCoordPointer(type, stride, p); break;
-        case ClientSlot::Index: api_.glIndexPointer(type, stride, p); break;
-        case ClientSlot::EdgeFlag: api_.glEdgeFlagPointer(stride, p); break;
-        case ClientSlot::TexCoord: {
-            GLint active = GL_TEXTURE0;
-            api_.glGetIntegerv(GL_CLIENT_ACTIVE_TEXTURE, &active);
-            auto client_active = [this](GLenum unit) { api_.glClientActiveTexture(unit); };
-            client_active(GL_TEXTURE0 + index);
-            api_.glTexCoordPointer(size, type, stride, p);
-            client_active(GLenum(active));
-            break;
-        }
-        case ClientSlot::Attrib:
-            if (integer)
-                api_.glVertexAttribIPointer(index, size, type, stride, p);
-            else
-                api_.glVertexAttribPointer(index, size, type, normalized, stride, p);
-            break;
-        }
+        point_array(api_, a, p);
     }
     bind(GL_ARRAY_BUFFER, GLuint(array_buffer));
     ctx.client_arrays_refused = false;
