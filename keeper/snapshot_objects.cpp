@@ -3,6 +3,7 @@
 // rendering included), renderbuffers, samplers, shaders and programs with their uniforms, and
 // display lists from the tuples that compiled them (keeper/kept_calls.h).
 #include <algorithm>
+#include <functional>
 #include <cstring>
 
 #include "glcast_encode.h"
@@ -44,6 +45,51 @@ int dimensions(GLenum target) {
 struct Transfer {
     GLenum format = GL_RGBA, type = GL_UNSIGNED_BYTE;
 };
+
+// The format and type a texture image is read back in, from what GL says of the image
+// (`param`: its glGetTexLevelParameteriv).
+Transfer read_back_as(const std::function<GLint(GLenum)>& param) {
+    const GLint depth_bits = param(GL_TEXTURE_DEPTH_SIZE);
+    const GLint stencil_bits = param(GL_TEXTURE_STENCIL_SIZE);
+    GLint component = 0;
+    for (GLenum pname : {GL_TEXTURE_RED_TYPE, GL_TEXTURE_ALPHA_TYPE, GL_TEXTURE_LUMINANCE_TYPE,
+                         GL_TEXTURE_INTENSITY_TYPE})
+        if (!component) component = param(pname);
+    const GLint r = param(GL_TEXTURE_RED_SIZE), g = param(GL_TEXTURE_GREEN_SIZE), b = param(GL_TEXTURE_BLUE_SIZE),
+                a = param(GL_TEXTURE_ALPHA_SIZE), l = param(GL_TEXTURE_LUMINANCE_SIZE),
+                in = param(GL_TEXTURE_INTENSITY_SIZE);
+    const GLint bits = std::max({r, g, b, a, l, in});
+    // The components the image has, as the program most likely gave them: the driver
+    // may choose its storage by the format of the upload (Mesa does), and another
+    // storage samples with other roundings.
+    const bool integer = component == GL_INT || component == GL_UNSIGNED_INT;
+    GLenum components = GL_RGBA;
+    if (in) components = GL_RED;
+    else if (l) components = a ? GL_LUMINANCE_ALPHA : GL_LUMINANCE;
+    else if (r && g && b) components = a ? GL_RGBA : GL_RGB;
+    else if (r && g) components = GL_RG;
+    else if (r) components = GL_RED;
+    else if (a) components = GL_ALPHA;
+    if (integer) {
+        switch (components) {
+        case GL_RGB: components = GL_RGB_INTEGER; break;
+        case GL_RG: components = GL_RG_INTEGER; break;
+        case GL_RED: components = GL_RED_INTEGER; break;
+        case GL_ALPHA: components = GL_ALPHA_INTEGER; break;
+        default: components = GL_RGBA_INTEGER; break;
+        }
+    }
+    if (depth_bits) {
+        const bool float_depth = param(GL_TEXTURE_DEPTH_TYPE) == GL_FLOAT;
+        if (stencil_bits)
+            return {GL_DEPTH_STENCIL, GLenum(float_depth ? GL_FLOAT_32_UNSIGNED_INT_24_8_REV : GL_UNSIGNED_INT_24_8)};
+        return {GL_DEPTH_COMPONENT, GLenum(float_depth ? GL_FLOAT : GL_UNSIGNED_INT)};
+    }
+    if (stencil_bits) return {GL_STENCIL_INDEX, GL_UNSIGNED_BYTE};
+    if (integer) return {components, GLenum(component)};
+    if (component == GL_FLOAT || component == GL_SIGNED_NORMALIZED) return {components, GL_FLOAT};
+    return {components, GLenum(bits > 8 ? GL_UNSIGNED_SHORT : GL_UNSIGNED_BYTE)};
+}
 
 }  // namespace
 
@@ -193,54 +239,7 @@ void SnapshotWriter::texture_images(GLenum target, uint64_t master) {
                 flush();
                 continue;
             }
-            Transfer t;
-            const GLint depth_bits = level_value(face, level, GL_TEXTURE_DEPTH_SIZE);
-            const GLint stencil_bits = level_value(face, level, GL_TEXTURE_STENCIL_SIZE);
-            GLint component = 0;
-            for (GLenum pname : {GL_TEXTURE_RED_TYPE, GL_TEXTURE_ALPHA_TYPE, GL_TEXTURE_LUMINANCE_TYPE,
-                                 GL_TEXTURE_INTENSITY_TYPE})
-                if (!component) component = level_value(face, level, pname);
-            GLint bits = 0;
-            auto size_of = [&](GLenum pname) { return level_value(face, level, pname); };
-            const GLint r = size_of(GL_TEXTURE_RED_SIZE), g = size_of(GL_TEXTURE_GREEN_SIZE),
-                        b = size_of(GL_TEXTURE_BLUE_SIZE), a = size_of(GL_TEXTURE_ALPHA_SIZE),
-                        l = size_of(GL_TEXTURE_LUMINANCE_SIZE), in = size_of(GL_TEXTURE_INTENSITY_SIZE);
-            bits = std::max({r, g, b, a, l, in});
-            // The components the image has, as the program most likely gave them: the driver
-            // may choose its storage by the format of the upload (Mesa does), and another
-            // storage samples with other roundings.
-            const bool integer = component == GL_INT || component == GL_UNSIGNED_INT;
-            GLenum components = GL_RGBA;
-            if (in) components = GL_RED;
-            else if (l) components = a ? GL_LUMINANCE_ALPHA : GL_LUMINANCE;
-            else if (r && g && b) components = a ? GL_RGBA : GL_RGB;
-            else if (r && g) components = GL_RG;
-            else if (r) components = GL_RED;
-            else if (a) components = GL_ALPHA;
-            if (integer) {
-                switch (components) {
-                case GL_RGB: components = GL_RGB_INTEGER; break;
-                case GL_RG: components = GL_RG_INTEGER; break;
-                case GL_RED: components = GL_RED_INTEGER; break;
-                case GL_ALPHA: components = GL_ALPHA_INTEGER; break;
-                default: components = GL_RGBA_INTEGER; break;
-                }
-            }
-            if (depth_bits && stencil_bits) {
-                const bool float_depth = level_value(face, level, GL_TEXTURE_DEPTH_TYPE) == GL_FLOAT;
-                t = {GL_DEPTH_STENCIL, GLenum(float_depth ? GL_FLOAT_32_UNSIGNED_INT_24_8_REV : GL_UNSIGNED_INT_24_8)};
-            } else if (depth_bits) {
-                const bool float_depth = level_value(face, level, GL_TEXTURE_DEPTH_TYPE) == GL_FLOAT;
-                t = {GL_DEPTH_COMPONENT, GLenum(float_depth ? GL_FLOAT : GL_UNSIGNED_INT)};
-            } else if (stencil_bits) {
-                t = {GL_STENCIL_INDEX, GL_UNSIGNED_BYTE};
-            } else if (integer) {
-                t = {components, GLenum(component)};
-            } else if (component == GL_FLOAT || component == GL_SIGNED_NORMALIZED) {
-                t = {components, GL_FLOAT};
-            } else {
-                t = {components, GLenum(bits > 8 ? GL_UNSIGNED_SHORT : GL_UNSIGNED_BYTE)};
-            }
+            const Transfer t = read_back_as([&](GLenum pname) { return level_value(face, level, pname); });
             const int64_t bytes = sz_.image(Dir::Out, t.format, t.type, w, h, d);
             if (bytes <= 0) {
                 missing("texture " + std::to_string(master) + " level " + std::to_string(level) + ": format " +
