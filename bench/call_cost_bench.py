@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The time a GL call costs the calling thread with glcast (issue 15): bench/call_cost.c (20,000
+"""The time a GL call costs the calling thread with glcast: bench/call_cost.c (20,000
 immediate-mode calls a frame into an 8x8 window) natively, under the shim with no consumer,
 capturing to a file, and publishing on ipc:// with the journal and no slave; its thread CPU time
 per call, interleaved runs, medians.

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""What glcast costs the program (issue 15): frames per second and CPU time per frame (user +
+"""What glcast costs the program: frames per second and CPU time per frame (user +
 system of the whole process, every thread, from rusage; both over frames 10 on) of each program natively, capturing to a file, publishing with no slave
 (ipc://, with the journal, as glcast run does) and publishing to one slave (glcast slave, EGL,
 its own process, not counted). The configurations run interleaved, REPEATS times each; medians.

@@ -1,5 +1,5 @@
 // Soft shadows (docs/shadows.md): the cost of each step of erosion/PCF and erosion/direct and
-// the totals against PCSS 8/32/64 (the layout of the seed's Tables 1 and 2), with each
+// the totals against PCSS 8/32/64 (the layout of the erosion method's own tables, docs/shadows.md), with each
 // method's error against the area-light reference, on the test scenes of
 // tests/effects/shadows/. EGL, headless, Mesa llvmpipe here; each step ends in glFinish and is
 // timed with a steady clock; medians over frames (the scene is redrawn before each, untimed).

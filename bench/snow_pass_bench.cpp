@@ -1,5 +1,5 @@
 // Cost of the falling-snow pass at 1920x1080 on this machine's GL (llvmpipe here), in the pairs
-// of the seed's Table 2: the hybrid (2,000 particles + spectral snow) against particles alone at
+// of the method's own measurements (docs/snow.md): the hybrid (2,000 particles + spectral snow) against particles alone at
 // 2,000, 16,000 and 150,000, and the spectral composite alone (texture upload + full-screen
 // blend; its synthesis runs on the worker thread, measured by spectral_snow_bench, but shares
 // the machine's cores with the rasterizer). The camera is still, except in the row where it

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Bytes per frame of the stream (issue 15): each message compressed alone (GLCAST_INTER_FRAME=0,
+"""Bytes per frame of the stream: each message compressed alone (GLCAST_INTER_FRAME=0,
 the coding before format version 2), against the previous message (version 2's inter-frame
 coding, the default), and apitrace's trace of the same frames (whole, and its steady bytes a
 frame: a trace of FRAMES frames less one of 10, over FRAMES - 10); at zstd levels 1 and 3. Every

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Distribution cost of the wall (issue 6), on one 2-core machine: glxgears publishing to 1, 2,
+"""Distribution cost of the wall, on one 2-core machine: glxgears publishing to 1, 2,
 4 and 8 local slaves on the null backend (they receive, decode and map, but rasterize nothing),
 then to 1 and 2 slaves that render on EGL. For each: the program's frames per second (swap
 counter, frames 10..N), its CPU time per frame, the message bytes per frame it sends (each

@@ -210,8 +210,8 @@ public:
     void* proc_address(const char* name) { return reinterpret_cast<void*>(api_.GetProcAddress(name)); }
 
     // A pbuffer is never swapped: without a flush at the end of each frame the driver may keep
-    // queueing the frames' work (llvmpipe did: 57 MB more after 19,000 frames of glfw_dynamic,
-    // and a readback at the end paid for it).
+    // queueing the frames' work, growing without bound until a readback pays for all of it
+    // (docs/performance.md).
     void present() {
         if (!flush_) flush_ = reinterpret_cast<void (*)()>(api_.GetProcAddress("glFlush"));
         if (flush_) flush_();

@@ -1,5 +1,5 @@
 // Encoder -> decoder on the commands whose sizes depend on something other than a count:
-// the tricky table of issue 2.
+// the tricky cases of docs/codegen.md.
 #include <GL/gl.h>
 #include <GL/glext.h>
 #include <gtest/gtest.h>

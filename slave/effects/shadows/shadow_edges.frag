@@ -1,4 +1,4 @@
-// Edges of the hard shadows (the seed's edge detection), drawn over the blocks that hold
+// Edges of the hard shadows (the erosion method's edge detection, docs/shadows.md), drawn over the blocks that hold
 // candidates (shadow_candidates.frag): a 3x3 Laplacian (five taps) of the lit channel, kept
 // only where the shadow map has a silhouette at the pixel's light position (the same
 // Laplacian over shadow tests there), so edges that come from occlusion in the camera's view

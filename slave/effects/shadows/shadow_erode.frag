@@ -1,11 +1,11 @@
-// Erosion of the hard-shadow edges through their min-max mipmap (the seed's Figure 1). Per
+// Erosion of the hard-shadow edges through their min-max mipmap (docs/shadows.md). Per
 // pixel: the level whose 2x2 block covers the largest search radius; no edge there: done.
 // Else the widest penumbra there gives a smaller radius and a finer level, until the radius
 // stops shrinking; an edge within the final radius puts the pixel in a penumbra region.
 //   EROSION_DIRECT undefined (erosion/PCF): out rg = (the region's widest penumbra, eye units;
 //     1 inside a region, 0 outside), for the PCF of shadow_shade.frag.
 //   EROSION_DIRECT: out r = visibility from the distance to the nearest edge whose penumbra
-//     reaches the pixel, with the seed's s_outer = (w - d) / 2w, s_inner = 1 - s_outer
+//     reaches the pixel, with the method's s_outer = (w - d) / 2w, s_inner = 1 - s_outer
 //     (w: the edge's penumbra half-width, d: distance to its least-squares line, both on the
 //     receiver); out g = the hard texel's facing.
 uniform sampler2D u_edges;   // min-max mipmap, levels 0..u_levels
@@ -155,7 +155,7 @@ void main() {
         }
     }
     if (best_reach > 0.0) {
-        // The share of the light hidden on the lit side: the seed's ramp (w - d) / 2w, or the
+        // The share of the light hidden on the lit side: the method's ramp (w - d) / 2w, or the
         // area of a round light's disk beyond the line at distance d.
         float u = clamp(best_distance / best_reach, 0.0, 1.0);
         float outer = u_disk_profile == 1 ? (acos(u) - u * sqrt(1.0 - u * u)) / 3.14159265 : 0.5 * (1.0 - u);

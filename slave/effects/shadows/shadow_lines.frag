@@ -1,4 +1,4 @@
-// The seed's distance correction for erosion/direct: a least-squares line through the edge
+// The erosion method's distance correction (docs/shadows.md) for erosion/direct: a least-squares line through the edge
 // pixels of the 5x5 neighbourhood of each edge pixel (the principal axis of their positions).
 // Both sides of a hard-shadow boundary are edge pixels, so the line runs along the boundary
 // itself. Output rg: the vector from the pixel's centre to the line (pixels).

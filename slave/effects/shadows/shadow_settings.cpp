@@ -75,7 +75,7 @@ std::vector<ParamSpec> shadow_param_specs() {
         {"shadows.reference_samples", 512, 1, 4096, "points on the area light averaged by the reference method"},
         {"shadows.silhouette_check", 1, 0, 1, "1: keep only hard-shadow edges that are silhouettes in the shadow map"},
         {"shadows.line_fit", 1, 0, 1, "1: erosion-direct measures distances to least-squares lines through the edge pixels"},
-        {"shadows.direct_profile", 0, 0, 1, "erosion-direct's penumbra profile: 0 the seed's linear ramp, 1 the occluded area of a round light"},
+        {"shadows.direct_profile", 0, 0, 1, "erosion-direct's penumbra profile: 0 the method's linear ramp, 1 the occluded area of a round light"},
         {"shadows.rerender_depth", 1, 0, 1, "1: re-render the camera depth with a guard band around the tile (no seams on a wall); 0: use the window's depth buffer (one scene render less, no guard band)"},
     };
 }

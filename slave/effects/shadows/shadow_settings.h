@@ -13,7 +13,7 @@ namespace glcast::slave::effects {
 
 // How the shadow factor of a pixel is computed (docs/shadows.md, "Methods").
 enum class ShadowMethod {
-    ErosionPcf,     // the seed's first solution: eroded edge regions, PCF scaled by the penumbra there
+    ErosionPcf,     // the erosion method's first solution: eroded edge regions, PCF scaled by the penumbra there
     ErosionDirect,  // its second: the shadow factor from the erosion distance, least-squares line corrected
     Pcss8,          // percentage-closer soft shadows with 8, 32 or 64 blocker-search samples
     Pcss32,
@@ -48,7 +48,7 @@ struct ShadowSettings {
     int reference_samples = 512;  // light samples of the reference
     bool silhouette_check = true; // keep only hard-shadow edges that are silhouettes in the shadow map
     bool line_fit = true;         // least-squares line correction of erosion/direct
-    bool direct_disk_profile = false;  // erosion/direct: a round light's profile instead of the seed's ramp
+    bool direct_disk_profile = false;  // erosion/direct: a round light's profile instead of the method's ramp
     bool rerender_depth = true;   // camera depth re-rendered with a guard band (else the window's depth)
 };
 

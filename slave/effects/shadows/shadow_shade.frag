@@ -1,6 +1,6 @@
 // Visibility of each work pixel (r), with the receiver's facing (g) for the darkening.
 //   EROSION_PCF: in the eroded penumbra regions PCF over the region's penumbra half-width at
-//     this receiver (the seed's first solution); elsewhere the hard shadow.
+//     this receiver (the erosion method's first solution); elsewhere the hard shadow.
 //   PCSS: Fernando's percentage-closer soft shadows: the mean depth of the blockers found by
 //     u_blocker_samples taps over the largest possible penumbra, the parallel-planes width
 //     from it, PCF over half of it.

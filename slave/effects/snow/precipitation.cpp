@@ -1,4 +1,4 @@
-// Falling snow and rain (issue 4; docs/snow.md): the seed's spectral-particle hybrid. A sparse
+// Falling snow and rain (docs/snow.md): the spectral-particle hybrid. A sparse
 // set of 3D particles around the viewer, depth-tested against the program's depth buffer, and
 // the spectral opacity texture composited over the frame for the dense far snow. Rain is the
 // same pass with vertical motion, a high C and thin streaks.
@@ -45,7 +45,7 @@ std::vector<ParamSpec> kind_specs(const Kind& k) {
         {p + "particle_opacity", k.particle_opacity, 0, 1, "opacity of a particle's centre"},
         {p + "spectral_opacity", k.spectral_opacity, 0, 1, "opacity scale of the spectral layer"},
         {p + "brightness", 0.95, 0, 1, "grey level of the snow (or rain) colour"},
-        {p + "sharpness", k.sharpness, 0.25, 8, "spectral opacity is raised to this power before compositing (1: the seed's mapping as is)"},
+        {p + "sharpness", k.sharpness, 0.25, 8, "spectral opacity is raised to this power before compositing (1: the method's mapping as is)"},
         {p + "size", k.size, 8, 2048, "spectral texture size M (even), texels"},
         {p + "regions", k.regions, 1, 8, "regions per canvas side, each with its own C and theta (seed sec. 7)"},
         {p + "scale", k.scale, 0.25, 16, "canvas pixels per spectral texel"},

@@ -1,4 +1,4 @@
-// The seed's composite I = I_snow a + (1 - a) I_bg (blending does the sum) while regions move
+// The spectral-snow method's composite (docs/snow.md) I = I_snow a + (1 - a) I_bg (blending does the sum) while regions move
 // differently: the texels (snow colour, a) at this canvas pixel are blended bilinearly between
 // the regions' textures (seed sec. 7), so neighbouring regions with their own C and theta meet
 // without an edge, and every tile of a wall reads the same canvas. (One region, or regions that

@@ -1,4 +1,4 @@
-// How falling snow moves on the image (issue 4, the seed's section 7): a flake with eye-space
+// How falling snow moves on the image (docs/snow.md): a flake with eye-space
 // velocity u at depth d seen at normalized image position a = X / -Z moves with
 //
 //     da/dt = (u_xy + a u_z) / d,

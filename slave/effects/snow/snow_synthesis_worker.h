@@ -1,6 +1,6 @@
-// Spectral snow synthesized off the render thread (issue 4: a frame never waits for the IFFT):
+// Spectral snow synthesized off the render thread (a frame never waits for the IFFT):
 // frame f's textures are computed while frame f - 1 is composited. One SpectralSnow per region
-// of the seed's section 7 grid (regions x regions over the canvas), all with the same seed, so
+// of the method's grid (docs/snow.md) (regions x regions over the canvas), all with the same seed, so
 // that regions with equal C and theta are identical and blend without a trace.
 #pragma once
 

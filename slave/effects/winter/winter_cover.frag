@@ -1,4 +1,4 @@
-// Snow cover, seed 003's accumulator in screen space: how much snow each pixel of the
+// Snow cover, the snow accumulator of docs/winter.md in screen space: how much snow each pixel of the
 // guard-band buffers holds. A surface holds snow where its normal lies within the spread angle
 // of "up" (the direction opposite to the snowfall), in patches of seeded noise in world space
 // (stable while the camera moves, the same on every tile) whose covered fraction is the density,

@@ -1,5 +1,5 @@
 // Snow cover (docs/winter.md, "Cover"): which pixels of the tile and its guard band hold snow,
-// and the snow shaded over the window. Seed 003's accumulator (spread angle around the
+// and the snow shaded over the window. The snow accumulator of docs/winter.md (spread angle around the
 // direction opposite to the snowfall, density, seed, uniform or random spread) and its snow by
 // texture (the mask image over the canvas).
 #pragma once

@@ -1,5 +1,5 @@
 // Where icicles hang and how big they are (docs/winter.md, "Icicles"), shared by the root pass
-// and the icicle quads. Seed 003's generator scatters icicles along an edge with a seeded
+// and the icicle quads. The icicle generator (docs/winter.md) scatters icicles along an edge with a seeded
 // count and gives each a seeded radius; here the candidate places are columns of the canvas,
 // one per cell of `icicle_spacing` canvas pixels at a seeded offset, and an icicle hangs in a
 // column from every lower edge of snow it crosses, kept or dropped and sized by a hash of the

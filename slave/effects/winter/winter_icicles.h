@@ -1,4 +1,4 @@
-// Icicles (docs/winter.md, "Icicles"): seed 003's icicle generator in screen space. They hang
+// Icicles (docs/winter.md, "Icicles"): the icicle generator of docs/winter.md in screen space. They hang
 // below the lower edges of the snow cover (CoverStage::cover), in seeded canvas columns, with
 // seeded radii and lengths proportional to radius^(4/3), shaded as translucent ice.
 #pragma once

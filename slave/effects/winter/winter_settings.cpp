@@ -13,7 +13,7 @@ std::vector<ParamSpec> winter_param_specs() {
         text("cover.spread_mode", "uniform (default): one spread angle; random: the angle times a per-location factor "
                                   "((r + random_offset) * random_stepper)^random_exponent, r seeded noise in [0,1)"),
         {"cover.random_offset", 0.5, -1, 2, "random spread: offset added to the per-location random value"},
-        {"cover.random_stepper", 1, 0, 4, "random spread: scale of (r + offset) (seed 003's radius stepper)"},
+        {"cover.random_stepper", 1, 0, 4, "random spread: scale of (r + offset) (the radius stepper)"},
         {"cover.random_exponent", 1, 0.1, 8, "random spread: exponent of the per-location factor"},
         {"cover.random_scale", 2, 0.001, 1e6, "random spread: size of the regions sharing a spread factor, world units"},
         {"cover.density", 0.9, 0, 1, "fraction of an up-facing surface covered by snow (0: none, 1: all)"},
@@ -35,7 +35,7 @@ std::vector<ParamSpec> winter_param_specs() {
         {"cover.edge_angle", 40, 5, 175, "degrees: at a lower edge of the cover (lip, icicle roots) the surface below "
                                          "turns away by more than this"},
         text("cover.mask", "PNG stretched over the canvas: snow only where it is white and opaque "
-                           "(luminance times alpha scales the cover); seed 003's snow by texture"),
+                           "(luminance times alpha scales the cover); snow by texture"),
         {"icicles.seed", 1, 0, 4294967295.0, "seed of the icicles' placement, radius and growth"},
         {"icicles.density", 0.6, 0, 1, "fraction of the candidate columns along a lower edge that hold an icicle"},
         {"icicles.spacing", 0.012, 0.001, 0.5, "distance between candidate columns, fraction of the canvas height"},

@@ -23,7 +23,7 @@ enum class NormalSource {
 struct CoverSettings {
     double spread_deg = 40;        // a surface whose normal is within this angle of "up" holds snow
     double softness_deg = 3;       // half width of the soft band around the spread angle
-    bool random_spread = false;    // seed 003's random spread method: per-location spread factor
+    bool random_spread = false;    // the random spread method (docs/winter.md): per-location spread factor
     double random_offset = 0.5, random_stepper = 1.0, random_exponent = 1.0;
     double random_scale = 2.0;     // feature size of the per-location spread factor, world units
     double density = 0.9;          // about this fraction of an up-facing surface is covered

@@ -1,7 +1,7 @@
 // Snow shading over the window (tile pixels), blended by the cover amount: a bright, slightly
 // blue-white diffuse surface lit by the scene's light (wrap lighting for the light that snow
 // scatters under its surface), a blue sky fill, a fine bump of world-space noise and sparse
-// glints, as seed 003's snow shader (section 7: lighting plus anti-aliased noise for the
+// glints, as the snow shader of docs/winter.md (lighting plus anti-aliased noise for the
 // specular and the bump). Below the lower edges of the cover the snow hangs over in a rounded
 // lip of seeded thickness (winter_edges.glsl).
 uniform sampler2D cover;         // winter_cover.frag, guard-band pixels

@@ -1,4 +1,4 @@
-// The snow cover and icicle pass (docs/winter.md): seed 003's snow accumulator, snow by
+// The snow cover and icicle pass (docs/winter.md): the snow accumulator of docs/winter.md, snow by
 // texture and icicle generator, done in screen space at the end of each frame. Per frame:
 //   1. the surfaces under the tile and its guard band (re-rendered normals, or from depth);
 //   2. the cover: snow amount per pixel (spread angle, density, seed, mask);

@@ -94,7 +94,7 @@ TEST(Cover, SpreadAngleSeparatesTiltedPanels) {
     }
 }
 
-// Seed 003's random spread: the spread angle times ((r + offset) stepper)^exponent with r a
+// The random spread (docs/winter.md): the spread angle times ((r + offset) stepper)^exponent with r a
 // seeded value noise in [0, 1); 40 degrees times 0.5..1.5 is 20..60 degrees, so both panels
 // (35 and 45 degrees) are partly covered, the ground (0 degrees) fully.
 TEST(Cover, RandomSpreadVariesTheAnglePerLocation) {
@@ -136,7 +136,7 @@ TEST(Cover, DensityIsTheCoveredFraction) {
     }
 }
 
-// Seed 003's snow by texture: a mask image stretched over the canvas. Three bands: white
+// Snow by texture (docs/winter.md): a mask image stretched over the canvas. Three bands: white
 // opaque (snow), black opaque (none), white transparent (none); at a resolution other than the
 // canvas's.
 TEST(Cover, MaskImageDecidesWhereSnowMayLie) {

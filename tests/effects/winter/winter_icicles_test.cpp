@@ -150,7 +150,7 @@ std::vector<Region> regions(const std::vector<uint8_t>& mask, int width, int hei
     return out;
 }
 
-// Seed 003 after Short et al.: an icicle's length goes as its radius to the 4/3. Large icicles
+// After Short et al. (docs/winter.md): an icicle's length goes as its radius to the 4/3. Large icicles
 // under a long ledge seen head-on; for each, the length is the rows it spans and the root
 // radius follows from how fast its width shrinks (a cone, taper 1: width 2 r (1 - t)); the
 // slope of log L against log r over four seeds' icicles must be 4/3 within 0.12.
