@@ -68,8 +68,10 @@ const std::vector<ProgramCameras::Matrix>& ProgramCameras::matrices(uint32_t pro
         GLint size = 0;
         GLenum type = 0;
         gl_.glGetActiveUniform(program, i, sizeof name, nullptr, &size, &type, name);
-        if (type != GL_FLOAT_MAT4 || std::strncmp(name, "glcast_", 7) == 0 || std::strncmp(name, "gl_", 3) == 0)
-            continue;
+        const bool builtin = std::strncmp(name, "gl_", 3) == 0;
+        if (builtin && (std::strncmp(name, "gl_ModelView", 12) == 0 || std::strncmp(name, "gl_Projection", 13) == 0))
+            fixed_function_[program] = true;
+        if (type != GL_FLOAT_MAT4 || std::strncmp(name, "glcast_", 7) == 0 || builtin) continue;
         Matrix m;
         m.name = name;
         GLint block = -1, offset = 0, stride = 0, row_major = 0;
@@ -124,6 +126,17 @@ bool ProgramCameras::value(uint32_t program, const Matrix& m, glm::dmat4& out) {
     }
     return true;
 }
+
+bool ProgramCameras::reads_fixed_function(uint32_t program) {
+    if (!program) return false;
+    matrices(program);
+    const auto it = fixed_function_.find(program);
+    return it != fixed_function_.end() && it->second;
+}
+
+bool is_perspective(const glm::dmat4& p) { return p[2][3] != 0 && p[3][3] == 0; }
+
+bool mirrored(const glm::dmat4& modelview) { return glm::determinant(glm::dmat3(modelview)) < 0; }
 
 bool ProgramCameras::find(uint32_t program, ProgramCamera& out) {
     if (!program) return false;

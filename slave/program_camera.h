@@ -25,6 +25,11 @@ bool split_perspective(const glm::dmat4& m, glm::dmat4& projection, glm::dmat4& 
 // A rotation, a uniform scale and a translation (a view or modelview matrix).
 bool is_rigid(const glm::dmat4& m);
 
+bool is_perspective(const glm::dmat4& p);
+// A view turned inside out (glScalef(1, -1, 1)): a planar reflection drawn below a floor
+// before the scene. No camera is: it is not the main view.
+bool mirrored(const glm::dmat4& modelview);
+
 struct ProgramCamera {
     glm::dmat4 projection{1.0}, modelview{1.0};
     bool modelview_known = false;  // false: the program's view transform is not among its matrices
@@ -39,7 +44,10 @@ class ProgramCameras {
 public:
     explicit ProgramCameras(const GlApi& gl) : gl_(gl) {}
     bool find(uint32_t program, ProgramCamera& out);
-    void forget() { matrices_.clear(); }
+    // Its shaders read the fixed-function matrices through GLSL's built-ins
+    // (gl_ModelViewProjectionMatrix, gl_ProjectionMatrix, ...): its camera is GL_PROJECTION's.
+    bool reads_fixed_function(uint32_t program);
+    void forget() { matrices_.clear(), fixed_function_.clear(); }
 
 private:
     struct Matrix {
@@ -53,6 +61,7 @@ private:
 
     const GlApi& gl_;
     std::map<uint32_t, std::vector<Matrix>> matrices_;
+    std::map<uint32_t, bool> fixed_function_;  // by program, filled with matrices_
 };
 
 }  // namespace glcast::slave

@@ -348,7 +348,7 @@ bool TileAdapter::correct_shader_program(uint32_t program) {
         ProgramCamera camera;
         if (view.program_fov_y_deg) {
             m = glm::mat4(view.correction(view.program_projection(aspect)));
-        } else if (group.cameras.find(program, camera)) {
+        } else if (shader_camera(program, camera)) {
             m = glm::mat4(view.correction(camera.projection));
         } else if (!warned_no_camera_) {
             warned_no_camera_ = true;
@@ -361,6 +361,20 @@ bool TileAdapter::correct_shader_program(uint32_t program) {
         gl.glUniformMatrix4fv(it->second.location, 1, GL_FALSE, &m[0][0]);
         it->second.value = m;
     }
+    return true;
+}
+
+bool TileAdapter::shader_camera(uint32_t program, ProgramCamera& out) {
+    ProgramCameras& cameras = shared().cameras;
+    if (cameras.find(program, out)) return true;
+    if (!cameras.reads_fixed_function(program)) return false;
+    const glm::dmat4 projection = program_projection_now();
+    if (!is_perspective(projection)) return false;
+    GLdouble modelview[16];
+    core_.api().glGetDoublev(GL_MODELVIEW_MATRIX, modelview);
+    out.projection = projection;
+    std::memcpy(&out.modelview[0][0], modelview, sizeof modelview);
+    out.modelview_known = true;
     return true;
 }
 

@@ -17,6 +17,7 @@
 
 #include <glm/glm.hpp>
 
+#include "slave/program_camera.h"
 #include "slave/replay_observer.h"
 
 namespace glcast::slave {
@@ -45,6 +46,12 @@ public:
     // The program's own projection now: GL_PROJECTION without the correction a rotated tile
     // (or a redraw) premultiplied into it.
     glm::dmat4 program_projection_now();
+    // The camera of a draw by shader program `program` (the slave's name), one mechanism for the
+    // tile's correction and the injected passes: the first of its matrices that splits as a
+    // perspective product (program_camera.h); for a program whose shaders read the
+    // fixed-function matrices through GLSL's built-ins, GL_PROJECTION as the program set it and
+    // GL_MODELVIEW. False: none.
+    bool shader_camera(uint32_t program, ProgramCamera& out);
     // Whether the vertex shader of master name `shader` gets the clip-space correction.
     bool patches_vertex_shader(uint64_t shader);
 

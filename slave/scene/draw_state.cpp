@@ -8,10 +8,6 @@
 
 namespace glcast::slave {
 
-bool is_perspective(const glm::dmat4& p) { return p[2][3] != 0 && p[3][3] == 0; }
-
-bool mirrored(const glm::dmat4& modelview) { return glm::determinant(glm::dmat3(modelview)) < 0; }
-
 GLuint DriverDrawState::draw_framebuffer() {
     if (draw_framebuffer_ < 0) {
         GLint bound = 0;
@@ -95,7 +91,7 @@ CullState DriverDrawState::cull() {
 
 void DriverDrawState::viewport(int32_t out[4]) { tile_.program_viewport(out); }
 
-bool DriverDrawState::camera(GLuint program, ProgramCamera& out) { return cameras_.find(program, out); }
+bool DriverDrawState::camera(GLuint program, ProgramCamera& out) { return tile_.shader_camera(program, out); }
 
 GLenum DriverDrawState::color_attachment_type() {
     GLint type = GL_NONE;

@@ -41,24 +41,18 @@ public:
     virtual effects::SceneLight light() = 0;  // the first enabled fixed-function light, if lighting
     virtual CullState cull() = 0;
     virtual void viewport(int32_t out[4]) = 0;  // the program's viewport 0, master window coordinates
-    // The camera a shader program's matrices hold (program_camera.h); false: none.
+    // The camera of a shader program's draw (TileAdapter::shader_camera); false: none.
     virtual bool camera(GLuint program, ProgramCamera& out) = 0;
     // The attachments of the bound draw framebuffer object: GL_NONE, GL_TEXTURE or GL_RENDERBUFFER.
     virtual GLenum color_attachment_type() = 0;
     virtual GLenum depth_attachment_type() = 0;
 };
 
-bool is_perspective(const glm::dmat4& p);
-// A view turned inside out (glScalef(1, -1, 1)): a planar reflection drawn below a floor
-// before the scene. No camera is: it is not the main view.
-bool mirrored(const glm::dmat4& modelview);
-
 // The slave's driver and the tile adapter's tracking, asked lazily and at most once per value.
 // Lives for one call.
 class DriverDrawState final : public DrawState {
 public:
-    DriverDrawState(const GlApi& gl, TileAdapter& tile, ProgramCameras& cameras)
-        : gl_(gl), tile_(tile), cameras_(cameras) {}
+    DriverDrawState(const GlApi& gl, TileAdapter& tile) : gl_(gl), tile_(tile) {}
     GLuint draw_framebuffer() override;
     GLuint read_framebuffer() override;
     GLuint program() override;
@@ -78,7 +72,6 @@ public:
 private:
     const GlApi& gl_;
     TileAdapter& tile_;
-    ProgramCameras& cameras_;
     // -1: not asked yet this call
     int64_t draw_framebuffer_ = -1, program_ = -1, depth_test_ = -1, writes_depth_ = -1;
 };

@@ -23,16 +23,13 @@ ClassifierSettings SceneRecorder::settings() const {
 
 void SceneRecorder::record(SlaveContext& ctx, const Call& c, const uint8_t* tuple, size_t tuple_size) {
     if (c.opcode >= kSynthBase && c.opcode != kSynthClientArrays) return;
-    if (c.info && (c.info->sem.flags & kSemLinksProgram))  // which matrices a program has may change
-        for (auto& [id, s] : scenes_)
-            if (s->program_cameras) s->program_cameras->forget();
     ContextScene& sc = scene(ctx);
     FrameRecord& rec = sc.record;
     SceneFacts& facts = sc.facts;
     const GlApi& gl = core_.api();
     if (sc.loan.placement_pending && !rec.in_begin_end && rec.entries.size() > sc.loan.placement_from)
         lending_.place_borrowed_scene(ctx, sc);  // the draw that shows a borrowed scene has run
-    DriverDrawState state(gl, tile_, sc.cameras(gl));
+    DriverDrawState state(gl, tile_);
     if (sc.loan.complete && !ctx.drawing_to_window && state.draw_framebuffer() == facts.scene_framebuffer)
         sc.next_frame();  // a lent scene is kept until its next
     if (!rec.started) {

@@ -32,12 +32,6 @@ struct ContextScene {
     SceneLoan loan;
     bool presents = false;     // this context has presented a frame: it may not lend its scene
     BorrowerObjects borrower;  // GL objects, kept across frames
-    std::unique_ptr<ProgramCameras> program_cameras;
-
-    ProgramCameras& cameras(const GlApi& gl) {
-        if (!program_cameras) program_cameras = std::make_unique<ProgramCameras>(gl);
-        return *program_cameras;
-    }
     void next_frame() {  // the record, the facts and the loan start over
         record.clear();
         facts = SceneFacts{};

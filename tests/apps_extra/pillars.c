@@ -10,7 +10,16 @@
  * projection is a uniform: the stream then does not show it, and a rotated wall needs the
  * display config's program_projection (vertical field of view 2 atan(tan 30 deg * h / w)).
  *
- *   pillars [--shader] [--frames N] [--size WxH]
+ * With --builtins the shader reads the fixed-function matrices through GLSL's built-ins
+ * (gl_ModelViewProjectionMatrix): the program sets GL_PROJECTION and GL_MODELVIEW as a fixed
+ * function program does and has no matrix uniform at all (as voxel games written against
+ * GLSL 1.20 do).
+ *
+ * With --mvp every draw uploads one premultiplied matrix, projection * view * model: each pillar
+ * is modelled at the origin and placed by a model matrix of its own (a rotation about y and a
+ * translation), under a view that looks slightly down.
+ *
+ *   pillars [--shader | --builtins | --mvp] [--frames N] [--size WxH]
  */
 #define GL_GLEXT_PROTOTYPES 1
 #include <GL/gl.h>
@@ -22,10 +31,57 @@
 
 #include "../apps/app_common.h"
 
+/* c = a * b, column-major 4x4 */
+static void mul(double *c, const double *a, const double *b)
+{
+    for (int col = 0; col < 4; col++)
+        for (int row = 0; row < 4; row++) {
+            double v = 0;
+            for (int k = 0; k < 4; k++) v += a[k * 4 + row] * b[col * 4 + k];
+            c[col * 4 + row] = v;
+        }
+}
+
+static void upload(GLint location, const double *m)
+{
+    GLfloat f[16];
+    for (int i = 0; i < 16; i++) f[i] = (GLfloat)m[i];
+    glUniformMatrix4fv(location, 1, GL_FALSE, f);
+}
+
+/* --mvp: the floor and each pillar under projection * view * model, one uniform per draw. The
+ * view turns the world by 0 degrees (the pictures match the other modes) and is a rigid matrix
+ * the stream never shows alone. */
+static void draw_mvp(GLint location, const double *proj)
+{
+    const double view[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+    double pv[16], m[16], model[16];
+    mul(pv, proj, view);
+    upload(location, pv);
+    glBegin(GL_QUADS);  /* the floor, modelled in place */
+    glColor3ub(90, 90, 90);
+    glVertex3f(-50, -2, -50); glVertex3f(50, -2, -50); glVertex3f(50, -2, 50); glVertex3f(-50, -2, 50);
+    glEnd();
+    for (int k = 0; k < 12; k++) {
+        const double yaw = k * 30.0 * M_PI / 180.0, c = cos(yaw), s = sin(yaw);
+        /* rotate by -yaw about y (the pillar's face towards the viewer), then move it out to 6 units */
+        const double place[16] = {c, 0, s, 0, 0, 1, 0, 0, -s, 0, c, 0, 6 * s, 0, -6 * c, 1};
+        memcpy(model, place, sizeof place);
+        mul(m, pv, model);
+        upload(location, m);
+        glColor3ub((GLubyte)(40 + 16 * k), (GLubyte)(200 - 12 * k), (GLubyte)(255 - 20 * k));
+        glBegin(GL_QUADS);  /* the pillar at the origin, facing +z */
+        glVertex3d(-0.6, -2, 0); glVertex3d(0.6, -2, 0); glVertex3d(0.6, 6, 0); glVertex3d(-0.6, 6, 0);
+        glEnd();
+    }
+}
+
 int main(int argc, char **argv)
 {
     struct app_args a;
-    const int shader = app_take_flag(&argc, &argv, "--shader");
+    const int builtins = app_take_flag(&argc, &argv, "--builtins");
+    const int mvp = app_take_flag(&argc, &argv, "--mvp");
+    const int shader = app_take_flag(&argc, &argv, "--shader") || builtins || mvp;
     app_parse_args("pillars", argc, argv, &a);
     Display *dpy = XOpenDisplay(NULL);
     if (!dpy) {
@@ -44,8 +100,12 @@ int main(int argc, char **argv)
     GLuint program = 0;
     GLint proj_location = -1;
     if (shader) {
-        const char *vs = "#version 120\nuniform mat4 proj;\n"
-                         "void main() { gl_FrontColor = gl_Color; gl_Position = proj * gl_Vertex; }\n";
+        const char *vs = builtins ? "#version 120\n"
+                                    "void main() { gl_FrontColor = gl_Color; gl_Position = gl_ModelViewProjectionMatrix * gl_Vertex; }\n"
+                         : mvp ? "#version 120\nuniform mat4 mvp;\n"
+                                 "void main() { gl_FrontColor = gl_Color; gl_Position = mvp * gl_Vertex; }\n"
+                               : "#version 120\nuniform mat4 proj;\n"
+                                 "void main() { gl_FrontColor = gl_Color; gl_Position = proj * gl_Vertex; }\n";
         const char *fs = "#version 120\nvoid main() { gl_FragColor = gl_Color; }\n";
         GLuint v = glCreateShader(GL_VERTEX_SHADER), fr = glCreateShader(GL_FRAGMENT_SHADER);
         glShaderSource(v, 1, &vs, NULL);
@@ -62,7 +122,7 @@ int main(int argc, char **argv)
             fprintf(stderr, "pillars: shader program does not link\n");
             return 1;
         }
-        proj_location = glGetUniformLocation(program, "proj");
+        proj_location = glGetUniformLocation(program, mvp ? "mvp" : "proj");
     }
     for (int f = 0; f < a.frames; f++) {
         glViewport(0, 0, a.width, a.height);
@@ -74,27 +134,34 @@ int main(int argc, char **argv)
         const double n = 0.5, half = n * tan(30.0 * M_PI / 180.0);
         const double top = half * a.height / a.width;
         glFrustum(-half, half, -top, top, n, 100.0);
-        if (shader) {  /* the same matrix, column-major, as a uniform */
-            const double fa = 100.0;
-            const GLfloat m[16] = {(GLfloat)(n / half), 0, 0, 0, 0, (GLfloat)(n / top), 0, 0, 0, 0,
-                                   (GLfloat)(-(fa + n) / (fa - n)), -1, 0, 0, (GLfloat)(-2 * fa * n / (fa - n)), 0};
-            glUseProgram(program);
+        /* the same matrix, column-major, for the uniforms */
+        const double fa = 100.0;
+        const double proj[16] = {n / half, 0, 0, 0, 0, n / top, 0, 0, 0, 0, -(fa + n) / (fa - n), -1,
+                                 0, 0, -2 * fa * n / (fa - n), 0};
+        if (shader) glUseProgram(program);
+        if (shader && !builtins && !mvp) {
+            GLfloat m[16];
+            for (int i = 0; i < 16; i++) m[i] = (GLfloat)proj[i];
             glUniformMatrix4fv(proj_location, 1, GL_FALSE, m);
         }
         glMatrixMode(GL_MODELVIEW);
         glLoadIdentity();
-        glBegin(GL_QUADS);  /* the floor */
-        glColor3ub(90, 90, 90);
-        glVertex3f(-50, -2, -50); glVertex3f(50, -2, -50); glVertex3f(50, -2, 50); glVertex3f(-50, -2, 50);
-        glEnd();
-        for (int k = 0; k < 12; k++) {
-            const double yaw = k * 30.0 * M_PI / 180.0, x = 6 * sin(yaw), z = -6 * cos(yaw), w = 0.6;
-            const double tx = cos(yaw) * w, tz = sin(yaw) * w;  /* across the line of sight */
-            glColor3ub((GLubyte)(40 + 16 * k), (GLubyte)(200 - 12 * k), (GLubyte)(255 - 20 * k));
-            glBegin(GL_QUADS);
-            glVertex3d(x - tx, -2, z - tz); glVertex3d(x + tx, -2, z + tz);
-            glVertex3d(x + tx, 6, z + tz); glVertex3d(x - tx, 6, z - tz);
+        if (mvp) {
+            draw_mvp(proj_location, proj);
+        } else {
+            glBegin(GL_QUADS);  /* the floor */
+            glColor3ub(90, 90, 90);
+            glVertex3f(-50, -2, -50); glVertex3f(50, -2, -50); glVertex3f(50, -2, 50); glVertex3f(-50, -2, 50);
             glEnd();
+            for (int k = 0; k < 12; k++) {
+                const double yaw = k * 30.0 * M_PI / 180.0, x = 6 * sin(yaw), z = -6 * cos(yaw), w = 0.6;
+                const double tx = cos(yaw) * w, tz = sin(yaw) * w;  /* across the line of sight */
+                glColor3ub((GLubyte)(40 + 16 * k), (GLubyte)(200 - 12 * k), (GLubyte)(255 - 20 * k));
+                glBegin(GL_QUADS);
+                glVertex3d(x - tx, -2, z - tz); glVertex3d(x + tx, -2, z + tz);
+                glVertex3d(x + tx, 6, z + tz); glVertex3d(x - tx, 6, z - tz);
+                glEnd();
+            }
         }
         glXSwapBuffers(dpy, win);
         if (glGetError() != GL_NO_ERROR) {

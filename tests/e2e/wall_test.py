@@ -219,6 +219,17 @@ def case_cylinder_shader_found():
     cylinder("cylinder_shader_found", os.path.join(CONFIGS, "cylinder-360.json"), ["--shader"])
 
 
+def case_cylinder_builtins():
+    # A shader program that reads the fixed-function matrices through GLSL's built-ins
+    # (gl_ModelViewProjectionMatrix) and has no matrix uniform: turned by its GL_PROJECTION.
+    cylinder("cylinder_builtins", os.path.join(CONFIGS, "cylinder-360.json"), ["--builtins"])
+
+
+def case_cylinder_mvp():
+    # One premultiplied projection * view * model matrix per draw: each draw's camera split alone.
+    cylinder("cylinder_mvp", os.path.join(CONFIGS, "cylinder-360.json"), ["--mvp"])
+
+
 def cylinder(name, config, flags):
     # A ring of pillars every 30 degrees around the viewer; six tiles every 60 degrees, each
     # from -30 to +30: pillar 2i stands at the centre of tile i, pillar 2i+1 on the seam
