@@ -136,6 +136,17 @@ bool ProgramCameras::reads_fixed_function(uint32_t program) {
 
 bool is_perspective(const glm::dmat4& p) { return p[2][3] != 0 && p[3][3] == 0; }
 
+bool same_projection(const glm::dmat4& a, const glm::dmat4& b) {
+    double scale = 0;
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r) scale = std::max(scale, std::abs(a[c][r]));
+    const double tolerance = 1e-5 * scale;
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r)
+            if (!(std::abs(a[c][r] - b[c][r]) <= tolerance)) return false;
+    return true;
+}
+
 bool mirrored(const glm::dmat4& modelview) { return glm::determinant(glm::dmat3(modelview)) < 0; }
 
 bool ProgramCameras::find(uint32_t program, ProgramCamera& out) {

@@ -26,6 +26,10 @@ bool split_perspective(const glm::dmat4& m, glm::dmat4& projection, glm::dmat4& 
 bool is_rigid(const glm::dmat4& m);
 
 bool is_perspective(const glm::dmat4& p);
+// Two projections split from different matrices of one camera: the same to float precision (a
+// projection split from projection * view * model comes out of each draw's product rounded
+// differently).
+bool same_projection(const glm::dmat4& a, const glm::dmat4& b);
 // A view turned inside out (glScalef(1, -1, 1)): a planar reflection drawn below a floor
 // before the scene. No camera is: it is not the main view.
 bool mirrored(const glm::dmat4& modelview);

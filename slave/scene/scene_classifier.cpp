@@ -54,7 +54,8 @@ bool shader_draw_is_main(SceneFacts& f, DrawState& s, GLuint program, GLuint fra
         found_view(f, s, framebuffer, camera.projection, camera.modelview);
         found = true;
     }
-    return !f.overlay && camera.projection == f.projection && s.writes_depth() && framebuffer == f.scene_framebuffer;
+    return !f.overlay && same_projection(camera.projection, f.projection) && s.writes_depth() &&
+           framebuffer == f.scene_framebuffer;
 }
 
 }  // namespace
@@ -126,7 +127,7 @@ bool starts_overlays(const SceneFacts& f, DrawState& s, RedrawKind kind) {
     // A shader program that paints its 3D scene in order with the depth test off draws it with
     // the main view's camera: scene, not overlay.
     ProgramCamera camera;
-    if (flat && program && s.camera(program, camera) && camera.projection == f.projection) flat = false;
+    if (flat && program && s.camera(program, camera) && same_projection(camera.projection, f.projection)) flat = false;
     return flat;
 }
 

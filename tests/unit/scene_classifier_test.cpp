@@ -375,3 +375,19 @@ TEST(FrameRecord, ATupleBeyondTheFramesLimitIsRefusedAndTheFrameMarked) {
     EXPECT_FALSE(rec.append(a, 1, RecordEntry{}));
     EXPECT_EQ(rec.entries.size(), 1u);
 }
+
+TEST(SceneClassifier, ADrawsProjectionSplitFromAnotherProductIsStillTheViews) {
+    SceneFacts facts;
+    Given s;
+    s.current_program = 4;
+    s.has_camera = true;
+    s.cam.projection = s.proj;
+    classify_draw(facts, s, 0, kPasses);
+    // The next draw's projection * view * model split alone: the same camera, other last bits.
+    s.cam.projection = s.proj;
+    s.cam.projection[0][0] *= 1 + 1e-7;
+    s.cam.projection[3][2] *= 1 - 1e-7;
+    EXPECT_TRUE(classify_draw(facts, s, 0, kPasses).main);
+    s.cam.projection[0][0] *= 1.01;  // another lens
+    EXPECT_FALSE(classify_draw(facts, s, 0, kPasses).main);
+}
