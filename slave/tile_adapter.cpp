@@ -18,6 +18,7 @@ struct TileAdapter::State {
     double viewport[kViewports][4] = {};
     int32_t scissor[kViewports][4] = {};
     bool indexed = false;  // the program used GL_ARB_viewport_array: all rectangles are applied
+    int mapped_for[2] = {0, 0};  // the master's window size the rectangles were last mapped for
     struct Projection {
         bool corrected = false, dirty = false;
         glm::dmat4 m{1.0};
@@ -82,7 +83,14 @@ double TileAdapter::pixel_scale() {
 }
 
 void TileAdapter::made_current(SlaveContext& ctx, bool first) {
-    if (!first) return;
+    if (!first) {
+        // The master's window was resized: the program's rectangles, which it need not set again,
+        // map onto the canvas by the new size (a viewport mapped for the old one may miss the tile).
+        const State& s = state();
+        if (core_.options().tile.enabled && (s.mapped_for[0] != ctx.master_width || s.mapped_for[1] != ctx.master_height))
+            apply_window_rects();
+        return;
+    }
     // GLX starts a context with viewport and scissor box covering the window it is first made
     // current to; backends differ (a 1x1 buffer, a window created at another size).
     const int mw = ctx.master_width ? ctx.master_width : ctx.width;
@@ -108,9 +116,10 @@ void TileAdapter::apply_window_rects() {
     const SlaveContext& ctx = core_.current();
     const TileMapping& t = core_.options().tile;
     const GlApi& gl = core_.api();
-    const State& s = state();
+    State& s = state();
     const bool map = t.enabled && ctx.drawing_to_window;
     const int W = ctx.master_width, H = ctx.master_height;
+    if (map) s.mapped_for[0] = W, s.mapped_for[1] = H;
     GLfloat viewports[kViewports][4];
     GLint scissors[kViewports][4];
     for (int i = 0; i < (s.indexed ? kViewports : 1); ++i) {

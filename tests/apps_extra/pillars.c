@@ -19,7 +19,10 @@
  * is modelled at the origin and placed by a model matrix of its own (a rotation about y and a
  * translation), under a view that looks slightly down.
  *
- *   pillars [--shader | --builtins | --mvp] [--frames N] [--size WxH]
+ * With --grow the window is made at 32x32, the viewport set once for the full size, and the
+ * window then grown to it; no frame sets the viewport again (as apitrace's retrace does).
+ *
+ *   pillars [--shader | --builtins | --mvp] [--grow] [--frames N] [--size WxH]
  */
 #define GL_GLEXT_PROTOTYPES 1
 #include <GL/gl.h>
@@ -28,6 +31,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "../apps/app_common.h"
 
@@ -81,6 +85,7 @@ int main(int argc, char **argv)
     struct app_args a;
     const int builtins = app_take_flag(&argc, &argv, "--builtins");
     const int mvp = app_take_flag(&argc, &argv, "--mvp");
+    const int grow = app_take_flag(&argc, &argv, "--grow");
     const int shader = app_take_flag(&argc, &argv, "--shader") || builtins || mvp;
     app_parse_args("pillars", argc, argv, &a);
     Display *dpy = XOpenDisplay(NULL);
@@ -92,11 +97,17 @@ int main(int argc, char **argv)
     XVisualInfo *vi = glXChooseVisual(dpy, DefaultScreen(dpy), attribs);
     XSetWindowAttributes swa;
     swa.colormap = XCreateColormap(dpy, RootWindow(dpy, vi->screen), vi->visual, AllocNone);
-    Window win = XCreateWindow(dpy, RootWindow(dpy, vi->screen), 0, 0, a.width, a.height, 0, vi->depth, InputOutput,
-                               vi->visual, CWColormap, &swa);
+    Window win = XCreateWindow(dpy, RootWindow(dpy, vi->screen), 0, 0, grow ? 32 : a.width, grow ? 32 : a.height, 0,
+                               vi->depth, InputOutput, vi->visual, CWColormap, &swa);
     XMapWindow(dpy, win);
     GLXContext ctx = glXCreateContext(dpy, vi, NULL, True);
     glXMakeCurrent(dpy, win, ctx);
+    if (grow) {
+        glViewport(0, 0, a.width, a.height);
+        XResizeWindow(dpy, win, a.width, a.height);
+        XSync(dpy, False);
+        usleep(150000);  /* past the shim's 100 ms between two looks at the window's size */
+    }
     GLuint program = 0;
     GLint proj_location = -1;
     if (shader) {
@@ -125,7 +136,7 @@ int main(int argc, char **argv)
         proj_location = glGetUniformLocation(program, mvp ? "mvp" : "proj");
     }
     for (int f = 0; f < a.frames; f++) {
-        glViewport(0, 0, a.width, a.height);
+        if (!grow) glViewport(0, 0, a.width, a.height);
         glClearColor(0, 0, 0, 1);
         glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
         glEnable(GL_DEPTH_TEST);

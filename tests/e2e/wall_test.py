@@ -130,6 +130,14 @@ def case_mosaic_glxgears():
     mosaic(["glxgears"])
 
 
+def case_mosaic_grow():
+    # A window grown after its viewport was set, never set again: the tiles map the viewport
+    # by the window's new size. Before, they kept it mapped for 32x32 and every tile was black.
+    def probes(frame):  # tests/apps_extra/pillars.c: pillar 0 straight ahead, above the horizon
+        return [(*window_to_canvas(160, 150), (40, 200, 255), 3, "pillar 0")]
+    mosaic([os.path.join(APPS, "pillars"), "--grow", "--size", "320x240", "--frames", "100"], probes)
+
+
 def window_to_canvas(x, y):
     """A point of the program's 320x240 window (GL: from the bottom left) on the 1280x960
     canvas image (from the top left), in the middle of the 4x4 pixels it becomes."""

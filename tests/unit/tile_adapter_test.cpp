@@ -167,3 +167,24 @@ TEST(TileAdapter, AFlatTileLeavesTheProjectionAlone) {
     h.replay();
     EXPECT_TRUE(h.calls("glLoadMatrixd").empty());
 }
+
+TEST(TileAdapter, AViewportSetBeforeTheWindowGrewIsMappedForItsNewSize) {
+    // The window made at 32x32, its viewport set once for 640x480, then the window grown to
+    // 640x480 without another glViewport (apitrace's retrace does this).
+    ReplayHarness h(32, 32);
+    h.tile(1, 0, 2, 2);
+    h.options.tile.canvas_width = 640, h.options.tile.canvas_height = 480;
+    h.options.tile.width = 320, h.options.tile.height = 240, h.options.tile.x = 320, h.options.tile.y = 240;
+    h.options.width = 320, h.options.height = 240;
+    GL(glViewport, 0, 0, 640, 480);
+    h.stream.synthetic(kSynthDrawableSize, [](Encoder& e) {
+        e.value<uint64_t>(7);
+        e.value<int32_t>(640);
+        e.value<int32_t>(480);
+    });
+    h.swap();  // the resize applies from the next frame on
+    GL(glClear, GL_COLOR_BUFFER_BIT);
+    h.replay();
+    EXPECT_EQ(h.calls_from("glClear(").size(), 1u);
+    EXPECT_EQ(h.calls("glViewport").back(), "glViewport(-320, -240, 640, 480)");  // before: (-320, -240, 12800, 7200)
+}
