@@ -326,7 +326,9 @@ public:
         const std::string& name = it->get_ref<const std::string&>();
         if (name.empty()) return fail(field, "must not be empty");
         if (!is_valid_display_name(name))
-            return fail(field, "must contain only letters, digits, '_', '.' and '-' ([A-Za-z0-9_.-]+), got " + quote(name));
+            return fail(field, "must contain only letters, digits, '_', '.' and '-', and start with a letter, a digit or "
+                               "'_' ([A-Za-z0-9_][A-Za-z0-9_.-]*: a name becomes a folder and a command-line word), got " +
+                               quote(name));
         out = name;
         return true;
     }
@@ -572,8 +574,10 @@ const Tile* DisplayConfig::find(const std::string& tile_name) const {
     return nullptr;
 }
 
+// A tile's or machine's name names folders (glcast run --out DIR/TILE) and travels as a
+// command-line word: "." and ".." would leave the folder, "-x" would read as an option.
 bool is_valid_display_name(const std::string& name) {
-    if (name.empty()) return false;
+    if (name.empty() || name[0] == '.' || name[0] == '-') return false;
     for (unsigned char c : name) {
         bool ok = (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_' || c == '.' || c == '-';
         if (!ok) return false;

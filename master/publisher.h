@@ -55,6 +55,13 @@ inline constexpr uint64_t kDoneWindowFrames = 64;
 inline constexpr double kLockstepDropSeconds = 2;  // a slave that replays nothing this long is not waited for  // lockstep: DONE n only for n in [current - 64, current + 1]
 }  // namespace journal_limits
 
+// A subscription longer than this (a slave's is one byte): its peer is disconnected.
+inline constexpr size_t kMaxSubscriptionBytes = 256;
+// Subscriptions no slave sends, in all, before the publishing socket is made anew to free them.
+inline constexpr size_t kMaxForeignSubscriptionBytes = 64 << 10;
+inline constexpr int kSubscriptionHwm = 64;              // subscriptions queued per peer (ZMQ_RCVHWM)
+inline constexpr size_t kSubscriptionsPerMessage = 1024;  // read at most this many at each message sent
+
 // snapshot_at ("SNAPSHOT AT n") is a keeper's request (keeper/keeper_service.h): the journal
 // drops it.
 enum class JournalRequestKind : uint8_t { snapshot, snapshot_at, since, done, invalid };
@@ -140,12 +147,19 @@ private:
         double last_progress = 0;
         bool started = false;
     };
+    // Reads up to `at_most` subscription messages: a subscription to everything is taken (what
+    // slaves send), others are dropped. Returns how many were taken.
+    int take_subscriptions(size_t at_most);
+    void make_socket();  // pub_, bound to every endpoint; throws std::runtime_error
     void serve_snapshots();
     void handle_request(const std::string_view* parts, size_t count, double now);
     bool serve(zmq::socket_t& router, Session& s, double now);  // true: finished or given up
 
     PublisherOptions options_;
     bool verbose_ = false;
+    size_t foreign_subscription_bytes_ = 0;  // subscriptions no slave sends, since pub_ was made
+    bool said_foreign_ = false;
+    uint64_t remade_sockets_ = 0;
     std::unique_ptr<zmq::context_t> context_;
     std::unique_ptr<net::Authenticator> authenticator_;
     std::unique_ptr<zmq::socket_t> pub_;

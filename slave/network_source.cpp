@@ -225,6 +225,23 @@ bool NetworkSource::fetch_since(uint64_t first) {
     return true;
 }
 
+bool parse_keeper_state(const std::string& text, uint64_t& sequence, uint64_t& frame) {
+    auto number = [&text](size_t& at, uint64_t& out) {
+        const size_t start = at;
+        out = 0;
+        while (at < text.size() && text[at] >= '0' && text[at] <= '9' && at - start < 16) {
+            out = out * 10 + uint64_t(text[at] - '0');
+            at++;
+        }
+        return at > start && out <= kMaxKeeperCount && (at == text.size() || text[at] == ' ');
+    };
+    if (text.rfind("STATE ", 0) != 0) return false;
+    size_t at = 6;
+    if (!number(at, sequence) || at >= text.size() || text[at] != ' ') return false;
+    at++;
+    return number(at, frame) && at == text.size();
+}
+
 NetworkSource::State NetworkSource::fetch_state(const std::string& endpoint) {
     zmq::socket_t dealer(*context_, zmq::socket_type::dealer);
     dealer.set(zmq::sockopt::linger, 0);
@@ -243,10 +260,12 @@ NetworkSource::State NetworkSource::fetch_state(const std::string& endpoint) {
         if (!header) {  // "STATE <sequence> <frame>", or "NONE <why>"
             const std::string text = part.size() <= 256 ? part.to_string() : std::string();
             if (text.rfind("NONE", 0) == 0) throw KeeperNotReady("the keeper at " + endpoint + ": " + text.substr(5));
-            unsigned long long sequence = 0, frame = 0;
-            if (std::sscanf(text.c_str(), "STATE %llu %llu", &sequence, &frame) != 2)
+            uint64_t sequence = 0, frame = 0;
+            if (!parse_keeper_state(text, sequence, frame))
                 throw std::runtime_error("the keeper at " + endpoint + " cannot give a snapshot: " +
-                                         (text.empty() ? std::string("an answer glcast does not know") : text));
+                                         (text.empty() ? std::string("an answer glcast does not know")
+                                                       : "\"" + text.substr(0, 64) + "\" is no STATE <sequence> <frame> "
+                                                         "of at most " + std::to_string(kMaxKeeperCount)));
             state.sequence = sequence;
             state.frame = frame;
             header = true;

@@ -136,4 +136,9 @@ private:
 // between programs (cli/slave.cpp).
 void wait_for_stream(const std::string& endpoint, const std::function<void()>& idle);
 
+// A keeper's answer "STATE <sequence> <frame>": decimal digits only, each at most kMaxKeeperCount
+// (a peer's 2^64-1 or "-1" would set the slave's frame counter anywhere). False otherwise.
+constexpr uint64_t kMaxKeeperCount = uint64_t(1) << 48;
+bool parse_keeper_state(const std::string& text, uint64_t& sequence, uint64_t& frame);
+
 }  // namespace glcast::slave

@@ -387,7 +387,13 @@ TEST(DisplayConfigErrors, NamesAreNonEmptyWords) {
     EXPECT_EQ(error_of(planar(R"({"name": "", "x": 640, "y": 0, "width": 640, "height": 480})")),
               "wall.json: tiles[1].name: must not be empty");
     EXPECT_EQ(error_of(planar(R"({"name": "top left", "x": 640, "y": 0, "width": 640, "height": 480})")),
-              "wall.json: tiles[1].name: must contain only letters, digits, '_', '.' and '-' ([A-Za-z0-9_.-]+), got \"top left\"");
+              "wall.json: tiles[1].name: must contain only letters, digits, '_', '.' and '-', and start with a letter, a "
+              "digit or '_' ([A-Za-z0-9_][A-Za-z0-9_.-]*: a name becomes a folder and a command-line word), got \"top left\"");
+    // Names that would leave glcast run's --out folder, or read as an option.
+    for (const char* name : {"..", ".", ".hidden", "-rf"})
+        expect_contains(error_of(planar(std::string(R"({"name": ")") + name +
+                                        R"(", "x": 640, "y": 0, "width": 640, "height": 480})")),
+                        "wall.json: tiles[1].name: must contain only letters");
     EXPECT_EQ(error_of(planar(R"({"name": 3, "x": 640, "y": 0, "width": 640, "height": 480})")),
               "wall.json: tiles[1].name: must be a string, got 3");
     expect_contains(error_of(R"({"name": "w/1", "tiles": []})"), "wall.json: name: must contain only letters");
@@ -397,6 +403,9 @@ TEST(DisplayConfigErrors, NamesAreNonEmptyWords) {
     EXPECT_TRUE(is_valid_display_name("Tile_1.left-2"));
     EXPECT_FALSE(is_valid_display_name(""));
     EXPECT_FALSE(is_valid_display_name("a:b"));
+    EXPECT_FALSE(is_valid_display_name(".."));
+    EXPECT_FALSE(is_valid_display_name("-x"));
+    EXPECT_TRUE(is_valid_display_name("_1"));
 }
 
 TEST(DisplayConfigErrors, OtherTypes) {

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "master/publisher.h"
+#include "slave/network_source.h"
 
 using namespace glcast;
 
@@ -68,4 +69,18 @@ TEST(JournalAdmission, PeerTableStaysBounded) {
     EXPECT_LE(a.peers(), kMaxPeers);
     // Later, idle peers are forgotten and new ones are admitted again.
     EXPECT_TRUE(a.admit("newcomer", JournalRequestKind::done, 100.0));
+}
+
+// A keeper's STATE line: a peer's huge, negative or malformed counts are refused, not wrapped.
+TEST(KeeperState, OnlyDecimalCountsWithinTheBoundAreTaken) {
+    uint64_t sequence = 0, frame = 0;
+    EXPECT_TRUE(glcast::slave::parse_keeper_state("STATE 120 37", sequence, frame));
+    EXPECT_EQ(sequence, 120u);
+    EXPECT_EQ(frame, 37u);
+    EXPECT_TRUE(glcast::slave::parse_keeper_state("STATE 0 0", sequence, frame));
+    for (const char* bad : {"STATE 1 18446744073709551615", "STATE 1 -1", "STATE -1 1", "STATE 1", "STATE 1 2 3",
+                            "STATE 1  2", "STATE 1 2x", "STATE  1 2", "STATE 0x10 1", "STATE 1 281474976710657",
+                            "STATE 99999999999999999999 1", "NONE", "", "STATE"})
+        EXPECT_FALSE(glcast::slave::parse_keeper_state(bad, sequence, frame)) << bad;
+    EXPECT_TRUE(glcast::slave::parse_keeper_state("STATE 1 281474976710656", sequence, frame));  // 2^48
 }
