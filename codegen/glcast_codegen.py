@@ -95,6 +95,7 @@ class Model:
             for p in self.plans:
                 self.slave.plan(p)
             self.slave.check_limits()
+            self.slave.check_may_be_null()
         except ValueError as e:
             sys.exit(f"glcast-codegen: {e}")
         self.check_annotations()

@@ -21,7 +21,8 @@ class SlavePlanner:
         self.uniform_patterns = s.get("uniform_locations") or []
         self.handwritten = set(s.get("handwritten") or [])
         self.skip = s.get("skip") or []
-        self.never_null = s.get("never_null") or []
+        self.may_be_null = s.get("may_be_null") or []
+        self.used_null_patterns = set()
         self.limits = s.get("limits") or {}
         self.stores = s.get("stores") or {}
         self.used_limit_patterns = set()
@@ -48,6 +49,13 @@ class SlavePlanner:
         if role not in ("in", "names_in", "names_delete", "gen_out", "out", "out_string") or not w.len:
             return None
         return w.len
+
+    def null_ok(self, name, twin, param):
+        """Whether the parameter is on commands.yaml's slave.may_be_null list (by the command's
+        name or its core twin's)."""
+        hits = [pat for pat in self.may_be_null for n in (name, twin) if n and fnmatch.fnmatchcase(f"{n}.{param}", pat)]
+        self.used_null_patterns.update(hits)
+        return bool(hits)
 
     def plan(self, p):
         """Adds p.replay (how, or None when not replayed), p.replay_fn and p.replay_params.
@@ -96,7 +104,7 @@ class SlavePlanner:
             p.replay_params.append({"role": role, "ns": ns, "ctype": q.ctype, "name": q.name, "base": q.base,
                                     "use": use, "source": w.source, "need": self.need(role, w),
                                     "count": w.count, "lengths": w.lengths,
-                                    "null_ok": not any(fnmatch.fnmatchcase(cmd.name, pat) for pat in self.never_null)})
+                                    "null_ok": self.null_ok(cmd.name, twin, q.name)})
         p.replay_limits = self.limits_of(p)
         p.replay_store = self.store_of(p)
         p.replay_sized = (any("sz." in (a["need"] or "") for a in p.replay_params) or bool(p.draw)
@@ -122,6 +130,12 @@ class SlavePlanner:
                         raise ValueError(f"commands.yaml slave.limits.{limit}: {p.cmd.name} has no parameter '{q}'")
                     out.append((names.index(q), limit))
         return out
+
+    def check_may_be_null(self):
+        unused = sorted(set(self.may_be_null) - self.used_null_patterns)
+        if unused:
+            raise ValueError("commands.yaml slave.may_be_null: entries that name no replayed command's array: " +
+                             ", ".join(unused))
 
     def check_limits(self):
         unused = sorted({pat for t in self.limits.values() for pat in t} - self.used_limit_patterns)

@@ -48,6 +48,9 @@ static ShimConfig load() {
     v = 0;
     ok &= read_uint("GLCAST_VERBOSE", 0, 1, v);
     c.verbose = v;
+    v = 10;
+    ok &= read_uint("GLCAST_WRITER_NICE", 0, 19, v);
+    c.writer_nice = int(v);
     if (!ok) {
         c.capture_path.clear();
         c.publish.clear();

@@ -65,6 +65,7 @@ Stream* stream() {
                 p.drop_every = c.drop_every;
                 p.wait_subscribers = int(c.wait_subscribers);
                 p.lockstep = int(c.lockstep);
+                p.verbose = c.verbose;
                 sinks.push_back(std::make_unique<PublisherSink>(p));
             }
         } catch (const std::exception& e) {
@@ -72,7 +73,7 @@ Stream* stream() {
             g_recording = false;
             return;
         }
-        g_stream = std::make_unique<Stream>(std::move(sinks), c.zstd_level, 16, c.inter_frame);
+        g_stream = std::make_unique<Stream>(std::move(sinks), c.zstd_level, 16, c.inter_frame, c.writer_nice);
         g_stream_ready.store(g_stream.get(), std::memory_order_release);
     });
     return g_stream.get();

@@ -137,8 +137,7 @@ bool JournalAdmission::admit(std::string_view identity, JournalRequestKind kind,
 
 PublisherSink::PublisherSink(PublisherOptions options)
     : options_(std::move(options)), context_(std::make_unique<zmq::context_t>(1)) {
-    const char* v = std::getenv("GLCAST_VERBOSE");
-    verbose_ = v && std::strcmp(v, "1") == 0;
+    verbose_ = options_.verbose;
     // With keys (GLCAST_KEYS), peers on TCP are CURVE clients whose public keys this process's
     // ZAP handler knows; it is bound before any socket that asks it (net/security.h).
     authenticator_ = net::authenticator_for(*context_, "the program's stream");

@@ -125,6 +125,7 @@ struct PublisherOptions {
     uint64_t drop_every = 0;        // test hook: do not send every Nth message (it stays in the journal)
     int send_hwm = 1000;            // messages queued per subscriber before they are dropped
     int wait_subscribers = 0;       // at start, wait (up to 60 s) until this many slaves subscribed
+    bool verbose = false;           // say when the journal starts losing its start, and its counts at exit
     int lockstep = 0;               // after each frame, wait until this many slaves replayed it (a silent one is
                                     // dropped after kLockstepDropSeconds, and waited for again once it is back)
 };

@@ -24,8 +24,10 @@ namespace glcast {
 // A frame larger than this is split over several messages, bounding every allocation.
 static constexpr size_t kBatchBytes = 8u << 20;
 
-Stream::Stream(std::vector<std::unique_ptr<MessageSink>> sinks, int zstd_level, size_t queue_depth, bool inter_frame)
+Stream::Stream(std::vector<std::unique_ptr<MessageSink>> sinks, int zstd_level, size_t queue_depth, bool inter_frame,
+               int writer_nice)
     : queue_depth_(queue_depth ? queue_depth : 1), zstd_level_(zstd_level), inter_frame_(inter_frame),
+      writer_nice_(writer_nice),
       sinks_(std::move(sinks)) {
     writer_ = std::thread([this] { writer_loop(); });
 }
@@ -122,9 +124,7 @@ void Stream::writer_loop() {
     // Below the program's own threads: on a busy machine the program draws first, and the
     // writer takes what is left (the bounded queue still holds the program back if it is never
     // left anything).
-    const char* nice = std::getenv("GLCAST_WRITER_NICE");  // 0..19; 10 by default
-    const long level = nice && *nice ? std::strtol(nice, nullptr, 10) : 10;
-    if (level > 0 && level < 20) setpriority(PRIO_PROCESS, pid_t(syscall(SYS_gettid)), int(level));
+    if (writer_nice_ > 0 && writer_nice_ < 20) setpriority(PRIO_PROCESS, pid_t(syscall(SYS_gettid)), writer_nice_);
     MessageCoder coder(zstd_level_, inter_frame_);
     std::vector<uint8_t> message;  // header + stored payload, as the sinks take it
     for (;;) {

@@ -36,8 +36,10 @@ struct StreamStats {
 class Stream {
 public:
     // inter_frame: code messages against the previous one (format version 2; GLCAST_INTER_FRAME=0
-    // turns it off, for comparison).
-    Stream(std::vector<std::unique_ptr<MessageSink>> sinks, int zstd_level, size_t queue_depth, bool inter_frame = true);
+    // turns it off, for comparison). writer_nice: the writer thread runs below the program's own
+    // threads by this nice value (0: beside them).
+    Stream(std::vector<std::unique_ptr<MessageSink>> sinks, int zstd_level, size_t queue_depth, bool inter_frame = true,
+           int writer_nice = 10);
     ~Stream();
 
     void append(const uint8_t* tuple, size_t bytes);  // one whole tuple; thread-safe
@@ -80,6 +82,7 @@ private:
     StreamStats stats_;
     int zstd_level_;
     bool inter_frame_;
+    int writer_nice_;
     std::vector<std::unique_ptr<MessageSink>> sinks_;
     std::thread writer_;
 };

@@ -41,9 +41,17 @@ const void* Replayer::names_in(Ns ns, const Call& c, int i, NameUse use) {
     return out;
 }
 
+void Replayer::room_for_names(Ns ns, uint64_t count) {
+    const NameMap& map = current().names.map(ns);
+    if (map.size() + count > options_.limits.names)
+        throw ReplayError(std::to_string(count) + " more names where " + std::to_string(map.size()) +
+                          " of their kind live: over the limit names=" + std::to_string(options_.limits.names));
+}
+
 void Replayer::map_generated(Ns ns, const Call& c, int i, const void* slave_names) {
     const Arg& a = c.args[size_t(i)];
     if (a.ptr.tag != PtrTag::Reply || !slave_names) return;
+    room_for_names(ns, a.reply.count);
     NameMap& map = current().names.map(ns);
     for (uint32_t k = 0; k < a.reply.count; ++k) {
         uint32_t master, slave;
@@ -54,7 +62,11 @@ void Replayer::map_generated(Ns ns, const Call& c, int i, const void* slave_name
 }
 
 void Replayer::map_created(Ns ns, uint64_t master, uint64_t slave) {
-    if (master) current().names.map(ns).set(master, slave);
+    if (!master) return;
+    NameMap& map = current().names.map(ns);
+    uint64_t existing = 0;
+    if (!map.find(master, existing)) room_for_names(ns, 1);
+    map.set(master, slave);
 }
 
 void Replayer::forget(Ns ns, uint64_t master) {

@@ -5,6 +5,7 @@
 #include <zmq.hpp>
 
 #include <chrono>
+#include <cerrno>
 #include <cstdio>
 #include <optional>
 #include <cstdlib>
@@ -15,12 +16,18 @@ namespace glcast::slave {
 namespace {
 
 // What one catching up may take from its peers, a journal or a keeper that answers forever being
-// no better than one that never answers: GLCAST_CATCH_UP_MB (2048 by default) in all, and after
-// the first `wait_seconds` at least 1 MiB a second on average.
+// no better than one that never answers: GLCAST_CATCH_UP_MB (2048 by default, 1 to 2^20) in all,
+// and after the first `wait_seconds` at least 1 MiB a second on average. A bad value is refused
+// with its name, not taken for the default.
 uint64_t catch_up_limit_bytes() {
     const char* mb = std::getenv("GLCAST_CATCH_UP_MB");
-    const unsigned long long v = mb && *mb ? std::strtoull(mb, nullptr, 10) : 0;
-    return uint64_t(v && v < (1ull << 40) ? v : 2048) << 20;
+    if (!mb || !*mb) return uint64_t(2048) << 20;
+    char* end = nullptr;
+    errno = 0;
+    const unsigned long long v = std::strtoull(mb, &end, 10);
+    if (errno || *end || mb[0] == '-' || v < 1 || v > (1ull << 20))
+        throw std::runtime_error(std::string("GLCAST_CATCH_UP_MB=") + mb + " is not a number of MiB from 1 to 1048576");
+    return uint64_t(v) << 20;
 }
 constexpr double kCatchUpMinBytesPerSecond = 1 << 20;
 
@@ -410,6 +417,16 @@ bool NetworkSource::next(Message& m) {
                 if (journal_endpoint_.empty())
                     throw std::runtime_error("messages " + std::to_string(expected_) + " to " +
                                              std::to_string(h.sequence - 1) + " were lost and no journal was given");
+                // The journal's answer covers everything before the live message it was asked
+                // for: a live message still not joined after it was, kMaxGapTries times, means
+                // a journal that answers with nothing or a message from nowhere. Given up on.
+                gap_tries_ = h.sequence == gap_live_ ? gap_tries_ + 1 : 1;
+                gap_live_ = h.sequence;
+                if (gap_tries_ > kMaxGapTries)
+                    throw std::runtime_error("the master's journal at " + journal_endpoint_ + " answered " +
+                                             std::to_string(kMaxGapTries) + " times without message " +
+                                             std::to_string(expected_) + " before live message " +
+                                             std::to_string(h.sequence) + ": giving up");
                 recoveries_++;
                 gap_ = "expected message " + std::to_string(expected_) + ", got " + std::to_string(h.sequence);
                 first_live_ = bytes;  // live, so what the journal answers now covers all before it

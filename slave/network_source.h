@@ -30,6 +30,9 @@ public:
     using std::runtime_error::runtime_error;
 };
 
+// Tries to fill one gap before the live message after it (journal answers that bring nothing).
+constexpr int kMaxGapTries = 3;
+
 class NetworkSource : public MessageSource {
 public:
     // keeper_frame > 0: ask the keeper for its state at that frame ("SNAPSHOT AT n"), waiting
@@ -121,6 +124,8 @@ private:
     uint64_t early_bytes_ = 0;
     static constexpr uint64_t kEarlyLimitBytes = 64u << 20;
     uint64_t expected_ = 0;
+    uint64_t gap_live_ = UINT64_MAX;  // the live message of the last gap, and how often it was one
+    int gap_tries_ = 0;
     bool live_ = false;
     uint64_t recoveries_ = 0, bytes_ = 0, master_frame_ = 0;
     std::string gap_;

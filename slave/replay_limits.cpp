@@ -24,6 +24,7 @@ constexpr LimitSpec kLimits[] = {
     {"contexts", &ReplayLimits::contexts},
     {"list_entries", &ReplayLimits::list_entries},
     {"object_bytes", &ReplayLimits::object_bytes},
+    {"names", &ReplayLimits::names},
 };
 
 }  // namespace

@@ -101,6 +101,7 @@ struct ReplayLimits {
     uint64_t contexts = 256;                 // contexts alive at once
     uint64_t list_entries = 1u << 20;        // pointer records of one string or index-array list
     uint64_t object_bytes = 4ull << 30;      // data stores of all live textures, buffers, renderbuffers
+    uint64_t names = 1u << 22;               // live names of one kind in one share group (or context)
 };
 
 // The image of a texture a call replaces (commands.yaml slave.stores `image`), or its whole store.
@@ -187,6 +188,9 @@ public:
     void map_generated(Ns ns, const Call& c, int i, const void* slave_names);
     void map_created(Ns ns, uint64_t master, uint64_t slave);
     void forget(Ns ns, uint64_t master);
+    // `count` more names of `ns` would pass the limit `names`: the call is refused (every call
+    // is bounded; without this their total is not: 200 glGenLists(1048576) in a 10 KB stream).
+    void room_for_names(Ns ns, uint64_t count);
     void forget_names(Ns ns, const Call& c, int i);
     int32_t uniform_location(const Call& c, int i, uint64_t master_program);
     void set_uniform_location(uint64_t master_program, int32_t master, int32_t slave);
@@ -205,7 +209,7 @@ public:
     SizeQueries& sizes();
     void sized(const Call& c);
     // Refuses an input record shorter than `elements`, a NULL one where the driver always
-    // reads (commands.yaml slave.never_null), and an offset range outside the buffer bound at
+    // reads (all but commands.yaml slave.may_be_null), and an offset range outside the buffer bound at
     // `binding`.
     void need(const Call& c, int i, int64_t elements, bool null_ok = true, uint32_t binding = 0);
     // A generator writes `elements` names: the reply must hold exactly those.

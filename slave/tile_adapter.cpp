@@ -232,14 +232,17 @@ bool TileAdapter::replace_call(const Call& c) {
         if (!mapping()) return false;
         const SlaveContext& ctx = core_.current();
         const TileMapping& t = core_.options().tile;
-        GLint v[10];
-        for (int i = 0; i < 10; ++i) v[i] = core_.value<GLint>(c, i);
-        v[arg(0)] = GLint(t.map_x(v[arg(0)], ctx.master_width));
-        v[arg(2)] = GLint(t.map_x(v[arg(2)], ctx.master_width));
-        v[arg(1)] = GLint(t.map_y(v[arg(1)], ctx.master_height));
-        v[arg(3)] = GLint(t.map_y(v[arg(3)], ctx.master_height));
-        reinterpret_cast<void (*)(GLint, GLint, GLint, GLint, GLint, GLint, GLint, GLint, GLbitfield, GLenum)>(
-            core_.proc(c.opcode))(v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], GLbitfield(v[8]), GLenum(v[9]));
+        // The call as the program made it but for the mapped rectangle, replayed as any call is
+        // (whatever the command's other parameters are).
+        Call mapped = c;
+        auto map = [&](int k, bool x) {
+            const int64_t v = core_.value<GLint>(c, arg(k));
+            const int64_t m = x ? t.map_x(double(v), ctx.master_width) : t.map_y(double(v), ctx.master_height);
+            mapped.args[size_t(arg(k))].bits = uint32_t(GLint(m));  // as the decoder holds an i32: its 4 bytes
+        };
+        map(0, true), map(1, false), map(2, true), map(3, false);
+        if (!kReplay[c.opcode]) return false;
+        kReplay[c.opcode](core_, mapped);
         return true;
     }
     case WindowMapping::DrawFramebuffer:

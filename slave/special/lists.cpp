@@ -19,6 +19,7 @@ void check_range(Replayer& r, int64_t range) {
 void glGenLists(Replayer& r, const Call& c) {
     const GLsizei range = r.value<GLsizei>(c, 0);
     check_range(r, range);
+    if (range > 0) r.room_for_names(Ns::display_list, uint64_t(range));
     const GLuint slave = r.api().glGenLists(range);
     const uint64_t master = c.ret.bits;
     if (!master || !slave) return;

@@ -6,11 +6,15 @@
 
 #include <atomic>
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
+#include <cstring>
+#include <vector>
 #include <string>
 #include <thread>
 #include <unistd.h>
 
+#include "protocol/format.h"
 #include "slave/network_source.h"
 
 using namespace glcast;
@@ -92,4 +96,101 @@ TEST(HostilePeer, AKeeperThatTricklesIsCutOffAfterTheWait) {
     const std::string error = join_error(at, 1);
     EXPECT_NE(error.find("slower than 1 MiB a second"), std::string::npos) << error;
     EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(10));
+}
+
+namespace {
+
+std::vector<uint8_t> empty_message(uint64_t sequence) {
+    std::vector<uint8_t> m(sizeof(MessageHeader), 0);
+    MessageHeader h{};
+    h.magic = kMessageMagic;
+    h.sequence = sequence;
+    h.frame = sequence;
+    h.flags = kMsgFrameEnd;
+    std::memcpy(m.data(), &h, sizeof h);
+    return m;
+}
+
+// A master whose journal answers "SNAPSHOT" with messages 0 and 1 and every "SINCE" with nothing
+// at all, and whose stream sends message 1 until `gap` is set, then message 9 (7 were lost).
+class LyingJournalMaster {
+public:
+    explicit LyingJournalMaster(const std::string& stream, const std::string& journal)
+        : pub_(context_, zmq::socket_type::pub), router_(context_, zmq::socket_type::router) {
+        pub_.set(zmq::sockopt::linger, 0);
+        router_.set(zmq::sockopt::linger, 0);
+        pub_.bind(stream);
+        router_.bind(journal);
+        thread_ = std::thread([this] {
+            while (!stop_) {
+                const auto m = empty_message(gap_ ? 9 : 1);
+                (void)pub_.send(zmq::buffer(m), zmq::send_flags::dontwait);
+                zmq::pollitem_t item{router_.handle(), 0, ZMQ_POLLIN, 0};
+                zmq::poll(&item, 1, std::chrono::milliseconds(20));
+                if (!(item.revents & ZMQ_POLLIN)) continue;
+                zmq::message_t identity, request;
+                (void)router_.recv(identity);
+                (void)router_.recv(request);
+                auto send = [&](const void* data, size_t size, bool more) {
+                    router_.send(zmq::buffer(identity.data(), identity.size()), zmq::send_flags::sndmore);
+                    (void)router_.send(zmq::buffer(data, size), more ? zmq::send_flags::sndmore : zmq::send_flags::none);
+                };
+                const std::string text = request.to_string();
+                if (text == "SNAPSHOT") {
+                    for (uint64_t s : {0, 1}) {
+                        const auto part = empty_message(s);
+                        send(part.data(), part.size(), false);
+                    }
+                } else if (text.rfind("SINCE", 0) == 0) {
+                    sinces_++;
+                }
+                send("END", 3, false);
+            }
+        });
+    }
+    ~LyingJournalMaster() {
+        stop_ = true;
+        thread_.join();
+    }
+    std::atomic<bool> gap_{false};
+    std::atomic<int> sinces_{0};
+
+private:
+    zmq::context_t context_{1};
+    zmq::socket_t pub_, router_;
+    std::atomic<bool> stop_{false};
+    std::thread thread_;
+};
+
+}  // namespace
+
+// After a gap, a journal that answers SINCE with nothing (or a live message far ahead of what
+// the journal has): the slave asked again and again forever. It gives up after a few tries that
+// bring nothing, with a message that says so.
+TEST(HostilePeer, AJournalThatAnswersAGapWithNothingIsGivenUpOn) {
+    const std::string base = "ipc:///tmp/glcast-lying-journal-" + std::to_string(getpid());
+    LyingJournalMaster master(base + "-stream", base + "-journal");
+    std::atomic<bool> finished{false};
+    std::string error;
+    std::thread slave([&] {
+        try {
+            slave::NetworkSource source(base + "-stream", base + "-journal", 5);
+            Message m;
+            while (source.next(m)) master.gap_ = true;  // the snapshot's messages are in: now the gap
+        } catch (const std::exception& e) {
+            error = e.what();
+        }
+        finished = true;
+    });
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+    while (!finished && std::chrono::steady_clock::now() < deadline) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    if (!finished) {
+        std::fprintf(stderr, "the slave still asks after 20 s (%d SINCE requests)\n", master.sinces_.load());
+        std::fflush(stderr);
+        _exit(1);  // its thread cannot be stopped
+    }
+    slave.join();
+    std::printf("%d SINCE requests, then: %s\n", master.sinces_.load(), error.c_str());
+    EXPECT_NE(error.find("journal"), std::string::npos) << error;
+    EXPECT_LE(master.sinces_.load(), 4);
 }

@@ -152,3 +152,19 @@ TEST(ReplayNames, ShadersAndProgramsShareOneNameSpace) {
     EXPECT_EQ(h.calls("glAttachShader"),
               std::vector<std::string>{"glAttachShader(" + std::to_string(program) + ", " + std::to_string(shader) + ")"});
 }
+
+TEST(ReplayNames, LiveNamesOfOneKindAreBoundedInAll) {
+    ReplayHarness h;
+    h.options.limits.names = 10;
+    GL(glGenLists, 8, 1);
+    GL(glGenLists, 8, 9);  // 16 lists would live: refused before the driver
+    GLuint textures[12] = {};
+    for (GLuint k = 0; k < 12; ++k) textures[k] = 100 + k;
+    GL(glGenTextures, 12, textures);  // the names the master got are more than may live
+    GL(glBindTexture, GL_TEXTURE_2D, 200u);  // one created at first bind still fits
+    h.replay();
+    EXPECT_EQ(h.calls("glGenLists"), std::vector<std::string>{"glGenLists(8)"});
+    EXPECT_EQ(h.replayer->stats().errors, 2u) << h.log;
+    EXPECT_NE(h.log.find("over the limit names=10"), std::string::npos) << h.log;
+    EXPECT_EQ(h.calls("glBindTexture").size(), 1u);
+}
