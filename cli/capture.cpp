@@ -20,6 +20,7 @@
 #include "cli/launcher.h"
 #include "cli/options.h"
 #include "cli/paths.h"
+#include "protocol/decoder.h"
 
 namespace glcast::cli {
 
@@ -89,8 +90,19 @@ int capture(const CaptureArgs& a, const std::vector<std::string>& program) {
     }
     const int status = run_with_shim(program, env);
     if (status < 0) return 1;
-    if (FILE* f = std::fopen(output.c_str(), "rb")) std::fclose(f);
-    else std::fprintf(stderr, "glcast: %s made no GL calls; no capture written\n", program[0].c_str());
+    FILE* f = std::fopen(output.c_str(), "rb");
+    if (!f) {
+        std::fprintf(stderr, "glcast: %s made no GL calls; no capture written\n", program[0].c_str());
+        return status;
+    }
+    std::fclose(f);
+    // A capture stopped by a full disk, or a program that ended without closing it: said, and
+    // not a success (what it holds replays, to its last whole message).
+    const CaptureEnd end = capture_end(output);
+    if (!end.complete) {
+        std::fprintf(stderr, "glcast capture: %s was %s\n", output.c_str(), end.why.c_str());
+        return status ? status : 1;
+    }
     return status;
 }
 

@@ -170,20 +170,6 @@ void Stream::writer_loop() {
     }
 }
 
-static void write_all(int fd, const void* data, size_t n, const std::string& path) {
-    auto p = static_cast<const uint8_t*>(data);
-    while (n) {
-        const ssize_t w = ::write(fd, p, n);
-        if (w < 0 && errno == EINTR) continue;
-        if (w < 0) {
-            std::fprintf(stderr, "glcast: writing %s: %s\n", path.c_str(), std::strerror(errno));
-            return;
-        }
-        p += w;
-        n -= size_t(w);
-    }
-}
-
 FileHeader make_file_header() {
     FileHeader h{};
     std::memcpy(h.magic, kFileMagic, sizeof h.magic);
@@ -220,19 +206,57 @@ CaptureFileSink::CaptureFileSink(const std::string& path) : path_(path) {
         fd_ = open_locked(path_);
         if (fd_ < 0) throw std::runtime_error("cannot lock " + path_);
     }
-    const FileHeader h = make_file_header();
-    write_all(fd_, &h, sizeof h, path_);
+    FileHeader h = make_file_header();
+    h.features |= kFileHasEndRecord;
+    if (!write_whole(&h, sizeof h)) throw std::runtime_error("cannot write " + path_ + "'s header");
 }
 
 CaptureFileSink::~CaptureFileSink() { close(); }
 
+bool CaptureFileSink::write_whole(const void* data, size_t size) {
+    if (failed_ || fd_ < 0) return false;
+    auto p = static_cast<const uint8_t*>(data);
+    for (size_t n = size; n;) {
+        const ssize_t w = ::write(fd_, p, n);
+        if (w < 0 && errno == EINTR) continue;
+        if (w <= 0) {
+            const int error = w < 0 ? errno : ENOSPC;
+            failed_ = true;
+            const bool cut = ::ftruncate(fd_, off_t(whole_bytes_)) == 0;
+            std::fprintf(stderr, "glcast: writing %s: %s; the capture stops%s %llu whole messages (the program goes on)\n",
+                         path_.c_str(), std::strerror(error), cut ? ", the file keeps its first" : " after",
+                         (unsigned long long)next_sequence_);
+            ::close(fd_);
+            fd_ = -1;
+            return false;
+        }
+        p += w;
+        n -= size_t(w);
+    }
+    whole_bytes_ += size;
+    return true;
+}
+
 void CaptureFileSink::write(const std::vector<uint8_t>& message) {
-    if (fd_ >= 0) write_all(fd_, message.data(), message.size(), path_);
+    if (!write_whole(message.data(), message.size())) return;
+    MessageHeader h{};
+    if (message.size() < sizeof h) return;
+    std::memcpy(&h, message.data(), sizeof h);
+    next_sequence_ = h.sequence + 1;
+    next_frame_ = h.frame + ((h.flags & kMsgFrameEnd) ? 1 : 0);
 }
 
 void CaptureFileSink::close() {
-    if (fd_ >= 0) ::close(fd_);
-    fd_ = -1;
+    if (fd_ < 0) return;
+    MessageHeader end{};
+    end.magic = kMessageMagic;
+    end.sequence = next_sequence_;
+    end.frame = next_frame_;
+    end.flags = kMsgStreamEnd;  // no payload: stored, raw and the CRC of nothing are 0
+    if (write_whole(&end, sizeof end)) {
+        ::close(fd_);
+        fd_ = -1;
+    }
 }
 
 }  // namespace glcast

@@ -95,12 +95,19 @@ class CaptureFileSink : public MessageSink {
 public:
     explicit CaptureFileSink(const std::string& path);
     ~CaptureFileSink() override;
+    // A message that cannot be written whole (a full disk) stops the capture: the file is cut
+    // back to its last whole message and nothing more is written; the program goes on.
     void write(const std::vector<uint8_t>& message) override;
-    void close() override;
+    void close() override;  // a capture not stopped ends with its end record
+    bool failed() const { return failed_; }
 
 private:
+    bool write_whole(const void* data, size_t size);  // false: stopped, the file cut back
     std::string path_;
     int fd_ = -1;
+    bool failed_ = false;
+    uint64_t whole_bytes_ = 0;  // the file up to its last whole message
+    uint64_t next_sequence_ = 0, next_frame_ = 0;  // what the end record says it follows
 };
 
 }  // namespace glcast

@@ -5,6 +5,7 @@
 #include <zstd.h>
 
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 
 #include "common/xor_bytes.h"
@@ -190,7 +191,19 @@ void decode_message(const uint8_t* data, size_t size, uint64_t offset, Message& 
 
 bool CaptureReader::next(Message& m) {
     const uint64_t size = source_->size();
-    if (offset_ == size) return false;
+    if (ended_) {
+        if (offset_ != size) throw DecodeError(offset_, std::to_string(size - offset_) + " bytes after the end record");
+        return false;
+    }
+    if (offset_ == size) {
+        if (header_.features & kFileHasEndRecord)
+            throw DecodeError(offset_, "the capture was cut after message " +
+                                           (expected_sequence_ ? std::to_string(expected_sequence_ - 1) : "(none)") +
+                                           ", frame " + std::to_string(expected_frame_) +
+                                           ": it has no end record (the program or its capture ended before it was "
+                                           "complete, or the disk was full); everything before is intact");
+        return false;
+    }
     if (size - offset_ < sizeof(MessageHeader))
         throw DecodeError(offset_, "truncated message header (" + std::to_string(size - offset_) + " bytes left)");
     MessageHeader h;
@@ -212,11 +225,55 @@ bool CaptureReader::next(Message& m) {
                                           std::to_string(size - payload_at) + " left");
     std::vector<uint8_t> stored(h.stored_bytes);
     source_->read(payload_at, stored.data(), stored.size());
+    if ((h.flags & kMsgStreamEnd) && h.stored_bytes == 0) {  // the end record
+        offset_ = payload_at;
+        ended_ = true;
+        return next(m);
+    }
     check_and_unpack(h, stored.data(), offset_, m, &chain_, header_.version >= 2);
     offset_ = payload_at + h.stored_bytes;
     expected_sequence_++;
     if (h.flags & kMsgFrameEnd) expected_frame_++;
     return true;
+}
+
+CaptureEnd capture_end(const std::string& path) {
+    CaptureEnd end;
+    FILE* f = std::fopen(path.c_str(), "rb");
+    if (!f) {
+        end.why = "cannot open " + path + ": " + std::strerror(errno);
+        return end;
+    }
+    FileHeader fh{};
+    if (std::fread(&fh, sizeof fh, 1, f) != 1 || std::memcmp(fh.magic, kFileMagic, sizeof kFileMagic) != 0 ||
+        fh.header_bytes < sizeof fh || fh.header_bytes > 4096) {
+        std::fclose(f);
+        end.why = "no whole file header";
+        return end;
+    }
+    uint64_t offset = fh.header_bytes;
+    for (;;) {
+        MessageHeader h{};
+        if (std::fseek(f, long(offset), SEEK_SET) != 0 || std::fread(&h, sizeof h, 1, f) != 1) break;
+        if (h.magic != kMessageMagic || h.stored_bytes > kMaxMessageBytes) break;
+        const uint64_t next = offset + sizeof h + h.stored_bytes;
+        if (std::fseek(f, 0, SEEK_END) != 0 || uint64_t(std::ftell(f)) < next) break;
+        if ((h.flags & kMsgStreamEnd) && h.stored_bytes == 0) {
+            end.complete = uint64_t(std::ftell(f)) == next;
+            if (!end.complete) end.why = "bytes after its end record";
+            std::fclose(f);
+            return end;
+        }
+        end.messages++;
+        if (h.flags & kMsgFrameEnd) end.frames++;
+        offset = next;
+    }
+    std::fclose(f);
+    end.complete = !(fh.features & kFileHasEndRecord);  // a writer before end records: cannot tell
+    if (!end.complete)
+        end.why = "cut after " + std::to_string(end.messages) + " whole messages (" + std::to_string(end.frames) +
+                  " frames): no end record";
+    return end;
 }
 
 }  // namespace glcast

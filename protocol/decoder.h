@@ -139,6 +139,16 @@ private:
 // needed for kMsgDelta messages, and advanced to this one. Throws DecodeError.
 void decode_message(const uint8_t* data, size_t size, uint64_t offset, Message& m, MessageChain* chain = nullptr);
 
+// How a capture file ends, from its message headers alone (nothing is decompressed): whether it
+// has its end record (or was written before end records, which cannot tell), and how many whole
+// messages and frames it holds before the end or the cut.
+struct CaptureEnd {
+    bool complete = false;
+    uint64_t messages = 0, frames = 0;
+    std::string why;  // when not complete: where and how it was cut
+};
+CaptureEnd capture_end(const std::string& path);
+
 class CaptureReader : public MessageSource {
 public:
     explicit CaptureReader(std::unique_ptr<Source> source);  // reads and checks the header
@@ -151,6 +161,7 @@ private:
     uint64_t offset_ = 0;
     uint64_t expected_sequence_ = 0;
     uint64_t expected_frame_ = 0;
+    bool ended_ = false;  // the end record was read
     MessageChain chain_;
 };
 

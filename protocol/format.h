@@ -35,16 +35,23 @@ struct FileHeader {
     uint32_t header_bytes;     // sizeof(FileHeader): lets a newer reader skip added fields
     uint64_t opcode_table_hash;
     uint32_t opcode_count;
-    uint32_t reserved;
+    uint32_t features;         // FileFeatures (0 in files of writers before them)
     char registry[32];         // registry revision, NUL-padded
 };
 static_assert(sizeof(FileHeader) == 64);
+
+enum FileFeatures : uint32_t {
+    // A complete capture ends with an end record: a message of flags kMsgStreamEnd and no payload.
+    // A file that says so and has none was cut (the program or its capture ended first, a full
+    // disk): its readers say where.
+    kFileHasEndRecord = 1,
+};
 
 inline constexpr uint32_t kMessageMagic = 0x4d434c47;  // "GLCM"
 enum MessageFlags : uint32_t {
     kMsgCompressed = 1,  // payload is one zstd frame
     kMsgFrameEnd = 2,    // the last tuple of the payload ends a frame (a swap)
-    kMsgStreamEnd = 4,   // the program has ended: nothing follows (live streams)
+    kMsgStreamEnd = 4,   // the program has ended: nothing follows (live streams; a capture's end record)
     kMsgDelta = 8,       // with kMsgCompressed: the zstd frame uses message sequence - 1's payload as its prefix
     kMsgXor = 16,        // with kMsgCompressed: the zstd frame holds the payload XOR message sequence - 1's (same length)
 };
