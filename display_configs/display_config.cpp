@@ -12,6 +12,10 @@
 #include "common/edit_distance.h"
 #include "slave/effects/effect_params.h"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -608,25 +612,39 @@ bool parse_display_config(const std::string& json_text, const std::string& origi
     }
 }
 
+// Opened without blocking and read only if it is a regular file: a FIFO (or a device) named as a
+// config would hang the reader until something wrote to it, or forever.
 bool load_display_config(const std::string& path, DisplayConfig& out, std::string& error) {
-    std::FILE* f = std::fopen(path.c_str(), "rb");
-    if (!f) {
+    const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0) {
         error = path + ": cannot open: " + std::strerror(errno);
+        return false;
+    }
+    struct stat st {};
+    if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+        const char* what = S_ISDIR(st.st_mode) ? "a directory" : S_ISFIFO(st.st_mode) ? "a FIFO" : "not a plain file";
+        error = path + ": is " + what + ", not a regular file";
+        ::close(fd);
         return false;
     }
     std::string text;
     char buf[65536];
     bool too_big = false;
-    size_t n;
-    while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) {
-        text.append(buf, n);
+    ssize_t n;
+    int read_errno = 0;
+    while ((n = ::read(fd, buf, sizeof buf)) != 0) {
+        if (n < 0) {
+            if (errno == EINTR) continue;
+            read_errno = errno;
+            break;
+        }
+        text.append(buf, size_t(n));
         if (text.size() > kMaxDisplayConfigBytes) {
             too_big = true;
             break;
         }
     }
-    int read_errno = std::ferror(f) ? errno : 0;
-    std::fclose(f);
+    ::close(fd);
     if (too_big) {
         error = path + ": larger than the " + std::to_string(kMaxDisplayConfigBytes) + "-byte (1 MiB) limit for a display config";
         return false;

@@ -7,6 +7,8 @@
 #include "display_configs/display_config.h"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -520,7 +522,13 @@ TEST(DisplayConfigErrors, UnreadableFiles) {
     EXPECT_FALSE(load_display_config("/nonexistent/wall.json", c, error));
     EXPECT_EQ(error, "/nonexistent/wall.json: cannot open: No such file or directory");
     EXPECT_FALSE(load_display_config(std::string(GLCAST_SOURCE_DIR) + "/display_configs", c, error));
-    expect_contains(error, "/display_configs: cannot read: Is a directory");
+    expect_contains(error, "/display_configs: is a directory, not a regular file");
+    // A FIFO named as a config: refused at once (it hung the reader until something wrote to it).
+    const std::string fifo = "/tmp/glcast-config-fifo-" + std::to_string(getpid());
+    ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+    EXPECT_FALSE(load_display_config(fifo, c, error));
+    EXPECT_EQ(error, fifo + ": is a FIFO, not a regular file");
+    ::unlink(fifo.c_str());
 }
 
 // ---- never crash ------------------------------------------------------------------------------
