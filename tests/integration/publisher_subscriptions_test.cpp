@@ -69,7 +69,7 @@ pid_t flood_subscriptions(const std::string& endpoint, int count) {
 
 TEST(PublisherSubscriptions, AFloodOfDistinctSubscriptionsNeitherGrowsNorStopsTheProgram) {
     const std::string endpoint = "ipc:///tmp/glcast-subscription-flood-" + std::to_string(getpid());
-    const pid_t attacker = flood_subscriptions(endpoint, 400000);  // 400,000 distinct 200-byte topics: 80 MB
+    const pid_t attacker = flood_subscriptions(endpoint, 200000);  // 200,000 distinct 200-byte topics: 40 MB
     PublisherOptions options;
     options.endpoint = endpoint;
     PublisherSink publisher(options);
