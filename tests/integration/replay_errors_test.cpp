@@ -33,19 +33,7 @@ TEST(ReplayErrors, ReportedCountedAndSkipped) {
     auto* handle = reinterpret_cast<GLXContext>(uintptr_t(0xc0de));
     open_window(s, handle);
     encode_glUseProgram(s.e, s.sz, 77);  // never created: error 1
-    s.synthetic(kSynthClientArrays, [&](Encoder& e) {  // a cached array never sent: error 2
-        e.value<uint32_t>(1);
-        e.value<uint8_t>(uint8_t(ClientSlot::Vertex));
-        e.value<uint32_t>(0);
-        e.value<int32_t>(3);
-        e.value<uint32_t>(GL_FLOAT);
-        e.value<int32_t>(12);
-        e.value<uint8_t>(0);
-        e.value<uint8_t>(0);
-        e.value<uint32_t>(42);
-        e.value<uint32_t>(0);
-        e.value<uint8_t>(1);
-    });
+    s.client_array_never_sent();  // a cached array never sent: error 2
     s.context(5);
     encode_glXMakeCurrent(s.e, s.sz, nullptr, 7, reinterpret_cast<GLXContext>(uintptr_t(0xbad)), True);  // error 3
     s.context(1);

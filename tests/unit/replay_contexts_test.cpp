@@ -107,19 +107,7 @@ TEST(ReplayContexts, LiveContextsAreBounded) {
 
 TEST(ReplayCore, ADrawOverAClientArrayNeverSentIsRefusedBeforeTheDriver) {
     ReplayHarness h;
-    h.stream.synthetic(kSynthClientArrays, [](Encoder& e) {
-        e.value<uint32_t>(1);
-        e.value<uint8_t>(uint8_t(ClientSlot::Vertex));
-        e.value<uint32_t>(0);
-        e.value<int32_t>(3);
-        e.value<uint32_t>(GL_FLOAT);
-        e.value<int32_t>(12);
-        e.value<uint8_t>(0);
-        e.value<uint8_t>(0);
-        e.value<uint32_t>(42);  // a cached array the stream never sent
-        e.value<uint32_t>(0);
-        e.value<uint8_t>(1);
-    });
+    h.stream.client_array_never_sent();
     GL(glDrawArrays, GL_TRIANGLES, 0, 3);
     h.replay();
     EXPECT_TRUE(h.calls("glDrawArrays").empty());

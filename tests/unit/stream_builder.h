@@ -31,6 +31,23 @@ struct StreamBuilder {
         body(e);
         e.end();
     }
+    // A glcast.client_arrays tuple naming a vertex array (3 floats, stride 12) by a cache handle
+    // the stream never sent: the draw after it must be refused.
+    void client_array_never_sent(uint32_t handle = 42) {
+        synthetic(kSynthClientArrays, [handle](Encoder& e) {
+            e.value<uint32_t>(1);
+            e.value<uint8_t>(uint8_t(ClientSlot::Vertex));
+            e.value<uint32_t>(0);
+            e.value<int32_t>(3);
+            e.value<uint32_t>(GL_FLOAT);
+            e.value<int32_t>(12);
+            e.value<uint8_t>(0);
+            e.value<uint8_t>(0);
+            e.value<uint32_t>(handle);
+            e.value<uint32_t>(0);
+            e.value<uint8_t>(1);
+        });
+    }
     std::vector<uint8_t> file() const {
         const FileHeader fh = make_file_header();
         std::vector<uint8_t> f(reinterpret_cast<const uint8_t*>(&fh), reinterpret_cast<const uint8_t*>(&fh) + sizeof fh);
