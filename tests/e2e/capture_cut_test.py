@@ -53,7 +53,8 @@ def main():
         program = subprocess.Popen([GLCAST, "capture", "-o", killed, "--", "glxgears"], stdout=subprocess.DEVNULL,
                                    stderr=subprocess.PIPE, text=True)
         time.sleep(1.5)
-        subprocess.run(["pkill", "-KILL", "-f", "glxgears"], check=False)
+        # Only this capture's program (glcast capture's child): other tests may run glxgears too.
+        subprocess.run(["pkill", "-KILL", "-P", str(program.pid)], check=False)
         program.wait(timeout=60)
     r = run([GLCAST, "replay", whole, "--backend", "egl"], env=headless)
     check(r.returncode == 0 and "cut" not in r.stderr, f"a whole capture replays with: {r.returncode} {r.stderr[-1000:]}")
