@@ -10,12 +10,14 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "common/environment.h"
+
 namespace glcast::cli {
 
 static bool readable(const std::string& p) { return access(p.c_str(), R_OK) == 0; }
 
 std::string shim_path() {
-    if (const char* p = std::getenv("GLCAST_SHIM")) return p;
+    if (const std::string& p = environment().shim; !p.empty()) return p;
     char exe[PATH_MAX] = {};
     const ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
     if (n > 0) {

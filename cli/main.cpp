@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "cli/commands.h"
+#include "common/environment.h"
 
 using namespace glcast::cli;
 
@@ -123,7 +124,11 @@ int main(int argc, char** argv) {
         if (command->runs_program && program.empty())
             throw CLI::ValidationError(std::string(has_program ? "which program? (after '--')"
                                                                : "the program to run follows '--'"));
+        (void)glcast::environment();  // every GLCAST_* variable checked before the command does anything
         return command->run(program);
+    } catch (const glcast::EnvironmentError& e) {
+        std::fprintf(stderr, "%s: %s (docs/environment.md)\n", who.c_str(), e.what());
+        return 2;
     } catch (const CLI::CallForHelp&) {
         std::fputs(app.help().c_str(), stdout);  // the help of the command that asked for it
         return 0;

@@ -5,6 +5,7 @@
 #include <functional>
 
 #include "cli/paths.h"
+#include "common/environment.h"
 #include "net/security.h"
 #include "slave/effects/effect_params.h"
 #include "slave/replayer.h"
@@ -235,9 +236,13 @@ void add_security_options(CLI::App& app, std::string& keys, bool& insecure) {
 }
 
 bool use_keys(const std::string& keys, bool insecure, const char* who, std::string& error) {
-    if (!keys.empty()) setenv("GLCAST_KEYS", absolute_path(keys).c_str(), 1);
-    if (insecure) setenv("GLCAST_INSECURE", "1", 1);
     try {
+        // Given here or in the environment; set in it for the children (slaves, the program's shim).
+        const Environment& env = environment();
+        const std::string dir = keys.empty() ? env.keys : absolute_path(keys);
+        if (!dir.empty()) setenv("GLCAST_KEYS", dir.c_str(), 1);
+        if (insecure) setenv("GLCAST_INSECURE", "1", 1);
+        net::use_process_keys(dir, insecure || env.insecure);
         (void)net::process_security();
         return true;
     } catch (const std::exception& e) {

@@ -30,7 +30,9 @@
 #include "cli/paths.h"
 #include "cli/run_session.h"
 #include "cli/wall_control.h"
+#include "common/environment.h"
 #include "net/security.h"
+#include "net/wall_endpoints.h"
 #include "slave/wall_link.h"
 #include "display_configs/display_config.h"
 #include "slave/effects/effect_params.h"
@@ -48,33 +50,6 @@ struct RunArgs {
     slave::effects::EffectsSettings effects;  // checked here, so that a typo fails before any slave starts
     std::vector<std::string> effect_args;     // passed on to every slave
 };
-
-// The endpoint beside `endpoint`: the next TCP port, or a sibling IPC path ending in `suffix`.
-std::string next_port(const std::string& endpoint, const std::string& suffix) {
-    const size_t colon = endpoint.rfind(':');
-    if (endpoint.rfind("tcp://", 0) == 0 && colon != std::string::npos && colon > 6) {
-        const int port = std::atoi(endpoint.c_str() + colon + 1);
-        if (port > 0 && port < 65535) return endpoint.substr(0, colon + 1) + std::to_string(port + 1);
-    }
-    return endpoint + suffix;
-}
-
-// The journal's endpoint beside the stream's: the next TCP port (on the multicast interface's
-// address for epgm://ADDRESS;GROUP:PORT), or a sibling IPC path.
-std::string journal_endpoint(const std::string& stream) {
-    const size_t colon = stream.rfind(':');
-    const size_t semicolon = stream.find(';');
-    if (stream.rfind("epgm://", 0) == 0 && semicolon != std::string::npos && colon != std::string::npos) {
-        const int port = std::atoi(stream.c_str() + colon + 1);
-        return "tcp://" + stream.substr(7, semicolon - 7) + ":" + std::to_string(port + 1);
-    }
-    return next_port(stream, "-journal");
-}
-
-std::string connectable(const std::string& bound) {  // tcp://*:5555 -> tcp://127.0.0.1:5555
-    const size_t star = bound.find("://*");
-    return star == std::string::npos ? bound : bound.substr(0, star) + "://127.0.0.1" + bound.substr(star + 4);
-}
 
 // The whole wall in one line, once a second: on a terminal, and as JSON lines to --status-json.
 class StatusView {
@@ -195,29 +170,25 @@ bool plan_wall(const RunArgs& a, const std::string& here, WallPlan& plan) {
     return true;
 }
 
-// The wall's four channels: the stream, the journal beside it, the keeper (slaves elsewhere may
-// start at any time and join from a snapshot) and the control channel (swap barrier, status).
-struct RunEndpoints {
-    std::string stream, journal, keeper, control;
+// The wall's four channels (net/wall_endpoints.h), and where this machine's slaves and keeper
+// subscribe and the program publishes. Throws std::invalid_argument on an endpoint without a
+// usable port.
+struct RunEndpoints : net::WallEndpoints {
     std::string local;    // where this machine's slaves and keeper subscribe
     std::string publish;  // where the program publishes
-    bool remote = false;
 };
 
 RunEndpoints plan_endpoints(std::string endpoint, const std::string& dir) {
-    RunEndpoints e;
     const bool multicast = endpoint.rfind("epgm://", 0) == 0 || endpoint.rfind("pgm://", 0) == 0;
-    e.remote = endpoint.rfind("tcp://", 0) == 0 || multicast;
     const std::string local_stream = "ipc://" + dir + "/stream";
     if (endpoint.empty()) endpoint = local_stream;
-    e.stream = endpoint;
-    e.journal = journal_endpoint(endpoint);
+    RunEndpoints e;
+    static_cast<net::WallEndpoints&>(e) = net::wall_endpoints(endpoint);
+    if (!e.reachable) e.keeper.clear();  // every slave is local, and joins through the journal
     // Multicast does not loop back to the sending machine: the program publishes there too, on
     // an ipc:// path, for the local slaves and the keeper.
-    e.local = multicast ? local_stream : connectable(endpoint);
+    e.local = multicast ? local_stream : net::connectable(endpoint);
     e.publish = multicast ? endpoint + "," + local_stream : endpoint;
-    e.keeper = e.remote ? next_port(e.journal, "-keeper") : "";
-    e.control = e.remote ? next_port(e.keeper, "") : "ipc://" + dir + "/control";
     return e;
 }
 
@@ -226,20 +197,20 @@ void start_slaves(RunSession& session, const RunArgs& a, const WallPlan& plan, c
     const std::string exe = self_exe();
     for (const std::string& tile : plan.local_tiles) {
         const std::string name = tile.empty() ? "window" : tile;
-        std::vector<std::string> argv = {exe,       "slave",   "--connect", e.local, "--journal", connectable(e.journal),
-                                         "--backend", a.backend, "--wait",  "120",   "--control", connectable(e.control),
+        std::vector<std::string> argv = {exe,       "slave",   "--connect", e.local, "--journal", net::connectable(e.journal),
+                                         "--backend", a.backend, "--wait",  "120",   "--control", net::connectable(e.control),
                                          "--quiet", "--machine", here};
         if (!tile.empty()) argv.insert(argv.end(), {"--config", a.config_path, "--tile", tile});
         if (!a.out_dir.empty()) argv.insert(argv.end(), {"--out", a.out_dir + "/" + name});
         if (plan.swap_barrier) argv.push_back("--swap-barrier");
         if (a.lockstep) argv.push_back("--lockstep");
         argv.insert(argv.end(), a.effect_args.begin(), a.effect_args.end());
-        if (const char* log = std::getenv("GLCAST_TEST_PRESENT_LOG_DIR"))
-            setenv("GLCAST_TEST_PRESENT_LOG", (std::string(log) + "/" + name).c_str(), 1);
+        if (const std::string& logs = environment().test_present_log_dir; !logs.empty())
+            setenv("GLCAST_TEST_PRESENT_LOG", (logs + "/" + name).c_str(), 1);
         session.start("slave " + name, argv, true);
     }
-    if (e.remote)
-        session.start("keeper", {exe, "keeper", "--connect", e.local, "--journal", connectable(e.journal), "--bind",
+    if (e.reachable)
+        session.start("keeper", {exe, "keeper", "--connect", e.local, "--journal", net::connectable(e.journal), "--bind",
                                  e.keeper, "--wait", "120"}, false);
 }
 
@@ -307,7 +278,7 @@ int run(RunArgs& a, const std::vector<std::string>& program) {
         for (const std::string& endpoint : {e.stream, e.journal, e.keeper, e.control})
             if (!endpoint.empty()) net::check_endpoint(endpoint, net::process_security(), true);
         std::fprintf(stderr, "glcast run: stream on %s, journal on %s%s%s, control on %s%s\n", e.stream.c_str(),
-                     e.journal.c_str(), e.remote ? ", keeper on " : "", e.keeper.c_str(), e.control.c_str(),
+                     e.journal.c_str(), e.reachable ? ", keeper on " : "", e.keeper.c_str(), e.control.c_str(),
                      net::process_security().keyed() ? " (CURVE)" : "");
         // The control channel (swap barrier, status) outlives the program: slaves may present its
         // last frames after it ended.
@@ -320,7 +291,7 @@ int run(RunArgs& a, const std::vector<std::string>& program) {
         std::map<std::string, std::string> env{
             {"GLCAST_PUBLISH", e.publish},
             {"GLCAST_JOURNAL_ENDPOINT", e.journal},
-            {"GLCAST_WAIT_SUBSCRIBERS", std::to_string(session.slaves() + size_t(remote_here) + (e.remote ? 1 : 0))},
+            {"GLCAST_WAIT_SUBSCRIBERS", std::to_string(session.slaves() + size_t(remote_here) + (e.reachable ? 1 : 0))},
             {"GLCAST_LOCKSTEP", a.lockstep ? std::to_string(plan.tiles.size()) : "0"}};
         if (a.frames) {
             env["GLCAST_FRAMES"] = std::to_string(a.frames);

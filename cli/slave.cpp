@@ -16,7 +16,9 @@
 #include "cli/options.h"
 #include "cli/paths.h"
 #include "cli/tile_options.h"
+#include "common/environment.h"
 #include "common/image.h"
+#include "net/wall_endpoints.h"
 #include "slave/network_source.h"
 #include "slave/replayer.h"
 #include "slave/wall_link.h"
@@ -40,12 +42,11 @@ struct SlaveArgs {
 // A display config's "master" gives a display machine's slave every endpoint (docs/wall.md).
 void endpoints_from_config(const DisplayConfig& config, SlaveArgs& a) {
     if (!config.master.given) return;
-    const std::string host = "tcp://" + config.master.address + ":";
-    const int port = config.master.port;
-    if (a.endpoint.empty()) a.endpoint = host + std::to_string(port);
-    if (a.journal.empty()) a.journal = host + std::to_string(port + 1);
-    if (a.keeper.empty()) a.keeper = host + std::to_string(port + 2);
-    if (a.control.empty()) a.control = host + std::to_string(port + 3);
+    const net::WallEndpoints wall = net::wall_endpoints_at(config.master.address, config.master.port);
+    if (a.endpoint.empty()) a.endpoint = wall.stream;
+    if (a.journal.empty()) a.journal = wall.journal;
+    if (a.keeper.empty()) a.keeper = wall.keeper;
+    if (a.control.empty()) a.control = wall.control;
     a.swap_barrier |= config.swap_barrier;
 }
 
@@ -69,7 +70,6 @@ bool prepare(SlaveArgs& a, int& status) {
         return false;
     }
     if (!use_keys(a.keys, a.insecure, "glcast slave", error)) return false;
-    if (!a.machine.empty()) setenv("GLCAST_MACHINE", a.machine.c_str(), 1);
     if (!a.out_dir.empty() && !make_directories(a.out_dir, error)) {
         std::fprintf(stderr, "glcast slave: --out: %s\n", error.c_str());
         return false;
@@ -83,9 +83,11 @@ class SlaveRun {
 public:
     SlaveRun(SlaveArgs& a, std::unique_ptr<Backend> backend)
         : a_(a), label_(a.tile_name.empty() ? std::string("window") : a.tile_name) {
-        if (!a.control.empty()) link_ = std::make_unique<WallLink>(a.control, label_, machine_name());
+        if (!a.control.empty())
+            link_ = std::make_unique<WallLink>(a.control, label_, a.machine.empty() ? machine_name() : a.machine);
         replayer_ = std::make_unique<Replayer>(std::move(backend), a.opt);
-        if (const char* log = std::getenv("GLCAST_TEST_PRESENT_LOG")) present_log_.reset(std::fopen(log, "w"));
+        if (const std::string& log = environment().test_present_log; !log.empty())
+            present_log_.reset(std::fopen(log.c_str(), "w"));
     }
     const std::string& label() const { return label_; }
 

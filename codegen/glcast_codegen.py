@@ -25,6 +25,7 @@ except ImportError as e:  # CMake turns this into a configure error
 import registry
 from classify import Classifier, WIRE_BYTES
 import synthetic
+import client_arrays
 from semantics import Semantics, SemanticsError
 from slave_plan import SlavePlanner, ns_id
 from snapshot import SnapshotModel, SnapshotError
@@ -51,6 +52,7 @@ OUTPUTS = {  # template -> generated file
     "snapshot_state.h.j2": "glcast_snapshot_state.h",
     "snapshot_state.cpp.j2": "glcast_snapshot_state.cpp",
     "recording_gl.cpp.j2": "glcast_recording_gl.cpp",
+    "client_arrays.h.j2": "glcast_client_arrays.h",
 }
 
 
@@ -100,6 +102,11 @@ class Model:
             sys.exit(f"glcast-codegen: {e}")
         self.check_annotations()
         self.check_slave_handwritten()
+        with open(os.path.join(ann_dir, "client_arrays.yaml")) as f:
+            try:
+                self.client_arrays = client_arrays.load(yaml.safe_load(f), self.plans, self.enums)
+            except client_arrays.ClientArraysError as e:
+                sys.exit(f"glcast-codegen: {e}")
         with open(os.path.join(ann_dir, "snapshot.yaml")) as f:
             try:
                 self.snapshot = SnapshotModel(yaml.safe_load(f), self.commands, self.enums, self.get_counts())
@@ -162,7 +169,7 @@ class Model:
         defined = set()
         for path in glob.glob(os.path.join(special, "*.cpp")):
             with open(path) as f:
-                defined |= set(re.findall(r"^void (gl\w+)\(Replayer& \w+, const Call& \w+\)", f.read(), re.M))
+                defined |= set(re.findall(r"^void (gl\w+)\(CallReplay& \w+, const Call& \w+\)", f.read(), re.M))
         if defined != listed:
             sys.exit("glcast-codegen: slave/special/*.cpp and commands.yaml slave.handwritten disagree:\n"
                      f"  listed, not defined: {sorted(listed - defined)}\n"
@@ -359,7 +366,8 @@ def main():
            "window_system_pnames": model.semantics.window_system_pnames(),
            "state_groups": model.semantics.state_groups, "synthetic": model.synthetic,
            "snapshot": model.snapshot, "shim_answers": model.shim_answers(),
-           "shim_answer_commands": model.shim_answer_commands()}
+           "shim_answer_commands": model.shim_answer_commands(),
+           "client_arrays": model.client_arrays}
     os.makedirs(args.out, exist_ok=True)
     for template, name in OUTPUTS.items():
         text = env.get_template(template).render(**ctx)

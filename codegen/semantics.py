@@ -15,6 +15,7 @@ WINDOW_KINDS = ["viewport", "scissor", "viewport_indexed", "scissor_indexed", "v
                 "line_width", "point_size", "pixel_zoom", "blit_destination", "draw_framebuffer"]
 OBJECT_ACCESS = ["bound", "named"]
 CONTEXT_OPS = ["create", "make_current", "swap", "destroy"]
+LIST_OPS = ["new", "call", "call_many"]
 
 
 class SemanticsError(Exception):
@@ -99,6 +100,18 @@ class Semantics:
         s = self.spec
         sem = {"twin": self.twin_of(cmd) if self.twin_of(cmd) in self.by_name else None}
         sem["matrix"] = next((op for op in MATRIX_OPS if self.find(cmd, s["matrix"].get(op, []))[0]), None)
+        # The parameters naming what the call acts on: the matrix stack, the display list, the
+        # program linked (a command is at most one of these).
+        sem["subject_params"] = []
+        mode = s["matrix"]["mode"]
+        if sem["matrix"] == "mode":
+            sem["subject_params"] = self.params_of(cmd, mode, "matrix.mode")
+        sem["list"] = None
+        for k in LIST_OPS:
+            idx = self.params_of(cmd, s["lists"].get(k) or {}, f"lists.{k}")
+            if idx is not None:
+                sem["list"], sem["subject_params"] = k, idx
+                break
         names = s["names"]
         sem["deletes"] = bool(self.find(cmd, names["deletes"])[0])
         first_use = names["created_at_first_use"]
@@ -109,7 +122,12 @@ class Semantics:
         progs = s["programs"]
         use = self.params_of(cmd, {k: [v] for k, v in progs["use"].items()}, "programs.use")
         sem["program_use"] = use[0] if use else -1
-        sem["links_program"] = bool(self.find(cmd, progs["link"])[0])
+        link = self.params_of(cmd, {k: [v] for k, v in progs["link"].items()}, "programs.link")
+        sem["links_program"] = link is not None
+        if link is not None:
+            sem["subject_params"] = link
+        if len(sem["subject_params"]) > 2:
+            raise SemanticsError(f"semantics.yaml: {cmd.name} names more than 2 parameters it acts on")
         st = self.params_of(cmd, {k: [v] for k, v in progs["shader_type"].items()}, "programs.shader_type")
         sem["shader_type"] = st[0] if st else -1
 
@@ -169,11 +187,11 @@ class Semantics:
         """Every pattern must name something: a typo would silently drop a property."""
         s = self.spec
         pats = []
-        for section in ("matrix", "redraw"):
+        for section in ("matrix", "redraw", "lists"):
             for v in s[section].values():
                 pats += list(v)
         pats += s["names"]["deletes"] + s["names"]["created_at_first_use"]["commands"] + list(s["names"]["created_by"])
-        pats += list(s["programs"]["use"]) + s["programs"]["link"] + list(s["programs"]["shader_type"])
+        pats += list(s["programs"]["use"]) + list(s["programs"]["link"]) + list(s["programs"]["shader_type"])
         for v in s["window"].values():
             pats += list(v)
         pats += s["frame_only"] + s["window_system_pnames"]["commands"]

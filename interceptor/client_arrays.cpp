@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "common/gl_headers.h"
+#include "glcast_client_arrays.h"
 #include "glcast_commands.h"
 #include "interceptor/driver_size_queries.h"
 #include "interceptor/shim.h"
@@ -85,23 +86,6 @@ ContextArrays& arrays_of_current() {
     return g_contexts[current_context_id()];
 }
 
-uint32_t kinds_for(uint32_t opcode) {
-    auto bit = [](ClientSlot s) { return 1u << unsigned(s); };
-    switch (opcode) {
-    case OP_glVertexPointer: case OP_glVertexPointerEXT: return bit(ClientSlot::Vertex);
-    case OP_glNormalPointer: case OP_glNormalPointerEXT: return bit(ClientSlot::Normal);
-    case OP_glColorPointer: case OP_glColorPointerEXT: return bit(ClientSlot::Color);
-    case OP_glSecondaryColorPointer: case OP_glSecondaryColorPointerEXT: return bit(ClientSlot::SecondaryColor);
-    case OP_glFogCoordPointer: case OP_glFogCoordPointerEXT: return bit(ClientSlot::FogCoord);
-    case OP_glIndexPointer: return bit(ClientSlot::Index);
-    case OP_glEdgeFlagPointer: return bit(ClientSlot::EdgeFlag);
-    case OP_glTexCoordPointer: case OP_glTexCoordPointerEXT: return bit(ClientSlot::TexCoord);
-    case OP_glInterleavedArrays:
-        return bit(ClientSlot::Vertex) | bit(ClientSlot::Normal) | bit(ClientSlot::Color) | bit(ClientSlot::TexCoord);
-    default: return bit(ClientSlot::Attrib);
-    }
-}
-
 struct ArrayState {
     ClientSlot slot;
     uint32_t index;
@@ -125,44 +109,15 @@ int32_t element_bytes(const ArrayState& a) {
     }
 }
 
-// Fixed-function arrays: enable cap, buffer-binding, pointer, size, type, stride queries.
-struct FixedSlot {
-    ClientSlot slot;
-    GLenum cap, binding, pointer, size, type, stride;
-    int32_t fixed_size;
-    GLenum fixed_type;
-};
-const FixedSlot kFixed[] = {
-    {ClientSlot::Vertex, GL_VERTEX_ARRAY, GL_VERTEX_ARRAY_BUFFER_BINDING, GL_VERTEX_ARRAY_POINTER,
-     GL_VERTEX_ARRAY_SIZE, GL_VERTEX_ARRAY_TYPE, GL_VERTEX_ARRAY_STRIDE, 0, 0},
-    {ClientSlot::Normal, GL_NORMAL_ARRAY, GL_NORMAL_ARRAY_BUFFER_BINDING, GL_NORMAL_ARRAY_POINTER, 0,
-     GL_NORMAL_ARRAY_TYPE, GL_NORMAL_ARRAY_STRIDE, 3, 0},
-    {ClientSlot::Color, GL_COLOR_ARRAY, GL_COLOR_ARRAY_BUFFER_BINDING, GL_COLOR_ARRAY_POINTER,
-     GL_COLOR_ARRAY_SIZE, GL_COLOR_ARRAY_TYPE, GL_COLOR_ARRAY_STRIDE, 0, 0},
-    {ClientSlot::SecondaryColor, GL_SECONDARY_COLOR_ARRAY, GL_SECONDARY_COLOR_ARRAY_BUFFER_BINDING,
-     GL_SECONDARY_COLOR_ARRAY_POINTER, GL_SECONDARY_COLOR_ARRAY_SIZE, GL_SECONDARY_COLOR_ARRAY_TYPE,
-     GL_SECONDARY_COLOR_ARRAY_STRIDE, 0, 0},
-    {ClientSlot::FogCoord, GL_FOG_COORD_ARRAY, GL_FOG_COORD_ARRAY_BUFFER_BINDING, GL_FOG_COORD_ARRAY_POINTER, 0,
-     GL_FOG_COORD_ARRAY_TYPE, GL_FOG_COORD_ARRAY_STRIDE, 1, 0},
-    {ClientSlot::Index, GL_INDEX_ARRAY, GL_INDEX_ARRAY_BUFFER_BINDING, GL_INDEX_ARRAY_POINTER, 0,
-     GL_INDEX_ARRAY_TYPE, GL_INDEX_ARRAY_STRIDE, 1, 0},
-    {ClientSlot::EdgeFlag, GL_EDGE_FLAG_ARRAY, GL_EDGE_FLAG_ARRAY_BUFFER_BINDING, GL_EDGE_FLAG_ARRAY_POINTER, 0, 0,
-     GL_EDGE_FLAG_ARRAY_STRIDE, 1, GL_UNSIGNED_BYTE},
-    {ClientSlot::TexCoord, GL_TEXTURE_COORD_ARRAY, GL_TEXTURE_COORD_ARRAY_BUFFER_BINDING,
-     GL_TEXTURE_COORD_ARRAY_POINTER, GL_TEXTURE_COORD_ARRAY_SIZE, GL_TEXTURE_COORD_ARRAY_TYPE,
-     GL_TEXTURE_COORD_ARRAY_STRIDE, 0, 0},
-};
-
-bool read_fixed(const FixedSlot& f, uint32_t index, ArrayState& a) {
+bool read_fixed(const FixedClientArray& f, uint32_t index, ArrayState& a) {
     const GlApi& gl = real_gl();
     if (!gl.has(OP_glIsEnabled) || !gl.has(OP_glGetPointerv) || !gl.glIsEnabled(f.cap)) return false;
     if (real_get_integer(f.binding) != 0) return false;  // a buffer object: its data already travelled
     void* p = nullptr;
     gl.glGetPointerv(f.pointer, &p);
-    a = ArrayState{f.slot, index, f.size ? real_get_integer(f.size) : f.fixed_size,
-                   f.type ? uint32_t(real_get_integer(f.type)) : f.fixed_type, real_get_integer(f.stride),
-                   uint8_t(f.slot == ClientSlot::Color || f.slot == ClientSlot::SecondaryColor ||
-                           f.slot == ClientSlot::Normal), 0, 0, static_cast<const uint8_t*>(p)};
+    a = ArrayState{f.slot, index, f.size_query ? real_get_integer(f.size_query) : f.size,
+                   f.type_query ? uint32_t(real_get_integer(f.type_query)) : f.type, real_get_integer(f.stride),
+                   uint8_t(f.normalized), 0, 0, static_cast<const uint8_t*>(p)};
     return p != nullptr;
 }
 
@@ -192,7 +147,7 @@ bool read_attrib(uint32_t index, ArrayState& a) {
 std::vector<ArrayState> enabled_client_arrays(uint32_t kinds) {
     std::vector<ArrayState> out;
     ArrayState a{};
-    for (const FixedSlot& f : kFixed) {
+    for (const FixedClientArray& f : kFixedClientArrays) {
         if (!(kinds & (1u << unsigned(f.slot)))) continue;
         if (f.slot != ClientSlot::TexCoord) {
             if (read_fixed(f, 0, a)) out.push_back(a);
@@ -221,7 +176,7 @@ std::vector<ArrayState> enabled_client_arrays(uint32_t kinds) {
 void note_client_pointer(uint32_t opcode) {
     g_client_arrays_seen.store(true, std::memory_order_relaxed);
     std::lock_guard lock(g_mutex);
-    arrays_of_current().kinds_used |= kinds_for(opcode);
+    arrays_of_current().kinds_used |= client_arrays_set_by(opcode);
 }
 
 uint32_t thread_state_opcode() { return thread_state().opcode; }

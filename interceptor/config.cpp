@@ -1,34 +1,30 @@
 #include "interceptor/config.h"
 
-#include <cerrno>
 #include <cstdio>
-#include <cstdlib>
+
+#include "common/environment.h"
 
 namespace glcast {
 
+// The shim must never stop the program: a bad value is said once and leaves glcast passive.
 static bool read_uint(const char* name, uint64_t min, uint64_t max, uint64_t& out) {
-    const char* text = std::getenv(name);
-    if (!text || !*text) return true;
-    char* end = nullptr;
-    errno = 0;
-    const unsigned long long v = std::strtoull(text, &end, 10);
-    if (errno || *end || v < min || v > max || text[0] == '-') {
-        std::fprintf(stderr, "glcast: %s=%s is not an integer in [%llu, %llu]; glcast stays off\n", name, text,
-                     (unsigned long long)min, (unsigned long long)max);
+    try {
+        out = env_uint(name, min, max, out);
+        return true;
+    } catch (const EnvironmentError& e) {
+        std::fprintf(stderr, "glcast: %s; glcast stays off\n", e.what());
         return false;
     }
-    out = v;
-    return true;
 }
 
 static ShimConfig load() {
     ShimConfig c;
     bool ok = true;
-    if (const char* p = std::getenv("GLCAST_CAPTURE")) c.capture_path = p;
-    if (const char* p = std::getenv("GLCAST_SNAPSHOT_DIR")) c.snapshot_dir = p;
-    if (const char* p = std::getenv("GLCAST_PUBLISH")) c.publish = p;
-    if (const char* p = std::getenv("GLCAST_JOURNAL_ENDPOINT")) c.journal_endpoint = p;
-    if (const char* p = std::getenv("GLCAST_TEST_SWAP_LOG")) c.swap_log = p;
+    c.capture_path = env_text("GLCAST_CAPTURE");
+    c.snapshot_dir = env_text("GLCAST_SNAPSHOT_DIR");
+    c.publish = env_text("GLCAST_PUBLISH");
+    c.journal_endpoint = env_text("GLCAST_JOURNAL_ENDPOINT");
+    c.swap_log = env_text("GLCAST_TEST_SWAP_LOG");
     ok &= read_uint("GLCAST_JOURNAL_MB", 0, 1 << 20, c.journal_mb);
     ok &= read_uint("GLCAST_SNAPSHOT_FROM", 0, UINT32_MAX, c.snapshot_from);
     ok &= read_uint("GLCAST_TEST_DROP_EVERY", 0, UINT32_MAX, c.drop_every);

@@ -10,7 +10,7 @@
 
 #include "keeper/kept_calls.h"
 #include "keeper/snapshot.h"
-#include "master/publisher.h"
+#include "master/journal_requests.h"
 #include "master/stream.h"
 #include "protocol/format.h"
 #include "slave/backend.h"

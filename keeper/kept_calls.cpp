@@ -104,7 +104,7 @@ void KeptCalls::follow_matrices(const Call& c, uint32_t context) {
     Matrices& m = matrices_[context];
     const MatrixOp op = c.info->sem.matrix;
     if (op == MatrixOp::Mode) {
-        m.mode = uint32_t(c.args[0].bits);
+        m.mode = uint32_t(c.args[size_t(c.info->sem.subject_params[0])].bits);
         return;
     }
     std::vector<MatrixRecipe>* stack = m.stack();
@@ -118,7 +118,7 @@ void KeptCalls::follow_matrices(const Call& c, uint32_t context) {
         break;
     case MatrixOp::Load:
         stack->back() = MatrixRecipe{};
-        if (c.opcode != OP_glLoadIdentity) stack->back().calls.assign(last_tuple_, last_tuple_ + last_bytes_);
+        stack->back().calls.assign(last_tuple_, last_tuple_ + last_bytes_);
         break;
     case MatrixOp::Multiply: {
         MatrixRecipe& r = stack->back();
@@ -143,13 +143,13 @@ void KeptCalls::after_call(const Call& c) {
         if (ctx && (rec == recording_.end() || rec->second.execute)) follow_matrices(c, ctx->id);
         return;
     }
-    if (c.opcode == OP_glCallList || c.opcode == OP_glCallLists) {
+    if (info->sem.list == ListOp::Call || info->sem.list == ListOp::CallMany) {
         slave::SlaveContext* ctx = core_.current_or_null();
         if (!ctx) return;
         const auto& touching = list_matrices_[ctx->names.shared];
         bool touches = false;
-        if (c.opcode == OP_glCallList) {
-            auto it = touching.find(c.args[0].bits);
+        if (info->sem.list == ListOp::Call) {
+            auto it = touching.find(c.args[size_t(info->sem.subject_params[0])].bits);
             touches = it != touching.end() && it->second;
         } else {
             for (const auto& [name, t] : touching) touches |= t;
@@ -183,8 +183,9 @@ void KeptCalls::after_call(const Call& c) {
     }
     slave::SlaveContext* ctx = core_.current_or_null();
     if (!ctx) return;
-    if (info->sem.redraw == RedrawKind::NewList) {
-        recording_[ctx->id] = Recording{c.args[0].bits, c.args[1].bits == GL_COMPILE_AND_EXECUTE, {}};
+    if (info->sem.list == ListOp::New) {
+        const int8_t* p = info->sem.subject_params;
+        recording_[ctx->id] = Recording{c.args[size_t(p[0])].bits, c.args[size_t(p[1])].bits == GL_COMPILE_AND_EXECUTE, {}};
     } else if (info->sem.redraw == RedrawKind::EndList) {
         auto rec = recording_.find(ctx->id);
         if (rec == recording_.end()) return;
@@ -196,13 +197,14 @@ void KeptCalls::after_call(const Call& c) {
         recording_.erase(rec);
     } else if (info->sem.flags & kSemLinksProgram) {
         uint64_t program = 0;
-        if (!ctx->names.map(Ns::program).find(c.args[0].bits, program)) return;
+        const uint64_t linked = c.args[size_t(info->sem.subject_params[0])].bits;
+        if (!ctx->names.map(Ns::program).find(linked, program)) return;
         const GlApi& gl = core_.api();
         GLint count = 0;
         gl.glGetProgramiv(GLuint(program), GL_ATTACHED_SHADERS, &count);
         std::vector<GLuint> shaders(size_t(std::clamp(count, 0, 64)));
         if (!shaders.empty()) gl.glGetAttachedShaders(GLuint(program), GLsizei(shaders.size()), nullptr, shaders.data());
-        std::vector<LinkedShader>& kept = linked_[ctx->names.shared][c.args[0].bits];
+        std::vector<LinkedShader>& kept = linked_[ctx->names.shared][linked];
         kept.clear();
         for (GLuint s : shaders) kept.push_back(read_shader(gl, s));
     } else if (info->sem.flags & kSemDeletes) {

@@ -6,6 +6,7 @@
 #include <array>
 #include <cstring>
 
+#include "glcast_client_arrays.h"
 #include "glcast_encode.h"
 #include "glcast_snapshot_state.h"
 #include "common/window_readback.h"
@@ -34,31 +35,6 @@ constexpr GLenum kUnitTargets[][2] = {
     {GL_TEXTURE_2D_ARRAY, GL_TEXTURE_BINDING_2D_ARRAY}, {GL_TEXTURE_CUBE_MAP_ARRAY, GL_TEXTURE_BINDING_CUBE_MAP_ARRAY},
     {GL_TEXTURE_BUFFER, GL_TEXTURE_BINDING_BUFFER}, {GL_TEXTURE_2D_MULTISAMPLE, GL_TEXTURE_BINDING_2D_MULTISAMPLE},
 };
-// The fixed-function arrays: enable, buffer binding, size, type, stride, pointer.
-struct FixedArray {
-    GLenum array, binding, size, type, stride, pointer;
-    ClientSlot slot;
-};
-constexpr FixedArray kFixedArrays[] = {
-    {GL_VERTEX_ARRAY, GL_VERTEX_ARRAY_BUFFER_BINDING, GL_VERTEX_ARRAY_SIZE, GL_VERTEX_ARRAY_TYPE,
-     GL_VERTEX_ARRAY_STRIDE, GL_VERTEX_ARRAY_POINTER, ClientSlot::Vertex},
-    {GL_NORMAL_ARRAY, GL_NORMAL_ARRAY_BUFFER_BINDING, 0, GL_NORMAL_ARRAY_TYPE, GL_NORMAL_ARRAY_STRIDE,
-     GL_NORMAL_ARRAY_POINTER, ClientSlot::Normal},
-    {GL_COLOR_ARRAY, GL_COLOR_ARRAY_BUFFER_BINDING, GL_COLOR_ARRAY_SIZE, GL_COLOR_ARRAY_TYPE, GL_COLOR_ARRAY_STRIDE,
-     GL_COLOR_ARRAY_POINTER, ClientSlot::Color},
-    {GL_SECONDARY_COLOR_ARRAY, GL_SECONDARY_COLOR_ARRAY_BUFFER_BINDING, GL_SECONDARY_COLOR_ARRAY_SIZE,
-     GL_SECONDARY_COLOR_ARRAY_TYPE, GL_SECONDARY_COLOR_ARRAY_STRIDE, GL_SECONDARY_COLOR_ARRAY_POINTER,
-     ClientSlot::SecondaryColor},
-    {GL_FOG_COORD_ARRAY, GL_FOG_COORD_ARRAY_BUFFER_BINDING, 0, GL_FOG_COORD_ARRAY_TYPE, GL_FOG_COORD_ARRAY_STRIDE,
-     GL_FOG_COORD_ARRAY_POINTER, ClientSlot::FogCoord},
-    {GL_INDEX_ARRAY, GL_INDEX_ARRAY_BUFFER_BINDING, 0, GL_INDEX_ARRAY_TYPE, GL_INDEX_ARRAY_STRIDE,
-     GL_INDEX_ARRAY_POINTER, ClientSlot::Index},
-    {GL_EDGE_FLAG_ARRAY, GL_EDGE_FLAG_ARRAY_BUFFER_BINDING, 0, 0, GL_EDGE_FLAG_ARRAY_STRIDE,
-     GL_EDGE_FLAG_ARRAY_POINTER, ClientSlot::EdgeFlag},
-    {GL_TEXTURE_COORD_ARRAY, GL_TEXTURE_COORD_ARRAY_BUFFER_BINDING, GL_TEXTURE_COORD_ARRAY_SIZE,
-     GL_TEXTURE_COORD_ARRAY_TYPE, GL_TEXTURE_COORD_ARRAY_STRIDE, GL_TEXTURE_COORD_ARRAY_POINTER, ClientSlot::TexCoord},
-};
-
 }  // namespace
 
 // --- the window's pixels -------------------------------------------------------------------
@@ -214,19 +190,19 @@ void SnapshotWriter::vertex_arrays(slave::SlaveContext& ctx) {
     if (fixed) {
         const GLint client_unit = integer(GL_CLIENT_ACTIVE_TEXTURE);
         const GLint units = std::min(integer(GL_MAX_TEXTURE_COORDS), 32);
-        for (const FixedArray& a : kFixedArrays) {
+        for (const FixedClientArray& a : kFixedClientArrays) {
             const int count = a.slot == ClientSlot::TexCoord ? units : 1;
             for (int u = 0; u < count; ++u) {
                 if (a.slot == ClientSlot::TexCoord) {
                     gl_.glClientActiveTexture(GLenum(GL_TEXTURE0 + u));
                     encode_glClientActiveTexture(e_, sz_, GLenum(GL_TEXTURE0 + u));
                 }
-                const bool on = gl_.glIsEnabled(a.array);
-                if (on) encode_glEnableClientState(e_, sz_, a.array);
-                else encode_glDisableClientState(e_, sz_, a.array);
+                const bool on = gl_.glIsEnabled(a.cap);
+                if (on) encode_glEnableClientState(e_, sz_, a.cap);
+                else encode_glDisableClientState(e_, sz_, a.cap);
                 const GLint buffer = integer(a.binding);
                 if (!buffer) continue;
-                const GLint size = a.size ? integer(a.size) : 0, type = a.type ? integer(a.type) : 0;
+                const GLint size = a.size_query ? integer(a.size_query) : 0, type = a.type_query ? integer(a.type_query) : 0;
                 const GLint stride = integer(a.stride);
                 void* pointer = nullptr;
                 gl_.glGetPointerv(a.pointer, &pointer);

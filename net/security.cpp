@@ -15,6 +15,8 @@
 #include <mutex>
 #include <vector>
 
+#include "common/environment.h"
+
 namespace glcast::net {
 
 namespace {
@@ -41,16 +43,55 @@ bool exists(const std::string& path) {
     return stat(path.c_str(), &st) == 0;
 }
 
+// As ssh trusts authorized_keys and the folders above it: owned by this user or root, and no
+// one else may write to it (who could, could put a key of theirs in its place).
+bool trusted(const struct stat& st, const std::string& path, std::string& error) {
+    if (st.st_uid != 0 && st.st_uid != geteuid()) {
+        error = path + ": owned by another user (uid " + std::to_string(st.st_uid) + ")";
+        return false;
+    }
+    if (st.st_mode & (S_IWGRP | S_IWOTH)) {
+        char mode[8];
+        std::snprintf(mode, sizeof mode, "%03o", unsigned(st.st_mode & 07777));
+        error = path + ": others may write to it (mode " + mode + ")";
+        return false;
+    }
+    return true;
+}
+
+bool trusted_folder(const std::string& dir, std::string& error) {
+    struct stat st {};
+    if (stat(dir.c_str(), &st) != 0) {
+        error = dir + ": " + std::strerror(errno);
+        return false;
+    }
+    return trusted(st, dir, error);
+}
+
+std::string folder_of(const std::string& path) {
+    const size_t slash = path.rfind('/');
+    return slash == std::string::npos ? "." : slash == 0 ? "/" : path.substr(0, slash);
+}
+
 }  // namespace
 
 bool read_key_file(const std::string& path, bool want_secret, KeyPair& out, std::string& error) {
-    const int fd = open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    // Without blocking: a FIFO in its place must not hang the reader.
+    const int fd = open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
     if (fd < 0) {
         error = path + ": " + std::strerror(errno);
         return false;
     }
     struct stat st {};
-    fstat(fd, &st);
+    if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+        close(fd);
+        error = path + ": not a regular file";
+        return false;
+    }
+    if (!trusted(st, path, error)) {
+        close(fd);
+        return false;
+    }
     if (want_secret && (st.st_mode & (S_IRWXG | S_IRWXO))) {
         close(fd);
         char mode[8];
@@ -110,6 +151,7 @@ bool write_key_pair(const std::string& path, std::string& error) {
         return false;
     }
     const std::string secret_path = path + ".key", public_path = path + ".pub";
+    if (!trusted_folder(folder_of(path), error)) return false;
     for (const std::string& p : {secret_path, public_path})
         if (exists(p)) {
             error = p + " exists; keys are not overwritten";
@@ -137,6 +179,10 @@ bool load_security(const std::string& dir, bool insecure, Security& out, std::st
         return true;
     }
     s.dir = dir;
+    if (!trusted_folder(dir, error) || (exists(dir + "/authorized") && !trusted_folder(dir + "/authorized", error))) {
+        error = "keys: " + error;
+        return false;
+    }
     KeyPair master_public;
     if (!read_key_file(dir + "/master.pub", false, master_public, error)) {
         error = "keys (GLCAST_KEYS " + dir + "): " + error;
@@ -190,18 +236,48 @@ bool load_security(const std::string& dir, bool insecure, Security& out, std::st
     return true;
 }
 
+namespace {
+
+struct ProcessKeys {
+    std::mutex mutex;
+    bool read = false;
+    Security security;
+    std::string error;
+};
+
+ProcessKeys& process_keys() {
+    static ProcessKeys keys;
+    return keys;
+}
+
+}  // namespace
+
+void use_process_keys(const std::string& dir, bool insecure) {
+    ProcessKeys& k = process_keys();
+    std::lock_guard lock(k.mutex);
+    k.read = true;
+    k.error.clear();
+    k.security = Security{};
+    if (!load_security(dir, insecure, k.security, k.error)) k.security.dir.clear();
+}
+
 const Security& process_security() {
-    static Security security;
-    static std::string error;
-    static std::once_flag once;
-    std::call_once(once, [] {
-        const char* dir = std::getenv("GLCAST_KEYS");
-        const char* insecure = std::getenv("GLCAST_INSECURE");
-        if (!load_security(dir ? dir : "", insecure && std::strcmp(insecure, "1") == 0, security, error))
-            security.dir.clear();
-    });
-    if (!error.empty()) throw std::runtime_error(error);
-    return security;
+    ProcessKeys& k = process_keys();
+    bool read;
+    {
+        std::lock_guard lock(k.mutex);
+        read = k.read;
+    }
+    if (!read) {
+        const Environment& e = environment();  // throws on a bad GLCAST_INSECURE
+        std::lock_guard lock(k.mutex);
+        if (!k.read) {
+            k.read = true;
+            if (!load_security(e.keys, e.insecure, k.security, k.error)) k.security.dir.clear();
+        }
+    }
+    if (!k.error.empty()) throw std::runtime_error(k.error);
+    return k.security;
 }
 
 Transport transport_of(const std::string& endpoint) {

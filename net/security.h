@@ -50,9 +50,12 @@ struct Security {
 // malformed, a secret key readable by others).
 bool load_security(const std::string& dir, bool insecure, Security& out, std::string& error);
 
-// This process's keys, read once from GLCAST_KEYS and GLCAST_INSECURE. Throws std::runtime_error
-// when GLCAST_KEYS names a directory that cannot be read as above.
+// This process's keys: those given to use_process_keys, else read once from GLCAST_KEYS and
+// GLCAST_INSECURE (common/environment.h). Throws std::runtime_error when the directory cannot be
+// read as above. use_process_keys replaces them; it is called before any socket is made (the
+// command line's --keys), so the references handed out before stay those of the process's start.
 const Security& process_security();
+void use_process_keys(const std::string& dir, bool insecure);
 
 // Writes DIR/NAME.key (0600) and DIR/NAME.pub for a new CURVE key pair (`path` is DIR/NAME).
 bool write_key_pair(const std::string& path, std::string& error);

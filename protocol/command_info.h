@@ -77,6 +77,7 @@ enum class WindowMapping : uint8_t {
 };
 enum class ObjectAccess : uint8_t { Nothing, Bound, Named };
 enum class ContextOp : uint8_t { Nothing, Create, MakeCurrent, Swap, Destroy };
+enum class ListOp : uint8_t { Nothing, New, Call, CallMany };
 enum SemanticFlags : uint8_t {
     kSemDeletes = 1,        // releases the names it is given
     kSemLinksProgram = 2,   // links a program: its uniforms start over
@@ -100,6 +101,9 @@ struct CommandSemantics {
     int8_t shader_type;         // the parameter giving the type of the shader it returns, or -1
     ContextOp context;          // a window-system call the slave follows ...
     int8_t context_param;       // ... with this parameter (attributes, drawable, context), or -1
+    ListOp list;                // records or runs display lists
+    int8_t subject_params[2];   // what it acts on: the matrix stack (MatrixOp::Mode), the list and
+                                // glNewList's mode (ListOp), the program linked (kSemLinksProgram); -1: none
     uint8_t flags;              // SemanticFlags
     uint8_t redraw_first_count; // > 0: kept for redraw only when the first parameter is one of
     const uint32_t* redraw_first_values;

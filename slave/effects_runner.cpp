@@ -51,6 +51,10 @@ void EffectsRunner::before_call(const Call& c, const uint8_t* tuple, size_t byte
     if (SlaveContext* ctx = core_.current_or_null()) scenes_.record(*ctx, c, tuple, bytes);
 }
 
+void EffectsRunner::after_call(const Call& c) {
+    if (SlaveContext* ctx = core_.current_or_null()) scenes_.follow(*ctx, c);
+}
+
 void EffectsRunner::reset() {
     scenes_.reset();
     passes_.clear();

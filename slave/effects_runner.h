@@ -37,6 +37,7 @@ public:
 
     bool wants(uint32_t opcode, const CommandInfo* info) const override;
     void before_call(const Call& c, const uint8_t* tuple, size_t bytes) override;
+    void after_call(const Call& c) override;
     void end_frame(SlaveContext& ctx) override;
     void presented(SlaveContext& ctx) override;
     void reset() override;

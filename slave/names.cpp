@@ -26,7 +26,7 @@ uint64_t Replayer::map_name(Ns ns, uint64_t master, const Call& c, NameUse use) 
 const void* Replayer::names_in(Ns ns, const Call& c, int i, NameUse use) {
     const PtrRecord& r = c.args[size_t(i)].ptr;
     if (r.tag != PtrTag::Data) return nullptr;
-    auto out = static_cast<GLuint*>(arena(r.count * sizeof(GLuint)));
+    auto out = static_cast<GLuint*>(scratch_.take(r.count * sizeof(GLuint)));
     NameMap& map = current().names.map(ns);
     for (uint32_t k = 0; k < r.count; ++k) {
         uint32_t master;

@@ -1,5 +1,6 @@
 #include "slave/network_source.h"
 
+#include "common/environment.h"
 #include "net/security.h"
 
 #include <zmq.hpp>
@@ -16,31 +17,20 @@ namespace glcast::slave {
 namespace {
 
 // What one catching up may take from its peers, a journal or a keeper that answers forever being
-// no better than one that never answers: GLCAST_CATCH_UP_MB (2048 by default, 1 to 2^20) in all,
-// and after the first `wait_seconds` at least 1 MiB a second on average. A bad value is refused
-// with its name, not taken for the default.
-uint64_t catch_up_limit_bytes() {
-    const char* mb = std::getenv("GLCAST_CATCH_UP_MB");
-    if (!mb || !*mb) return uint64_t(2048) << 20;
-    char* end = nullptr;
-    errno = 0;
-    const unsigned long long v = std::strtoull(mb, &end, 10);
-    if (errno || *end || mb[0] == '-' || v < 1 || v > (1ull << 20))
-        throw std::runtime_error(std::string("GLCAST_CATCH_UP_MB=") + mb + " is not a number of MiB from 1 to 1048576");
-    return uint64_t(v) << 20;
-}
+// no better than one that never answers: GLCAST_CATCH_UP_MB in all (common/environment.h), and
+// after the first `wait_seconds` at least 1 MiB a second on average.
 constexpr double kCatchUpMinBytesPerSecond = 1 << 20;
 
 }  // namespace
 
 NetworkSource::NetworkSource(std::string endpoint, std::string journal_endpoint, int wait_seconds,
-                             std::string keeper_endpoint, uint64_t keeper_frame)
+                             std::string keeper_endpoint, uint64_t keeper_frame, uint64_t catch_up_bytes)
     : endpoint_(std::move(endpoint)),
       journal_endpoint_(std::move(journal_endpoint)),
       keeper_endpoint_(std::move(keeper_endpoint)),
       keeper_frame_(keeper_frame),
       wait_seconds_(wait_seconds),
-      catch_up_limit_(catch_up_limit_bytes()),
+      catch_up_limit_(catch_up_bytes ? catch_up_bytes : environment().catch_up_bytes),
       context_(std::make_unique<zmq::context_t>(1)) {
     sub_ = std::make_unique<zmq::socket_t>(*context_, zmq::socket_type::sub);
     sub_->set(zmq::sockopt::rcvhwm, 0);  // while the snapshot replays, live messages wait here

@@ -36,9 +36,10 @@ constexpr int kMaxGapTries = 3;
 class NetworkSource : public MessageSource {
 public:
     // keeper_frame > 0: ask the keeper for its state at that frame ("SNAPSHOT AT n"), waiting
-    // until the program gets there (a recording that starts at a frame).
+    // until the program gets there (a recording that starts at a frame). catch_up_bytes: what one
+    // catching up may take from the journal and the keeper (0: GLCAST_CATCH_UP_MB's).
     NetworkSource(std::string endpoint, std::string journal_endpoint, int wait_seconds, std::string keeper_endpoint = "",
-                  uint64_t keeper_frame = 0);
+                  uint64_t keeper_frame = 0, uint64_t catch_up_bytes = 0);
     ~NetworkSource() override;
 
     bool next(Message& m) override;  // false when the program has ended

@@ -1,5 +1,5 @@
 // Arguments of a replayed call as the slave's driver takes them: pointer records copied into
-// per-call scratch memory (the arena), outputs sized for the driver to write.
+// per-call scratch memory (slave/scratch_memory.h), outputs sized for the driver to write.
 #include <cstring>
 
 #include "common/gl_headers.h"
@@ -8,22 +8,6 @@
 namespace glcast::slave {
 
 // --- argument helpers ----------------------------------------------------------------
-
-void* Replayer::arena(size_t bytes) {
-    if (arena_used_ == arena_.size()) arena_.emplace_back();
-    std::vector<uint64_t>& block = arena_[arena_used_++];
-    block.assign(bytes / 8 + 2, 0);
-    if (bytes > options_.limits.arena_retain_bytes) arena_grown_ = true;
-    return block.data();
-}
-
-// One large upload must not keep its scratch for the rest of the replay.
-void Replayer::release_arena() {
-    arena_grown_ = false;
-    const size_t keep = options_.limits.arena_retain_bytes / 8 + 2;
-    for (std::vector<uint64_t>& block : arena_)
-        if (block.capacity() > keep) std::vector<uint64_t>().swap(block);
-}
 
 static size_t element_bytes(const Call& c, int i) { return wire_bytes(c.info->params[i].wire); }
 
@@ -36,7 +20,7 @@ const void* Replayer::in(const Call& c, int i, uint32_t binding) {
         const size_t bytes = r.count * element_bytes(c, i);
         // + NUL: text arrays are used as C strings by some calls. + 64: arrays sized by a pname
         // (glLightfv, glTexParameterfv: at most 16 values) are not checked against it here.
-        void* p = arena(bytes + 64);
+        void* p = scratch_.take(bytes + 64);
         std::memcpy(p, r.data, bytes);
         return p;
     }
@@ -61,13 +45,13 @@ void* Replayer::out(const Call& c, int i, uint32_t binding, int64_t elements) {
     if (uint64_t(elements) > options_.limits.buffer_bytes / uint64_t(unit))
         throw ReplayError(std::string(param_name(c, i)) + ": the call writes " + std::to_string(elements) +
                           " elements, over the limit buffer_bytes=" + std::to_string(options_.limits.buffer_bytes));
-    return arena(size_t(elements * unit) + 1);  // + 1: a string's NUL where bufSize is 0
+    return scratch_.take(size_t(elements * unit) + 1);  // + 1: a string's NUL where bufSize is 0
 }
 
 const char* Replayer::string(const Call& c, int i) {
     const PtrRecord& r = c.args[size_t(i)].ptr;
     if (r.tag != PtrTag::Data) return nullptr;
-    char* p = static_cast<char*>(arena(r.count + 1));
+    char* p = static_cast<char*>(scratch_.take(r.count + 1));
     std::memcpy(p, r.data, r.count);
     p[r.count] = 0;
     return p;
@@ -75,10 +59,10 @@ const char* Replayer::string(const Call& c, int i) {
 
 const char* const* Replayer::strings(const Call& c, int i) {
     const auto& list = c.args[size_t(i)].strings;
-    auto out = static_cast<const char**>(arena(sizeof(char*) * (list.size() + 1)));
+    auto out = static_cast<const char**>(scratch_.take(sizeof(char*) * (list.size() + 1)));
     for (size_t k = 0; k < list.size(); ++k) {
         if (list[k].tag != PtrTag::Data) continue;
-        char* p = static_cast<char*>(arena(list[k].count + 1));
+        char* p = static_cast<char*>(scratch_.take(list[k].count + 1));
         std::memcpy(p, list[k].data, list[k].count);
         out[k] = p;
     }
@@ -87,12 +71,12 @@ const char* const* Replayer::strings(const Call& c, int i) {
 
 const void* const* Replayer::index_arrays(const Call& c, int i) {
     const auto& list = c.args[size_t(i)].strings;
-    auto out = static_cast<const void**>(arena(sizeof(void*) * (list.size() + 1)));
+    auto out = static_cast<const void**>(scratch_.take(sizeof(void*) * (list.size() + 1)));
     for (size_t k = 0; k < list.size(); ++k) {
         if (list[k].tag == PtrTag::Offset) {  // its range: Replayer::need_lists
             out[k] = reinterpret_cast<const void*>(uintptr_t(list[k].value));
         } else if (list[k].tag == PtrTag::Data) {
-            void* p = arena(list[k].count);
+            void* p = scratch_.take(list[k].count);
             std::memcpy(p, list[k].data, list[k].count);
             out[k] = p;
         }

@@ -3,7 +3,7 @@
 #include <string>
 
 #include "common/edit_distance.h"
-#include "slave/replayer.h"
+#include "slave/replay_limits.h"
 
 namespace glcast::slave {
 

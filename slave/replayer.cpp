@@ -20,6 +20,7 @@ void* Replayer::resolve(void* self, uint32_t opcode) {
 
 Replayer::Replayer(std::unique_ptr<Backend> backend, ReplayOptions options)
     : backend_(std::move(backend)), options_(options), api_(&Replayer::resolve, this),
+      scratch_(options_.limits.arena_retain_bytes),
       interest_(kOpcodeCount, 0), synth_interest_(kSynthCount, 0) {
     sizes_ = std::make_unique<ReplaySizeQueries>(api_);
     window_system_ = std::make_unique<WindowSystem>(*this);
@@ -60,6 +61,8 @@ void* Replayer::proc(uint32_t opcode) {
     if (!p) throw ReplayError(std::string("the slave's driver has no ") + command_info(opcode)->name);
     return p;
 }
+
+bool Replayer::turns_vertex_shader(uint64_t master_shader) { return tile_->patches_vertex_shader(master_shader); }
 
 void Replayer::report(const std::string& what) {
     stats_.errors++;
@@ -177,7 +180,6 @@ void Replayer::replay(MessageSource& reader) {
                 throw DecodeError(m.offset, "message " + std::to_string(m.header.sequence) + ", payload byte " +
                                                 std::to_string(e.offset()) + ": " + e.what());
             }
-            arena_used_ = 0;
             try {
                 dispatch(c, m.payload.data() + tuple_start, size_t(r.offset() - tuple_start));
             } catch (const ReplayError& e) {
@@ -186,7 +188,7 @@ void Replayer::replay(MessageSource& reader) {
             } catch (const GlMissing& e) {
                 report(std::string("the slave's ") + e.what());  // "driver has no glX"
             }
-            if (arena_grown_) release_arena();
+            scratch_.end_call();
             call_index_++;
             stats_.calls++;
         }
@@ -229,7 +231,7 @@ void Replayer::observe(const Call& c, const uint8_t* tuple, size_t bytes, uint8_
 }
 
 void Replayer::redispatch(const Call& c) {
-    arena_used_ = 0;
+    scratch_.end_call();
     if (c.opcode >= kSynthBase) {
         synthetic(c);
         return;

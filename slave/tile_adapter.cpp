@@ -277,7 +277,7 @@ void TileAdapter::after_call(const Call& c) {
 void TileAdapter::track_matrix(const Call& c) {
     State& s = state();
     switch (c.info->sem.matrix) {
-    case MatrixOp::Mode: s.matrix_mode = uint32_t(c.args[0].bits); return;
+    case MatrixOp::Mode: s.matrix_mode = uint32_t(c.args[size_t(c.info->sem.subject_params[0])].bits); return;
     case MatrixOp::Push:
         if (s.matrix_mode == GL_PROJECTION) s.projection.push_back(s.projection.back());
         return;
@@ -301,6 +301,18 @@ glm::dmat4 TileAdapter::program_projection_now() {
     return top.corrected ? glm::inverse(top.m) * p : p;
 }
 
+// The slave's name of the program the program's last glUseProgram made current (followed by the
+// core: no driver query at each draw); the driver is asked only when that name is no longer
+// mapped (a program deleted while in use stays in use).
+GLuint TileAdapter::program_in_use(SlaveContext& ctx) {
+    if (!ctx.current_program) return 0;
+    uint64_t slave = 0;
+    if (ctx.names.map(Ns::program).find(ctx.current_program, slave)) return GLuint(slave);
+    GLint program = 0;
+    core_.api().glGetIntegerv(GL_CURRENT_PROGRAM, &program);
+    return GLuint(program);
+}
+
 // Before a draw on the window of a fixed-function program: make GL_PROJECTION hold
 // M * P_app for the program's current P_app.
 void TileAdapter::correct_projection() {
@@ -308,8 +320,7 @@ void TileAdapter::correct_projection() {
     const GlApi& gl = core_.api();
     State& s = state();
     redraw_refused_ = false;
-    GLint program = 0;
-    if (!redrawing_ || redraw_programs_) gl.glGetIntegerv(GL_CURRENT_PROGRAM, &program);
+    const GLuint program = !redrawing_ || redraw_programs_ ? program_in_use(ctx) : 0;
     if (program) {  // a shader program: its patched vertex shader multiplies by glcast_clip
         redraw_refused_ = !correct_shader_program(GLuint(program)) && redrawing_;
         return;

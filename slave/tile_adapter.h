@@ -69,6 +69,7 @@ private:
     void apply_window_rects();
     void track_matrix(const Call& c);
     void correct_projection();
+    GLuint program_in_use(SlaveContext& ctx);
     bool correct_shader_program(uint32_t program);  // false: not patched
     // Vertex shaders get glcast_clip: for rotated tiles, and for passes that redraw the scene.
     bool patching() const;

@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <thread>
 
+#include "common/environment.h"
 #include "net/security.h"
 
 namespace glcast::slave {
@@ -60,7 +61,7 @@ void WallLink::report(const TileReport& r) {
 }
 
 std::string machine_name() {
-    if (const char* m = std::getenv("GLCAST_MACHINE"); m && *m) return m;
+    if (const std::string& m = environment().machine; !m.empty()) return m;
     char host[256] = {};
     if (gethostname(host, sizeof host - 1) != 0 || !*host) return "localhost";
     return host;

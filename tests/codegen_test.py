@@ -187,8 +187,31 @@ class AnnotationErrors(unittest.TestCase):
         self.assertIn("glBindFramebufferEXT", r.stderr)
         self.assertIn("twins or not_twins", r.stderr)
 
+    def edit_client_arrays(self, old, new):
+        def edit(d):
+            path = os.path.join(d, "client_arrays.yaml")
+            text = open(path).read()
+            self.assertIn(old, text)
+            open(path, "w").write(text.replace(old, new))
+        return self.run_with(edit)
+
+    def test_deferred_pointer_without_its_arrays(self):
+        r = self.edit_client_arrays("  glVertexPointer: [vertex]\n", "")
+        self.assertNotEqual(r.returncode, 0)
+        self.assertIn("deferred, not listed: ['glVertexPointer']", r.stderr)
+
+    def test_client_array_query_that_is_no_enum(self):
+        r = self.edit_client_arrays("stride: GL_NORMAL_ARRAY_STRIDE", "stride: GL_NORMAL_ARRAY_STRIDES")
+        self.assertNotEqual(r.returncode, 0)
+        self.assertIn("fixed.normal.stride: unknown enum GL_NORMAL_ARRAY_STRIDES", r.stderr)
+
+    def test_list_parameter_that_does_not_exist(self):
+        r = self.edit_semantics("new: {glNewList: [list, mode]}", "new: {glNewList: [list, how]}")
+        self.assertNotEqual(r.returncode, 0)
+        self.assertIn("'how'", r.stderr)
+
     def test_pattern_that_matches_nothing(self):
-        r = self.edit_semantics("  link: [glLinkProgram]", "  link: [glLinkProgam]")
+        r = self.edit_semantics("  link: {glLinkProgram: program}", "  link: {glLinkProgam: program}")
         self.assertNotEqual(r.returncode, 0)
         self.assertIn("glLinkProgam", r.stderr)
 

@@ -12,7 +12,7 @@
 #include <string_view>
 #include <vector>
 
-#include "master/publisher.h"
+#include "master/journal_requests.h"
 
 using namespace glcast;
 

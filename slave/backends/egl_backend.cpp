@@ -18,6 +18,7 @@
 #include <mutex>
 #include <vector>
 
+#include "common/environment.h"
 #include "slave/backends/backends_internal.h"
 #include "slave/backends/context_backend.h"
 #include "slave/backends/dynlib.h"
@@ -234,7 +235,7 @@ private:
         EGLint count = 0;
         if (!api_.ChooseConfig(display_, attribs, configs, 64, &count) || count < 1)
             return fail_egl(error, "eglChooseConfig(RGB888 pbuffer)");
-        const char* forced = std::getenv("GLCAST_EGL_CONFIG_ID");
+        const uint32_t forced = environment().egl_config_id;
         EGLint best_id = 0;
         for (EGLint i = 0; i < count; ++i) {
             EGLint id = 0, r = 0, g = 0, b = 0, a = 0;
@@ -243,7 +244,7 @@ private:
             api_.GetConfigAttrib(display_, configs[i], EGL_GREEN_SIZE, &g);
             api_.GetConfigAttrib(display_, configs[i], EGL_BLUE_SIZE, &b);
             api_.GetConfigAttrib(display_, configs[i], EGL_ALPHA_SIZE, &a);
-            const bool wanted = forced ? id == std::atoi(forced) : (r == 8 && g == 8 && b == 8 && a == 0);
+            const bool wanted = forced ? uint32_t(id) == forced : (r == 8 && g == 8 && b == 8 && a == 0);
             if (wanted && (!best_id || id < best_id)) {
                 best_id = id;
                 config_ = configs[i];

@@ -1,55 +1,63 @@
-// The draw state as the slave's driver and the tile adapter have it (draw_state.h).
+// The draw state as the program's calls set it, the slave's driver and the tile adapter have it
+// (draw_state.h).
 #include "slave/scene/draw_state.h"
 
 #include <cstring>
+#include <utility>
 
 #include "glcast_gl_api.h"
 #include "slave/tile_adapter.h"
 
 namespace glcast::slave {
 
+namespace {
+
+GLint integer(const GlApi& gl, GLenum pname) {
+    GLint v = 0;
+    gl.glGetIntegerv(pname, &v);
+    return v;
+}
+
+// The followed value, or the driver's answer, kept until a call sets it.
+template <class T, class Ask>
+T known_or(std::optional<T>& known, Ask&& ask) {
+    if (!known) known = ask();
+    return *known;
+}
+
+}  // namespace
+
 GLuint DriverDrawState::draw_framebuffer() {
-    if (draw_framebuffer_ < 0) {
-        GLint bound = 0;
-        gl_.glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &bound);
-        draw_framebuffer_ = GLuint(bound);
-    }
-    return GLuint(draw_framebuffer_);
+    return known_or(known_.draw_framebuffer, [&] { return GLuint(integer(gl_, GL_DRAW_FRAMEBUFFER_BINDING)); });
 }
 
 GLuint DriverDrawState::read_framebuffer() {
-    GLint bound = 0;
-    gl_.glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &bound);
-    return GLuint(bound);
+    return known_or(known_.read_framebuffer, [&] { return GLuint(integer(gl_, GL_READ_FRAMEBUFFER_BINDING)); });
 }
 
 GLuint DriverDrawState::program() {
-    if (program_ < 0) {
-        GLint current = 0;
-        gl_.glGetIntegerv(GL_CURRENT_PROGRAM, &current);
-        program_ = GLuint(current);
-    }
-    return GLuint(program_);
+    return known_or(known_.program, [&] { return GLuint(integer(gl_, GL_CURRENT_PROGRAM)); });
 }
 
 bool DriverDrawState::depth_test() {
-    if (depth_test_ < 0) depth_test_ = gl_.glIsEnabled(GL_DEPTH_TEST) ? 1 : 0;
-    return depth_test_ != 0;
+    return known_or(known_.depth_test, [&] { return gl_.glIsEnabled(GL_DEPTH_TEST) != 0; });
 }
 
 bool DriverDrawState::writes_depth() {
-    if (writes_depth_ < 0) {
-        GLboolean mask = GL_FALSE;
-        gl_.glGetBooleanv(GL_DEPTH_WRITEMASK, &mask);
-        writes_depth_ = mask && depth_test() ? 1 : 0;
-    }
-    return writes_depth_ != 0;
+    return depth_test() && known_or(known_.depth_mask, [&] {
+               GLboolean mask = GL_FALSE;
+               gl_.glGetBooleanv(GL_DEPTH_WRITEMASK, &mask);
+               return mask != 0;
+           });
 }
 
 double DriverDrawState::view_model_far() {
-    GLdouble range[2] = {0, 1};
-    gl_.glGetDoublev(GL_DEPTH_RANGE, range);
-    return range[0] == 0 && range[1] > 0 && range[1] < 1 ? range[1] : 0;
+    const auto [near, far] = known_or(known_.depth_range, [&] {
+        GLdouble range[2] = {0, 1};
+        gl_.glGetDoublev(GL_DEPTH_RANGE, range);
+        return std::make_pair(double(range[0]), double(range[1]));
+    });
+    return near == 0 && far > 0 && far < 1 ? far : 0;
 }
 
 glm::dmat4 DriverDrawState::projection() { return tile_.program_projection_now(); }
@@ -83,10 +91,9 @@ effects::SceneLight DriverDrawState::light() {
 }
 
 CullState DriverDrawState::cull() {
-    GLint cull_face = GL_BACK, front_face = GL_CCW;
-    gl_.glGetIntegerv(GL_CULL_FACE_MODE, &cull_face);
-    gl_.glGetIntegerv(GL_FRONT_FACE, &front_face);
-    return CullState{gl_.glIsEnabled(GL_CULL_FACE) != 0, GLenum(cull_face), GLenum(front_face)};
+    return CullState{known_or(known_.cull_face, [&] { return gl_.glIsEnabled(GL_CULL_FACE) != 0; }),
+                     known_or(known_.cull_face_mode, [&] { return GLenum(integer(gl_, GL_CULL_FACE_MODE)); }),
+                     known_or(known_.front_face, [&] { return GLenum(integer(gl_, GL_FRONT_FACE)); })};
 }
 
 void DriverDrawState::viewport(int32_t out[4]) { tile_.program_viewport(out); }

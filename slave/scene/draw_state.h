@@ -1,7 +1,9 @@
 // What the scene classifier needs to know of the GL state at one call, asked through one
 // interface so that the decisions (scene_classifier.h) run and are tested without a driver:
-// DriverDrawState asks the slave's driver and the tile adapter, each value at most once a
-// call and only when a decision needs it; a unit test answers from a struct.
+// DriverDrawState answers from the state followed from the program's calls (followed_state.h)
+// and the tile adapter's tracking, and asks the slave's driver only what no call said (the
+// fixed-function matrices and lights, framebuffer attachments, a value after glPopAttrib), each
+// only when a decision needs it; a unit test answers from a struct.
 #pragma once
 
 #include <cstdint>
@@ -11,6 +13,7 @@
 #include "common/gl_headers.h"
 #include "slave/effects/frame_view.h"
 #include "slave/program_camera.h"
+#include "slave/scene/followed_state.h"
 
 namespace glcast {
 class GlApi;
@@ -48,11 +51,11 @@ public:
     virtual GLenum depth_attachment_type() = 0;
 };
 
-// The slave's driver and the tile adapter's tracking, asked lazily and at most once per value.
-// Lives for one call.
+// The followed state, the tile adapter's tracking and the slave's driver, asked lazily. Lives for
+// one call; what it asks the driver of the followed values it keeps in `known`.
 class DriverDrawState final : public DrawState {
 public:
-    DriverDrawState(const GlApi& gl, TileAdapter& tile) : gl_(gl), tile_(tile) {}
+    DriverDrawState(const GlApi& gl, TileAdapter& tile, FollowedState& known) : gl_(gl), tile_(tile), known_(known) {}
     GLuint draw_framebuffer() override;
     GLuint read_framebuffer() override;
     GLuint program() override;
@@ -72,8 +75,7 @@ public:
 private:
     const GlApi& gl_;
     TileAdapter& tile_;
-    // -1: not asked yet this call
-    int64_t draw_framebuffer_ = -1, program_ = -1, depth_test_ = -1, writes_depth_ = -1;
+    FollowedState& known_;
 };
 
 }  // namespace glcast::slave

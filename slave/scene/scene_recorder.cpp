@@ -17,6 +17,8 @@ ContextScene& SceneRecorder::scene(const SlaveContext& ctx) {
     return *s;
 }
 
+void SceneRecorder::follow(SlaveContext& ctx, const Call& c) { scene(ctx).followed.follow(c, ctx.names); }
+
 ClassifierSettings SceneRecorder::settings() const {
     return ClassifierSettings{core_.options().view.program_fov_y_deg != 0, core_.options().effects.redraws()};
 }
@@ -29,7 +31,7 @@ void SceneRecorder::record(SlaveContext& ctx, const Call& c, const uint8_t* tupl
     const GlApi& gl = core_.api();
     if (sc.loan.placement_pending && !rec.in_begin_end && rec.entries.size() > sc.loan.placement_from)
         lending_.place_borrowed_scene(ctx, sc);  // the draw that shows a borrowed scene has run
-    DriverDrawState state(gl, tile_);
+    DriverDrawState state(gl, tile_, sc.followed);
     if (sc.loan.complete && !ctx.drawing_to_window && state.draw_framebuffer() == facts.scene_framebuffer)
         sc.next_frame();  // a lent scene is kept until its next
     if (!rec.started) {

@@ -32,6 +32,7 @@ struct ContextScene {
     SceneLoan loan;
     bool presents = false;     // this context has presented a frame: it may not lend its scene
     BorrowerObjects borrower;  // GL objects, kept across frames
+    FollowedState followed;    // the draw state the program's calls set, across frames
     void next_frame() {  // the record, the facts and the loan start over
         record.clear();
         facts = SceneFacts{};
@@ -49,6 +50,8 @@ public:
 
     // Before each call the replay runs on the current context `ctx`.
     void record(SlaveContext& ctx, const Call& c, const uint8_t* tuple, size_t bytes);
+    // After it ran: the draw state it set.
+    void follow(SlaveContext& ctx, const Call& c);
     // The frame of `ctx` is drawn, before the passes run: a borrowed scene's draw is placed.
     void frame_drawn(SlaveContext& ctx);
     // ... and decorated: contexts that never present keep a scene they lend for the frames

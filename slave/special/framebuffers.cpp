@@ -1,13 +1,15 @@
 // Buffer names of the window framebuffer (GL_BACK, ...) as the slave's window has them.
 #include "common/gl_headers.h"
-#include "slave/replayer.h"
+#include "slave/call_replay.h"
+#include "slave/replay_limits.h"
+#include "slave/slave_context.h"
 
 namespace glcast::slave::replay_special {
 namespace {
 
 // The slave's window framebuffer may be single-buffered (pbuffer, OSMesa buffer) where the
 // program's was double-buffered: its back buffer is then the slave's front buffer.
-GLenum window_buffer(Replayer& r, GLenum buf) {
+GLenum window_buffer(CallReplay& r, GLenum buf) {
     if (r.current().double_buffered) return buf;
     switch (buf) {
     case GL_BACK: return GL_FRONT;
@@ -17,7 +19,7 @@ GLenum window_buffer(Replayer& r, GLenum buf) {
     }
 }
 
-bool window_bound(Replayer& r, GLenum binding) {
+bool window_bound(CallReplay& r, GLenum binding) {
     GLint fb = 0;
     r.api().glGetIntegerv(binding, &fb);
     return fb == 0;
@@ -25,7 +27,7 @@ bool window_bound(Replayer& r, GLenum binding) {
 
 }  // namespace
 
-void glDrawBuffer(Replayer& r, const Call& c) {
+void glDrawBuffer(CallReplay& r, const Call& c) {
     GLenum buf = r.value<GLenum>(c, 0);
     if (window_bound(r, GL_DRAW_FRAMEBUFFER_BINDING)) {
         r.current().window_draw_buffer = buf;
@@ -34,7 +36,7 @@ void glDrawBuffer(Replayer& r, const Call& c) {
     r.api().glDrawBuffer(buf);
 }
 
-void glReadBuffer(Replayer& r, const Call& c) {
+void glReadBuffer(CallReplay& r, const Call& c) {
     GLenum buf = r.value<GLenum>(c, 0);
     if (window_bound(r, GL_READ_FRAMEBUFFER_BINDING)) {
         r.current().window_read_buffer = buf;
@@ -43,7 +45,7 @@ void glReadBuffer(Replayer& r, const Call& c) {
     r.api().glReadBuffer(buf);
 }
 
-void glDrawBuffers(Replayer& r, const Call& c) {
+void glDrawBuffers(CallReplay& r, const Call& c) {
     const GLsizei n = r.value<GLsizei>(c, 0);
     r.need(c, 1, n);
     const auto* bufs = static_cast<const GLenum*>(r.in(c, 1));
@@ -56,7 +58,7 @@ void glDrawBuffers(Replayer& r, const Call& c) {
     r.api().glDrawBuffers(n, mapped.data());
 }
 
-void glNamedFramebufferDrawBuffer(Replayer& r, const Call& c) {
+void glNamedFramebufferDrawBuffer(CallReplay& r, const Call& c) {
     const bool window = c.args[0].bits == 0;
     const GLuint fb = r.name<GLuint>(Ns::framebuffer, c, 0);
     GLenum buf = r.value<GLenum>(c, 1);
@@ -67,7 +69,7 @@ void glNamedFramebufferDrawBuffer(Replayer& r, const Call& c) {
     r.api().glNamedFramebufferDrawBuffer(fb, buf);
 }
 
-void glNamedFramebufferReadBuffer(Replayer& r, const Call& c) {
+void glNamedFramebufferReadBuffer(CallReplay& r, const Call& c) {
     const bool window = c.args[0].bits == 0;
     const GLuint fb = r.name<GLuint>(Ns::framebuffer, c, 0);
     GLenum buf = r.value<GLenum>(c, 1);

@@ -1,22 +1,24 @@
 // Display lists: glGenLists hands out a range, and glCallLists adds glListBase to every
 // entry, so names are mapped entry by entry here rather than by the generated code.
 #include "common/gl_headers.h"
-#include "slave/replayer.h"
+#include "slave/call_replay.h"
+#include "slave/replay_limits.h"
+#include "slave/slave_context.h"
 
 namespace glcast::slave::replay_special {
 
 namespace {
 
 // Each name of a range is one map entry, and glDeleteLists looks each up.
-void check_range(Replayer& r, int64_t range) {
-    if (range > 0 && uint64_t(range) > r.options().limits.list_range)
+void check_range(CallReplay& r, int64_t range) {
+    if (range > 0 && uint64_t(range) > r.limits().list_range)
         throw ReplayError("list range " + std::to_string(range) + " is over the limit list_range=" +
-                          std::to_string(r.options().limits.list_range));
+                          std::to_string(r.limits().list_range));
 }
 
 }  // namespace
 
-void glGenLists(Replayer& r, const Call& c) {
+void glGenLists(CallReplay& r, const Call& c) {
     const GLsizei range = r.value<GLsizei>(c, 0);
     check_range(r, range);
     if (range > 0) r.room_for_names(Ns::display_list, uint64_t(range));
@@ -26,7 +28,7 @@ void glGenLists(Replayer& r, const Call& c) {
     for (GLsizei i = 0; i < range; ++i) r.map_created(Ns::display_list, master + uint64_t(i), slave + GLuint(i));
 }
 
-void glDeleteLists(Replayer& r, const Call& c) {
+void glDeleteLists(CallReplay& r, const Call& c) {
     const uint64_t master = c.args[0].bits;
     const GLsizei range = r.value<GLsizei>(c, 1);
     check_range(r, range);
@@ -41,9 +43,9 @@ void glDeleteLists(Replayer& r, const Call& c) {
     }
 }
 
-void glListBase(Replayer& r, const Call& c) { r.current().list_base = r.value<GLuint>(c, 0); }
+void glListBase(CallReplay& r, const Call& c) { r.current().list_base = r.value<GLuint>(c, 0); }
 
-void glCallLists(Replayer& r, const Call& c) {
+void glCallLists(CallReplay& r, const Call& c) {
     const GLsizei n = r.value<GLsizei>(c, 0);
     const GLenum type = r.value<GLenum>(c, 1);
     const PtrRecord& lists = c.args[2].ptr;

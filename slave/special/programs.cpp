@@ -4,12 +4,13 @@
 #include <string>
 
 #include "common/gl_headers.h"
-#include "slave/replayer.h"
-#include "slave/tile_adapter.h"
+#include "slave/call_replay.h"
+#include "slave/replay_limits.h"
+#include "slave/slave_context.h"
 
 namespace glcast::slave::replay_special {
 
-void glGetUniformLocation(Replayer& r, const Call& c) {
+void glGetUniformLocation(CallReplay& r, const Call& c) {
     const GLuint program = r.name<GLuint>(Ns::program, c, 0);
     const char* name = r.string(c, 1);
     const GLint slave = r.api().glGetUniformLocation(program, name);
@@ -20,7 +21,7 @@ void glGetUniformLocation(Replayer& r, const Call& c) {
 // Rotated tiles with a program projection from the display config (docs/wall.md): vertex
 // shaders get a last step, gl_Position = glcast_clip * gl_Position, the program's main renamed.
 // glcast_clip is set before draws (TileAdapter::correct_shader_program).
-void glShaderSource(Replayer& r, const Call& c) {
+void glShaderSource(CallReplay& r, const Call& c) {
     const GLuint shader = r.name<GLuint>(Ns::program, c, 0);
     const GLsizei count = r.value<GLsizei>(c, 1);
     // The driver reads count strings and, when there are lengths, count lengths.
@@ -33,7 +34,7 @@ void glShaderSource(Replayer& r, const Call& c) {
     auto source = [&r](GLuint s, GLsizei n, const char* const* text, const GLint* lengths) {
         r.api().glShaderSource(s, n, text, lengths);
     };
-    if (!r.tile_adapter().patches_vertex_shader(c.args[0].bits)) {
+    if (!r.turns_vertex_shader(c.args[0].bits)) {
         source(shader, count, strings, lengths);
         return;
     }
@@ -55,7 +56,7 @@ void glShaderSource(Replayer& r, const Call& c) {
 // they are not mapped: the slave's linker must assign what the master's did (the same driver
 // does). The slave asks too, and a difference is an error the replay reports, not a silent
 // misdraw.
-void glGetAttribLocation(Replayer& r, const Call& c) {
+void glGetAttribLocation(CallReplay& r, const Call& c) {
     const GLuint program = r.name<GLuint>(Ns::program, c, 0);
     const char* name = r.string(c, 1);
     const GLint slave = r.api().glGetAttribLocation(program, name);

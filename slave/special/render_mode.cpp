@@ -1,18 +1,20 @@
 // Selection and feedback: GL keeps the buffer pointer and fills it during later draws, so the
 // slave gives it memory of its own that lives as long as the context.
 #include "common/gl_headers.h"
-#include "slave/replayer.h"
+#include "slave/call_replay.h"
+#include "slave/replay_limits.h"
+#include "slave/slave_context.h"
 
 namespace glcast::slave::replay_special {
 
-void glSelectBuffer(Replayer& r, const Call& c) {
+void glSelectBuffer(CallReplay& r, const Call& c) {
     const GLsizei size = std::clamp(r.value<GLsizei>(c, 0), 0, 1 << 24);
     SlaveContext& ctx = r.current();
     ctx.select_buffer.assign(size_t(size) * sizeof(GLuint), 0);
     r.api().glSelectBuffer(size, reinterpret_cast<GLuint*>(ctx.select_buffer.data()));
 }
 
-void glFeedbackBuffer(Replayer& r, const Call& c) {
+void glFeedbackBuffer(CallReplay& r, const Call& c) {
     const GLsizei size = std::clamp(r.value<GLsizei>(c, 0), 0, 1 << 24);
     SlaveContext& ctx = r.current();
     ctx.feedback_buffer.assign(size_t(size) * sizeof(GLfloat), 0);
@@ -20,7 +22,7 @@ void glFeedbackBuffer(Replayer& r, const Call& c) {
                                                               reinterpret_cast<GLfloat*>(ctx.feedback_buffer.data()));
 }
 
-void glRenderMode(Replayer& r, const Call& c) {
+void glRenderMode(CallReplay& r, const Call& c) {
     r.api().glRenderMode(r.value<GLenum>(c, 0));
 }
 

@@ -92,9 +92,9 @@ def keys(out):
     """master: master.key, authorized/dispa.pub, dispb.pub; each display machine: master.pub and
     its slave.key; stranger: a key the master does not know."""
     dirs = {m: os.path.join(out, "keys", m) for m in ("master", "dispa", "dispb", "stranger")}
-    for d in dirs.values():
-        os.makedirs(d)
-    os.makedirs(os.path.join(dirs["master"], "authorized"))
+    for d in dirs.values():  # writable by no one else, or the keys in it are refused
+        os.makedirs(d, mode=0o700)
+    os.makedirs(os.path.join(dirs["master"], "authorized"), mode=0o700)
     check(run([GLCAST, "keygen", os.path.join(dirs["master"], "master")]).returncode == 0, "keygen failed")
     for m in ("dispa", "dispb", "stranger"):
         check(run([GLCAST, "keygen", os.path.join(dirs[m], "slave")]).returncode == 0, "keygen failed")

@@ -66,9 +66,9 @@ std::string endpoint(const char* name) {
     return "ipc:///tmp/glcast-hostile-" + std::to_string(getpid()) + "-" + name;
 }
 
-std::string join_error(const std::string& keeper, int wait_seconds) {
+std::string join_error(const std::string& keeper, int wait_seconds, uint64_t catch_up_bytes = 0) {
     try {
-        slave::NetworkSource source(endpoint("stream"), "", wait_seconds, keeper);
+        slave::NetworkSource source(endpoint("stream"), "", wait_seconds, keeper, 0, catch_up_bytes);
     } catch (const std::exception& e) {
         return e.what();
     }
@@ -78,12 +78,10 @@ std::string join_error(const std::string& keeper, int wait_seconds) {
 }  // namespace
 
 TEST(HostilePeer, AKeeperThatNeverStopsSendingIsCutOffAtTheCatchUpLimit) {
-    setenv("GLCAST_CATCH_UP_MB", "8", 1);
     const std::string at = endpoint("flood");
     FakeKeeper flood(at, 64 << 10, std::chrono::milliseconds(0));
     const auto start = std::chrono::steady_clock::now();
-    const std::string error = join_error(at, 30);
-    unsetenv("GLCAST_CATCH_UP_MB");
+    const std::string error = join_error(at, 30, uint64_t(8) << 20);
     EXPECT_NE(error.find("sent more than 8 MiB to catch up with (GLCAST_CATCH_UP_MB)"), std::string::npos) << error;
     EXPECT_NE(error.find(at), std::string::npos) << error;
     EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(20));

@@ -165,6 +165,50 @@ TEST(Keys, WrittenReadAndBadFilesRefusedWithTheirName) {
     EXPECT_EQ(s.authorized.count(other.public_key), 1u);
 }
 
+// Key files are trusted as ssh trusts authorized_keys: regular files, not writable by others, in
+// folders others cannot write to; a FIFO never hangs the reader.
+TEST(Keys, FilesAndFoldersOthersCouldReplaceAreRefused) {
+    const std::string dir = temp_dir();
+    std::string error;
+    ASSERT_TRUE(net::write_key_pair(dir + "/master", error)) << error;
+    ASSERT_TRUE(net::write_key_pair(dir + "/display", error)) << error;
+    mkdir((dir + "/authorized").c_str(), 0755);
+    std::rename((dir + "/display.pub").c_str(), (dir + "/authorized/display.pub").c_str());
+    net::Security s;
+    ASSERT_TRUE(net::load_security(dir, false, s, error)) << error;
+
+    // A FIFO among the authorized keys: refused at once, not waited on.
+    ASSERT_EQ(mkfifo((dir + "/authorized/waiting.pub").c_str(), 0644), 0);
+    const auto start = std::chrono::steady_clock::now();
+    EXPECT_FALSE(net::load_security(dir, false, s, error));
+    EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(2));
+    EXPECT_NE(error.find("waiting.pub: not a regular file"), std::string::npos) << error;
+    unlink((dir + "/authorized/waiting.pub").c_str());
+
+    // A key anyone may rewrite, and a folder anyone may add keys to.
+    chmod((dir + "/authorized/display.pub").c_str(), 0666);
+    EXPECT_FALSE(net::load_security(dir, false, s, error));
+    EXPECT_NE(error.find("display.pub: others may write to it (mode 666)"), std::string::npos) << error;
+    chmod((dir + "/authorized/display.pub").c_str(), 0644);
+    chmod((dir + "/authorized").c_str(), 0777);
+    EXPECT_FALSE(net::load_security(dir, false, s, error));
+    EXPECT_NE(error.find("authorized: others may write to it (mode 777)"), std::string::npos) << error;
+    chmod((dir + "/authorized").c_str(), 0755);
+    chmod(dir.c_str(), 0733);
+    EXPECT_FALSE(net::load_security(dir, false, s, error));
+    EXPECT_NE(error.find("others may write to it (mode 733)"), std::string::npos) << error;
+    chmod(dir.c_str(), 0700);
+    ASSERT_TRUE(net::load_security(dir, false, s, error)) << error;
+
+    // glcast keygen does not write a secret key where others may replace it.
+    const std::string open_dir = temp_dir();
+    chmod(open_dir.c_str(), 01777);
+    EXPECT_FALSE(net::write_key_pair(open_dir + "/master", error));
+    EXPECT_NE(error.find("others may write to it (mode 1777)"), std::string::npos) << error;
+    struct stat st {};
+    EXPECT_NE(stat((open_dir + "/master.key").c_str(), &st), 0) << "a secret key was written";
+}
+
 // A CURVE server whose ZAP handler knows one slave's key: that slave receives, another does not.
 TEST(Keys, TheMasterServesOnlyKeysItKnows) {
     const std::string master_dir = temp_dir(), known_dir = temp_dir(), stranger_dir = temp_dir();

@@ -1,4 +1,4 @@
-// The journal channel's request forms and admission (master/publisher.h): what a network peer
+// The journal channel's request forms and admission (master/journal_requests.h): what a network peer
 // may ask of the shim, and how often.
 #include <gtest/gtest.h>
 
@@ -6,7 +6,7 @@
 #include <string_view>
 #include <vector>
 
-#include "master/publisher.h"
+#include "master/journal_requests.h"
 #include "slave/network_source.h"
 
 using namespace glcast;
