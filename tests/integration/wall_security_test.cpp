@@ -155,7 +155,7 @@ TEST(Keys, WrittenReadAndBadFilesRefusedWithTheirName) {
 
     net::Security s;
     EXPECT_FALSE(net::load_security(dir + "/absent", false, s, error));
-    EXPECT_NE(error.find("absent/master.pub"), std::string::npos) << error;
+    EXPECT_NE(error.find("absent: No such file or directory"), std::string::npos) << error;
     ASSERT_TRUE(net::load_security(dir, false, s, error)) << error;
     EXPECT_TRUE(s.has_master_pair && s.has_client_pair);
     EXPECT_EQ(s.authorized.size(), 1u);  // the master's own key
