@@ -154,8 +154,10 @@ void EffectsRunner::frame_view(SlaveContext& ctx, effects::FrameView& v) {
         v.projection = facts.projection;
         v.modelview = facts.modelview;
         // The program's viewport as this slave applies it, in tile pixels.
-        const int32_t* p = facts.viewport;
         const int W = ctx.master_width, H = ctx.master_height;
+        // A scene drawn at another size is shown stretched over the window.
+        const int32_t whole[4] = {0, 0, W, H};
+        const int32_t* p = stretched_scene(facts, W, H) ? whole : facts.viewport;
         double vx = p[0], vy = p[1], vw = p[2], vh = p[3];
         if (t.enabled) {
             vx = double(t.map_x(p[0], W)), vy = double(t.map_y(p[1], H));

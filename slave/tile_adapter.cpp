@@ -1,6 +1,7 @@
 #include "slave/tile_adapter.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 
@@ -8,6 +9,7 @@
 #include "common/gl_state.h"
 #include "slave/program_camera.h"
 #include "slave/replayer.h"
+#include "slave/scene/scene_classifier.h"
 
 namespace glcast::slave {
 
@@ -22,10 +24,24 @@ struct TileAdapter::State {
     struct Projection {
         bool corrected = false, dirty = false;
         glm::dmat4 m{1.0};
+        bool left = false;  // not perspective: shown as the program drew it
     };
     std::vector<Projection> projection = std::vector<Projection>(1);
     uint32_t matrix_mode = GL_MODELVIEW;
     bool in_begin_end = false;  // GL refuses queries between glBegin and glEnd
+    uint64_t draw_framebuffer = 0;  // the master's name of the bound draw framebuffer (0: the window)
+    // Framebuffer objects (by the master's name) that hold colour and depth: a scene may be drawn
+    // there. Asked of the driver at the first draw into each, forgotten when attachments change.
+    std::unordered_map<uint64_t, bool> colour_and_depth;
+    // Engines draw their other views (a monitor's, a reflection's) first and their scene last
+    // before showing it: the last such target drawn before the window in a frame held the
+    // scene, unless the window itself got a perspective view (then none did), and from the next
+    // frame on only it is turned (until then, every one).
+    uint64_t scene_target = 0;  // 0: the window
+    bool scene_target_known = false;
+    uint64_t frame_scene_target = 0;  // this frame's, so far
+    bool window_drawn = false;        // this frame has drawn to the window
+    bool window_view = false;         // ... with a perspective view
 };
 
 // Per share group: what the shader patch needs to know of shaders and programs.
@@ -67,7 +83,7 @@ bool TileAdapter::wants(uint32_t, const CommandInfo* info) const {
     const bool view = patching();
     return s.window != WindowMapping::Nothing || s.shader_type >= 0 || (s.flags & kSemLinksProgram) ||
            (view && (s.matrix != MatrixOp::Nothing || s.redraw == RedrawKind::Draw || s.redraw == RedrawKind::Begin ||
-                     s.redraw == RedrawKind::End));
+                     s.redraw == RedrawKind::End || s.writes_ns == Ns::framebuffer || (s.flags & kSemDeletes)));
 }
 
 bool TileAdapter::patching() const {
@@ -257,6 +273,7 @@ void TileAdapter::after_call(const Call& c) {
         const auto target = core_.value<GLenum>(c, sem.window_params[0]);
         if (target == GL_FRAMEBUFFER || target == GL_DRAW_FRAMEBUFFER) {
             SlaveContext& ctx = core_.current();
+            state().draw_framebuffer = c.args[size_t(sem.window_params[1])].bits;
             const bool window = c.args[size_t(sem.window_params[1])].bits == 0;
             if (window != ctx.drawing_to_window) {
                 ctx.drawing_to_window = window;
@@ -264,6 +281,7 @@ void TileAdapter::after_call(const Call& c) {
             }
         }
     }
+    if (sem.writes_ns == Ns::framebuffer || (sem.flags & kSemDeletes)) state().colour_and_depth.clear();
     if (sem.shader_type >= 0) shared().shader_types[c.ret.bits] = uint32_t(c.args[size_t(sem.shader_type)].bits);
     if (sem.flags & kSemLinksProgram) {  // linking resets uniforms, and may change which there are
         shared().clip_uniforms.clear();
@@ -289,7 +307,7 @@ void TileAdapter::track_matrix(const Call& c) {
     if (s.matrix_mode != GL_PROJECTION) return;
     auto& top = s.projection.back();
     if (c.info->sem.matrix == MatrixOp::Load) top = State::Projection{};  // the program's own matrix again
-    else top.dirty = top.corrected;  // M * P_app * X: M must be redone for P_app * X
+    else top.dirty = top.corrected || top.left;  // M * P_app * X: M must be redone for P_app * X
 }
 
 glm::dmat4 TileAdapter::program_projection_now() {
@@ -299,6 +317,40 @@ glm::dmat4 TileAdapter::program_projection_now() {
     std::memcpy(&p[0][0], m, sizeof m);
     const auto& top = state().projection.back();
     return top.corrected ? glm::inverse(top.m) * p : p;
+}
+
+// A framebuffer object the program draws its 3D view into, to show it in the window later (as
+// engines since 2010 do, behind post-processing): colour and depth attached, drawn over at the
+// window's shape (window_shaped: the scene classifier's rule too), at its size or another. A rotated
+// tile turns what is drawn there as it turns what the window gets; the program's other targets
+// (shadow and environment maps, post-processing without depth, thumbnails) are left alone.
+bool TileAdapter::draws_scene_target(SlaveContext& ctx) {
+    State& s = state();
+    if (!window_shaped(s.viewport[0], ctx.master_width, ctx.master_height)) return false;
+    auto [known, fresh] = s.colour_and_depth.try_emplace(s.draw_framebuffer, false);
+    if (fresh) {
+        const GlApi& gl = core_.api();
+        GLint colour = GL_NONE, depth = GL_NONE;
+        gl.glGetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0,
+                                                 GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE, &colour);
+        gl.glGetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, GL_DEPTH_ATTACHMENT,
+                                                 GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE, &depth);
+        known->second = colour != GL_NONE && depth != GL_NONE;
+    }
+    if (!known->second) return false;
+    if (!s.window_drawn) s.frame_scene_target = s.draw_framebuffer;
+    return !s.scene_target_known || s.draw_framebuffer == s.scene_target;
+}
+
+void TileAdapter::end_frame(SlaveContext& ctx) {
+    if (core_.current_or_null() != &ctx) return;
+    State& s = state();
+    if (s.frame_scene_target || s.window_view) {
+        s.scene_target = s.window_view ? 0 : s.frame_scene_target;
+        s.scene_target_known = true;
+    }
+    s.frame_scene_target = 0;
+    s.window_drawn = s.window_view = false;
 }
 
 // The slave's name of the program the program's last glUseProgram made current (followed by the
@@ -320,6 +372,7 @@ void TileAdapter::correct_projection() {
     const GlApi& gl = core_.api();
     State& s = state();
     redraw_refused_ = false;
+    if (ctx.drawing_to_window && !redrawing_) s.window_drawn = true;
     const GLuint program = !redrawing_ || redraw_programs_ ? program_in_use(ctx) : 0;
     if (program) {  // a shader program: its patched vertex shader multiplies by glcast_clip
         redraw_refused_ = !correct_shader_program(GLuint(program)) && redrawing_;
@@ -333,14 +386,28 @@ void TileAdapter::correct_projection() {
         s.projection.back() = State::Projection{true, false, redraw_correction_};
         return;
     }
-    if (!core_.options().view.enabled || !ctx.drawing_to_window) return;  // the program's own FBOs: untouched
+    // The window, and a target the program draws its scene into to show later; its other
+    // framebuffer objects are left alone.
+    if (!core_.options().view.enabled || !(ctx.drawing_to_window || draws_scene_target(ctx))) return;
     auto& top = s.projection.back();
-    if (top.corrected && !top.dirty) return;
+    if ((top.corrected || top.left) && !top.dirty) return;
     GLdouble current[16];
     gl.glGetDoublev(GL_PROJECTION_MATRIX, current);
     glm::dmat4 p;
     std::memcpy(&p[0][0], current, sizeof current);
     const glm::dmat4 app = top.corrected ? glm::inverse(top.m) * p : p;
+    if (ctx.drawing_to_window && is_perspective(app)) s.window_view = true;
+    if (!is_perspective(app)) {
+        // An orthographic draw (a HUD, the full-window quad that shows a scene drawn offscreen)
+        // has no camera to turn: turned as if it had, it would land elsewhere or nowhere.
+        if (top.corrected) {
+            GlStateGuard mode(gl, kGuardMatrixMode);
+            gl.glMatrixMode(GL_PROJECTION);
+            gl.glLoadMatrixd(&app[0][0]);
+        }
+        top = State::Projection{false, false, glm::dmat4(1.0), true};
+        return;
+    }
     const glm::dmat4 m = core_.options().view.correction(app);
     const glm::dmat4 corrected = m * app;
     GlStateGuard mode(gl, kGuardMatrixMode);
@@ -366,13 +433,15 @@ bool TileAdapter::correct_shader_program(uint32_t program) {
     glm::mat4 m(1.0f);
     if (redrawing_) {
         m = glm::mat4(redraw_correction_);
-    } else if (view.enabled && ctx.drawing_to_window) {
+    } else if (view.enabled && (ctx.drawing_to_window || draws_scene_target(ctx))) {
         const double aspect = ctx.master_height ? double(ctx.master_width) / ctx.master_height : 1.0;
         ProgramCamera camera;
         if (view.program_fov_y_deg) {
             m = glm::mat4(view.correction(view.program_projection(aspect)));
+            state().window_view |= ctx.drawing_to_window;
         } else if (shader_camera(program, camera)) {
             m = glm::mat4(view.correction(camera.projection));
+            state().window_view |= ctx.drawing_to_window;
         } else if (!warned_no_camera_) {
             warned_no_camera_ = true;
             std::fprintf(stderr, "glcast: a shader program draws to the window with no perspective projection among "

@@ -39,6 +39,7 @@ public:
     bool replace_call(const Call& c) override;
     void after_call(const Call& c) override;
     void made_current(SlaveContext& ctx, bool first) override;
+    void end_frame(SlaveContext& ctx) override;
     void reset() override;
 
     // The program's viewport 0 as it set it (master window coordinates).
@@ -70,6 +71,7 @@ private:
     void track_matrix(const Call& c);
     void correct_projection();
     GLuint program_in_use(SlaveContext& ctx);
+    bool draws_scene_target(SlaveContext& ctx);
     bool correct_shader_program(uint32_t program);  // false: not patched
     // Vertex shaders get glcast_clip: for rotated tiles, and for passes that redraw the scene.
     bool patching() const;

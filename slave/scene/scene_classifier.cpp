@@ -2,6 +2,7 @@
 #include "slave/scene/scene_classifier.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace glcast::slave {
 namespace {
@@ -78,6 +79,31 @@ DrawVerdict classify_draw(SceneFacts& f, DrawState& s, GLuint framebuffer, const
     return v;
 }
 
+bool window_shaped(const double v[4], int W, int H) {
+    if (v[0] != 0 || v[1] != 0 || W <= 0 || H <= 0 || v[3] <= 0 || v[2] * 4 < W) return false;
+    return std::abs(v[2] / v[3] - double(W) / H) <= 0.01 * double(W) / H;
+}
+
+bool stretched_scene(const SceneFacts& f, int W, int H) {
+    const double v[4] = {double(f.viewport[0]), double(f.viewport[1]), double(f.viewport[2]), double(f.viewport[3])};
+    return f.main_known && f.scene_framebuffer && (f.viewport[2] != W || f.viewport[3] != H) && window_shaped(v, W, H);
+}
+
+bool later_scene_target(SceneFacts& f, DrawState& s, int W, int H) {
+    if (!stretched_scene(f, W, H) || f.presented || f.overlay) return false;
+    const GLuint framebuffer = s.draw_framebuffer();
+    if (!framebuffer || framebuffer == f.scene_framebuffer) return false;
+    int32_t viewport[4];
+    s.viewport(viewport);
+    const double v[4] = {double(viewport[0]), double(viewport[1]), double(viewport[2]), double(viewport[3])};
+    if (!window_shaped(v, W, H) || s.color_attachment_type() == GL_NONE || s.depth_attachment_type() == GL_NONE)
+        return false;
+    f.main_known = false;
+    f.scene_framebuffer = 0;
+    f.light = effects::SceneLight{};
+    return true;
+}
+
 bool offscreen_scene(const SceneFacts& f, DrawState& s, int master_width, int master_height, bool may_lend,
                      GLuint& framebuffer) {
     framebuffer = s.draw_framebuffer();
@@ -87,12 +113,15 @@ bool offscreen_scene(const SceneFacts& f, DrawState& s, int master_width, int ma
     s.viewport(viewport);
     if (viewport[0] != 0 || viewport[1] != 0) return false;
     if (viewport[2] != master_width || viewport[3] != master_height) {
-        // A context that has never presented, beside another of its share group, draws for it
-        // (a toolkit's GL widget): its scene target has the widget's size, and a colour texture
-        // (or multisampled renderbuffers resolved into one) the other can show. (A program's
-        // only context has not presented in its first frame either: its smaller targets are not
-        // scenes.)
-        if (!may_lend || s.color_attachment_type() == GL_NONE) return false;
+        // A target of the window's shape at another size holds the scene the window shows
+        // stretched (a render scale). A context that has never presented, beside another of its
+        // share group, draws for it (a toolkit's GL widget): its scene target has the widget's
+        // size, and a colour texture (or multisampled renderbuffers resolved into one) the other
+        // can show. (A program's only context has not presented in its first frame either: its
+        // other smaller targets are not scenes.)
+        const double v[4] = {double(viewport[0]), double(viewport[1]), double(viewport[2]), double(viewport[3])};
+        if (!(may_lend || window_shaped(v, master_width, master_height)) || s.color_attachment_type() == GL_NONE)
+            return false;
     }
     return s.depth_attachment_type() != GL_NONE;
 }

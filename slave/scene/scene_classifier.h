@@ -74,13 +74,30 @@ enum class WindowDrawMeaning {
 
 DrawVerdict classify_draw(SceneFacts& facts, DrawState& state, GLuint framebuffer, const ClassifierSettings& settings);
 
+// A viewport from the origin of a target at the window's shape (within 1%), at least a quarter of
+// its width: where engines draw the scene they show stretched over the window (a render scale).
+// The tile adapter turns what is drawn into such a target on rotated tiles (tile_adapter.h).
+bool window_shaped(const double viewport[4], int master_width, int master_height);
+// The scene is in a framebuffer object of the window's shape at another size, shown stretched
+// over the window (not a borrowed scene, whose placement says where it goes).
+bool stretched_scene(const SceneFacts& facts, int master_width, int master_height);
+
 // A draw into the bound framebuffer object that may hold the scene: the one the main view was
 // found in, or, before it is known, one the program draws into whole at the window's size
-// (master_width x master_height) with a depth buffer. `may_lend`: the context never presented and
-// shares objects with another, so a scene target of any size with a colour attachment counts
-// (a toolkit's GL widget). `framebuffer` is set to the bound one.
+// (master_width x master_height) with a depth buffer, or at the window's shape with colour and
+// depth (window_shaped). `may_lend`: the context never presented and shares objects with
+// another, so a scene target of any size with a colour attachment counts (a toolkit's GL
+// widget). `framebuffer` is set to the bound one.
 bool offscreen_scene(const SceneFacts& facts, DrawState& state, int master_width, int master_height, bool may_lend,
                      GLuint& framebuffer);
+
+// Engines draw their other views (a monitor's, a reflection's) before the scene that samples
+// them, and those may have the window's shape too: a main view found in a target of the
+// window's shape at another size (stretched_scene) is forgotten when a later draw, before the
+// window shows anything, goes into another target that could hold the scene. True: it was
+// forgotten (the facts know no view again), and the draws kept for it are no longer the main
+// view's (the caller unmarks the record's offscreen entries).
+bool later_scene_target(SceneFacts& facts, DrawState& state, int master_width, int master_height);
 
 // A draw of `kind` to the window while the main view is known and overlays have not started.
 WindowDrawMeaning window_draw(SceneFacts& facts, DrawState& state, RedrawKind kind);

@@ -54,6 +54,8 @@ void SceneRecorder::record(SlaveContext& ctx, const Call& c, const uint8_t* tupl
     // there), draws only into the one that can hold the scene.
     GLuint framebuffer = 0;
     const bool opens = (kind == RedrawKind::Draw || kind == RedrawKind::Begin) && !rec.in_begin_end;
+    if (opens && !to_window && later_scene_target(facts, state, ctx.master_width, ctx.master_height))
+        for (RecordEntry& e : rec.entries) e.main = e.main && !e.offscreen;
     if (!to_window && !rec.in_begin_end &&
         (opens ? !offscreen_scene(facts, state, ctx.master_width, ctx.master_height,
                                   !sc.presents && lending_.shares_with_another(ctx), framebuffer)

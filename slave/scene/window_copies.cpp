@@ -95,12 +95,17 @@ GLuint WindowCopies::scene_depth_copy(SlaveContext& ctx, ContextScene& scene, co
         return window_copy(ctx, true, scene, shown);
     }
     const int W = std::max(1, ctx.master_width), H = std::max(1, ctx.master_height);
-    const int sizes[4] = {W, H, ctx.width, ctx.height};
     // The scene's target in the master's window: all of it, or where a borrowed scene was drawn.
     const bool placed = scene.loan.borrowed_from != 0;
     const int32_t* p = scene.loan.placement;
-    const int from[4] = {0, 0, placed ? shown.loan.scene_size[0] : W, placed ? shown.loan.scene_size[1] : H};
-    const int target[4] = {placed ? p[0] : 0, placed ? p[1] : 0, placed ? p[2] : W, placed ? p[3] : H};
+    // A scene drawn at another size than the window's and shown stretched over it is copied at
+    // its own size, and stretched by the interpolating draw below (a nearest blit would make
+    // steps of its depth, and surfaces of steps have no normal).
+    const bool stretched = !placed && stretched_scene(scene.facts, W, H);
+    const int SW = stretched ? scene.facts.viewport[2] : W, SH = stretched ? scene.facts.viewport[3] : H;
+    const int sizes[4] = {SW, SH, ctx.width, ctx.height};
+    const int from[4] = {0, 0, placed ? shown.loan.scene_size[0] : SW, placed ? shown.loan.scene_size[1] : SH};
+    const int target[4] = {placed ? p[0] : 0, placed ? p[1] : 0, placed ? p[2] : SW, placed ? p[3] : SH};
     if (format != scene_depth_format_ || !std::equal(sizes, sizes + 4, scene_depth_sizes_)) {
         if (scene_depth_full_) {
             const GLuint textures[] = {scene_depth_full_, scene_depth_}, fbs[] = {scene_depth_full_fb_, scene_depth_fb_};
@@ -108,7 +113,7 @@ GLuint WindowCopies::scene_depth_copy(SlaveContext& ctx, ContextScene& scene, co
             gl.glDeleteFramebuffers(2, fbs);
         }
         const bool packed = format == GL_DEPTH24_STENCIL8 || format == GL_DEPTH32F_STENCIL8;
-        scene_depth_full_ = effects::make_texture(gl, format, W, H, /*linear=*/true);
+        scene_depth_full_ = effects::make_texture(gl, format, SW, SH, /*linear=*/true);
         scene_depth_full_fb_ = effects::make_framebuffer(gl, 0, scene_depth_full_,
                                                          packed ? GL_DEPTH_STENCIL_ATTACHMENT : GL_DEPTH_ATTACHMENT);
         scene_depth_ = effects::make_texture(gl, GL_DEPTH_COMPONENT32F, ctx.width, ctx.height);
@@ -132,6 +137,7 @@ GLuint WindowCopies::scene_depth_copy(SlaveContext& ctx, ContextScene& scene, co
     glm::dvec4 source(0, 0, W, H);
     if (t.enabled && !core_.options().view.enabled)
         source = {t.x / t.sx(W), t.y / t.sy(H), (t.x + t.width) / t.sx(W), (t.y + t.height) / t.sy(H)};
+    source *= glm::dvec4(double(SW) / W, double(SH) / H, double(SW) / W, double(SH) / H);  // in the copy's texels
     if (!scene_depth_program_) {
         scene_depth_program_ = effects::build_program(gl, "fullscreen.vert", "scene_depth.frag");
         gl.glGenVertexArrays(1, &scene_depth_vao_);

@@ -22,7 +22,13 @@
  * With --grow the window is made at 32x32, the viewport set once for the full size, and the
  * window then grown to it; no frame sets the viewport again (as apitrace's retrace does).
  *
- *   pillars [--shader | --builtins | --mvp] [--grow] [--frames N] [--size WxH]
+ * With --fbo the scene is drawn into a framebuffer object (a colour texture and a depth
+ * renderbuffer) and shown in the window by a full-window textured quad with the depth test off,
+ * as engines show their scene after post-processing; --half makes that target half the window's
+ * width and height (an engine's render scale), stretched to the window (nearest texels, so
+ * colours stay exact).
+ *
+ *   pillars [--shader | --builtins | --mvp] [--grow] [--fbo [--half]] [--frames N] [--size WxH]
  */
 #define GL_GLEXT_PROTOTYPES 1
 #include <GL/gl.h>
@@ -87,6 +93,8 @@ int main(int argc, char **argv)
     const int mvp = app_take_flag(&argc, &argv, "--mvp");
     const int grow = app_take_flag(&argc, &argv, "--grow");
     const int shader = app_take_flag(&argc, &argv, "--shader") || builtins || mvp;
+    const int fbo_mode = app_take_flag(&argc, &argv, "--fbo");
+    const int half = fbo_mode && app_take_flag(&argc, &argv, "--half");
     app_parse_args("pillars", argc, argv, &a);
     Display *dpy = XOpenDisplay(NULL);
     if (!dpy) {
@@ -135,8 +143,35 @@ int main(int argc, char **argv)
         }
         proj_location = glGetUniformLocation(program, mvp ? "mvp" : "proj");
     }
+    GLuint fbo = 0, color = 0;
+    const int fw = half ? a.width / 2 : a.width, fh = half ? a.height / 2 : a.height;
+    if (fbo_mode) {
+        GLuint depth = 0;
+        glGenTextures(1, &color);
+        glBindTexture(GL_TEXTURE_2D, color);
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, fw, fh, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        glGenRenderbuffers(1, &depth);
+        glBindRenderbuffer(GL_RENDERBUFFER, depth);
+        glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, fw, fh);
+        glGenFramebuffers(1, &fbo);
+        glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, color, 0);
+        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
+        if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+            fprintf(stderr, "pillars: the scene's framebuffer object is not complete\n");
+            return 1;
+        }
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    }
     for (int f = 0; f < a.frames; f++) {
-        if (!grow) glViewport(0, 0, a.width, a.height);
+        if (fbo_mode) {
+            glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+            glViewport(0, 0, fw, fh);
+        } else if (!grow) {
+            glViewport(0, 0, a.width, a.height);
+        }
         glClearColor(0, 0, 0, 1);
         glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
         glEnable(GL_DEPTH_TEST);
@@ -173,6 +208,26 @@ int main(int argc, char **argv)
                 glVertex3d(x + tx, 6, z + tz); glVertex3d(x - tx, 6, z - tz);
                 glEnd();
             }
+        }
+        if (fbo_mode) {  /* the scene shown in the window, as a last post-processing pass does */
+            glBindFramebuffer(GL_FRAMEBUFFER, 0);
+            glViewport(0, 0, a.width, a.height);
+            if (shader) glUseProgram(0);
+            glDisable(GL_DEPTH_TEST);
+            glMatrixMode(GL_PROJECTION);
+            glLoadIdentity();
+            glMatrixMode(GL_MODELVIEW);
+            glLoadIdentity();
+            glEnable(GL_TEXTURE_2D);
+            glBindTexture(GL_TEXTURE_2D, color);
+            glColor3ub(255, 255, 255);
+            glBegin(GL_QUADS);
+            glTexCoord2f(0, 0); glVertex2f(-1, -1);
+            glTexCoord2f(1, 0); glVertex2f(1, -1);
+            glTexCoord2f(1, 1); glVertex2f(1, 1);
+            glTexCoord2f(0, 1); glVertex2f(-1, 1);
+            glEnd();
+            glDisable(GL_TEXTURE_2D);
         }
         glXSwapBuffers(dpy, win);
         if (glGetError() != GL_NO_ERROR) {

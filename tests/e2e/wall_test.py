@@ -238,6 +238,22 @@ def case_cylinder_mvp():
     cylinder("cylinder_mvp", os.path.join(CONFIGS, "cylinder-360.json"), ["--mvp"])
 
 
+def case_cylinder_fbo():
+    # The scene drawn into a framebuffer object and shown by a full-window quad (engines since
+    # 2010): what is drawn into the scene's target is turned as what the window gets is.
+    cylinder("cylinder_fbo", os.path.join(CONFIGS, "cylinder-360.json"), ["--fbo"])
+
+
+def case_cylinder_fbo_half():
+    # ... at half the window's size (a render scale), shader program on the built-ins.
+    cylinder("cylinder_fbo_half", os.path.join(CONFIGS, "cylinder-360.json"), ["--builtins", "--fbo", "--half"])
+
+
+def case_cylinder_fbo_mvp():
+    # ... with one premultiplied matrix per draw.
+    cylinder("cylinder_fbo_mvp", os.path.join(CONFIGS, "cylinder-360.json"), ["--mvp", "--fbo"])
+
+
 def cylinder(name, config, flags):
     # A ring of pillars every 30 degrees around the viewer; six tiles every 60 degrees, each
     # from -30 to +30: pillar 2i stands at the centre of tile i, pillar 2i+1 on the seam

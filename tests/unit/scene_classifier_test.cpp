@@ -294,6 +294,61 @@ TEST(SceneClassifier, AWindowSizedTargetWithDepthMayHoldTheScene) {
     EXPECT_FALSE(offscreen_scene(facts, s, 640, 480, false, bound));  // the window is no offscreen target
 }
 
+TEST(SceneClassifier, ATargetOfTheWindowsShapeAtAnotherSizeHoldsTheScene) {
+    // A render scale: half the window (and twice it), colour and depth, shown stretched.
+    SceneFacts facts;
+    Given s;
+    s.framebuffer = 3;
+    GLuint bound = 0;
+    for (const int scale2 : {1, 4}) {
+        s.vp[2] = 320 * scale2, s.vp[3] = 240 * scale2;
+        EXPECT_TRUE(offscreen_scene(facts, s, 640, 480, false, bound)) << s.vp[2];
+    }
+    s.vp[2] = 320, s.vp[3] = 240;
+    s.color = GL_NONE;  // depth alone: a shadow map of the window's shape
+    EXPECT_FALSE(offscreen_scene(facts, s, 640, 480, false, bound));
+    s.color = GL_TEXTURE;
+    s.vp[2] = 320, s.vp[3] = 200;  // another shape
+    EXPECT_FALSE(offscreen_scene(facts, s, 640, 480, false, bound));
+    s.vp[2] = 128, s.vp[3] = 96;  // a thumbnail: under a quarter of the window's width
+    EXPECT_FALSE(offscreen_scene(facts, s, 640, 480, false, bound));
+    const double shaped[4] = {0, 0, 322, 241.5};  // within 1% of the window's shape
+    EXPECT_TRUE(window_shaped(shaped, 640, 480));
+    s.vp[2] = 320, s.vp[3] = 240;
+    classify_draw(facts, s, 3, kPasses);
+    EXPECT_TRUE(stretched_scene(facts, 640, 480));
+    facts.viewport[2] = 640, facts.viewport[3] = 480;
+    EXPECT_FALSE(stretched_scene(facts, 640, 480));  // the window's size: not stretched
+}
+
+TEST(SceneClassifier, ALaterTargetReplacesAScaledScene) {
+    // A monitor's view of the window's shape drawn first, the scene's target after it: the view
+    // found in the monitor's target is forgotten for the later one.
+    SceneFacts facts;
+    Given s;
+    s.framebuffer = 3;
+    s.vp[2] = 256, s.vp[3] = 192;
+    GLuint bound = 0;
+    ASSERT_TRUE(offscreen_scene(facts, s, 640, 480, false, bound));
+    ASSERT_TRUE(classify_draw(facts, s, bound, kPasses).found_view);
+    s.framebuffer = 5;
+    s.vp[2] = 640, s.vp[3] = 480;
+    EXPECT_TRUE(later_scene_target(facts, s, 640, 480));
+    EXPECT_FALSE(facts.main_known);
+    ASSERT_TRUE(offscreen_scene(facts, s, 640, 480, false, bound));
+    EXPECT_TRUE(classify_draw(facts, s, bound, kPasses).found_view);
+    EXPECT_EQ(facts.scene_framebuffer, 5u);
+    // A scene found at the window's size is not replaced; nor one the window already shows.
+    s.framebuffer = 7;
+    EXPECT_FALSE(later_scene_target(facts, s, 640, 480));
+    SceneFacts shown;
+    s.framebuffer = 3, s.vp[2] = 256, s.vp[3] = 192;
+    classify_draw(shown, s, 3, kPasses);
+    shown.presented = true;
+    s.framebuffer = 5, s.vp[2] = 640, s.vp[3] = 480;
+    EXPECT_FALSE(later_scene_target(shown, s, 640, 480));
+}
+
 TEST(SceneClassifier, AWidgetsSmallerTargetHoldsTheSceneOnlyForAContextThatMayLend) {
     SceneFacts facts;
     Given s;

@@ -3,6 +3,12 @@
 // objects left alone.
 #include "tests/unit/replay_harness.h"
 
+#include <algorithm>
+#include <cstring>
+
+#include <glm/glm.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+
 using namespace glcast;
 using testing_support::ReplayHarness;
 
@@ -135,11 +141,15 @@ TEST(TileAdapter, ADrawOnARotatedTileGetsTheCorrectedProjectionFirst) {
     ReplayHarness h;
     h.options.view.enabled = true;
     h.options.view.yaw_deg = 60;
-    // The driver's matrix mode, as the program left it.
+    // The driver's matrix mode, as the program left it, and its projection.
     GLint mode = GL_MODELVIEW;
     h.gl->answer = [&mode](slave::RecordedCall& c) {
         if (c.opcode == OP_glMatrixMode) mode = GLint(c.args[0]);
         if (c.opcode == OP_glGetIntegerv && c.args[0] == GL_MATRIX_MODE) *c.pointer<GLint>(1) = mode;
+        if (c.opcode == OP_glGetDoublev && c.args[0] == GL_PROJECTION_MATRIX) {
+            const glm::dmat4 p = glm::frustum(-1.0, 1.0, -0.75, 0.75, 1.0, 100.0);
+            std::memcpy(c.pointer<GLdouble>(1), &p[0][0], sizeof p);
+        }
     };
     GL(glMatrixMode, GL_PROJECTION);
     GL(glFrustum, -1.0, 1.0, -0.75, 0.75, 1.0, 100.0);
@@ -156,6 +166,32 @@ TEST(TileAdapter, ADrawOnARotatedTileGetsTheCorrectedProjectionFirst) {
     EXPECT_EQ(calls[size_t(draw) - 3], "glMatrixMode(GL_PROJECTION)");
     EXPECT_EQ(calls[size_t(draw) - 2].rfind("glLoadMatrixd(", 0), 0u);
     EXPECT_EQ(calls[size_t(draw) - 1], "glMatrixMode(GL_MODELVIEW)");
+}
+
+TEST(TileAdapter, AnOrthographicDrawOnARotatedTileIsLeftAsDrawn) {
+    // A HUD, or the full-window quad that shows a scene drawn offscreen: no camera to turn.
+    ReplayHarness h;
+    h.options.view.enabled = true;
+    h.options.view.yaw_deg = 60;
+    h.gl->answer = [](slave::RecordedCall& c) {
+        if (c.opcode == OP_glGetDoublev && c.args[0] == GL_PROJECTION_MATRIX) {
+            const glm::dmat4 p = glm::ortho(0.0, 640.0, 0.0, 480.0, -1.0, 1.0);
+            std::memcpy(c.pointer<GLdouble>(1), &p[0][0], sizeof p);
+        }
+    };
+    GL(glMatrixMode, GL_PROJECTION);
+    GL(glOrtho, 0.0, 640.0, 0.0, 480.0, -1.0, 1.0);
+    GL(glMatrixMode, GL_MODELVIEW);
+    GL(glDrawArrays, GL_TRIANGLES, 0, 3);
+    GL(glDrawArrays, GL_TRIANGLES, 0, 3);
+    h.replay();
+    const std::vector<std::string> calls = h.calls_from("glOrtho");
+    EXPECT_EQ(std::count_if(calls.begin(), calls.end(), [](const std::string& c) { return c.rfind("glLoadMatrixd(", 0) == 0; }), 0)
+        << "an orthographic projection was replaced";
+    EXPECT_EQ(std::count_if(calls.begin(), calls.end(),
+                            [](const std::string& c) { return c.rfind("glGetDoublev(GL_PROJECTION_MATRIX", 0) == 0; }),
+              1)
+        << "the projection is looked at once, until the program changes it";
 }
 
 TEST(TileAdapter, AFlatTileLeavesTheProjectionAlone) {
