@@ -7,25 +7,29 @@ namespace glcast::slave {
 static double radians(double deg) { return deg * 3.14159265358979323846 / 180.0; }
 
 glm::dmat4 ViewCorrection::correction(const glm::dmat4& app) const {
-    // Near and far of a perspective projection (glFrustum's matrix: m[2][2] = -(f+n)/(f-n),
-    // m[3][2] = -2fn/(f-n)); an orthographic or odd one gets a generic range.
-    double n = 0.1, f = 1000.0;
-    const double a = app[2][2], b = app[3][2];
-    if (std::abs(app[2][3] + 1.0) < 1e-6 && std::abs(a - 1.0) > 1e-9 && std::abs(a + 1.0) > 1e-9) {
-        n = b / (a - 1.0);
-        f = b / (a + 1.0);
-        if (!(n > 0 && f > n)) n = 0.1, f = 1000.0;
+    const double tl = std::tan(radians(left_deg)), tr = std::tan(radians(right_deg));
+    const double tb = std::tan(radians(bottom_deg)), tt = std::tan(radians(top_deg));
+    glm::dmat4 tile(0.0);
+    // A perspective projection (w = k * -z): the tile's frustum across, the program's own depth
+    // mapping (its z and w rows) along the view, so that what it does with depth stays true on
+    // every tile: reversed depth, clip control GL_ZERO_TO_ONE, an infinite far plane.
+    if (app[0][3] == 0 && app[1][3] == 0 && app[3][3] == 0 && app[2][3] < 0) {
+        const double k = -app[2][3];
+        tile[0][0] = k * 2 / (tr - tl);
+        tile[2][0] = k * (tr + tl) / (tr - tl);
+        tile[1][1] = k * 2 / (tt - tb);
+        tile[2][1] = k * (tt + tb) / (tt - tb);
+        for (int c = 0; c < 4; ++c) tile[c][2] = app[c][2], tile[c][3] = app[c][3];
+    } else {  // another kind: glFrustum(l, r, b, t, n, f) over a generic range
+        const double n = 0.1, f = 1000.0;
+        tile[0][0] = 2 / (tr - tl);
+        tile[1][1] = 2 / (tt - tb);
+        tile[2][0] = (tr + tl) / (tr - tl);
+        tile[2][1] = (tt + tb) / (tt - tb);
+        tile[2][2] = -(f + n) / (f - n);
+        tile[2][3] = -1;
+        tile[3][2] = -2 * f * n / (f - n);
     }
-    const double l = n * std::tan(radians(left_deg)), r = n * std::tan(radians(right_deg));
-    const double bo = n * std::tan(radians(bottom_deg)), t = n * std::tan(radians(top_deg));
-    glm::dmat4 tile(0.0);  // glFrustum(l, r, bo, t, n, f)
-    tile[0][0] = 2 * n / (r - l);
-    tile[1][1] = 2 * n / (t - bo);
-    tile[2][0] = (r + l) / (r - l);
-    tile[2][1] = (t + bo) / (t - bo);
-    tile[2][2] = -(f + n) / (f - n);
-    tile[2][3] = -1;
-    tile[3][2] = -2 * f * n / (f - n);
     // The tile camera in the program's eye space (looking down -Z, +Y up): heading (yaw, positive
     // turns right), then pitch (positive looks up), then roll (positive lowers the right side).
     const glm::dvec3 up(0, 1, 0), right(1, 0, 0), back(0, 0, 1);

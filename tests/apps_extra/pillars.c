@@ -28,7 +28,12 @@
  * width and height (an engine's render scale), stretched to the window (nearest texels, so
  * colours stay exact).
  *
- *   pillars [--shader | --builtins | --mvp] [--grow] [--fbo [--half]] [--frames N] [--size WxH]
+ * With --reversed the depth is reversed, as engines since 2015 keep it for precision: clip
+ * control GL_ZERO_TO_ONE, a projection with an infinite far plane that maps the near plane to
+ * depth 1 and infinity to 0 (loaded with glLoadMatrixd), depth cleared to 0 and tested
+ * GL_GREATER.
+ *
+ *   pillars [--shader | --builtins | --mvp] [--grow] [--fbo [--half]] [--reversed] [--frames N] [--size WxH]
  */
 #define GL_GLEXT_PROTOTYPES 1
 #include <GL/gl.h>
@@ -95,6 +100,7 @@ int main(int argc, char **argv)
     const int shader = app_take_flag(&argc, &argv, "--shader") || builtins || mvp;
     const int fbo_mode = app_take_flag(&argc, &argv, "--fbo");
     const int half = fbo_mode && app_take_flag(&argc, &argv, "--half");
+    const int reversed = app_take_flag(&argc, &argv, "--reversed");
     app_parse_args("pillars", argc, argv, &a);
     Display *dpy = XOpenDisplay(NULL);
     if (!dpy) {
@@ -173,17 +179,25 @@ int main(int argc, char **argv)
             glViewport(0, 0, a.width, a.height);
         }
         glClearColor(0, 0, 0, 1);
+        if (reversed) {
+            glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+            glClearDepth(0.0);
+            glDepthFunc(GL_GREATER);
+        }
         glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
         glEnable(GL_DEPTH_TEST);
         glMatrixMode(GL_PROJECTION);
         glLoadIdentity();
         const double n = 0.5, half = n * tan(30.0 * M_PI / 180.0);
         const double top = half * a.height / a.width;
-        glFrustum(-half, half, -top, top, n, 100.0);
-        /* the same matrix, column-major, for the uniforms */
+        /* the matrix, column-major, for GL_PROJECTION and the uniforms */
         const double fa = 100.0;
-        const double proj[16] = {n / half, 0, 0, 0, 0, n / top, 0, 0, 0, 0, -(fa + n) / (fa - n), -1,
-                                 0, 0, -2 * fa * n / (fa - n), 0};
+        const double standard[16] = {n / half, 0, 0, 0, 0, n / top, 0, 0, 0, 0, -(fa + n) / (fa - n), -1,
+                                     0, 0, -2 * fa * n / (fa - n), 0};
+        const double reverse_infinite[16] = {n / half, 0, 0, 0, 0, n / top, 0, 0, 0, 0, 0, -1, 0, 0, n, 0};
+        const double *proj = reversed ? reverse_infinite : standard;
+        if (reversed) glLoadMatrixd(proj);
+        else glFrustum(-half, half, -top, top, n, fa);
         if (shader) glUseProgram(program);
         if (shader && !builtins && !mvp) {
             GLfloat m[16];

@@ -254,6 +254,16 @@ def case_cylinder_fbo_mvp():
     cylinder("cylinder_fbo_mvp", os.path.join(CONFIGS, "cylinder-360.json"), ["--mvp", "--fbo"])
 
 
+def case_cylinder_reversed():
+    # Reversed depth (clip control GL_ZERO_TO_ONE, an infinite far plane mapped to 0, GL_GREATER):
+    # the turned projection keeps the program's depth mapping.
+    cylinder("cylinder_reversed", os.path.join(CONFIGS, "cylinder-360.json"), ["--reversed"])
+
+
+def case_cylinder_reversed_builtins():
+    cylinder("cylinder_reversed_builtins", os.path.join(CONFIGS, "cylinder-360.json"), ["--builtins", "--reversed"])
+
+
 def cylinder(name, config, flags):
     # A ring of pillars every 30 degrees around the viewer; six tiles every 60 degrees, each
     # from -30 to +30: pillar 2i stands at the centre of tile i, pillar 2i+1 on the seam
@@ -270,6 +280,10 @@ def cylinder(name, config, flags):
         image = os.path.join(out, tile, frame)
         centre = pixel(image, 800, y)
         check(centre == pillar_colour(2 * i), f"{tile} centre shows {centre}, pillar {2 * i} is {pillar_colour(2 * i)}")
+        # 10 degrees below the horizon the pillar stands in front of the floor: the depth test
+        # (and the depth mapping of the turned projection) put it there.
+        below = pixel(image, 800, 1200 * 40 // 50)
+        check(below == pillar_colour(2 * i), f"{tile}: below the horizon the floor covers pillar {2 * i} ({below})")
         right = pixel(image, 1599, y)
         left_of_next = pixel(os.path.join(out, tiles[(i + 1) % 6], frame), 0, y)
         seam = pillar_colour((2 * i + 1) % 12)
