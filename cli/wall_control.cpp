@@ -87,6 +87,20 @@ double seconds_since_start() {
 
 }  // namespace
 
+bool TileOwners::speaks_for(const std::string& tile, const std::string& peer, double now) {
+    auto [it, fresh] = owners_.try_emplace(tile, Owner{peer, now});
+    Owner& o = it->second;
+    if (!fresh && o.peer != peer) {
+        if (now - o.last <= takeover_seconds_) {
+            refused_++;
+            return false;
+        }
+        o.peer = peer;  // the owner went silent: a restarted slave takes its name back
+    }
+    o.last = now;
+    return true;
+}
+
 WallControl::WallControl(std::string endpoint, std::vector<std::string> tiles, bool barrier)
     : endpoint_(std::move(endpoint)), tiles_(std::move(tiles)), barrier_(barrier), sockets_(std::make_unique<Sockets>()) {
     for (const std::string& t : tiles_) status_[t];
@@ -122,7 +136,9 @@ std::map<std::string, TileStatus> WallControl::status() const {
 void WallControl::serve() {
     zmq::socket_t& router = sockets_->router;
     BarrierState state(tiles_, kDropSeconds, seconds_since_start());
-    std::map<std::string, std::string> identity_of;  // tile -> the ROUTER identity that asked last
+    std::map<std::string, std::string> identity_of;  // tile -> the ROUTER identity of its owner
+    TileOwners owners(kTakeoverSeconds);
+    bool said_refused = false;
     while (!stopping_) {
         zmq::pollitem_t item{router.handle(), 0, ZMQ_POLLIN, 0};
         zmq::poll(&item, 1, std::chrono::milliseconds(50));
@@ -136,6 +152,20 @@ void WallControl::serve() {
             std::string verb, tile;
             words >> verb >> tile;
             if (!plain_name(tile) || !std::count(tiles_.begin(), tiles_.end(), tile)) continue;
+            // The peer: the CURVE key the ZAP handler proved (its User-Id), else the connection.
+            const char* key = nullptr;
+            try {
+                key = body.gets("User-Id");
+            } catch (const zmq::error_t&) {
+            }
+            const std::string peer = key && *key ? std::string("key ") + key : "connection " + identity.to_string();
+            if (!owners.speaks_for(tile, peer, seconds_since_start())) {
+                if (!said_refused)
+                    std::fprintf(stderr, "\nglcast run: control channel: a peer spoke for tile %s, which another "
+                                         "peer speaks for; ignored (counted from now on)\n", tile.c_str());
+                said_refused = true;
+                continue;
+            }
             if (verb == "READY" && barrier_) {
                 uint64_t frame = 0;
                 if (!(words >> frame)) continue;

@@ -61,9 +61,32 @@ private:
     double drop_seconds_;
 };
 
+// Who speaks for each tile: the first peer that names it (its CURVE key on a wall across
+// machines, its connection on a local one); another peer may take the name only once the owner
+// has said nothing for `takeover_seconds` (a slave that restarted). Without it any peer on the
+// channel could answer READY for a live tile and hold the barrier, or report for it. Pure (time
+// is given), for tests.
+class TileOwners {
+public:
+    explicit TileOwners(double takeover_seconds) : takeover_seconds_(takeover_seconds) {}
+    // True: `peer` speaks for `tile` (now its owner, or still).
+    bool speaks_for(const std::string& tile, const std::string& peer, double now);
+    uint64_t refused() const { return refused_; }
+
+private:
+    struct Owner {
+        std::string peer;
+        double last = 0;
+    };
+    std::map<std::string, Owner> owners_;
+    double takeover_seconds_;
+    uint64_t refused_ = 0;
+};
+
 class WallControl {
 public:
     static constexpr double kDropSeconds = 2;
+    static constexpr double kTakeoverSeconds = 5;  // TileOwners
     // Binds `endpoint` (secured as net/security.h says); throws std::runtime_error.
     WallControl(std::string endpoint, std::vector<std::string> tiles, bool barrier);
     ~WallControl();

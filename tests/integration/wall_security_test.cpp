@@ -262,6 +262,45 @@ TEST(Keys, TheMasterServesOnlyKeysItKnows) {
     bad.reset();
 }
 
+TEST(WallControlChannel, ATilesNameBelongsToThePeerThatProvedItUntilItGoesSilent) {
+    glcast::cli::TileOwners owners(5);
+    EXPECT_TRUE(owners.speaks_for("a", "key A", 0));
+    EXPECT_TRUE(owners.speaks_for("b", "key B", 0));
+    EXPECT_FALSE(owners.speaks_for("a", "key S", 1));  // a stranger, while a's owner is alive
+    EXPECT_TRUE(owners.speaks_for("a", "key A", 4));
+    EXPECT_FALSE(owners.speaks_for("a", "key S", 8.9));
+    EXPECT_TRUE(owners.speaks_for("a", "key A2", 9.5));  // silent for 5.5 s: a restarted slave takes it
+    EXPECT_FALSE(owners.speaks_for("a", "key A", 10));
+    EXPECT_EQ(owners.refused(), 3u);
+}
+
+// A stranger on the channel cannot report for a live tile (it could before: the newest report
+// of any peer was the tile's).
+TEST(WallControlChannel, AStrangerCannotReportForALiveTile) {
+    unsetenv("GLCAST_KEYS");
+    const std::string endpoint = "ipc://" + temp_dir() + "/control";
+    WallControl wall(endpoint, kTiles, false);
+    zmq::context_t context(1);
+    zmq::socket_t tile(context, zmq::socket_type::dealer), stranger(context, zmq::socket_type::dealer);
+    for (zmq::socket_t* s : {&tile, &stranger}) {
+        s->set(zmq::sockopt::linger, 0);
+        s->connect(endpoint);
+    }
+    tile.send(zmq::str_buffer("STATUS a live 10 10 60 1 0 0 display-a"), zmq::send_flags::dontwait);
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    for (int i = 0; i < 20; i++) {
+        tile.send(zmq::str_buffer("STATUS a live 11 11 60 1 0 0 display-a"), zmq::send_flags::dontwait);
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+        stranger.send(zmq::str_buffer("STATUS a idle 0 0 0 0 0 9 evil"), zmq::send_flags::dontwait);
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    const auto status = wall.status();
+    EXPECT_EQ(status.at("a").machine, "display-a");
+    EXPECT_EQ(status.at("a").state, "live");
+    EXPECT_EQ(status.at("a").recoveries, 0u);
+}
+
 // Whatever arrives on the control channel, it keeps serving (and never takes a stranger's tile
 // name or garbage as a report).
 TEST(WallControlChannel, GarbageIsIgnored) {
