@@ -47,6 +47,7 @@ struct RunArgs {
     uint64_t frames = 0;  // 0: as long as the program runs
     bool lockstep = false, insecure = false;
     int wait_tiles = 10;  // seconds to wait for the tiles of other machines before the program starts
+    int max_local_slaves = 16;  // a slave is a process of its own (about 90 MB with its driver)
     slave::effects::EffectsSettings effects;  // checked here, so that a typo fails before any slave starts
     std::vector<std::string> effect_args;     // passed on to every slave
 };
@@ -163,6 +164,13 @@ bool plan_wall(const RunArgs& a, const std::string& here, WallPlan& plan) {
         const bool local = t.machine.empty() || t.machine == here;
         plan.tiles.push_back({t.name, local ? here : t.machine});
         (local ? plan.local_tiles : plan.remote_tiles).push_back(t.name);
+    }
+    if (plan.local_tiles.size() > size_t(a.max_local_slaves)) {
+        std::fprintf(stderr, "glcast run: %s puts %zu tiles on this machine (%s), each shown by a slave of its own "
+                             "(about 90 MB): more than --max-local-slaves %d; raise it, or give the tiles other "
+                             "machines\n",
+                     a.config_path.c_str(), plan.local_tiles.size(), here.c_str(), a.max_local_slaves);
+        return false;
     }
     plan.swap_barrier = config.swap_barrier;
     if (plan.keys.empty() && !config.keys.empty()) plan.keys = relative_to(a.config_path, config.keys);
@@ -349,6 +357,9 @@ Command add_run(CLI::App& glcast) {
         ->type_name("SECONDS");
     app->add_option("--status-json", a->status_json, "write the wall's status once a second as JSON lines")
         ->type_name("FILE");
+    add_int(*app, "--max-local-slaves", a->max_local_slaves, 1, 256,
+            "the most tiles this machine may show, one slave process each (default 16)")
+        ->type_name("N");
     add_effect_options(*app, a->effects, &a->effect_args);
     return {app, [a](const std::vector<std::string>& program) { return run(*a, program); }, true};
 }

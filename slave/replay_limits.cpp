@@ -25,6 +25,7 @@ constexpr LimitSpec kLimits[] = {
     {"list_entries", &ReplayLimits::list_entries},
     {"object_bytes", &ReplayLimits::object_bytes},
     {"names", &ReplayLimits::names},
+    {"drawables", &ReplayLimits::drawables},
 };
 
 }  // namespace

@@ -21,6 +21,7 @@ struct ReplayLimits {
     uint64_t list_entries = 1u << 20;        // pointer records of one string or index-array list
     uint64_t object_bytes = 4ull << 30;      // data stores of all live textures, buffers, renderbuffers
     uint64_t names = 1u << 22;               // live names of one kind in one share group (or context)
+    uint64_t drawables = 4096;               // drawables whose size the slave keeps
 };
 
 // The image of a texture a call replaces (commands.yaml slave.stores `image`), or its whole store.

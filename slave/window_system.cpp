@@ -82,7 +82,7 @@ bool WindowSystem::replace_call(const Call& c) {
         if (t.width < 0 || t.height < 0 || uint64_t(t.width) > limit || uint64_t(t.height) > limit)
             throw ReplayError("drawable of " + std::to_string(t.width) + "x" + std::to_string(t.height) +
                               " is over the limit drawable_dimension=" + std::to_string(limit));
-        drawable_sizes_[t.drawable] = {t.width, t.height};  // used at the next make-current or swap
+        keep_drawable_size(t.drawable, t.width, t.height);
         return true;
     }
     const CommandSemantics& sem = c.info->sem;
@@ -150,6 +150,16 @@ void WindowSystem::make_current(uint32_t id, uint64_t drawable) {
         ctx->master_height = size->second.second;
     }
     core_.make_current(id, drawable, w, h);
+}
+
+// Used at the next make-current or swap of the drawable. How many are kept is bounded too
+// (limit drawables): a stream naming ever more drawables is refused past it.
+void WindowSystem::keep_drawable_size(uint64_t drawable, int width, int height) {
+    const uint64_t limit = core_.options().limits.drawables;
+    if (!drawable_sizes_.count(drawable) && drawable_sizes_.size() >= limit)
+        throw ReplayError("more than " + std::to_string(limit) + " drawables (limit drawables=" + std::to_string(limit) +
+                          ")");
+    drawable_sizes_[drawable] = {width, height};
 }
 
 void WindowSystem::end_frame() {

@@ -35,6 +35,7 @@ private:
     Replayer& core_;
     std::map<uint64_t, ContextRequest> pending_;  // creation requests by master handle
     std::map<uint64_t, uint32_t> ids_by_handle_;
+    void keep_drawable_size(uint64_t drawable, int width, int height);
     std::map<uint64_t, std::pair<int, int>> drawable_sizes_;
 };
 

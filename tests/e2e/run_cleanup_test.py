@@ -4,6 +4,7 @@ slave and keeper it started is stopped and reaped, on an error after the slaves 
 
     run_cleanup_test.py GLCAST
 """
+import json
 import os
 import subprocess
 import sys
@@ -64,6 +65,15 @@ def main():
                ["--", "/nonexistent-glcast-program"], "the program did not run", 30)
     # A bad endpoint: refused before anything starts; the folder made for it goes.
     ok &= case(glcast, "an endpoint it cannot serve", ["--endpoint", "bogus://x", "--", "true"], "glcast run:", 30)
+    ok &= case(glcast, "an endpoint without a port", ["--endpoint", "tcp://*", "--", "true"], "needs a port", 30)
+    # A valid config of 40 tiles on this machine: 40 slaves of about 90 MB each, refused at once.
+    with tempfile.NamedTemporaryFile("w", suffix=".json", delete=False) as f:
+        tiles = [{"name": f"t{i}", "x": 64 * (i % 8), "y": 64 * (i // 8), "width": 64, "height": 64} for i in range(40)]
+        json.dump({"name": "forty", "canvas": {"width": 512, "height": 320}, "tiles": tiles}, f)
+    try:
+        ok &= case(glcast, "forty local tiles", ["--config", f.name, "--", "true"], "more than --max-local-slaves 16", 10)
+    finally:
+        os.unlink(f.name)
     print(f"{'1 passed, 0 failed' if ok else '0 passed, 1 failed'}")
     return 0 if ok else 1
 

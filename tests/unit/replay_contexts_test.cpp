@@ -220,3 +220,24 @@ TEST(KeptCalls, AListsBodyIsKeptUntilItIsDeleted) {
     EXPECT_TRUE(!lists || lists->count(10) == 0);
     EXPECT_LT(kept.bytes(), held);
 }
+
+// Each drawable's size is bounded, and so is how many the slave keeps: a stream naming millions
+// of distinct drawables (a few bytes each on the wire) grew the slave without limit.
+TEST(ReplayContexts, TheDrawablesKeptAreBounded) {
+    ReplayHarness h;
+    h.options.limits.drawables = 64;
+    for (uint64_t d = 100; d < 100 + 1000; ++d)
+        h.stream.synthetic(kSynthDrawableSize, [d](Encoder& e) {
+            e.value<uint64_t>(d);
+            e.value<int32_t>(32);
+            e.value<int32_t>(32);
+        });
+    h.swap();  // the window's own drawable (7) is still known: its frame is shown at its size
+    h.replay();
+    EXPECT_EQ(h.replayer->stats().frames, 1u);
+    EXPECT_GT(h.replayer->stats().errors, 900u);  // refused, each said: the bound holds
+    EXPECT_NE(h.log.find("limit drawables=64"), std::string::npos) << h.log.substr(0, 400);
+    const slave::SlaveContext* ctx = h.replayer->context(1);
+    ASSERT_NE(ctx, nullptr);
+    EXPECT_EQ(ctx->width, 640);
+}
