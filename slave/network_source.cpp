@@ -160,6 +160,15 @@ uint64_t sequence_of(const std::vector<uint8_t>& message) {
 
 }  // namespace
 
+// A part of an answer that is neither a control word nor long enough to hold a message header:
+// refused at once (endless empty parts cost memory but no bytes against the catch-up limit).
+static void refuse_no_message(const zmq::message_t& part, const std::string& peer) {
+    if (part.size() < sizeof(MessageHeader))
+        throw std::runtime_error(peer + " sent a part of " + std::to_string(part.size()) +
+                                 " bytes, which is no message (a message has a " + std::to_string(sizeof(MessageHeader)) +
+                                 "-byte header)");
+}
+
 void NetworkSource::receive_parts(zmq::socket_t& dealer, const std::string& peer,
                                   const std::function<bool(zmq::message_t&)>& take, bool keep_live) {
     const auto start = std::chrono::steady_clock::now();
@@ -178,6 +187,8 @@ void NetworkSource::receive_parts(zmq::socket_t& dealer, const std::string& peer
         }
         zmq::message_t part;
         if (!dealer.recv(part)) continue;
+        // Every answer is single parts: a stream message each, or a control word.
+        if (part.more()) throw std::runtime_error(peer + " sent a message of more than one part");
         received += part.size();
         catch_up_bytes_ += part.size();
         if (catch_up_bytes_ > catch_up_limit_)
@@ -206,6 +217,7 @@ bool NetworkSource::ask_journal(const std::string& request, const std::function<
         const std::string text = part.size() <= 4 ? part.to_string() : std::string();
         if (text == "END") return false;
         if (text == "GONE") return held = false;
+        refuse_no_message(part, "the master's journal at " + journal_endpoint_);
         take(part);
         return true;
     });
@@ -269,6 +281,7 @@ NetworkSource::State NetworkSource::fetch_state(const std::string& endpoint) {
             return true;
         }
         if (part.size() == 3 && part.to_string() == "END") return false;
+        refuse_no_message(part, "the keeper at " + endpoint);
         state.messages.emplace_back(part.data<uint8_t>(), part.data<uint8_t>() + part.size());
         return true;
     }, /*keep_live=*/true);

@@ -77,6 +77,17 @@ std::string join_error(const std::string& keeper, int wait_seconds, uint64_t cat
 
 }  // namespace
 
+// Endless zero-byte parts cost the slave memory (a message each) but counted nothing against the
+// catch-up limit, which only bytes fed: the first part that is no message ends the join.
+TEST(HostilePeer, AKeeperThatSendsPartsThatAreNoMessagesIsRefusedAtTheFirst) {
+    const std::string at = endpoint("empty");
+    FakeKeeper empty(at, 0, std::chrono::milliseconds(0));
+    const auto start = std::chrono::steady_clock::now();
+    const std::string error = join_error(at, 30);
+    EXPECT_NE(error.find("a part of 0 bytes, which is no message"), std::string::npos) << error;
+    EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(3));
+}
+
 TEST(HostilePeer, AKeeperThatNeverStopsSendingIsCutOffAtTheCatchUpLimit) {
     const std::string at = endpoint("flood");
     FakeKeeper flood(at, 64 << 10, std::chrono::milliseconds(0));
