@@ -13,8 +13,10 @@ glm::dmat4 ViewCorrection::correction(const glm::dmat4& app) const {
     // A perspective projection (w = k * -z): the tile's frustum across, the program's own depth
     // mapping (its z and w rows) along the view, so that what it does with depth stays true on
     // every tile: reversed depth, clip control GL_ZERO_TO_ONE, an infinite far plane.
-    if (app[0][3] == 0 && app[1][3] == 0 && app[3][3] == 0 && app[2][3] < 0) {
-        const double k = -app[2][3];
+    // (up to rounding: a projection read back through an inverted correction has 1e-16s there)
+    const double k = -app[2][3];
+    const double tiny = 1e-6 * std::abs(k);
+    if (k > 0 && std::abs(app[0][3]) <= tiny && std::abs(app[1][3]) <= tiny && std::abs(app[3][3]) <= tiny) {
         tile[0][0] = k * 2 / (tr - tl);
         tile[2][0] = k * (tr + tl) / (tr - tl);
         tile[1][1] = k * 2 / (tt - tb);

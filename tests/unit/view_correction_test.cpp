@@ -67,3 +67,14 @@ TEST(ViewCorrection, TheProgramsDepthMappingIsKept) {
     }
     EXPECT_NEAR(ndc(v.correction(reversed) * reversed, at_yaw(60, 0.5)).z, 1, 1e-9);
 }
+
+// A projection read back through an inverted correction carries rounding where a perspective
+// one has zeros (1e-16 in its w row): it is still the same projection, its depth mapping kept.
+TEST(ViewCorrection, RoundingInTheWRowDoesNotChangeTheCorrection) {
+    const glm::dmat4 app = glm::frustum(-0.276142, 0.276142, -0.207107, 0.207107, 0.5, 100.0);
+    glm::dmat4 rounded = app;
+    rounded[0][3] = 2.2e-16, rounded[2][0] = 1.1e-16;
+    const ViewCorrection v = tile(60);
+    const glm::dmat4 a = v.correction(app) * app, b = v.correction(rounded) * rounded;
+    for (double d : {0.6, 6.0, 90.0}) EXPECT_NEAR(ndc(a, at_yaw(60, d)).z, ndc(b, at_yaw(60, d)).z, 1e-9) << d;
+}
