@@ -353,10 +353,10 @@ void TileAdapter::end_frame(SlaveContext& ctx) {
     s.window_drawn = s.window_view = false;
 }
 
-// The slave's name of the program the program's last glUseProgram made current (followed by the
-// core: no driver query at each draw); the driver is asked only when that name is no longer
-// mapped (a program deleted while in use stays in use).
-GLuint TileAdapter::program_in_use(SlaveContext& ctx) {
+// The driver is asked only when the name is no longer mapped (a program deleted while in use
+// stays in use).
+GLuint TileAdapter::program_in_use() {
+    SlaveContext& ctx = core_.current();
     if (!ctx.current_program) return 0;
     uint64_t slave = 0;
     if (ctx.names.map(Ns::program).find(ctx.current_program, slave)) return GLuint(slave);
@@ -373,7 +373,7 @@ void TileAdapter::correct_projection() {
     State& s = state();
     redraw_refused_ = false;
     if (ctx.drawing_to_window && !redrawing_) s.window_drawn = true;
-    const GLuint program = !redrawing_ || redraw_programs_ ? program_in_use(ctx) : 0;
+    const GLuint program = !redrawing_ || redraw_programs_ ? program_in_use() : 0;
     if (program) {  // a shader program: its patched vertex shader multiplies by glcast_clip
         redraw_refused_ = !correct_shader_program(GLuint(program)) && redrawing_;
         return;

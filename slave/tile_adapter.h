@@ -52,6 +52,9 @@ public:
     // perspective product (program_camera.h); for a program whose shaders read the
     // fixed-function matrices through GLSL's built-ins, GL_PROJECTION as the program set it and
     // GL_MODELVIEW. False: none.
+    // The slave's name of the program the program's last glUseProgram made current (the core
+    // follows it): no driver query at each draw.
+    GLuint program_in_use();
     bool shader_camera(uint32_t program, ProgramCamera& out);
     // Whether the vertex shader of master name `shader` gets the clip-space correction.
     bool patches_vertex_shader(uint64_t shader);
@@ -70,7 +73,6 @@ private:
     void apply_window_rects();
     void track_matrix(const Call& c);
     void correct_projection();
-    GLuint program_in_use(SlaveContext& ctx);
     bool draws_scene_target(SlaveContext& ctx);
     bool correct_shader_program(uint32_t program);  // false: not patched
     // Vertex shaders get glcast_clip: for rotated tiles, and for passes that redraw the scene.

@@ -36,7 +36,7 @@ GLuint DriverDrawState::read_framebuffer() {
 }
 
 GLuint DriverDrawState::program() {
-    return known_or(known_.program, [&] { return GLuint(integer(gl_, GL_CURRENT_PROGRAM)); });
+    return tile_.program_in_use();  // the core follows glUseProgram
 }
 
 bool DriverDrawState::depth_test() {

@@ -75,7 +75,6 @@ void FollowedState::follow(const Call& c, ContextNames& names) {
     case OP_glDepthRangeArrayv: depth_range.reset(); return;
     case OP_glCullFace: cull_face_mode = u32(c, 0); return;
     case OP_glFrontFace: front_face = u32(c, 0); return;
-    case OP_glUseProgram: program = slave_name(names, Ns::program, c.args[0].bits); return;
     case OP_glBindFramebuffer: {
         const GLenum target = u32(c, 0);
         const GLuint fb = slave_name(names, Ns::framebuffer, c.args[1].bits);

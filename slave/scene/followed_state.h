@@ -17,7 +17,7 @@
 namespace glcast::slave {
 
 struct FollowedState {
-    std::optional<GLuint> draw_framebuffer, read_framebuffer, program;  // the slave's names
+    std::optional<GLuint> draw_framebuffer, read_framebuffer;  // the slave's names
     std::optional<bool> depth_test, depth_mask, cull_face;
     std::optional<GLenum> cull_face_mode, front_face;
     std::optional<std::pair<double, double>> depth_range;
