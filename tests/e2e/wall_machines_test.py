@@ -208,7 +208,8 @@ def program_run(ns, config, key_dir, out, name, frames, program, extra=()):
     env = dict(os.environ, GLCAST_CAPTURE=capture)
     return subprocess.Popen(["ip", "netns", "exec", ns["master"], GLCAST, "run", "--config", config, "--machine",
                              "master", "--keys", key_dir, "--backend", "egl", "--frames", str(frames),
-                             "--status-json", os.path.join(out, name + "-status.jsonl"), *extra, "--"] + program,
+                             "--status-json", os.path.join(out, name + "-status.jsonl"), "--wait-tiles", "120", *extra,
+                             "--"] + program,
                             env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True), capture
 
 
@@ -248,17 +249,26 @@ def stitched_against_canvas(out, capture, program_dir, frame):
     return differing, worst
 
 
-def barrier_held(logs):
+def barrier_held(logs, out, run_log):
     """Frames replayed while a tile catches up (it joined late) are not held; every frame each of
-    the four tiles presented through the barrier is."""
-    times = {}
-    for tile in os.listdir(logs):
-        for line in open(os.path.join(logs, tile)):
-            frame, t, held = line.split()
-            if held == "1":
+    the four tiles presented through the barrier is. On failure, what each tile presented and
+    said, and what run said."""
+    times, seen = {}, {}
+    for tile in sorted(os.listdir(logs)):
+        presents = [line.split() for line in open(os.path.join(logs, tile))]
+        held = [int(f) for f, _, h in presents if h == "1"]
+        seen[tile] = (f"{len(presents)} presents, {len(held)} held"
+                      + (f" (frames {held[0]}..{held[-1]})" if held else "")
+                      + (f", first present frame {presents[0][0]}" if presents else ""))
+        for frame, t, h in presents:
+            if h == "1":
                 times.setdefault(int(frame), []).append(float(t))
     frames = sorted(f for f, ts in times.items() if len(ts) == 4)
-    check(len(frames) >= 30, f"only {len(frames)} frames presented by all four tiles")
+    if len(frames) < 30:
+        tails = "".join(f"\n--- {t}.log:\n" + open(os.path.join(out, t + ".log"), errors="replace").read()[-1500:]
+                        for t in TILES if os.path.exists(os.path.join(out, t + ".log")))
+        check(False, f"only {len(frames)} frames presented by all four tiles; per tile: {seen}\n--- run:\n"
+                     f"{run_log[-2500:]}{tails}")
     for a, b in zip(frames, frames[1:]):
         check(max(times[a]) < min(times[b]), f"a tile presented frame {b} before every tile had presented frame {a}")
     return len(frames)
@@ -313,7 +323,7 @@ def tcp_wall(out, ns, config, k, port, supervisors):
     log1 = wall.stderr.read()
     check(rc == 0, f"glcast run failed: {log1[-3000:]}")
     check("4 of 4 tiles on other machines are there" in log1, f"run did not count the remote tiles: {log1[-2000:]}")
-    frames_held = barrier_held(os.path.join(out, "presents"))
+    frames_held = barrier_held(os.path.join(out, "presents"), out, log1)
     differing, worst = stitched_against_canvas(out, capture1, "program-0001", 280)
     seen = statuses(os.path.join(out, "program1-status.jsonl"))
     live = [s for s in seen if all(t["state"] == "live" for t in s["tiles"])]
@@ -418,9 +428,12 @@ def case_epgm():
                 env = dict(os.environ, GLCAST_CAPTURE=capture)
                 r = run(["ip", "netns", "exec", ns["master"], GLCAST, "run", "--config", config, "--machine", "master",
                          "--keys", k["master"], "--insecure", "--endpoint", f"epgm://{ADDRESS['master']};{group}",
-                         "--backend", "egl", "--frames", "300", "--", "glxgears"], env=env, timeout=300)
+                         "--backend", "egl", "--frames", "300", "--wait-tiles", "120", "--", "glxgears"], env=env,
+                        timeout=400)
                 check(r.returncode == 0, f"glcast run failed: {r.stderr[-3000:]}")
-                frames_held = barrier_held(os.path.join(out, "presents"))
+                check("4 of 4 tiles on other machines are there" in r.stderr,
+                      f"run started the program without every tile: {r.stderr[-2000:]}")
+                frames_held = barrier_held(os.path.join(out, "presents"), out, r.stderr)
                 differing, worst = stitched_against_canvas(out, capture, "program-0001", 280)
         finally:
             for s in slaves:
