@@ -29,7 +29,7 @@ using shadow_test::Tile;
 namespace {
 
 const ShadowMethod kCompared[] = {ShadowMethod::ErosionPcf, ShadowMethod::ErosionDirect, ShadowMethod::Pcss8,
-                                  ShadowMethod::Pcss32, ShadowMethod::Pcss64};
+                                  ShadowMethod::Pcss32, ShadowMethod::Pcss64, ShadowMethod::ScreenSpace};
 
 double median(std::vector<double> v) {
     std::sort(v.begin(), v.end());
@@ -100,7 +100,7 @@ int pictures(const std::string& dir) {
         ctx.draw_frame(scene, tile);
         std::vector<Image> frames{ctx.read_color(tile)};  // [0]: the frame without shadows
         for (ShadowMethod m : {ShadowMethod::ErosionPcf, ShadowMethod::ErosionDirect, ShadowMethod::Pcss8,
-                               ShadowMethod::Pcss32, ShadowMethod::Reference}) {
+                               ShadowMethod::Pcss32, ShadowMethod::Reference, ShadowMethod::ScreenSpace}) {
             frames.emplace_back();
             run_method(ctx, r, scene, tile, m, &frames.back());
         }
@@ -113,7 +113,7 @@ int pictures(const std::string& dir) {
                      : scene.name == "ramp"  ? Crop{185, 195, 380, 120, 1}
                                              : Crop{340, 150, 128, 96, 2};
         write(dir + "/shadows-" + scene.name + "-methods.png",
-              strip({frames[1], frames[2], frames[3], frames[4], frames[5]}, c.x, c.y, c.w, c.h, c.scale));
+              strip({frames[1], frames[2], frames[3], frames[4], frames[5], frames[6]}, c.x, c.y, c.w, c.h, c.scale));
     }
     return 0;
 }
@@ -180,7 +180,9 @@ int benchmark(int width, int height, int map_size, int frames, int reference_sam
     }
     for (ShadowMethod m : kCompared) {
         std::printf("\nTable 2: steps of %s (ms)%s\n\n| step |", method_name(m),
-                    pcss_blocker_samples(m) ? " (hard shadows: the camera depth only; shading: blocker search, PCF, darkening)" : "");
+                    pcss_blocker_samples(m) ? " (hard shadows: the camera depth only; shading: blocker search, PCF, darkening)"
+                    : m == ShadowMethod::ScreenSpace ? " (hard shadows: the march; shading: the softening, darkening)"
+                                                     : "");
         for (const Scene& s : scenes) std::printf(" %s |", s.name.c_str());
         std::printf("\n|---|");
         for (size_t i = 0; i < scenes.size(); ++i) std::printf("---|");

@@ -3,7 +3,7 @@
 // 2,000, 16,000 and 150,000, and the spectral composite alone (texture upload + full-screen
 // blend; its synthesis runs on the worker thread, measured by spectral_snow_bench, but shares
 // the machine's cores with the rasterizer). The camera is still, except in the row where it
-// moves and the regions (seed sec. 7) get their own C and theta.
+// moves and the regions (docs/snow.md, "The pass") get their own C and theta.
 // Each configuration renders `frames` frames over a cleared scene with depth; the figure is the
 // median wall time per frame including glFinish. Prints a markdown table.
 //

@@ -9,6 +9,9 @@ program's is: the passes found the same camera and re-rendered the same casters.
 built-ins program got neither (no camera among its uniforms) and the premultiplied one no shadow
 at all (each draw's split projection differed from the first's in the last bits, so no draw
 after the first counted as the main view's and the shadow map held no caster).
+Screen-space shadows (the fallback of frames whose draws cannot be re-rendered, chosen here with
+shadows.method=screen-space) darken at least 70% of the floor the shadow map shadows, and little
+else, for every program (the rest: shadows of the pillars' tops, which lie above the picture).
 
     modern_camera_test.py     with GLCAST, GLCAST_SHIM, APPS_DIR, OUT_DIR in the environment
 """
@@ -48,6 +51,14 @@ def floor_changes(plain, decorated):
     return floor, whiter, darker
 
 
+def darkened_floor(plain, decorated):
+    """The floor pixels of `plain` that `decorated` made darker."""
+    w, h, a = read_png(plain)
+    _, _, b = read_png(decorated)
+    return {(x, y) for y in range(h) for x in range(w)
+            if tuple(a[y][x][:3]) == FLOOR and sum(b[y][x][:3]) - sum(a[y][x][:3]) < -30}
+
+
 def main():
     shutil.rmtree(OUT, ignore_errors=True)
     os.makedirs(OUT)
@@ -61,7 +72,8 @@ def main():
             r = subprocess.run([GLCAST, "capture", "-o", capture, "--", os.path.join(APPS, "pillars")] + flags +
                                ["--size", "400x300", "--frames", "2"], capture_output=True, text=True, timeout=300)
         check(r.returncode == 0, f"capture {mode} failed: {r.stderr[-2000:]}")
-        for name, extra in (("plain", []), ("cover", ["--effects", "cover"]), ("shadows", ["--effects", "shadows"])):
+        for name, extra in (("plain", []), ("cover", ["--effects", "cover"]), ("shadows", ["--effects", "shadows"]),
+                            ("screen", ["--effects", "shadows", "--effect-param", "shadows.method=screen-space"])):
             r = subprocess.run([GLCAST, "replay", capture, "--backend", "egl", "--out",
                                 os.path.join(OUT, f"{mode}-{name}")] + extra,
                                capture_output=True, text=True, timeout=300, env=headless)
@@ -71,8 +83,16 @@ def main():
         floor, covered, _ = floor_changes(plain, os.path.join(OUT, f"{mode}-cover", frame))
         _, _, shadowed = floor_changes(plain, os.path.join(OUT, f"{mode}-shadows", frame))
         results[mode] = (floor, covered, shadowed)
+        mapped = darkened_floor(plain, os.path.join(OUT, f"{mode}-shadows", frame))
+        marched = darkened_floor(plain, os.path.join(OUT, f"{mode}-screen", frame))
+        found, elsewhere = len(mapped & marched), len(marched - mapped)
         print(f"{mode}: floor {floor} px, covered {covered} ({100 * covered / floor:.1f}%), "
-              f"shadowed {shadowed} ({100 * shadowed / floor:.2f}%)")
+              f"shadowed {shadowed} ({100 * shadowed / floor:.2f}%); screen-space: {found} of those "
+              f"({100 * found / max(1, len(mapped)):.1f}%), {elsewhere} floor pixels more")
+        check(found >= 0.7 * len(mapped), f"{mode}: screen-space shadows darken {found} of the {len(mapped)} floor "
+                                         f"pixels the shadow map shadows")
+        check(elsewhere <= 0.25 * len(mapped), f"{mode}: screen-space shadows darken {elsewhere} floor pixels the "
+                                             f"shadow map leaves lit (it shadows {len(mapped)})")
     floor, covered, shadowed = results["fixed"]
     check(covered > floor // 2 and shadowed > 100, f"the fixed-function program itself is not decorated: {results}")
     for mode in modes:

@@ -27,6 +27,11 @@ public:
                              static_cast<unsigned long long>(view.frame), why.c_str());
             return;
         }
+        if (renderer_.used_screen_space() && renderer_.settings().method != ShadowMethod::ScreenSpace &&
+            reported_.insert("screen-space").second)
+            std::fprintf(stderr, "glcast shadows: frame %llu: the draws cannot be re-rendered from the light; "
+                                 "shadows from the depth on the screen (screen-space) instead\n",
+                         static_cast<unsigned long long>(view.frame));
         renderer_.composite(view);
     }
 

@@ -76,7 +76,11 @@ void ShadowRenderer::build_programs(ShadowMethod method) {
     case ShadowMethod::Pcss32:
     case ShadowMethod::Pcss64: p.shade = program("shadow_shade.frag", "", true); break;
     case ShadowMethod::Reference: p.reference = program("shadow_reference.frag", "", true); break;
+    case ShadowMethod::ScreenSpace: break;
     }
+    // Every method falls back to it for frames that cannot be re-rendered.
+    p.screen_space = program("shadow_screen_space.frag", "", true);
+    p.screen_filter = program("shadow_screen_filter.frag", "", true);
     p.composite = program("shadow_composite.frag", "", false);
 }
 
@@ -181,12 +185,14 @@ bool ShadowRenderer::render(const FrameView& view, std::string& why) {
         why = "no draw with a perspective projection this frame";
         return false;
     }
-    if (!view.redraw) {
-        why = "the stream's draws cannot be re-rendered (shader program or core context): no shadow map";
+    if (!view.redraw && !view.depth_texture) {
+        why = "the stream's draws cannot be re-rendered and the window's depth is not at hand";
         return false;
     }
     gl_.glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &target_framebuffer_);
-    const bool rerender = settings_.rerender_depth || !view.depth_texture;
+    screen_space_ = settings_.method == ShadowMethod::ScreenSpace || !view.redraw;
+    // Screen-space marching reads what the window shows: no guard band to re-render.
+    const bool rerender = view.redraw && (settings_.rerender_depth || !view.depth_texture) && !screen_space_;
     ensure_targets(view, rerender);
     tile_size_ = {view.width, view.height};
     const glm::dmat4 to_work = work_from_tile_clip({view.width, view.height}, work_size_, tile_offset_);
@@ -201,8 +207,8 @@ bool ShadowRenderer::render(const FrameView& view, std::string& why) {
     times_ = ShadowStepTimes{};
     if (profiling_) gl_.glFinish();
     step_start_ = now_ms();
-    const ShadowMethod method = settings_.method;
-    if (method != ShadowMethod::Reference) {
+    const ShadowMethod method = screen_space_ ? ShadowMethod::ScreenSpace : settings_.method;
+    if (method != ShadowMethod::Reference && method != ShadowMethod::ScreenSpace) {
         render_shadow_map(view, frame_);
         step_done(&ShadowStepTimes::shadow_map);
     }
@@ -212,8 +218,14 @@ bool ShadowRenderer::render(const FrameView& view, std::string& why) {
     } else {
         camera_depth_texture_ = view.depth_texture();
     }
-    const Programs& p = programs_[int(method)];
+    const Programs& p = programs_[int(settings_.method)];
     switch (method) {
+    case ShadowMethod::ScreenSpace:
+        march_screen_space(p);
+        step_done(&ShadowStepTimes::hard_shadows);
+        soften_screen_space(p);
+        step_done(&ShadowStepTimes::shading);
+        break;
     case ShadowMethod::ErosionPcf:
     case ShadowMethod::ErosionDirect:
         hard_shadows(p);

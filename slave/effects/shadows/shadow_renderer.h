@@ -51,10 +51,14 @@ public:
     void set_profiling(bool on) { profiling_ = on; }
     const ShadowStepTimes& last_times() const { return times_; }
 
-    // Computes the visibility of the tile of `view`. False (and nothing drawn) when the frame
-    // cannot be shadowed: no main view, or no redraw to render the shadow map with; `why` says
-    // which. Leaves GL state changed (run it inside a StateGuard).
+    // Computes the visibility of the tile of `view`. A frame whose draws cannot be re-rendered
+    // (no redraw) is shadowed by the screen-space method from the window's depth, whatever the
+    // method. False (and nothing drawn) when the frame cannot be shadowed: no main view, or
+    // neither a redraw nor a depth; `why` says which. Leaves GL state changed (run it inside a
+    // StateGuard).
     bool render(const FrameView& view, std::string& why);
+    // The last render() marched the depth (screen-space) rather than using a shadow map.
+    bool used_screen_space() const { return screen_space_; }
     // Multiplies the framebuffer bound for drawing (the tile, viewport 0,0,width,height) by
     // 1 - strength * (1 - visibility); pixels of visibility 1 are not written.
     void composite(const FrameView& view);
@@ -78,7 +82,7 @@ private:
     };
     struct Programs {
         GLuint hard = 0, candidates = 0, edges = 0, minmax = 0, lines = 0, erode = 0, shade = 0, reference = 0,
-               composite = 0;
+               screen_space = 0, screen_filter = 0, composite = 0;
     };
 
     // fullscreen.vert, or shadow_blocks.vert when `blocks`; `common`: shadow_common.glsl first.
@@ -102,11 +106,13 @@ private:
     void erode(const Programs& p);
     void shade(const Programs& p);
     void reference(const FrameView& view, const Programs& p);
+    void march_screen_space(const Programs& p);   // into hard_: marched shadows, penumbra widths
+    void soften_screen_space(const Programs& p);  // hard_ into visibility_
     void step_done(double ShadowStepTimes::*step);
 
     const GlApi& gl_;
     ShadowSettings settings_;
-    Programs programs_[6];  // by ShadowMethod
+    Programs programs_[7];  // by ShadowMethod
     std::map<std::string, GLuint> program_cache_;  // by fragment file and defines
     GLuint empty_vao_ = 0;
     bool profiling_ = false;
@@ -125,6 +131,7 @@ private:
     glm::dmat4 eye_from_work_clip_{1.0};
     double focal_px_ = 1;
     GLuint camera_depth_texture_ = 0;  // ours or the window's copy
+    bool screen_space_ = false;
 
     Target shadow_map_, camera_depth_, hard_, candidates_, edges_, lines_, erosion_, visibility_;
 };

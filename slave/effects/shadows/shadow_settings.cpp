@@ -17,6 +17,7 @@ const MethodName kMethods[] = {
     {ShadowMethod::ErosionPcf, "erosion-pcf"}, {ShadowMethod::ErosionDirect, "erosion-direct"},
     {ShadowMethod::Pcss8, "pcss-8"},           {ShadowMethod::Pcss32, "pcss-32"},
     {ShadowMethod::Pcss64, "pcss-64"},         {ShadowMethod::Reference, "reference"},
+    {ShadowMethod::ScreenSpace, "screen-space"},
 };
 
 }  // namespace
@@ -53,7 +54,7 @@ int pcss_blocker_samples(ShadowMethod method) {
 
 std::vector<ParamSpec> shadow_param_specs() {
     ParamSpec method{"shadows.method", 0, 0, 0,
-                     "erosion-pcf (default), erosion-direct, pcss-8, pcss-32, pcss-64 or reference", true};
+                     "erosion-pcf (default), erosion-direct, pcss-8, pcss-32, pcss-64, reference or screen-space", true};
     return {
         method,
         {"shadows.strength", 0.6, 0, 1, "darkening of a fully shadowed pixel facing the light: color *= 1 - strength * facing * (1 - visibility)"},
@@ -76,6 +77,9 @@ std::vector<ParamSpec> shadow_param_specs() {
         {"shadows.silhouette_check", 1, 0, 1, "1: keep only hard-shadow edges that are silhouettes in the shadow map"},
         {"shadows.line_fit", 1, 0, 1, "1: erosion-direct measures distances to least-squares lines through the edge pixels"},
         {"shadows.direct_profile", 0, 0, 1, "erosion-direct's penumbra profile: 0 the method's linear ramp, 1 the occluded area of a round light"},
+        {"shadows.screen_steps", 32, 4, 256, "screen-space shadows (every method's fallback for frames that cannot be re-rendered): depth samples along each pixel's ray towards the light"},
+        {"shadows.screen_reach", 1.0, 0.01, 1, "screen-space shadows: longest ray on the screen, as a share of the tile's height"},
+        {"shadows.screen_thickness", 0.08, 0.001, 10, "screen-space shadows: a depth sample hides points up to this share of its eye depth behind it"},
         {"shadows.rerender_depth", 1, 0, 1, "1: re-render the camera depth with a guard band around the tile (no seams on a wall); 0: use the window's depth buffer (one scene render less, no guard band)"},
     };
 }
@@ -109,6 +113,9 @@ ShadowSettings shadow_settings_from(const EffectParams& params) {
     s.line_fit = params.flag("shadows.line_fit");
     s.rerender_depth = params.flag("shadows.rerender_depth");
     s.direct_disk_profile = params.flag("shadows.direct_profile");
+    s.screen_steps = int(std::lround(params.number("shadows.screen_steps")));
+    s.screen_reach = params.number("shadows.screen_reach");
+    s.screen_thickness = params.number("shadows.screen_thickness");
     return s;
 }
 

@@ -19,9 +19,10 @@ enum class ShadowMethod {
     Pcss32,
     Pcss64,
     Reference,      // the average of hard shadows from many points on the area light
+    ScreenSpace,    // no shadow map: each pixel marches the camera depth towards the light
 };
 
-// "erosion-pcf", "erosion-direct", "pcss-8", "pcss-32", "pcss-64", "reference".
+// "erosion-pcf", "erosion-direct", "pcss-8", "pcss-32", "pcss-64", "reference", "screen-space".
 const char* method_name(ShadowMethod method);
 // False for an unknown name.
 bool parse_method(const std::string& name, ShadowMethod& method);
@@ -50,6 +51,11 @@ struct ShadowSettings {
     bool line_fit = true;         // least-squares line correction of erosion/direct
     bool direct_disk_profile = false;  // erosion/direct: a round light's profile instead of the method's ramp
     bool rerender_depth = true;   // camera depth re-rendered with a guard band (else the window's depth)
+
+    // Screen-space marching: every method's fallback when the frame cannot be re-rendered.
+    int screen_steps = 32;           // depth samples along each pixel's ray towards the light
+    double screen_reach = 1.0;       // longest ray on the screen, share of the tile's height
+    double screen_thickness = 0.08;  // a depth sample hides what lies up to this share of its depth behind it
 };
 
 // Reads every "shadows.*" parameter. Throws std::runtime_error naming the parameter for a

@@ -192,6 +192,29 @@ void ShadowRenderer::reference(const FrameView& view, const Programs& p) {
     }
 }
 
+void ShadowRenderer::march_screen_space(const Programs& p) {
+    bind_texture(gl_, kDepthUnit, camera_depth_texture_);
+    set_common_uniforms(p.screen_space);
+    set_matrix(gl_, p.screen_space, "u_eye_from_clip", eye_from_work_clip_);
+    set_matrix(gl_, p.screen_space, "u_clip_from_eye", glm::inverse(eye_from_work_clip_));
+    const glm::dvec4 light = light_.directional ? glm::dvec4(light_.direction, 0.0) : glm::dvec4(light_.position, 1.0);
+    const GLint at = gl_.glGetUniformLocation(p.screen_space, "u_light_eye");
+    if (at >= 0) gl_.glUniform4f(at, float(light.x), float(light.y), float(light.z), float(light.w));
+    set_int(gl_, p.screen_space, "u_steps", settings_.screen_steps);
+    set_float(gl_, p.screen_space, "u_reach_px", settings_.screen_reach * tile_size_.y);
+    set_float(gl_, p.screen_space, "u_max_reach", settings_.max_distance);
+    set_float(gl_, p.screen_space, "u_thickness", settings_.screen_thickness);
+    draw_into(hard_, p.screen_space);
+}
+
+void ShadowRenderer::soften_screen_space(const Programs& p) {
+    bind_texture(gl_, kHardUnit, hard_.texture);
+    set_common_uniforms(p.screen_filter);
+    set_int(gl_, p.screen_filter, "u_search_samples", 16);
+    set_int(gl_, p.screen_filter, "u_samples", settings_.pcf_samples);
+    draw_into(visibility_, p.screen_filter);
+}
+
 void ShadowRenderer::composite(const FrameView& view) {
     const GLuint p = programs_[int(settings_.method)].composite;
     bind_texture(gl_, kVisibilityUnit, visibility_.texture);

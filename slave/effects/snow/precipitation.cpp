@@ -47,7 +47,7 @@ std::vector<ParamSpec> kind_specs(const Kind& k) {
         {p + "brightness", 0.95, 0, 1, "grey level of the snow (or rain) colour"},
         {p + "sharpness", k.sharpness, 0.25, 8, "spectral opacity is raised to this power before compositing (1: the method's mapping as is)"},
         {p + "size", k.size, 8, 2048, "spectral texture size M (even), texels"},
-        {p + "regions", k.regions, 1, 8, "regions per canvas side, each with its own C and theta (seed sec. 7)"},
+        {p + "regions", k.regions, 1, 8, "regions per canvas side, each with its own C and theta (docs/snow.md, The pass)"},
         {p + "scale", k.scale, 0.25, 16, "canvas pixels per spectral texel"},
         {p + "speed_c", k.speed_c, 0, 1e4, "Eq. 6's C in rad/s; 0: from the particles' speed at the spectral depth"},
         {p + "spectral_depth", k.box, 0.5, 1e4, "depth of the spectral layer, near-plane distances (its speeds follow)"},
@@ -226,7 +226,7 @@ private:
         draw_fullscreen(gl, vao_);
     }
 
-    // Per-region C and theta from the image velocity at the region's centre (seed sec. 7).
+    // Per-region C and theta from the image velocity at the region's centre (docs/snow.md, "The pass").
     void submit(const FrameView& view, const glm::dvec3& relative_eye, double unit, double dt) {
         std::vector<std::pair<double, double>> c_theta;
         const double cw = view.canvas_width, ch = view.canvas_height;

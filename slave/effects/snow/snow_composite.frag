@@ -1,6 +1,6 @@
 // The spectral-snow method's composite (docs/snow.md) I = I_snow a + (1 - a) I_bg (blending does the sum) while regions move
 // differently: the texels (snow colour, a) at this canvas pixel are blended bilinearly between
-// the regions' textures (seed sec. 7), so neighbouring regions with their own C and theta meet
+// the regions' textures (docs/snow.md, "The pass"), so neighbouring regions with their own C and theta meet
 // without an edge, and every tile of a wall reads the same canvas. (One region, or regions that
 // all moved alike: snow_composite_single.*)
 uniform sampler2DArray snow;  // regions^2 layers, M x M, wrapping (toroidal); RGBA8 from the worker

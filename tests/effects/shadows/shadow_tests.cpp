@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <memory>
 #include <string>
 #include <vector>
@@ -226,6 +227,68 @@ TEST(ShadowsGL, QualityAgainstReferenceFence) { compare_methods(shadow_test::fen
 TEST(ShadowsGL, QualityAgainstReferenceRamp) { compare_methods(shadow_test::ramp_scene()); }
 TEST(ShadowsGL, QualityAgainstReferencePlates) { compare_methods(shadow_test::plates_scene()); }
 
+// ---- screen-space shadows ---------------------------------------------------------------------
+
+namespace {
+
+// Only the window's depth, the projection and the light (frames whose draws cannot be
+// re-rendered): against the reference, the share of its shadowed pixels (visibility < 0.5)
+// that screen-space marching shadows too, and the lit pixels (> 0.95) it darkens wrongly.
+// With GLCAST_TEST_OUT set: DIR/NAME.png, the visibilities side by side (rows bottom up in).
+void keep_visibilities(const std::string& name, const std::vector<std::vector<float>>& images) {
+    const char* dir = std::getenv("GLCAST_TEST_OUT");
+    if (!dir) return;
+    const int w = kCanvas.width, h = kCanvas.height, n = int(images.size());
+    Image out{w * n, h, std::vector<uint8_t>(size_t(w) * n * h * 4, 255)};
+    for (int k = 0; k < n; ++k)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                const float v = std::clamp(images[k][size_t(y) * w + x], 0.0f, 1.0f);
+                uint8_t* px = &out.rgba[(size_t(h - 1 - y) * w * n + size_t(k) * w + x) * 4];
+                px[0] = px[1] = px[2] = uint8_t(std::lround(v * 255));
+            }
+    std::string err;
+    glcast::slave::write_png(std::string(dir) + "/" + name + ".png", out, err);
+}
+
+void screen_space_against_reference(const Scene& scene, double min_found, double max_false) {
+    ShadowRenderer r(context().gl(), settings_for(scene));
+    const auto reference = visibility(r, scene, kCanvas, ShadowMethod::Reference);
+    const auto marched = visibility(r, scene, kCanvas, ShadowMethod::ScreenSpace);
+    size_t shadowed = 0, found = 0, lit = 0, wrong = 0;
+    for (size_t i = 0; i < reference.size(); ++i) {
+        if (reference[i] < 0.5f) {
+            ++shadowed;
+            found += marched[i] < 0.5f;
+        } else if (reference[i] > 0.95f) {
+            ++lit;
+            wrong += marched[i] < 0.5f;
+        }
+    }
+    keep_visibilities("screen-space-" + scene.name, {reference, marched});
+    if (const char* dir = std::getenv("GLCAST_TEST_OUT")) {
+        std::string err;
+        glcast::slave::write_png(std::string(dir) + "/screen-space-" + scene.name + "-color.png",
+                                 context().read_color(kCanvas), err);
+    }
+    const auto e = shadow_test::visibility_error(marched, reference, kCanvas.width, kCanvas.height);
+    std::printf("%-7s screen-space: %zu of %zu shadowed pixels found (%.1f%%), %zu of %zu lit pixels darkened "
+                "(%.2f%%), RMSE %.4f over the shadows\n",
+                scene.name.c_str(), found, shadowed, 100.0 * found / std::max<size_t>(shadowed, 1), wrong, lit,
+                100.0 * wrong / std::max<size_t>(lit, 1), e.shadows);
+    EXPECT_GT(shadowed, 5000u);
+    EXPECT_GE(double(found), min_found * double(shadowed)) << scene.name;
+    EXPECT_LE(double(wrong), max_false * double(lit)) << scene.name;
+}
+
+}  // namespace
+
+TEST(ShadowsGL, ScreenSpaceFindsTheShadowsOfBlocks) { screen_space_against_reference(shadow_test::blocks_scene(), 0.8, 0.02); }
+TEST(ShadowsGL, ScreenSpaceFindsTheShadowsOfRamp) { screen_space_against_reference(shadow_test::ramp_scene(), 0.8, 0.02); }
+TEST(ShadowsGL, ScreenSpaceFindsTheShadowsOfPlates) { screen_space_against_reference(shadow_test::plates_scene(), 0.8, 0.02); }
+// Slats 0.08 wide: the gaps between them are thinner than the thickness the march assumes.
+TEST(ShadowsGL, ScreenSpaceFindsTheShadowsOfFence) { screen_space_against_reference(shadow_test::fence_scene(), 0.8, 0.02); }
+
 // ---- the pass in a frame ----------------------------------------------------------------------
 
 namespace {
@@ -380,6 +443,7 @@ TEST(ShadowsGL, FramesThatCannotBeShadowedAreLeftAlone) {
     FrameView view = ctx.frame_view(scene, kCanvas);
     std::string why;
     view.redraw = nullptr;
+    view.depth_texture = nullptr;
     EXPECT_FALSE(r.render(view, why));
     EXPECT_NE(why.find("re-rendered"), std::string::npos) << why;
     view.view_known = false;
@@ -391,6 +455,31 @@ TEST(ShadowsGL, FramesThatCannotBeShadowedAreLeftAlone) {
     const Image before = ctx.read_color(kCanvas);
     pipeline.run(view);
     EXPECT_EQ(glcast::slave::compare(before, ctx.read_color(kCanvas)).differing_pixels, 0);
+}
+
+// A frame whose draws cannot be re-rendered (a lender's vertex arrays, a record that
+// overflowed) is shadowed from its depth alone: screen-space, said once by the pass.
+TEST(ShadowsGL, FramesWithoutARedrawGetScreenSpaceShadows) {
+    SceneContext& ctx = context();
+    const Scene scene = shadow_test::blocks_scene();
+    ctx.draw_frame(scene, kCanvas);
+    FrameView view = ctx.frame_view(scene, kCanvas);
+    view.redraw = nullptr;
+    ShadowRenderer r(ctx.gl(), settings_for(scene));
+    std::string why;
+    {
+        StateGuard guard(ctx.gl());
+        ASSERT_TRUE(r.render(view, why)) << why;
+    }
+    EXPECT_TRUE(r.used_screen_space());
+    const auto v = r.read_tile(r.visibility_texture(), 0);
+    const size_t shadowed = std::count_if(v.begin(), v.end(), [](float x) { return x < 0.5f; });
+    EXPECT_GT(shadowed, 5000u);
+
+    const Image before = ctx.read_color(kCanvas);
+    Pipeline pipeline(ctx.gl(), pass_settings(scene, "erosion-pcf"));
+    pipeline.run(view);
+    EXPECT_GT(glcast::slave::compare(before, ctx.read_color(kCanvas)).differing_pixels, 5000);
 }
 
 TEST(ShadowsGL, UnknownMethodIsRefusedByName) {
