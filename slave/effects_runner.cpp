@@ -23,6 +23,32 @@ void set_enabled(const GlApi& gl, GLenum cap, bool on) {
     else gl.glDisable(cap);
 }
 
+// What the context's state says of the program's depth at the end of its frame.
+ProgramDepthState program_depth_state(const GlApi& gl) {
+    ProgramDepthState s;
+    GLdouble range[2] = {0, 1};
+    gl.glGetDoublev(GL_DEPTH_RANGE, range);
+    s.range_near = range[0], s.range_far = range[1];
+    GLfloat clear = 1;
+    gl.glGetFloatv(GL_DEPTH_CLEAR_VALUE, &clear);
+    s.clear_depth = clear;
+    if (gl.has(OP_glClipControl)) {
+        GLint origin = GL_LOWER_LEFT, mode = GL_NEGATIVE_ONE_TO_ONE;
+        gl.glGetIntegerv(GL_CLIP_ORIGIN, &origin);
+        gl.glGetIntegerv(GL_CLIP_DEPTH_MODE, &mode);
+        s.upper_left = origin == GL_UPPER_LEFT;
+        s.zero_to_one = mode == GL_ZERO_TO_ONE;
+    }
+    return s;
+}
+
+// The passes draw in GL's default clip convention and depth range; the program's come back after.
+void set_depth_state(const GlApi& gl, const ProgramDepthState& s) {
+    if (gl.has(OP_glClipControl))
+        gl.glClipControl(s.upper_left ? GL_UPPER_LEFT : GL_LOWER_LEFT, s.zero_to_one ? GL_ZERO_TO_ONE : GL_NEGATIVE_ONE_TO_ONE);
+    gl.glDepthRange(s.range_near, s.range_far);
+}
+
 }  // namespace
 
 EffectsRunner::EffectsRunner(Replayer& core, TileAdapter& tile) : core_(core), tile_(tile), scenes_(core, tile) {
@@ -108,7 +134,9 @@ void EffectsRunner::run_effects(SlaveContext& ctx) {
         const bool placed = scene.loan.borrowed_from != 0 && sized;
         if (view_model) st.view_model_depth = copies.window_copy(ctx, true, scene, scenes_.scene_shown(ctx));  // before any pass draws
         else scene.facts.view_model_far = 0;
+        if (!st.depth.standard) set_depth_state(gl, ProgramDepthState{});
         st.pipeline->run(view);
+        if (!st.depth.standard) set_depth_state(gl, st.depth.program);
         if (overlays || view_model || placed) put_overlays_back(ctx, overlays);
         if (core_.after_effects) core_.after_effects(view);
         if (scene.loan.borrowed_from && !said_borrowed_) {
@@ -173,6 +201,9 @@ void EffectsRunner::frame_view(SlaveContext& ctx, effects::FrameView& v) {
         v.tile_clip_from_app_clip = planar * rotated;
         v.tile_clip_from_eye = v.tile_clip_from_app_clip * v.projection;
         v.eye_from_tile_clip = glm::inverse(v.tile_clip_from_eye);
+        convert_depth(ctx, v, planar);
+    } else {
+        passes(ctx).depth = DepthConvention{};
     }
     ContextPasses* st = &passes(ctx);
     st->copies.new_frame();
@@ -187,16 +218,51 @@ void EffectsRunner::frame_view(SlaveContext& ctx, effects::FrameView& v) {
     SlaveContext* c = &ctx;
     ContextScene* sc = &scene;
     v.color_texture = [this, c, st, sc] { return st->copies.window_copy(*c, false, *sc, scenes_.scene_shown(*c)); };
-    v.depth_texture = [this, c, st, sc] { return st->copies.window_copy(*c, true, *sc, scenes_.scene_shown(*c)); };
+    v.depth_texture = [this, c, st, sc] {
+        const GLuint program = st->copies.window_copy(*c, true, *sc, scenes_.scene_shown(*c));
+        return st->depth.standard ? program : st->copies.pass_depth(*c, program, st->depth, st->pass_clip_from_program_clip);
+    };
+    v.window_depth_matches = st->depth.standard;
     // A borrowed scene's shader draws name the lender's vertex-array objects, which this context
     // does not share: only fixed-function scenes are re-rendered from another context.
     const ContextScene& shown = scenes_.scene_shown(ctx);
     const bool borrowed = &shown != &scene;
     if (facts.main_known && !shown.record.overflow && !(borrowed && shown.facts.shader_draws) &&
         (shown.facts.shader_draws ? core_.options().effects.redraws() : compatibility_profile(gl))) {
-        v.redraw = [this, c](const glm::dmat4& correction) { redraw_main_view(*c, correction); };
+        v.redraw = [this, c, st](const glm::dmat4& correction) {
+            redraw_main_view(*c, st->depth.standard ? correction : correction * st->depth.pass_from_program);
+        };
         v.redraw_binds_programs = shown.facts.shader_draws;
     }
+}
+
+void EffectsRunner::convert_depth(SlaveContext& ctx, effects::FrameView& v, const glm::dmat4& planar) {
+    ContextPasses& st = passes(ctx);
+    const glm::dmat4 program = v.projection;
+    st.depth = depth_convention(program, program_depth_state(core_.api()));
+    if (st.depth.standard) return;
+    if (!said_depth_convention_) {
+        said_depth_convention_ = true;
+        const ProgramDepthState& s = st.depth.program;
+        std::fprintf(stderr, "glcast: effects: the program's depth is its own (%s%s%s, depth range %g..%g, cleared to "
+                             "%g): the passes read it converted to a standard projection, near %g, far %g "
+                             "(docs/effects.md, \"Depth conventions\")\n",
+                     s.zero_to_one ? "clip depth 0..1" : "clip depth -1..1",
+                     st.depth.reversed ? ", reversed" : "",
+                     s.upper_left ? ", origin upper left" : "", s.range_near, s.range_far, s.clear_depth,
+                     st.depth.near, st.depth.far);
+    }
+    const ReplayOptions& options = core_.options();
+    // The program's tile clip space as its window shows it (origin flipped after its turn).
+    glm::dmat4 flip(1.0);
+    if (st.depth.program.upper_left) flip[1][1] = -1;
+    const glm::dmat4 program_turn = options.view.enabled ? options.view.correction(program) : glm::dmat4(1.0);
+    const glm::dmat4 pass_turn = options.view.enabled ? options.view.correction(st.depth.pass_projection) : glm::dmat4(1.0);
+    v.projection = st.depth.pass_projection;
+    v.tile_clip_from_app_clip = planar * pass_turn;
+    v.tile_clip_from_eye = v.tile_clip_from_app_clip * v.projection;
+    v.eye_from_tile_clip = glm::inverse(v.tile_clip_from_eye);
+    st.pass_clip_from_program_clip = v.tile_clip_from_eye * glm::inverse(planar * flip * program_turn * program);
 }
 
 // Re-executes the recorded calls of the main view with `correction` premultiplied into the

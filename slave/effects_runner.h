@@ -15,6 +15,7 @@
 #include "slave/effects/frame_view.h"
 #include "slave/effects/pipeline.h"
 #include "slave/replay_observer.h"
+#include "slave/scene/depth_convention.h"
 #include "slave/scene/scene_recorder.h"
 #include "slave/scene/window_copies.h"
 
@@ -56,10 +57,15 @@ private:
         GLuint overlay_program = 0, overlay_vao = 0;
         GLuint view_model_depth = 0;  // the depth the passes saw, for the view model's pixels
         GLint program_vao = 0, program_active_texture = GL_TEXTURE0, program_textures[8] = {};
+        DepthConvention depth;  // this frame's: the program's depth as the passes read it
+        glm::dmat4 pass_clip_from_program_clip{1.0};  // the depth conversion's, with the tile's map
     };
     ContextPasses& passes(const SlaveContext& ctx);
     void run_effects(SlaveContext& ctx);
     void frame_view(SlaveContext& ctx, effects::FrameView& view);
+    // A program whose depth is not the passes' (depth_convention.h): the view in the passes'
+    // projection, the window's depth converted, redraws corrected.
+    void convert_depth(SlaveContext& ctx, effects::FrameView& v, const glm::dmat4& planar);
     void redraw_main_view(SlaveContext& ctx, const glm::dmat4& correction);
     void put_overlays_back(SlaveContext& ctx, bool overlays);
     void scene_rect(SlaveContext& ctx, int32_t out[4]);  // where the scene is, tile pixels
@@ -71,6 +77,7 @@ private:
     bool checked_ = false;  // the driver has every function the passes need
     bool warned_no_camera_ = false;
     bool said_borrowed_ = false;
+    bool said_depth_convention_ = false;
 };
 
 }  // namespace glcast::slave

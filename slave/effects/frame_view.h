@@ -51,6 +51,10 @@ struct FrameView {
     // of a scene drawn offscreen, that framebuffer object's, at the tile's size.
     std::function<GLuint()> color_texture;
     std::function<GLuint()> depth_texture;
+    // False when the program's depth is not in the passes' convention (reversed, clip depth
+    // 0..1, its own depth range: slave/scene/depth_convention.h): depth_texture() is then the
+    // window's depth converted, and the window's depth buffer must not be tested against.
+    bool window_depth_matches = true;
 
     // Re-renders the frame's draws of the main view (those made to the window with the main
     // view's projection) into whatever framebuffer, viewport and program are bound, with

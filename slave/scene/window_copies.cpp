@@ -4,9 +4,11 @@
 #include <algorithm>
 
 #include <glm/glm.hpp>
+#include <glm/gtc/type_ptr.hpp>
 
 #include "slave/effects/gl_util.h"
 #include "slave/replayer.h"
+#include "slave/scene/depth_convention.h"
 #include "slave/scene/scene_recorder.h"
 
 namespace glcast::slave {
@@ -156,6 +158,46 @@ GLuint WindowCopies::scene_depth_copy(SlaveContext& ctx, ContextScene& scene, co
                    GLfloat(source.z), GLfloat(source.w));
     effects::draw_fullscreen(gl, scene_depth_vao_);
     return scene_depth_;
+}
+
+GLuint WindowCopies::pass_depth(SlaveContext& ctx, GLuint program_depth, const DepthConvention& c,
+                                const glm::dmat4& pass_clip_from_program_clip) {
+    if (pass_depth_done_ && pass_depth_size_[0] == ctx.width && pass_depth_size_[1] == ctx.height) return pass_depth_;
+    const GlApi& gl = core_.api();
+    effects::StateGuard guard(gl);
+    if (pass_depth_size_[0] != ctx.width || pass_depth_size_[1] != ctx.height) {
+        if (pass_depth_) {
+            gl.glDeleteTextures(1, &pass_depth_);
+            gl.glDeleteFramebuffers(1, &pass_depth_fb_);
+        }
+        pass_depth_ = effects::make_texture(gl, GL_DEPTH_COMPONENT32F, ctx.width, ctx.height);
+        pass_depth_fb_ = effects::make_framebuffer(gl, 0, pass_depth_, GL_DEPTH_ATTACHMENT);
+        pass_depth_size_[0] = ctx.width, pass_depth_size_[1] = ctx.height;
+    }
+    if (!pass_depth_program_) {
+        pass_depth_program_ = effects::build_program(gl, "fullscreen.vert", "depth_convention.frag");
+        if (!scene_depth_vao_) gl.glGenVertexArrays(1, &scene_depth_vao_);
+    }
+    gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, pass_depth_fb_);
+    gl.glViewport(0, 0, ctx.width, ctx.height);
+    gl.glEnable(GL_DEPTH_TEST);
+    gl.glDepthFunc(GL_ALWAYS);
+    gl.glDepthMask(GL_TRUE);
+    gl.glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    const GLuint p = pass_depth_program_;
+    gl.glUseProgram(p);
+    gl.glActiveTexture(GL_TEXTURE0);
+    gl.glBindTexture(GL_TEXTURE_2D, program_depth);
+    gl.glUniform1i(effects::uniform(gl, p, "program_depth"), 0);
+    const glm::mat4 m(pass_clip_from_program_clip);
+    gl.glUniformMatrix4fv(effects::uniform(gl, p, "pass_clip_from_program_clip"), 1, GL_FALSE, glm::value_ptr(m));
+    gl.glUniform2f(effects::uniform(gl, p, "tile_size"), GLfloat(ctx.width), GLfloat(ctx.height));
+    gl.glUniform2f(effects::uniform(gl, p, "depth_range"), GLfloat(c.program.range_near), GLfloat(c.program.range_far));
+    gl.glUniform1i(effects::uniform(gl, p, "zero_to_one"), c.program.zero_to_one ? 1 : 0);
+    gl.glUniform1f(effects::uniform(gl, p, "clear_depth"), GLfloat(c.program.clear_depth));
+    effects::draw_fullscreen(gl, scene_depth_vao_);
+    pass_depth_done_ = true;
+    return pass_depth_;
 }
 
 }  // namespace glcast::slave

@@ -5,6 +5,8 @@
 // resolved and cut to this tile.
 #pragma once
 
+#include <glm/glm.hpp>
+
 #include "common/gl_headers.h"
 
 namespace glcast {
@@ -16,6 +18,7 @@ namespace glcast::slave {
 class Replayer;
 struct SlaveContext;
 struct ContextScene;
+struct DepthConvention;
 
 // The depth format of the bound framebuffer's depth attachment at `target`, from what GL says of
 // it (a depth blit needs the same format on both sides); 0 when it has no depth.
@@ -33,7 +36,11 @@ public:
     // once a frame; the depth of a scene drawn offscreen comes from its framebuffer object
     // (`shown`: the scene whose size it has, a lender's for a borrowed scene).
     GLuint window_copy(SlaveContext& ctx, bool depth, ContextScene& scene, const ContextScene& shown);
-    void new_frame() { color_copied_ = depth_copied_ = false; }
+    // `program_depth` (a window_copy) in the passes' depth convention (depth_convention.h): a
+    // DEPTH_COMPONENT32F texture of the window's size, made once a frame.
+    GLuint pass_depth(SlaveContext& ctx, GLuint program_depth, const DepthConvention& convention,
+                      const glm::dmat4& pass_clip_from_program_clip);
+    void new_frame() { color_copied_ = depth_copied_ = pass_depth_done_ = false; }
 
     GLuint program_image = 0, program_image_fb = 0;
     bool program_image_saved = false;
@@ -51,6 +58,9 @@ private:
     GLuint scene_depth_program_ = 0, scene_depth_vao_ = 0;
     GLenum scene_depth_format_ = 0;
     int scene_depth_sizes_[4] = {0, 0, 0, 0};  // full width, height; tile width, height
+    GLuint pass_depth_ = 0, pass_depth_fb_ = 0, pass_depth_program_ = 0;
+    int pass_depth_size_[2] = {0, 0};
+    bool pass_depth_done_ = false;
 };
 
 }  // namespace glcast::slave

@@ -12,6 +12,8 @@ after the first counted as the main view's and the shadow map held no caster).
 Screen-space shadows (the fallback of frames whose draws cannot be re-rendered, chosen here with
 shadows.method=screen-space) darken at least 70% of the floor the shadow map shadows, and little
 else, for every program (the rest: shadows of the pillars' tops, which lie above the picture).
+Reversed depth (pillars --reversed: glClipControl GL_ZERO_TO_ONE, near at 1, no far plane) is
+covered, shadowed and snowed on as the standard depth is (before: nothing at all).
 
     modern_camera_test.py     with GLCAST, GLCAST_SHIM, APPS_DIR, OUT_DIR in the environment
 """
@@ -65,7 +67,8 @@ def main():
     headless = {k: v for k, v in os.environ.items() if k != "DISPLAY"}
     results = {}
     modes = {"fixed": [], "shader": ["--shader"], "builtins": ["--builtins"], "mvp": ["--mvp"], "fbo": ["--fbo"],
-             "fbo_half": ["--builtins", "--fbo", "--half"], "fbo_mvp": ["--mvp", "--fbo"]}
+             "fbo_half": ["--builtins", "--fbo", "--half"], "fbo_mvp": ["--mvp", "--fbo"],
+             "reversed": ["--reversed"], "reversed_builtins": ["--builtins", "--reversed"]}
     for mode, flags in modes.items():
         capture = os.path.join(OUT, f"{mode}.glcs")
         with Xvfb():
@@ -73,7 +76,8 @@ def main():
                                ["--size", "400x300", "--frames", "2"], capture_output=True, text=True, timeout=300)
         check(r.returncode == 0, f"capture {mode} failed: {r.stderr[-2000:]}")
         for name, extra in (("plain", []), ("cover", ["--effects", "cover"]), ("shadows", ["--effects", "shadows"]),
-                            ("screen", ["--effects", "shadows", "--effect-param", "shadows.method=screen-space"])):
+                            ("screen", ["--effects", "shadows", "--effect-param", "shadows.method=screen-space"]),
+                            ("snow", ["--effects", "snow", "--effect-param", "snow.spectral=0"])):
             r = subprocess.run([GLCAST, "replay", capture, "--backend", "egl", "--out",
                                 os.path.join(OUT, f"{mode}-{name}")] + extra,
                                capture_output=True, text=True, timeout=300, env=headless)
@@ -104,7 +108,34 @@ def main():
               f"{mode}: {c} floor pixels covered, the fixed-function program {covered}")
         check(abs(s - shadowed) <= max(10, shadowed // 10),
               f"{mode}: {s} floor pixels shadowed, the fixed-function program {shadowed}")
-    print("modern cameras: every shader program's floor is covered and shadowed as the fixed-function one's")
+    # Falling snow passes behind the pillars by the depth: the same flakes whatever the depth convention.
+    frame = "frame-000001.png"
+    for mode in ("reversed", "reversed_builtins"):
+        w, h, a = read_png(os.path.join(OUT, f"fixed-snow", frame))
+        _, _, b = read_png(os.path.join(OUT, f"{mode}-snow", frame))
+        _, _, plain = read_png(os.path.join(OUT, "fixed-plain", frame))
+        snowed = sum(1 for y in range(h) for x in range(w) if a[y][x][:3] != plain[y][x][:3])
+        differ = sum(1 for y in range(h) for x in range(w) if max(abs(a[y][x][i] - b[y][x][i]) for i in range(3)) > 8)
+        print(f"{mode}: snow changes {snowed} pixels of fixed's frame; {differ} pixels differ from fixed's snow")
+        check(snowed > 500, f"the snow pass drew too little to compare: {snowed} pixels")
+        check(differ <= snowed // 50, f"{mode}: the snow differs from the fixed-function program's in {differ} pixels")
+    # On a rotated tile of the cylinder the passes turn with the program's depth convention too.
+    config = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "display_configs", "cylinder-360.json")
+    tiles = {}
+    for mode in ("fixed", "reversed"):
+        out = os.path.join(OUT, f"{mode}-cylinder")
+        r = subprocess.run([GLCAST, "replay", os.path.join(OUT, f"{mode}.glcs"), "--backend", "egl", "--config", config,
+                            "--tile", "yaw060", "--frames", "1:1", "--out", out, "--effects", "shadows,cover"],
+                           capture_output=True, text=True, timeout=300, env=headless)
+        check(r.returncode == 0, f"cylinder replay {mode} failed: {r.stderr[-2000:]}")
+        tiles[mode] = read_png(os.path.join(out, frame))
+    w, h, a = tiles["fixed"]
+    b = tiles["reversed"][2]
+    differ = sum(1 for y in range(h) for x in range(w) if max(abs(a[y][x][i] - b[y][x][i]) for i in range(3)) > 8)
+    print(f"cylinder tile yaw060 with shadows and cover: reversed differs from fixed in {differ} of {w * h} pixels")
+    check(differ <= w * h // 10000, f"on the cylinder the reversed program's passes differ in {differ} pixels")
+    print("modern cameras: every shader program's floor is covered and shadowed as the fixed-function one's, "
+          "whatever its depth convention")
 
 
 if __name__ == "__main__":

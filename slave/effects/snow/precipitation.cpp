@@ -153,6 +153,12 @@ private:
 
     void draw_particles(const GlApi& gl, const FrameView& view, const glm::dmat4& world_to_eye,
                         const glm::dvec3& fall_world, const glm::dvec3& relative_eye, double unit) {
+        // (the lazy copy binds framebuffers of its own: taken before the draw's state is set)
+        const GLuint scene_depth = view.window_depth_matches || !view.depth_texture ? 0 : view.depth_texture();
+        if (scene_depth) {
+            gl.glBindFramebuffer(GL_FRAMEBUFFER, 0);
+            gl.glViewport(0, 0, view.width, view.height);
+        }
         const double t = double(view.frame) * frame_time_;
         const double box = 2 * box_ * unit;
         const glm::dvec3 camera_world(glm::inverse(world_to_eye)[3]);
@@ -178,8 +184,17 @@ private:
         gl.glUniform1f(uniform(gl, particle_program_, "opacity"), float(particle_opacity_));
         gl.glUniform1f(uniform(gl, particle_program_, "brightness"), float(brightness_));
         (void)fall_world;
-        // Tested against the program's depth, written nowhere: snow passes behind objects.
-        gl.glEnable(GL_DEPTH_TEST);
+        // Tested against the program's depth, written nowhere: snow passes behind objects. A
+        // depth in the program's own convention is tested in the shader against its conversion.
+        gl.glUniform1i(uniform(gl, particle_program_, "test_scene_depth"), scene_depth ? 1 : 0);
+        if (scene_depth) {
+            gl.glActiveTexture(GL_TEXTURE0);
+            gl.glBindTexture(GL_TEXTURE_2D, scene_depth);
+            gl.glUniform1i(uniform(gl, particle_program_, "scene_depth"), 0);
+            gl.glDisable(GL_DEPTH_TEST);
+        } else {
+            gl.glEnable(GL_DEPTH_TEST);
+        }
         gl.glDepthFunc(GL_LESS);
         gl.glDepthMask(GL_FALSE);
         gl.glEnable(GL_BLEND);
