@@ -33,7 +33,12 @@
  * depth 1 and infinity to 0 (loaded with glLoadMatrixd), depth cleared to 0 and tested
  * GL_GREATER.
  *
- *   pillars [--shader | --builtins | --mvp] [--grow] [--fbo [--half]] [--reversed] [--frames N] [--size WxH]
+ * With --hud every frame ends with a HUD panel (230, 50, 40) over the scene, window pixels x 20..120,
+ * y 220..280 of a 400x300 window (scaled with --size; GL: y up), drawn with the depth test off under
+ * an orthographic projection: by fixed function, or by the shader program with the orthographic
+ * matrix in its uniform (--shader, --mvp) or in GL_PROJECTION (--builtins).
+ *
+ *   pillars [--shader | --builtins | --mvp] [--grow] [--fbo [--half]] [--reversed] [--hud] [--frames N] [--size WxH]
  */
 #define GL_GLEXT_PROTOTYPES 1
 #include <GL/gl.h>
@@ -101,6 +106,7 @@ int main(int argc, char **argv)
     const int fbo_mode = app_take_flag(&argc, &argv, "--fbo");
     const int half = fbo_mode && app_take_flag(&argc, &argv, "--half");
     const int reversed = app_take_flag(&argc, &argv, "--reversed");
+    const int hud = app_take_flag(&argc, &argv, "--hud");
     app_parse_args("pillars", argc, argv, &a);
     Display *dpy = XOpenDisplay(NULL);
     if (!dpy) {
@@ -242,6 +248,23 @@ int main(int argc, char **argv)
             glTexCoord2f(0, 1); glVertex2f(-1, 1);
             glEnd();
             glDisable(GL_TEXTURE_2D);
+        }
+        if (hud) {
+            const double ortho[16] = {2.0 / a.width, 0, 0, 0, 0, 2.0 / a.height, 0, 0, 0, 0, -1, 0, -1, -1, 0, 1};
+            const double sx = a.width / 400.0, sy = a.height / 300.0;
+            glDisable(GL_DEPTH_TEST);
+            if (shader) glUseProgram(program);
+            if (shader && !builtins) upload(proj_location, ortho);
+            glMatrixMode(GL_PROJECTION);
+            glLoadMatrixd(ortho);
+            glMatrixMode(GL_MODELVIEW);
+            glLoadIdentity();
+            glColor3ub(230, 50, 40);
+            glBegin(GL_QUADS);
+            glVertex2d(20 * sx, 220 * sy); glVertex2d(120 * sx, 220 * sy);
+            glVertex2d(120 * sx, 280 * sy); glVertex2d(20 * sx, 280 * sy);
+            glEnd();
+            if (shader) glUseProgram(0);
         }
         glXSwapBuffers(dpy, win);
         if (glGetError() != GL_NO_ERROR) {

@@ -32,6 +32,7 @@ on the test programs: at most 0.002% of the canvas pixels differ; the test allow
 """
 import glob
 import contextlib
+import math
 import os
 import re
 import shutil
@@ -41,6 +42,7 @@ import sys
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from png import read_png  # noqa: E402
 from xvfb import Xvfb  # noqa: E402
 
 GLCAST = os.environ["GLCAST"]
@@ -262,6 +264,58 @@ def case_cylinder_reversed():
 
 def case_cylinder_reversed_builtins():
     cylinder("cylinder_reversed_builtins", os.path.join(CONFIGS, "cylinder-360.json"), ["--builtins", "--reversed"])
+
+
+def case_cylinder_hud():
+    # A HUD panel drawn over the scene in the program's window lies on the program's screen: the
+    # front tile shows it where it sees that screen, the others not at all (before: on every tile).
+    cylinder_hud("cylinder_hud", [])
+
+
+def case_cylinder_hud_shader():
+    # ... drawn by the shader program, its orthographic matrix in the projection uniform.
+    cylinder_hud("cylinder_hud_shader", ["--shader"])
+
+
+def case_cylinder_hud_builtins():
+    # ... drawn by the shader program that reads GL_PROJECTION through gl_ModelViewProjectionMatrix.
+    cylinder_hud("cylinder_hud_builtins", ["--builtins"])
+
+
+HUD_COLOUR = (230, 50, 40)  # pillars --hud
+
+
+def cylinder_hud(name, flags):
+    out = os.path.join(OUT, name)
+    shutil.rmtree(out, ignore_errors=True)
+    r = run([GLCAST, "run", "--config", os.path.join(CONFIGS, "cylinder-360.json"), "--backend", "egl", "--out", out,
+             "--frames", "1", "--", os.path.join(APPS, "pillars")] + flags + ["--hud", "--size", "400x300",
+                                                                               "--frames", "5"])
+    check(r.returncode == 0, f"glcast run failed: {r.stderr[-3000:]}")
+    # Where the program's window pixels (20..120, 220..280 of 400x300, GL y up) lie on yaw000
+    # (1600x1200, -30..30 across, -20..30 up and down): through their directions from the eye.
+    half = math.tan(math.radians(30))
+    top = half * 300 / 400
+
+    def on_front_tile(x, y):
+        dx, dy = (2 * x / 400 - 1) * half, (2 * y / 300 - 1) * top
+        lo, hi = math.tan(math.radians(-20)), math.tan(math.radians(30))
+        return (dx / half + 1) / 2 * 1600, 1200 - (dy - lo) / (hi - lo) * 1200  # from the top left
+
+    x0, y1 = on_front_tile(20, 220)
+    x1, y0 = on_front_tile(120, 280)
+    seen = {}
+    for i in range(6):
+        tile = f"yaw{60 * i:03d}"
+        w, h, rows = read_png(os.path.join(out, tile, "frame-000000.png"))
+        seen[tile] = [(x, y) for y in range(h) for x in range(w) if tuple(rows[y][x][:3]) == HUD_COLOUR]
+    inside = [(x, y) for x, y in seen["yaw000"] if x0 - 2 <= x <= x1 + 2 and y0 - 2 <= y <= y1 + 2]
+    area = (x1 - x0) * (y1 - y0)
+    print(f"{name}: HUD pixels per tile {[len(v) for v in seen.values()]}; on yaw000 {len(inside)} inside the "
+          f"expected {x0:.0f}..{x1:.0f} x {y0:.0f}..{y1:.0f} ({area:.0f} px)")
+    check(all(not seen[t] for t in seen if t != "yaw000"), "the HUD shows on tiles that do not see the program's screen")
+    check(len(inside) >= 0.97 * area and len(inside) == len(seen["yaw000"]),
+          f"yaw000 shows {len(seen['yaw000'])} HUD pixels, {len(inside)} where the program's screen puts them")
 
 
 def cylinder(name, config, flags):

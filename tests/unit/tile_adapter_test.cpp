@@ -13,6 +13,7 @@ using namespace glcast;
 using testing_support::ReplayHarness;
 
 #define GL(fn, ...) encode_##fn(h.stream.e, h.stream.sz, __VA_ARGS__)
+#define GL0(fn) encode_##fn(h.stream.e, h.stream.sz)
 
 namespace {
 
@@ -169,7 +170,8 @@ TEST(TileAdapter, ADrawOnARotatedTileGetsTheCorrectedProjectionFirst) {
 }
 
 TEST(TileAdapter, AnOrthographicDrawOnARotatedTileIsLeftAsDrawn) {
-    // A HUD, or the full-window quad that shows a scene drawn offscreen: no camera to turn.
+    // With no perspective view in the window before it (a backdrop, the full-window quad that
+    // shows a scene drawn offscreen): no camera to turn.
     ReplayHarness h;
     h.options.view.enabled = true;
     h.options.view.yaw_deg = 60;
@@ -192,6 +194,41 @@ TEST(TileAdapter, AnOrthographicDrawOnARotatedTileIsLeftAsDrawn) {
                             [](const std::string& c) { return c.rfind("glGetDoublev(GL_PROJECTION_MATRIX", 0) == 0; }),
               1)
         << "the projection is looked at once, until the program changes it";
+}
+
+TEST(TileAdapter, AnOrthographicDrawOverTheWindowsViewIsTurnedOntoTheProgramsScreen) {
+    // A HUD drawn over the scene the window's perspective view showed lies on the program's
+    // screen: turned by that view's correction, so that a tile looking elsewhere does not show
+    // it (wall_cylinder_hud measures where it lands).
+    ReplayHarness h;
+    h.options.view.enabled = true;
+    h.options.view.yaw_deg = 60;
+    GLint mode = GL_MODELVIEW;
+    bool ortho = false;
+    h.gl->answer = [&](slave::RecordedCall& c) {
+        if (c.opcode == OP_glMatrixMode) mode = GLint(c.args[0]);
+        if (c.opcode == OP_glFrustum) ortho = false;
+        if (c.opcode == OP_glOrtho) ortho = true;
+        if (c.opcode == OP_glGetIntegerv && c.args[0] == GL_MATRIX_MODE) *c.pointer<GLint>(1) = mode;
+        if (c.opcode == OP_glGetDoublev && c.args[0] == GL_PROJECTION_MATRIX) {
+            const glm::dmat4 p = ortho ? glm::ortho(0.0, 640.0, 0.0, 480.0, -1.0, 1.0)
+                                       : glm::frustum(-1.0, 1.0, -0.75, 0.75, 1.0, 100.0);
+            std::memcpy(c.pointer<GLdouble>(1), &p[0][0], sizeof p);
+        }
+    };
+    GL(glMatrixMode, GL_PROJECTION);
+    GL(glFrustum, -1.0, 1.0, -0.75, 0.75, 1.0, 100.0);
+    GL(glMatrixMode, GL_MODELVIEW);
+    GL(glDrawArrays, GL_TRIANGLES, 0, 3);  // the scene
+    GL(glMatrixMode, GL_PROJECTION);
+    GL0(glLoadIdentity);
+    GL(glOrtho, 0.0, 640.0, 0.0, 480.0, -1.0, 1.0);
+    GL(glMatrixMode, GL_MODELVIEW);
+    GL(glDrawArrays, GL_TRIANGLES, 0, 6);  // the HUD
+    h.replay();
+    const std::vector<std::string> calls = h.calls_from("glOrtho");
+    EXPECT_EQ(std::count_if(calls.begin(), calls.end(), [](const std::string& c) { return c.rfind("glLoadMatrixd(", 0) == 0; }), 1)
+        << "the HUD's orthographic projection was not turned by the view's correction";
 }
 
 TEST(TileAdapter, AFlatTileLeavesTheProjectionAlone) {

@@ -1,0 +1,61 @@
+// The tile adapter's per-context and per-share-group state (tile_adapter.h), shared by its two
+// files: tile_adapter.cpp (rectangles, calls, redraws) and tile_turn.cpp (rotated tiles).
+#pragma once
+
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "slave/program_camera.h"
+#include "slave/tile_adapter.h"
+
+namespace glcast::slave {
+
+// Per context: the program's rectangles as it set them, and the projection-correction state
+// of rotated tiles, one entry per GL_PROJECTION stack level: whether the level holds
+// M * P_app, whether the program changed it since (relative to M * P_app), and the M it holds.
+struct TileAdapter::State {
+    double viewport[kViewports][4] = {};
+    int32_t scissor[kViewports][4] = {};
+    bool indexed = false;  // the program used GL_ARB_viewport_array: all rectangles are applied
+    int mapped_for[2] = {0, 0};  // the master's window size the rectangles were last mapped for
+    struct Projection {
+        bool corrected = false, dirty = false;
+        glm::dmat4 m{1.0};
+        bool left = false;  // not perspective: shown as the program drew it
+    };
+    std::vector<Projection> projection = std::vector<Projection>(1);
+    uint32_t matrix_mode = GL_MODELVIEW;
+    bool in_begin_end = false;  // GL refuses queries between glBegin and glEnd
+    uint64_t draw_framebuffer = 0;  // the master's name of the bound draw framebuffer (0: the window)
+    // Framebuffer objects (by the master's name) that hold colour and depth: a scene may be drawn
+    // there. Asked of the driver at the first draw into each, forgotten when attachments change.
+    std::unordered_map<uint64_t, bool> colour_and_depth;
+    // Engines draw their other views (a monitor's, a reflection's) first and their scene last
+    // before showing it: the last such target drawn before the window in a frame held the
+    // scene, unless the window itself got a perspective view (then none did), and from the next
+    // frame on only it is turned (until then, every one).
+    uint64_t scene_target = 0;  // 0: the window
+    bool scene_target_known = false;
+    uint64_t frame_scene_target = 0;  // this frame's, so far
+    bool window_drawn = false;        // this frame has drawn to the window
+    bool window_view = false;         // ... with a perspective view
+    glm::dmat4 window_projection{1.0};  // that view's projection (the program's, unturned)
+};
+
+// Per share group: what the shader patch needs to know of shaders and programs.
+struct TileAdapter::Shared {
+    std::unordered_map<uint64_t, uint32_t> shader_types;  // master shader name -> GL_VERTEX_SHADER, ...
+    // glcast_clip's location in each slave program (-1: not patched) and what it holds now.
+    struct Clip {
+        int32_t location = -1;
+        glm::mat4 value{0.0f};
+    };
+    std::unordered_map<uint32_t, Clip> clip_uniforms;
+    explicit Shared(const GlApi& gl) : cameras(gl) {}
+    ProgramCameras cameras;  // shader programs' projections, without program_projection
+};
+
+}  // namespace glcast::slave

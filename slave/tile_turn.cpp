@@ -1,0 +1,221 @@
+// Rotated tiles (cylinders, CAVEs): the tile adapter's projection correction
+// (slave/view_correction.h) of fixed-function draws, shader programs' glcast_clip, the scene
+// target an engine draws into, and the program's screen that its HUD lies on.
+#include <cstdio>
+#include <cstring>
+
+#include "common/gl_headers.h"
+#include "common/gl_state.h"
+#include "slave/program_camera.h"
+#include "slave/replayer.h"
+#include "slave/scene/scene_classifier.h"
+#include "slave/tile_adapter.h"
+#include "slave/tile_adapter_state.h"
+
+namespace glcast::slave {
+
+void TileAdapter::track_matrix(const Call& c) {
+    State& s = state();
+    switch (c.info->sem.matrix) {
+    case MatrixOp::Mode: s.matrix_mode = uint32_t(c.args[size_t(c.info->sem.subject_params[0])].bits); return;
+    case MatrixOp::Push:
+        if (s.matrix_mode == GL_PROJECTION) s.projection.push_back(s.projection.back());
+        return;
+    case MatrixOp::Pop:
+        if (s.matrix_mode == GL_PROJECTION && s.projection.size() > 1) s.projection.pop_back();
+        return;
+    default: break;
+    }
+    if (s.matrix_mode != GL_PROJECTION) return;
+    auto& top = s.projection.back();
+    if (c.info->sem.matrix == MatrixOp::Load) top = State::Projection{};  // the program's own matrix again
+    else top.dirty = top.corrected || top.left;  // M * P_app * X: M must be redone for P_app * X
+}
+
+glm::dmat4 TileAdapter::program_projection_now() {
+    GLdouble m[16];
+    core_.api().glGetDoublev(GL_PROJECTION_MATRIX, m);
+    glm::dmat4 p;
+    std::memcpy(&p[0][0], m, sizeof m);
+    const auto& top = state().projection.back();
+    return top.corrected ? glm::inverse(top.m) * p : p;
+}
+
+// A framebuffer object the program draws its 3D view into, to show it in the window later (as
+// engines since 2010 do, behind post-processing): colour and depth attached, drawn over at the
+// window's shape (window_shaped: the scene classifier's rule too), at its size or another. A rotated
+// tile turns what is drawn there as it turns what the window gets; the program's other targets
+// (shadow and environment maps, post-processing without depth, thumbnails) are left alone.
+bool TileAdapter::draws_scene_target(SlaveContext& ctx) {
+    State& s = state();
+    if (!window_shaped(s.viewport[0], ctx.master_width, ctx.master_height)) return false;
+    auto [known, fresh] = s.colour_and_depth.try_emplace(s.draw_framebuffer, false);
+    if (fresh) {
+        const GlApi& gl = core_.api();
+        GLint colour = GL_NONE, depth = GL_NONE;
+        gl.glGetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0,
+                                                 GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE, &colour);
+        gl.glGetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, GL_DEPTH_ATTACHMENT,
+                                                 GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE, &depth);
+        known->second = colour != GL_NONE && depth != GL_NONE;
+    }
+    if (!known->second) return false;
+    if (!s.window_drawn) s.frame_scene_target = s.draw_framebuffer;
+    return !s.scene_target_known || s.draw_framebuffer == s.scene_target;
+}
+
+void TileAdapter::end_frame(SlaveContext& ctx) {
+    if (core_.current_or_null() != &ctx) return;
+    State& s = state();
+    if (s.frame_scene_target || s.window_view) {
+        s.scene_target = s.window_view ? 0 : s.frame_scene_target;
+        s.scene_target_known = true;
+    }
+    s.frame_scene_target = 0;
+    s.window_drawn = s.window_view = false;
+}
+
+// The driver is asked only when the name is no longer mapped (a program deleted while in use
+// stays in use).
+GLuint TileAdapter::program_in_use() {
+    SlaveContext& ctx = core_.current();
+    if (!ctx.current_program) return 0;
+    uint64_t slave = 0;
+    if (ctx.names.map(Ns::program).find(ctx.current_program, slave)) return GLuint(slave);
+    GLint program = 0;
+    core_.api().glGetIntegerv(GL_CURRENT_PROGRAM, &program);
+    return GLuint(program);
+}
+
+// Before a draw on the window of a fixed-function program: make GL_PROJECTION hold
+// M * P_app for the program's current P_app.
+void TileAdapter::correct_projection() {
+    SlaveContext& ctx = core_.current();
+    const GlApi& gl = core_.api();
+    State& s = state();
+    redraw_refused_ = false;
+    if (ctx.drawing_to_window && !redrawing_) s.window_drawn = true;
+    const GLuint program = !redrawing_ || redraw_programs_ ? program_in_use() : 0;
+    if (program) {  // a shader program: its patched vertex shader multiplies by glcast_clip
+        redraw_refused_ = !correct_shader_program(GLuint(program)) && redrawing_;
+        return;
+    }
+    if (redrawing_) {  // an injected pass re-renders the main view: its correction, always
+        const glm::dmat4 corrected = redraw_correction_ * program_projection_now();
+        GlStateGuard mode(gl, kGuardMatrixMode);
+        gl.glMatrixMode(GL_PROJECTION);
+        gl.glLoadMatrixd(&corrected[0][0]);
+        s.projection.back() = State::Projection{true, false, redraw_correction_};
+        return;
+    }
+    // The window, and a target the program draws its scene into to show later; its other
+    // framebuffer objects are left alone.
+    if (!core_.options().view.enabled || !(ctx.drawing_to_window || draws_scene_target(ctx))) return;
+    auto& top = s.projection.back();
+    if ((top.corrected || top.left) && !top.dirty) return;
+    GLdouble current[16];
+    gl.glGetDoublev(GL_PROJECTION_MATRIX, current);
+    glm::dmat4 p;
+    std::memcpy(&p[0][0], current, sizeof current);
+    const glm::dmat4 app = top.corrected ? glm::inverse(top.m) * p : p;
+    if (ctx.drawing_to_window && is_perspective(app)) {
+        s.window_view = true;
+        s.window_projection = app;
+    }
+    if (!is_perspective(app) && ctx.drawing_to_window && s.window_view) {
+        // Drawn over a scene the window's view showed (a HUD, a game's menu over it): on the
+        // program's screen, which lies in the direction that view looks; every tile shows it
+        // where it sees that screen, the tiles looking elsewhere not at all.
+        const glm::dmat4 m = core_.options().view.correction(s.window_projection);
+        const glm::dmat4 corrected = m * app;
+        GlStateGuard mode(gl, kGuardMatrixMode);
+        gl.glMatrixMode(GL_PROJECTION);
+        gl.glLoadMatrixd(&corrected[0][0]);
+        top = State::Projection{true, false, m};
+        return;
+    }
+    if (!is_perspective(app)) {
+        // An orthographic draw with no view before it in the window (a backdrop, the full-window
+        // quad that shows a scene drawn offscreen) has no camera to turn: turned as if it had,
+        // it would land elsewhere or nowhere.
+        if (top.corrected) {
+            GlStateGuard mode(gl, kGuardMatrixMode);
+            gl.glMatrixMode(GL_PROJECTION);
+            gl.glLoadMatrixd(&app[0][0]);
+        }
+        top = State::Projection{false, false, glm::dmat4(1.0), true};
+        return;
+    }
+    const glm::dmat4 m = core_.options().view.correction(app);
+    const glm::dmat4 corrected = m * app;
+    GlStateGuard mode(gl, kGuardMatrixMode);
+    gl.glMatrixMode(GL_PROJECTION);
+    gl.glLoadMatrixd(&corrected[0][0]);
+    top = State::Projection{true, false, m};
+}
+
+// Shader programs on rotated tiles: glcast_clip holds M while the window is drawn to, the
+// identity while one of the program's FBOs is. M is for the display config's program_projection,
+// or else for the projection found in the program's matrices at this draw (program_camera.h);
+// a draw whose projection is not found is left alone, and the slave says so once. In a redraw
+// it holds the redraw's correction; on planar tiles, the identity.
+bool TileAdapter::correct_shader_program(uint32_t program) {
+    SlaveContext& ctx = core_.current();
+    const ViewCorrection& view = core_.options().view;
+    const GlApi& gl = core_.api();
+    Shared& group = shared();
+    auto it = group.clip_uniforms.find(program);
+    if (it == group.clip_uniforms.end())
+        it = group.clip_uniforms.emplace(program, Shared::Clip{gl.glGetUniformLocation(program, "glcast_clip")}).first;
+    if (it->second.location < 0) return false;
+    glm::mat4 m(1.0f);
+    if (redrawing_) {
+        m = glm::mat4(redraw_correction_);
+    } else if (view.enabled && (ctx.drawing_to_window || draws_scene_target(ctx))) {
+        const double aspect = ctx.master_height ? double(ctx.master_width) / ctx.master_height : 1.0;
+        ProgramCamera camera;
+        State& s = state();
+        if (view.program_fov_y_deg) {
+            m = glm::mat4(view.correction(view.program_projection(aspect)));
+            if (ctx.drawing_to_window) s.window_view = true, s.window_projection = view.program_projection(aspect);
+        } else if (shader_camera(program, camera)) {
+            m = glm::mat4(view.correction(camera.projection));
+            if (ctx.drawing_to_window) s.window_view = true, s.window_projection = camera.projection;
+        } else if (ctx.drawing_to_window && s.window_view) {
+            m = glm::mat4(view.correction(s.window_projection));  // over the window's view: on its screen
+        } else if (!warned_no_camera_) {
+            warned_no_camera_ = true;
+            std::fprintf(stderr, "glcast: a shader program draws to the window with no perspective projection among "
+                                 "its matrices: such draws are not turned for this tile (program_projection in the "
+                                 "display config says what they use)\n");
+        }
+    }
+    if (it->second.value != m) {
+        gl.glUniformMatrix4fv(it->second.location, 1, GL_FALSE, &m[0][0]);
+        it->second.value = m;
+    }
+    return true;
+}
+
+bool TileAdapter::shader_camera(uint32_t program, ProgramCamera& out) {
+    ProgramCameras& cameras = shared().cameras;
+    if (cameras.find(program, out)) return true;
+    if (!cameras.reads_fixed_function(program)) return false;
+    const glm::dmat4 projection = program_projection_now();
+    if (!is_perspective(projection)) return false;
+    GLdouble modelview[16];
+    core_.api().glGetDoublev(GL_MODELVIEW_MATRIX, modelview);
+    out.projection = projection;
+    std::memcpy(&out.modelview[0][0], modelview, sizeof modelview);
+    out.modelview_known = true;
+    return true;
+}
+
+bool TileAdapter::patches_vertex_shader(uint64_t shader) {
+    if (!patching()) return false;
+    const auto& types = shared().shader_types;
+    const auto type = types.find(shader);
+    return type != types.end() && type->second == GL_VERTEX_SHADER;
+}
+
+}  // namespace glcast::slave
