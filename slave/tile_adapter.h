@@ -56,6 +56,11 @@ public:
     // follows it): no driver query at each draw.
     GLuint program_in_use();
     bool shader_camera(uint32_t program, ProgramCamera& out);
+    // The view whose screen an orthographic draw to the window lies on (a HUD): the window's own
+    // perspective view this frame, or the scene target's once the window's first flat draw,
+    // which shows that scene, went by. Null: the draw is shown as drawn (a backdrop, the quad that
+    // shows the scene). Called once for each orthographic draw to the window.
+    const glm::dmat4* screen_of_flat_draw();
     // Whether the vertex shader of master name `shader` gets the clip-space correction.
     bool patches_vertex_shader(uint64_t shader);
 

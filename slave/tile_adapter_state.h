@@ -43,6 +43,9 @@ struct TileAdapter::State {
     bool window_drawn = false;        // this frame has drawn to the window
     bool window_view = false;         // ... with a perspective view
     glm::dmat4 window_projection{1.0};  // that view's projection (the program's, unturned)
+    bool scene_view = false;          // this frame drew a perspective view into the scene target
+    glm::dmat4 scene_projection{1.0};  // that view's projection
+    bool scene_shown = false;         // ... and the window's first flat draw, which shows it, went by
 };
 
 // Per share group: what the shader patch needs to know of shaders and programs.

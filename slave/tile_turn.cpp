@@ -72,7 +72,7 @@ void TileAdapter::end_frame(SlaveContext& ctx) {
         s.scene_target_known = true;
     }
     s.frame_scene_target = 0;
-    s.window_drawn = s.window_view = false;
+    s.window_drawn = s.window_view = s.scene_view = s.scene_shown = false;
 }
 
 // The driver is asked only when the name is no longer mapped (a program deleted while in use
@@ -118,15 +118,16 @@ void TileAdapter::correct_projection() {
     glm::dmat4 p;
     std::memcpy(&p[0][0], current, sizeof current);
     const glm::dmat4 app = top.corrected ? glm::inverse(top.m) * p : p;
-    if (ctx.drawing_to_window && is_perspective(app)) {
-        s.window_view = true;
-        s.window_projection = app;
+    if (is_perspective(app)) {
+        (ctx.drawing_to_window ? s.window_view : s.scene_view) = true;
+        (ctx.drawing_to_window ? s.window_projection : s.scene_projection) = app;
     }
-    if (!is_perspective(app) && ctx.drawing_to_window && s.window_view) {
-        // Drawn over a scene the window's view showed (a HUD, a game's menu over it): on the
-        // program's screen, which lies in the direction that view looks; every tile shows it
-        // where it sees that screen, the tiles looking elsewhere not at all.
-        const glm::dmat4 m = core_.options().view.correction(s.window_projection);
+    const glm::dmat4* screen = !is_perspective(app) && ctx.drawing_to_window ? screen_of_flat_draw() : nullptr;
+    if (screen) {
+        // Drawn over the scene a view showed (a HUD, a game's menu over it): on the program's
+        // screen, which lies in the direction that view looks; every tile shows it where it
+        // sees that screen, the tiles looking elsewhere not at all.
+        const glm::dmat4 m = core_.options().view.correction(*screen);
         const glm::dmat4 corrected = m * app;
         GlStateGuard mode(gl, kGuardMatrixMode);
         gl.glMatrixMode(GL_PROJECTION);
@@ -135,15 +136,16 @@ void TileAdapter::correct_projection() {
         return;
     }
     if (!is_perspective(app)) {
-        // An orthographic draw with no view before it in the window (a backdrop, the full-window
-        // quad that shows a scene drawn offscreen) has no camera to turn: turned as if it had,
-        // it would land elsewhere or nowhere.
+        // An orthographic draw with no view before it (a backdrop, the full-window quad that
+        // shows a scene drawn offscreen) has no camera to turn: turned as if it had, it would
+        // land elsewhere or nowhere. After the quad that shows the scene, the next draw is
+        // looked at again: with the same matrix it may be a HUD.
         if (top.corrected) {
             GlStateGuard mode(gl, kGuardMatrixMode);
             gl.glMatrixMode(GL_PROJECTION);
             gl.glLoadMatrixd(&app[0][0]);
         }
-        top = State::Projection{false, false, glm::dmat4(1.0), true};
+        top = State::Projection{false, ctx.drawing_to_window && s.scene_shown, glm::dmat4(1.0), true};
         return;
     }
     const glm::dmat4 m = core_.options().view.correction(app);
@@ -177,12 +179,16 @@ bool TileAdapter::correct_shader_program(uint32_t program) {
         State& s = state();
         if (view.program_fov_y_deg) {
             m = glm::mat4(view.correction(view.program_projection(aspect)));
-            if (ctx.drawing_to_window) s.window_view = true, s.window_projection = view.program_projection(aspect);
+            (ctx.drawing_to_window ? s.window_view : s.scene_view) = true;
+            (ctx.drawing_to_window ? s.window_projection : s.scene_projection) = view.program_projection(aspect);
         } else if (shader_camera(program, camera)) {
             m = glm::mat4(view.correction(camera.projection));
-            if (ctx.drawing_to_window) s.window_view = true, s.window_projection = camera.projection;
-        } else if (ctx.drawing_to_window && s.window_view) {
-            m = glm::mat4(view.correction(s.window_projection));  // over the window's view: on its screen
+            (ctx.drawing_to_window ? s.window_view : s.scene_view) = true;
+            (ctx.drawing_to_window ? s.window_projection : s.scene_projection) = camera.projection;
+        } else if (const glm::dmat4* screen = ctx.drawing_to_window ? screen_of_flat_draw() : nullptr) {
+            m = glm::mat4(view.correction(*screen));  // over a view: on the program's screen
+        } else if (ctx.drawing_to_window && (s.scene_view || s.window_view)) {
+            // the quad that shows the scene: as drawn
         } else if (!warned_no_camera_) {
             warned_no_camera_ = true;
             std::fprintf(stderr, "glcast: a shader program draws to the window with no perspective projection among "
@@ -195,6 +201,17 @@ bool TileAdapter::correct_shader_program(uint32_t program) {
         it->second.value = m;
     }
     return true;
+}
+
+const glm::dmat4* TileAdapter::screen_of_flat_draw() {
+    State& s = state();
+    if (s.window_view) return &s.window_projection;
+    if (!s.scene_view) return nullptr;
+    if (!s.scene_shown) {  // this draw shows the scene
+        s.scene_shown = true;
+        return nullptr;
+    }
+    return &s.scene_projection;
 }
 
 bool TileAdapter::shader_camera(uint32_t program, ProgramCamera& out) {

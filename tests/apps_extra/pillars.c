@@ -38,7 +38,13 @@
  * an orthographic projection: by fixed function, or by the shader program with the orthographic
  * matrix in its uniform (--shader, --mvp) or in GL_PROJECTION (--builtins).
  *
- *   pillars [--shader | --builtins | --mvp] [--grow] [--fbo [--half]] [--reversed] [--hud] [--frames N] [--size WxH]
+ * With --fbo --mrt the scene's framebuffer object has a second colour attachment, written too (as
+ * deferred renderers write several targets at once); with --fbo --msaa the scene is drawn into a
+ * multisampled framebuffer object (4 samples) and resolved with glBlitFramebuffer into the
+ * texture the window's quad shows.
+ *
+ *   pillars [--shader | --builtins | --mvp] [--grow] [--fbo [--half] [--mrt | --msaa]] [--reversed] [--hud]
+ *           [--frames N] [--size WxH]
  */
 #define GL_GLEXT_PROTOTYPES 1
 #include <GL/gl.h>
@@ -105,6 +111,8 @@ int main(int argc, char **argv)
     const int shader = app_take_flag(&argc, &argv, "--shader") || builtins || mvp;
     const int fbo_mode = app_take_flag(&argc, &argv, "--fbo");
     const int half = fbo_mode && app_take_flag(&argc, &argv, "--half");
+    const int mrt = fbo_mode && app_take_flag(&argc, &argv, "--mrt");
+    const int msaa = fbo_mode && app_take_flag(&argc, &argv, "--msaa");
     const int reversed = app_take_flag(&argc, &argv, "--reversed");
     const int hud = app_take_flag(&argc, &argv, "--hud");
     app_parse_args("pillars", argc, argv, &a);
@@ -155,7 +163,7 @@ int main(int argc, char **argv)
         }
         proj_location = glGetUniformLocation(program, mvp ? "mvp" : "proj");
     }
-    GLuint fbo = 0, color = 0;
+    GLuint fbo = 0, color = 0, msaa_fbo = 0;
     const int fw = half ? a.width / 2 : a.width, fh = half ? a.height / 2 : a.height;
     if (fbo_mode) {
         GLuint depth = 0;
@@ -171,15 +179,41 @@ int main(int argc, char **argv)
         glBindFramebuffer(GL_FRAMEBUFFER, fbo);
         glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, color, 0);
         glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
+        if (mrt) {  /* a second target the scene writes too */
+            GLuint second = 0;
+            glGenTextures(1, &second);
+            glBindTexture(GL_TEXTURE_2D, second);
+            glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, fw, fh, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
+            glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+            glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, second, 0);
+            const GLenum both[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+            glDrawBuffers(2, both);
+        }
         if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
             fprintf(stderr, "pillars: the scene's framebuffer object is not complete\n");
             return 1;
+        }
+        if (msaa) {  /* the scene drawn here, resolved into fbo's texture */
+            GLuint rb[2];
+            glGenRenderbuffers(2, rb);
+            glBindRenderbuffer(GL_RENDERBUFFER, rb[0]);
+            glRenderbufferStorageMultisample(GL_RENDERBUFFER, 4, GL_RGBA8, fw, fh);
+            glBindRenderbuffer(GL_RENDERBUFFER, rb[1]);
+            glRenderbufferStorageMultisample(GL_RENDERBUFFER, 4, GL_DEPTH_COMPONENT24, fw, fh);
+            glGenFramebuffers(1, &msaa_fbo);
+            glBindFramebuffer(GL_FRAMEBUFFER, msaa_fbo);
+            glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, rb[0]);
+            glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, rb[1]);
+            if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+                fprintf(stderr, "pillars: the multisampled framebuffer object is not complete\n");
+                return 1;
+            }
         }
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
     }
     for (int f = 0; f < a.frames; f++) {
         if (fbo_mode) {
-            glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+            glBindFramebuffer(GL_FRAMEBUFFER, msaa ? msaa_fbo : fbo);
             glViewport(0, 0, fw, fh);
         } else if (!grow) {
             glViewport(0, 0, a.width, a.height);
@@ -230,6 +264,11 @@ int main(int argc, char **argv)
             }
         }
         if (fbo_mode) {  /* the scene shown in the window, as a last post-processing pass does */
+            if (msaa) {
+                glBindFramebuffer(GL_READ_FRAMEBUFFER, msaa_fbo);
+                glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo);
+                glBlitFramebuffer(0, 0, fw, fh, 0, 0, fw, fh, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+            }
             glBindFramebuffer(GL_FRAMEBUFFER, 0);
             glViewport(0, 0, a.width, a.height);
             if (shader) glUseProgram(0);

@@ -256,6 +256,17 @@ def case_cylinder_fbo_mvp():
     cylinder("cylinder_fbo_mvp", os.path.join(CONFIGS, "cylinder-360.json"), ["--mvp", "--fbo"])
 
 
+def case_cylinder_fbo_msaa():
+    # ... drawn into a multisampled framebuffer object and resolved by a blit into the texture
+    # the window's quad shows.
+    cylinder("cylinder_fbo_msaa", os.path.join(CONFIGS, "cylinder-360.json"), ["--fbo", "--msaa"])
+
+
+def case_cylinder_fbo_mrt():
+    # ... into a framebuffer object with two colour attachments, both written.
+    cylinder("cylinder_fbo_mrt", os.path.join(CONFIGS, "cylinder-360.json"), ["--fbo", "--mrt"])
+
+
 def case_cylinder_reversed():
     # Reversed depth (clip control GL_ZERO_TO_ONE, an infinite far plane mapped to 0, GL_GREATER):
     # the turned projection keeps the program's depth mapping.
@@ -280,6 +291,16 @@ def case_cylinder_hud_shader():
 def case_cylinder_hud_builtins():
     # ... drawn by the shader program that reads GL_PROJECTION through gl_ModelViewProjectionMatrix.
     cylinder_hud("cylinder_hud_builtins", ["--builtins"])
+
+
+def case_cylinder_hud_fbo():
+    # ... over a scene drawn into a framebuffer object: the quad that shows the scene is left as
+    # drawn, the HUD after it lies on the program's screen.
+    cylinder_hud("cylinder_hud_fbo", ["--fbo"])
+
+
+def case_cylinder_hud_fbo_shader():
+    cylinder_hud("cylinder_hud_fbo_shader", ["--shader", "--fbo"])
 
 
 HUD_COLOUR = (230, 50, 40)  # pillars --hud
@@ -316,6 +337,7 @@ def cylinder_hud(name, flags):
     check(all(not seen[t] for t in seen if t != "yaw000"), "the HUD shows on tiles that do not see the program's screen")
     check(len(inside) >= 0.97 * area and len(inside) == len(seen["yaw000"]),
           f"yaw000 shows {len(seen['yaw000'])} HUD pixels, {len(inside)} where the program's screen puts them")
+    pillars_on_tiles(name, out)  # and the scene under it turned as ever
 
 
 def cylinder(name, config, flags):
@@ -327,6 +349,10 @@ def cylinder(name, config, flags):
     r = run([GLCAST, "run", "--config", config, "--backend", "egl", "--out", out,
              "--frames", "1", "--", os.path.join(APPS, "pillars")] + flags + ["--size", "400x300", "--frames", "5"])
     check(r.returncode == 0, f"glcast run failed: {r.stderr[-3000:]}")
+    pillars_on_tiles(name, out)
+
+
+def pillars_on_tiles(name, out):
     tiles = [f"yaw{60 * i:03d}" for i in range(6)]
     frame = "frame-000000.png"
     y = 1200 * 30 // 50 - 100  # a little above the horizon (top +30, bottom -20 degrees)
