@@ -1,6 +1,7 @@
 // Inter-frame coding of messages (message_coder.h).
 #include "master/message_coder.h"
 
+#include <zlib.h>
 #include <zstd.h>
 
 #include <algorithm>
@@ -41,7 +42,7 @@ size_t MessageCoder::code(uint64_t sequence, const ByteVector& raw, uint32_t& fl
     compressions_ = 0;
     flags = 0;
     if (zstd_level_ <= 0 || raw.empty()) return raw.size();
-    body_.resize(ZSTD_compressBound(raw.size()));
+    body_.resize(ZSTD_compressBound(raw.size()) + 4);
     const bool coded = inter_frame_ && sequence % kKeyIntervalMessages != 0 && !previous_.empty();
     // A frame of the same calls as the last, with numbers that moved (animated vertices): XORed
     // with the last, what stayed is zeros and what moved keeps its high bytes alike. Tried, and
@@ -57,9 +58,22 @@ size_t MessageCoder::code(uint64_t sequence, const ByteVector& raw, uint32_t& fl
     } else if (coded && !xor_only) {
         xor_mode_ = false;  // the prefix coding left too little for XOR to be tried
     }
-    if (ZSTD_isError(n) || n >= raw.size()) return raw.size();
+    if (ZSTD_isError(n)) return raw.size();
+    if (how) {  // bound to the message it is coded against
+        if (n + 4 >= raw.size()) return raw.size();
+        std::memmove(body_.data() + 4, body_.data(), n);
+        for (int i = 0; i < 4; ++i) body_[size_t(i)] = uint8_t(previous_crc_ >> (8 * i));
+        n += 4;
+        how |= kMsgBound;
+    }
+    if (n >= raw.size()) return raw.size();
     flags = kMsgCompressed | how;
     return n;
+}
+
+void MessageCoder::next_prefix(ByteVector& raw) {
+    previous_.swap(raw);
+    previous_crc_ = uint32_t(crc32(0, previous_.data(), uInt(previous_.size())));
 }
 
 // The XOR residual is mostly runs of zeros between a few changed bytes, where zstd's lazy match

@@ -22,13 +22,14 @@ public:
     MessageCoder& operator=(const MessageCoder&) = delete;
 
     // Codes message `sequence`'s payload `raw`; returns the bytes stored and sets `flags`
-    // (kMsgCompressed and kMsgDelta or kMsgXor) when they are coded, else stores `raw` as it is
-    // (flags 0). The stored bytes are data(): `raw` itself when not coded.
+    // (kMsgCompressed, and kMsgDelta or kMsgXor with kMsgBound, the stored bytes then starting with
+    // the previous payload's CRC-32) when they are coded, else stores `raw` as it is (flags 0).
+    // The stored bytes are coded(), or `raw` itself when not coded.
     size_t code(uint64_t sequence, const ByteVector& raw, uint32_t& flags);
     const uint8_t* coded() const { return body_.data(); }
     // `raw` was the message just written: the next one's prefix (taken, not copied; the buffer
     // given back is the older prefix, for reuse).
-    void next_prefix(ByteVector& raw) { previous_.swap(raw); }
+    void next_prefix(ByteVector& raw);
     uint64_t compressions() const { return compressions_; }  // since the last call of code()
 
 private:
@@ -46,6 +47,7 @@ private:
     ZSTD_CCtx* cctx_;
     ByteVector body_;      // the compressed payload, before it is known how long it is: never zero-filled
     ByteVector previous_;  // the last message's payload, the next one's prefix
+    uint32_t previous_crc_ = 0;  // its CRC-32: coded messages start with it (kMsgBound)
     ByteVector xored_;
     std::vector<uint8_t> alternative_, probe_;  // kept across messages: no allocation per message
     uint64_t xored_messages_ = 0, coded_messages_ = 0, compressions_ = 0;

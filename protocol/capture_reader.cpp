@@ -105,6 +105,7 @@ MessageChain::~MessageChain() { ZSTD_freeDCtx(static_cast<ZSTD_DCtx*>(dctx_)); }
 
 void MessageChain::remember(uint64_t sequence, const std::vector<uint8_t>& payload) {
     payload_.assign(payload.begin(), payload.end());
+    payload_crc_ = uint32_t(crc32(0, payload_.data(), uInt(payload_.size())));
     sequence_ = sequence;
     valid_ = true;
 }
@@ -115,6 +116,18 @@ void MessageChain::unpack_delta(const MessageHeader& h, const uint8_t* stored, u
         throw DecodeError(payload_at, "message " + std::to_string(h.sequence) + " is coded against message " +
                                           std::to_string(h.sequence - 1) + ", which this reader does not have" +
                                           (valid_ ? " (it holds message " + std::to_string(sequence_) + ")" : ""));
+    uint32_t stored_bytes = h.stored_bytes;
+    if (h.flags & kMsgBound) {
+        if (stored_bytes < 4) throw DecodeError(payload_at, "a bound message shorter than its predecessor's checksum");
+        const uint32_t named = uint32_t(stored[0]) | uint32_t(stored[1]) << 8 | uint32_t(stored[2]) << 16 |
+                               uint32_t(stored[3]) << 24;
+        if (named != payload_crc_)
+            throw DecodeError(payload_at, "message " + std::to_string(h.sequence) + " is coded against another message " +
+                                              std::to_string(h.sequence - 1) + " than the one this reader holds (its " +
+                                              "checksum differs): messages of two streams mixed");
+        stored += 4;
+        stored_bytes -= 4;
+    }
     const bool xor_coded = h.flags & kMsgXor;
     if (xor_coded && payload_.size() != h.raw_bytes)
         throw DecodeError(offset + 20, "message " + std::to_string(h.sequence) + " is XORed with message " +
@@ -127,7 +140,7 @@ void MessageChain::unpack_delta(const MessageHeader& h, const uint8_t* stored, u
     ZSTD_DCtx_reset(dctx, ZSTD_reset_session_and_parameters);
     if (!xor_coded) ZSTD_DCtx_refPrefix(dctx, payload_.data(), payload_.size());
     out.resize(h.raw_bytes);
-    const size_t n = ZSTD_decompressDCtx(dctx, out.data(), out.size(), stored, h.stored_bytes);
+    const size_t n = ZSTD_decompressDCtx(dctx, out.data(), out.size(), stored, stored_bytes);
     if (ZSTD_isError(n) || n != h.raw_bytes)
         throw DecodeError(payload_at, std::string("bad zstd payload (coded against the previous message): ") +
                                           (ZSTD_isError(n) ? ZSTD_getErrorName(n) : "length differs from header"));
@@ -140,12 +153,14 @@ static void check_and_unpack(const MessageHeader& h, const uint8_t* stored_data,
                              MessageChain* chain, bool delta_allowed = true) {
     const uint64_t payload_at = offset + sizeof(MessageHeader);
     if (h.magic != kMessageMagic) throw DecodeError(offset, "bad message magic (corrupted stream)");
-    const uint32_t known =
-        kMsgCompressed | kMsgFrameEnd | kMsgStreamEnd | (delta_allowed ? uint32_t(kMsgDelta | kMsgXor) : 0u);
+    const uint32_t known = kMsgCompressed | kMsgFrameEnd | kMsgStreamEnd |
+                           (delta_allowed ? uint32_t(kMsgDelta | kMsgXor | kMsgBound) : 0u);
     if (h.flags & ~known) throw DecodeError(offset + 4, "unknown message flags " + std::to_string(h.flags));
     if ((h.flags & kMsgDelta) && (h.flags & kMsgXor))
         throw DecodeError(offset + 4, "a message coded against the previous one both as prefix and XOR (flags " +
                                           std::to_string(h.flags) + ")");
+    if ((h.flags & kMsgBound) && !(h.flags & (kMsgDelta | kMsgXor)))
+        throw DecodeError(offset + 4, "a key message bound to a predecessor (flags " + std::to_string(h.flags) + ")");
     if ((h.flags & (kMsgDelta | kMsgXor)) && !(h.flags & kMsgCompressed))
         throw DecodeError(offset + 4, "a message coded against the previous one must be compressed (flags " +
                                           std::to_string(h.flags) + ")");

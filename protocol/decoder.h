@@ -131,6 +131,7 @@ private:
     bool valid_ = false;
     uint64_t sequence_ = 0;
     std::vector<uint8_t> payload_;
+    uint32_t payload_crc_ = 0;  // what a bound message (kMsgBound) says its predecessor's is
     void* dctx_ = nullptr;  // ZSTD_DCtx
 };
 

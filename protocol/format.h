@@ -54,6 +54,10 @@ enum MessageFlags : uint32_t {
     kMsgStreamEnd = 4,   // the program has ended: nothing follows (live streams; a capture's end record)
     kMsgDelta = 8,       // with kMsgCompressed: the zstd frame uses message sequence - 1's payload as its prefix
     kMsgXor = 16,        // with kMsgCompressed: the zstd frame holds the payload XOR message sequence - 1's (same length)
+    // With kMsgDelta or kMsgXor: the stored payload starts with the CRC-32 of message sequence - 1's
+    // payload (4 bytes, little endian), so that a message is never unpacked against another
+    // stream's message of that number (a journal of another program, two streams mixed).
+    kMsgBound = 32,
 };
 struct MessageHeader {
     uint32_t magic;

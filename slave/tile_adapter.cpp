@@ -33,6 +33,17 @@ void TileAdapter::reset() {
     shared_.clear();
 }
 
+// A destroyed context's state goes with it, and a share group's once no live context has it (its
+// address may come back for a new group, which must not find the old programs' uniforms).
+void TileAdapter::context_removed(uint32_t id) {
+    states_.erase(id);
+    for (auto it = shared_.begin(); it != shared_.end();) {
+        const bool live = std::any_of(core_.contexts().begin(), core_.contexts().end(),
+                                      [&](const auto& c) { return c.second->names.shared.get() == it->first; });
+        it = live ? std::next(it) : shared_.erase(it);
+    }
+}
+
 bool TileAdapter::wants(uint32_t, const CommandInfo* info) const {
     if (!info) return false;
     const CommandSemantics& s = info->sem;

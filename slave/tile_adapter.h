@@ -41,6 +41,9 @@ public:
     void made_current(SlaveContext& ctx, bool first) override;
     void end_frame(SlaveContext& ctx) override;
     void reset() override;
+    void context_removed(uint32_t id) override;
+    // Contexts and share groups whose state is kept (tests: the totals follow the live ones).
+    size_t states_kept() const { return states_.size() + shared_.size(); }
 
     // The program's viewport 0 as it set it (master window coordinates).
     void program_viewport(int32_t out[4]);

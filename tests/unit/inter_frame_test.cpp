@@ -205,6 +205,33 @@ TEST(InterFrame, AReaderWithoutThePreviousMessageRefusesIt) {
     EXPECT_THROW(decode_message(coded[delta].data(), coded[delta].size(), 0, m), DecodeError);  // no chain at all
 }
 
+// A coded message names its predecessor by the CRC-32 of its payload: a journal that answers
+// with another stream's messages of the same numbers is refused, not unpacked against the wrong
+// message (prefix-coded and XORed alike).
+TEST(InterFrame, AnotherStreamsMessageIsRefusedNotUnpackedAgainstTheWrongPredecessor) {
+    for (bool moving : {false, true}) {
+        const auto ours = encode(frames_of_a_program(6, moving), true);
+        auto other_frames = frames_of_a_program(6, moving);
+        for (auto& f : other_frames) f[kTupleHeaderBytes] ^= 0x5a;  // another program's, of the same lengths
+        const auto theirs = encode(other_frames, true);
+        size_t coded = 1;
+        while (coded < theirs.size() && !(header_of(theirs[coded]).flags & (kMsgDelta | kMsgXor))) coded++;
+        ASSERT_LT(coded, theirs.size());
+        EXPECT_TRUE(header_of(theirs[coded]).flags & kMsgBound);
+        MessageChain chain;
+        Message m;
+        for (size_t i = 0; i < coded; ++i) decode_message(ours[i].data(), ours[i].size(), 0, m, &chain);
+        try {
+            decode_message(theirs[coded].data(), theirs[coded].size(), 0, m, &chain);
+            FAIL() << "another stream's message " << coded << " was unpacked against ours"
+                   << (moving ? " (XORed)" : " (prefix)");
+        } catch (const DecodeError& e) {
+            EXPECT_NE(std::string(e.what()).find("messages of two streams mixed"), std::string::npos) << e.what();
+        }
+        decode_message(ours[coded].data(), ours[coded].size(), 0, m, &chain);  // our own: read
+    }
+}
+
 TEST(InterFrame, VersionsAndBadDeltasAreRefusedClearly) {
     auto coded = encode(frames_of_a_program(5), true);
     EXPECT_EQ(error_reading(as_file(coded, kFormatVersion)), "");
@@ -212,10 +239,11 @@ TEST(InterFrame, VersionsAndBadDeltasAreRefusedClearly) {
     EXPECT_NE(error_reading(as_file(coded, kFormatVersion + 1)).find("written by a newer glcast"), std::string::npos);
     EXPECT_NE(error_reading(as_file(coded, 1)).find("unknown message flags"), std::string::npos);
     EXPECT_NE(error_reading(as_file(coded, 0)).find("reads versions 1 to"), std::string::npos);
-    // A delta message's payload damaged (its checksum made right): zstd's refusal, not a crash.
+    // A delta message's zstd frame damaged (its checksum made right): zstd's refusal, not a crash.
     size_t k = 1;
     while (!(header_of(coded[k]).flags & (kMsgDelta | kMsgXor))) k++;
-    for (size_t i = sizeof(MessageHeader); i < coded[k].size(); i++) coded[k][i] ^= 0x5a;
+    const size_t zstd_frame = sizeof(MessageHeader) + ((header_of(coded[k]).flags & kMsgBound) ? 4 : 0);
+    for (size_t i = zstd_frame; i < coded[k].size(); i++) coded[k][i] ^= 0x5a;
     MessageHeader h = header_of(coded[k]);
     h.crc32 = uint32_t(crc32(0, coded[k].data() + sizeof h, uInt(h.stored_bytes)));
     std::memcpy(coded[k].data(), &h, sizeof h);

@@ -4,6 +4,7 @@
 
 #include "glcast_synthetic_encode.h"
 #include "keeper/kept_calls.h"
+#include "slave/tile_adapter.h"
 
 using namespace glcast;
 using testing_support::ReplayHarness;
@@ -223,6 +224,24 @@ TEST(KeptCalls, AListsBodyIsKeptUntilItIsDeleted) {
 
 // Each drawable's size is bounded, and so is how many the slave keeps: a stream naming millions
 // of distinct drawables (a few bytes each on the wire) grew the slave without limit.
+TEST(ReplayContexts, WhatObserversKeepFollowsTheLiveContexts) {
+    // A stream that makes and destroys contexts one after another, each drawing once on a tile:
+    // the tile adapter's per-context and per-share-group state grew with every context ever made.
+    ReplayHarness h;
+    h.tile(1, 0, 2, 2);
+    for (uint32_t k = 0; k < 200; ++k) {
+        const uint32_t id = 10 + k;
+        testing_support::open_window(h.stream, ReplayHarness::handle(id), 0, 64, 64, id, 8);
+        GL(glViewport, 0, 0, 64, 64);
+        GL(glDrawArrays, GL_TRIANGLES, 0, 3);
+        h.stream.context(0);
+        encode_glXDestroyContext(h.stream.e, h.stream.sz, nullptr, ReplayHarness::handle(id));
+    }
+    h.replay();
+    EXPECT_EQ(h.replayer->contexts().size(), 1u);  // the harness's own window
+    EXPECT_LE(h.replayer->tile_adapter().states_kept(), 2u) << "kept " << h.replayer->tile_adapter().states_kept();  // that context's, its share group's
+}
+
 TEST(ReplayContexts, TheDrawablesKeptAreBounded) {
     ReplayHarness h;
     h.options.limits.drawables = 64;
