@@ -3,6 +3,7 @@
 #include "common/environment.h"
 #include "net/security.h"
 
+#include <algorithm>
 #include <zmq.hpp>
 
 #include <chrono>
@@ -20,6 +21,9 @@ namespace {
 // no better than one that never answers: GLCAST_CATCH_UP_MB in all (common/environment.h), and
 // after the first `wait_seconds` at least 1 MiB a second on average.
 constexpr double kCatchUpMinBytesPerSecond = 1 << 20;
+// The master's journal answers from the program's memory at once: this long a silence means it
+// is gone (the program ended while a slave was catching up), however long --wait is.
+constexpr int kJournalSilenceSeconds = 10;
 
 }  // namespace
 
@@ -169,10 +173,10 @@ static void refuse_no_message(const zmq::message_t& part, const std::string& pee
                                  "-byte header)");
 }
 
-void NetworkSource::receive_parts(zmq::socket_t& dealer, const std::string& peer,
+void NetworkSource::receive_parts(zmq::socket_t& dealer, const std::string& peer, int silence_seconds,
                                   const std::function<bool(zmq::message_t&)>& take, bool keep_live) {
     const auto start = std::chrono::steady_clock::now();
-    auto silent_until = start + std::chrono::seconds(wait_seconds_);
+    auto silent_until = start + std::chrono::seconds(silence_seconds);
     uint64_t received = 0;
     for (;;) {
         zmq::pollitem_t item{dealer.handle(), 0, ZMQ_POLLIN, 0};
@@ -182,7 +186,7 @@ void NetworkSource::receive_parts(zmq::socket_t& dealer, const std::string& peer
         if (!(item.revents & ZMQ_POLLIN)) {
             check_refused();  // the stream's handshake fails with the same key as this one's
             if (now > silent_until)
-                throw std::runtime_error(peer + " did not answer within " + std::to_string(wait_seconds_) + " s");
+                throw std::runtime_error(peer + " did not answer within " + std::to_string(silence_seconds) + " s");
             continue;
         }
         zmq::message_t part;
@@ -198,7 +202,7 @@ void NetworkSource::receive_parts(zmq::socket_t& dealer, const std::string& peer
         if (seconds > wait_seconds_ + double(received) / kCatchUpMinBytesPerSecond)
             throw std::runtime_error(peer + " sent " + std::to_string(received) + " bytes in " +
                                      std::to_string(int(seconds)) + " s: slower than 1 MiB a second");
-        silent_until = now + std::chrono::seconds(wait_seconds_);
+        silent_until = now + std::chrono::seconds(silence_seconds);
         if (!take(part)) return;
     }
 }
@@ -213,7 +217,8 @@ bool NetworkSource::ask_journal(const std::string& request, const std::function<
     dealer.connect(journal_endpoint_);
     dealer.send(zmq::buffer(request), zmq::send_flags::none);
     bool held = true;
-    receive_parts(dealer, "the master's journal at " + journal_endpoint_, [&](zmq::message_t& part) {
+    const int silence = wait_seconds_ > 0 ? std::min(wait_seconds_, kJournalSilenceSeconds) : kJournalSilenceSeconds;
+    receive_parts(dealer, "the master's journal at " + journal_endpoint_, silence, [&](zmq::message_t& part) {
         const std::string text = part.size() <= 4 ? part.to_string() : std::string();
         if (text == "END") return false;
         if (text == "GONE") return held = false;
@@ -265,7 +270,7 @@ NetworkSource::State NetworkSource::fetch_state(const std::string& endpoint) {
     bool header = false;
     early_.clear();
     early_bytes_ = 0;
-    receive_parts(dealer, "the keeper at " + endpoint, [&](zmq::message_t& part) {
+    receive_parts(dealer, "the keeper at " + endpoint, wait_seconds_, [&](zmq::message_t& part) {
         if (!header) {  // "STATE <sequence> <frame>", or "NONE <why>"
             const std::string text = part.size() <= 256 ? part.to_string() : std::string();
             if (text.rfind("NONE", 0) == 0) throw KeeperNotReady("the keeper at " + endpoint + ": " + text.substr(5));
@@ -371,13 +376,51 @@ void NetworkSource::fetch_snapshot(bool from_journal) {
     measure();
 }
 
+bool NetworkSource::tail_check(bool& ended) {
+    const size_t before = snapshot_.size();
+    catch_up_bytes_ = 0;
+    replay_from_ = expected_;  // the journal answers from the key before it
+    try {
+        if (!fetch_since(expected_)) {  // its key no longer held: the next live message tells whether a gap is there
+            snapshot_.resize(before);
+            return false;
+        }
+    } catch (const std::runtime_error& e) {
+        std::fprintf(stderr, "glcast: no message for %d s and %s: the program has ended (messages from %llu on, if "
+                             "any, were lost)\n",
+                     kTailCheckSeconds, e.what(), static_cast<unsigned long long>(expected_));
+        ended = true;
+        return false;
+    }
+    const bool newer = std::any_of(snapshot_.begin() + std::ptrdiff_t(before), snapshot_.end(),
+                                   [&](const std::vector<uint8_t>& m) { return sequence_of(m) >= expected_; });
+    if (!newer) {  // nothing after what this slave replayed: a program that is quiet
+        snapshot_.resize(before);
+        return false;
+    }
+    recoveries_++;
+    gap_ = "messages from " + std::to_string(expected_) + " on never came live";
+    if (on_gap) on_gap();
+    return true;
+}
+
 bool NetworkSource::receive_live(std::vector<uint8_t>& bytes) {
+    int tail_check_at_ms = kTailCheckSeconds * 1000;
     for (int waited_ms = 0;; waited_ms += idle_ms_) {
         zmq::pollitem_t item{sub_->handle(), 0, ZMQ_POLLIN, 0};
         zmq::poll(&item, 1, std::chrono::milliseconds(idle_ms_));
         if (item.revents & ZMQ_POLLIN) break;
         check_refused();
         if (on_idle) on_idle();
+        if (!journal_endpoint_.empty() && expected_ > 0 && waited_ms >= tail_check_at_ms) {
+            tail_check_at_ms = waited_ms + kTailCheckSeconds * 1000;
+            bool ended = false;
+            if (tail_check(ended)) {
+                bytes.clear();
+                return true;
+            }
+            if (ended) return false;
+        }
         if (wait_seconds_ && waited_ms > wait_seconds_ * 1000)
             throw std::runtime_error("no message from " + endpoint_ + " for " + std::to_string(wait_seconds_) + " s");
     }
@@ -403,6 +446,7 @@ bool NetworkSource::next(Message& m) {
             live_ = true;
         } else {
             if (!receive_live(bytes)) return false;
+            if (bytes.empty()) continue;  // the journal's answer to a tail check is in snapshot_
             live_ = true;
         }
         if (bytes.size() < sizeof(MessageHeader)) throw DecodeError(0, "short message from " + endpoint_);

@@ -32,6 +32,7 @@ public:
 
 // Tries to fill one gap before the live message after it (journal answers that bring nothing).
 constexpr int kMaxGapTries = 3;
+constexpr int kTailCheckSeconds = 3;
 
 class NetworkSource : public MessageSource {
 public:
@@ -94,11 +95,19 @@ private:
     bool fetch_since(uint64_t first);
     // Asks the journal `request`; each message part to `take`; false on GONE.
     bool ask_journal(const std::string& request, const std::function<void(zmq::message_t&)>& take);
+    // The next live message into `bytes`; false when the stream has ended. Empty `bytes`: none
+    // came, but a tail check (below) put messages into snapshot_.
     bool receive_live(std::vector<uint8_t>& bytes);
+    // After kTailCheckSeconds without a live message: messages the publisher dropped at the end of
+    // a burst (this slave was stopped while the program ran on, and then the program went quiet
+    // or ended) are followed by no message that would show the gap. The journal sends what comes
+    // after the last one replayed (true), or nothing; when it does not answer, the program is
+    // gone, and `ended` is set.
+    bool tail_check(bool& ended);
     // Receives a peer's answer, a part at a time, until `take` returns false; throws when the
-    // peer is silent for wait_seconds_, too slow, or sends more than a catching up may hold.
+    // peer is silent for `silence_seconds`, too slow, or sends more than a catching up may hold.
     // keep_live: live messages that arrive meanwhile go to early_.
-    void receive_parts(zmq::socket_t& dealer, const std::string& peer,
+    void receive_parts(zmq::socket_t& dealer, const std::string& peer, int silence_seconds,
                        const std::function<bool(zmq::message_t&)>& take, bool keep_live = false);
     void keep_live_messages();
     void check_refused();

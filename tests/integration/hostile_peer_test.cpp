@@ -152,6 +152,7 @@ public:
                     }
                 } else if (text.rfind("SINCE", 0) == 0) {
                     sinces_++;
+                    if (silent_since_) continue;  // a program that ended: its journal answers nothing
                 }
                 send("END", 3, false);
             }
@@ -163,6 +164,7 @@ public:
     }
     std::atomic<bool> gap_{false};
     std::atomic<int> sinces_{0};
+    std::atomic<bool> silent_since_{false};
 
 private:
     zmq::context_t context_{1};
@@ -202,4 +204,39 @@ TEST(HostilePeer, AJournalThatAnswersAGapWithNothingIsGivenUpOn) {
     std::printf("%d SINCE requests, then: %s\n", master.sinces_.load(), error.c_str());
     EXPECT_NE(error.find("journal"), std::string::npos) << error;
     EXPECT_LE(master.sinces_.load(), 4);
+}
+
+// After a gap, a journal that never answers (the program ended, and its journal with it): the
+// slave waited the whole --wait (glcast run gives 120 s, and then waited as long for the slave,
+// scripts/chaos.py). The journal answers from memory: 10 s of silence and the slave gives up,
+// saying so.
+TEST(HostilePeer, AJournalThatNeverAnswersIsGivenUpOnBeforeTheWait) {
+    const std::string base = "ipc:///tmp/glcast-silent-journal-" + std::to_string(getpid());
+    LyingJournalMaster master(base + "-stream", base + "-journal");
+    master.silent_since_ = true;
+    std::atomic<bool> finished{false};
+    std::string error;
+    const auto start = std::chrono::steady_clock::now();
+    std::thread slave([&] {
+        try {
+            slave::NetworkSource source(base + "-stream", base + "-journal", 60);
+            Message m;
+            while (source.next(m)) master.gap_ = true;
+        } catch (const std::exception& e) {
+            error = e.what();
+        }
+        finished = true;
+    });
+    const auto deadline = start + std::chrono::seconds(30);
+    while (!finished && std::chrono::steady_clock::now() < deadline) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    if (!finished) {
+        std::fprintf(stderr, "the slave still waits for the journal after 30 s\n");
+        std::fflush(stderr);
+        _exit(1);  // its thread cannot be stopped
+    }
+    slave.join();
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::printf("given up after %.1f s: %s\n", seconds, error.c_str());
+    EXPECT_NE(error.find("did not answer within 10 s"), std::string::npos) << error;
+    EXPECT_LT(seconds, 20.0);
 }
