@@ -13,6 +13,24 @@
 
 namespace glcast::slave {
 
+namespace {
+
+// A full-screen draw of `program` into the depth-only target `fb` (width x height) that writes
+// every fragment's gl_FragDepth, reading `source` on texture unit 0.
+void begin_depth_draw(const GlApi& gl, GLuint fb, int width, int height, GLuint program, GLuint source) {
+    gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fb);
+    gl.glViewport(0, 0, width, height);
+    gl.glEnable(GL_DEPTH_TEST);
+    gl.glDepthFunc(GL_ALWAYS);
+    gl.glDepthMask(GL_TRUE);
+    gl.glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    gl.glUseProgram(program);
+    gl.glActiveTexture(GL_TEXTURE0);
+    gl.glBindTexture(GL_TEXTURE_2D, source);
+}
+
+}  // namespace
+
 GLenum depth_format(const GlApi& gl, GLenum target) {
     GLint type = GL_NONE, name = 0, stencil_type = GL_NONE, stencil_name = 0, bits = 0, component = GL_NONE;
     gl.glGetFramebufferAttachmentParameteriv(target, GL_DEPTH_ATTACHMENT, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE, &type);
@@ -144,15 +162,7 @@ GLuint WindowCopies::scene_depth_copy(SlaveContext& ctx, ContextScene& scene, co
         scene_depth_program_ = effects::build_program(gl, "fullscreen.vert", "scene_depth.frag");
         gl.glGenVertexArrays(1, &scene_depth_vao_);
     }
-    gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, scene_depth_fb_);
-    gl.glViewport(0, 0, ctx.width, ctx.height);
-    gl.glEnable(GL_DEPTH_TEST);
-    gl.glDepthFunc(GL_ALWAYS);
-    gl.glDepthMask(GL_TRUE);
-    gl.glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-    gl.glUseProgram(scene_depth_program_);
-    gl.glActiveTexture(GL_TEXTURE0);
-    gl.glBindTexture(GL_TEXTURE_2D, scene_depth_full_);
+    begin_depth_draw(gl, scene_depth_fb_, ctx.width, ctx.height, scene_depth_program_, scene_depth_full_);
     gl.glUniform1i(effects::uniform(gl, scene_depth_program_, "scene_depth"), 0);
     gl.glUniform4f(effects::uniform(gl, scene_depth_program_, "source_rect"), GLfloat(source.x), GLfloat(source.y),
                    GLfloat(source.z), GLfloat(source.w));
@@ -178,16 +188,8 @@ GLuint WindowCopies::pass_depth(SlaveContext& ctx, GLuint program_depth, const D
         pass_depth_program_ = effects::build_program(gl, "fullscreen.vert", "depth_convention.frag");
         if (!scene_depth_vao_) gl.glGenVertexArrays(1, &scene_depth_vao_);
     }
-    gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, pass_depth_fb_);
-    gl.glViewport(0, 0, ctx.width, ctx.height);
-    gl.glEnable(GL_DEPTH_TEST);
-    gl.glDepthFunc(GL_ALWAYS);
-    gl.glDepthMask(GL_TRUE);
-    gl.glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
     const GLuint p = pass_depth_program_;
-    gl.glUseProgram(p);
-    gl.glActiveTexture(GL_TEXTURE0);
-    gl.glBindTexture(GL_TEXTURE_2D, program_depth);
+    begin_depth_draw(gl, pass_depth_fb_, ctx.width, ctx.height, p, program_depth);
     gl.glUniform1i(effects::uniform(gl, p, "program_depth"), 0);
     const glm::mat4 m(pass_clip_from_program_clip);
     gl.glUniformMatrix4fv(effects::uniform(gl, p, "pass_clip_from_program_clip"), 1, GL_FALSE, glm::value_ptr(m));

@@ -232,6 +232,40 @@ TEST(InterFrame, AnotherStreamsMessageIsRefusedNotUnpackedAgainstTheWrongPredece
     }
 }
 
+// The binding's own framing, crafted: a bound message too short to hold the checksum, and a key
+// message that claims a predecessor.
+TEST(InterFrame, CraftedBindingsAreRefusedClearly) {
+    const auto coded = encode(frames_of_a_program(4), true);
+    size_t k = 1;
+    while (k < coded.size() && !(header_of(coded[k]).flags & kMsgBound)) k++;
+    ASSERT_LT(k, coded.size());
+    MessageChain chain;
+    Message m;
+    for (size_t i = 0; i < k; ++i) decode_message(coded[i].data(), coded[i].size(), 0, m, &chain);
+    std::vector<uint8_t> shorter(coded[k].begin(), coded[k].begin() + std::ptrdiff_t(sizeof(MessageHeader) + 2));
+    MessageHeader h = header_of(coded[k]);
+    h.stored_bytes = 2;
+    h.crc32 = uint32_t(crc32(0, shorter.data() + sizeof h, 2));
+    std::memcpy(shorter.data(), &h, sizeof h);
+    try {
+        decode_message(shorter.data(), shorter.size(), 0, m, &chain);
+        FAIL() << "a bound message of 2 bytes was read";
+    } catch (const DecodeError& e) {
+        EXPECT_NE(std::string(e.what()).find("shorter than its predecessor's checksum"), std::string::npos) << e.what();
+    }
+    std::vector<uint8_t> key = coded[0];
+    MessageHeader kh = header_of(key);
+    kh.flags |= kMsgBound;
+    std::memcpy(key.data(), &kh, sizeof kh);
+    MessageChain fresh;
+    try {
+        decode_message(key.data(), key.size(), 0, m, &fresh);
+        FAIL() << "a key message bound to a predecessor was read";
+    } catch (const DecodeError& e) {
+        EXPECT_NE(std::string(e.what()).find("a key message bound to a predecessor"), std::string::npos) << e.what();
+    }
+}
+
 TEST(InterFrame, VersionsAndBadDeltasAreRefusedClearly) {
     auto coded = encode(frames_of_a_program(5), true);
     EXPECT_EQ(error_reading(as_file(coded, kFormatVersion)), "");
