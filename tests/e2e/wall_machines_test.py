@@ -318,7 +318,10 @@ def tcp_wall(out, ns, config, k, port, supervisors):
     check(r.returncode == 1 and "without keys" in r.stderr, f"an endpoint without keys was not refused: {r.stderr}")
 
     # Program 1: the wall, the barrier across machines, the status view.
-    wall, capture1 = program_run(ns, config, k["master"], out, "program1", 300, ["glxgears"])
+    # 1,200 frames: the stream's socket lives in the program, so slaves subscribe only once it
+    # runs; a program of 300 frames (5 s) once ended here before any slave's subscription was in,
+    # and a slave that never saw a live message never joins (docs/wall.md).
+    wall, capture1 = program_run(ns, config, k["master"], out, "program1", 1200, ["glxgears"])
     rc = wall.wait(timeout=300)
     log1 = wall.stderr.read()
     check(rc == 0, f"glcast run failed: {log1[-3000:]}")
@@ -428,7 +431,7 @@ def case_epgm():
                 env = dict(os.environ, GLCAST_CAPTURE=capture)
                 r = run(["ip", "netns", "exec", ns["master"], GLCAST, "run", "--config", config, "--machine", "master",
                          "--keys", k["master"], "--insecure", "--endpoint", f"epgm://{ADDRESS['master']};{group}",
-                         "--backend", "egl", "--frames", "300", "--wait-tiles", "120", "--", "glxgears"], env=env,
+                         "--backend", "egl", "--frames", "1200", "--wait-tiles", "120", "--", "glxgears"], env=env,
                         timeout=400)
                 check(r.returncode == 0, f"glcast run failed: {r.stderr[-3000:]}")
                 check("4 of 4 tiles on other machines are there" in r.stderr,
