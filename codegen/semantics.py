@@ -10,7 +10,7 @@ import re
 VENDOR_SUFFIX = re.compile(r"(ARB|EXT|OES|NV|KHR|AMD|APPLE|ATI|SGIS|SGIX|MESA|INTEL|IBM)$")
 
 MATRIX_OPS = ["mode", "push", "pop", "load", "multiply"]
-REDRAW_KINDS = ["state", "draw", "begin", "end", "new_list", "end_list", "pixels", "program_state", "copy"]
+REDRAW_KINDS = ["state", "draw", "begin", "end", "new_list", "end_list", "pixels", "program_state", "copy", "clear"]
 WINDOW_KINDS = ["viewport", "scissor", "viewport_indexed", "scissor_indexed", "viewport_array", "scissor_array",
                 "line_width", "point_size", "pixel_zoom", "blit_destination", "draw_framebuffer"]
 OBJECT_ACCESS = ["bound", "named"]

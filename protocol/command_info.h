@@ -70,7 +70,7 @@ enum CommandFlags : uint8_t {
 // meaning) carries the same properties as its core command.
 // (No enumerator is called None: Xlib defines it as a macro.)
 enum class MatrixOp : uint8_t { Nothing, Mode, Push, Pop, Load, Multiply };
-enum class RedrawKind : uint8_t { Ignored, State, Draw, Begin, End, NewList, EndList, Pixels, ProgramState, Copy };
+enum class RedrawKind : uint8_t { Ignored, State, Draw, Begin, End, NewList, EndList, Pixels, ProgramState, Copy, Clear };
 enum class WindowMapping : uint8_t {
     Nothing, Viewport, Scissor, ViewportIndexed, ScissorIndexed, ViewportArray, ScissorArray,
     LineWidth, PointSize, PixelZoom, BlitDestination, DrawFramebuffer,

@@ -57,6 +57,7 @@ EffectsRunner::EffectsRunner(Replayer& core, TileAdapter& tile) : core_(core), t
         WindowCopies& copies = passes(ctx).copies;
         copies.size(ctx);
         copies.copy(ctx, copies.scene_image_fb, false);
+        if (scenes_.scene(ctx).facts.depth_cleared) copies.keep_depth(ctx);
     };
 }
 
@@ -109,6 +110,7 @@ void EffectsRunner::run_effects(SlaveContext& ctx) {
     ContextPasses& st = passes(ctx);
     ContextScene& scene = scenes_.scene(ctx);
     if (ctx.width <= 0 || ctx.height <= 0) {  // nothing shown: nothing to decorate
+        st.copies.end_frame();
         scene.next_frame();
         return;
     }
@@ -148,6 +150,7 @@ void EffectsRunner::run_effects(SlaveContext& ctx) {
     } catch (const std::runtime_error& e) {
         throw EffectsError(std::string("effects: ") + e.what());
     }
+    st.copies.end_frame();
     scene.next_frame();
 }
 

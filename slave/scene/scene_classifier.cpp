@@ -33,7 +33,7 @@ bool fixed_function_draw_is_main(SceneFacts& f, DrawState& s, GLuint framebuffer
             found = true;
         }
     }
-    return f.main_known && app == f.projection && depth && framebuffer == f.scene_framebuffer;
+    return f.main_known && !f.overlay && app == f.projection && depth && framebuffer == f.scene_framebuffer;
 }
 
 // A shader program's draw belongs to the main view when its camera (found from its matrices,
@@ -147,6 +147,15 @@ WindowDrawMeaning window_draw(SceneFacts& f, DrawState& s, RedrawKind kind) {
     if (!f.scene_framebuffer && !starts_overlays(f, s, kind)) return WindowDrawMeaning::Scene;
     f.overlay = true;
     return WindowDrawMeaning::StartsOverlays;
+}
+
+bool depth_clear_starts_overlays(SceneFacts& f, GLbitfield mask) {
+    // (a scene drawn offscreen keeps its own depth; a clear of the colour too starts a new picture)
+    if (!f.main_known || f.overlay || f.scene_framebuffer || !(mask & GL_DEPTH_BUFFER_BIT) ||
+        (mask & GL_COLOR_BUFFER_BIT))
+        return false;
+    f.overlay = f.depth_cleared = true;
+    return true;
 }
 
 bool starts_overlays(const SceneFacts& f, DrawState& s, RedrawKind kind) {

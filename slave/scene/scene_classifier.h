@@ -27,6 +27,9 @@ struct SceneFacts {
     // them. Not the scene: not redrawn, and the pixels whose depth is below the largest such f
     // are the program's, as an overlay's are. 0: none this frame.
     double view_model_far = 0;
+    // A view model drawn after a depth-only clear of the window (a voxel game's hand): the
+    // clear starts the overlays, and the passes read the scene's depth as it was before it.
+    bool depth_cleared = false;
     // Shader draws whose matrices were read for a camera this frame: a 2D program with
     // thousands of draws stops asking after kMaxCameraProbes.
     int camera_probes = 0;
@@ -101,6 +104,11 @@ bool later_scene_target(SceneFacts& facts, DrawState& state, int master_width, i
 
 // A draw of `kind` to the window while the main view is known and overlays have not started.
 WindowDrawMeaning window_draw(SceneFacts& facts, DrawState& state, RedrawKind kind);
+
+// glClear(mask) of the window while its main view is known and overlays have not started: a
+// clear of the depth alone (the colour kept) ends the scene, and what follows (a view model with
+// its own projection, then the HUD) lies over it. True: the overlays start with it.
+bool depth_clear_starts_overlays(SceneFacts& facts, GLbitfield mask);
 
 // A flat draw to the window after a main view drawn there: pixels at the raster position, the
 // depth test off, or a fixed-function orthographic projection; a shader program drawing with

@@ -47,6 +47,12 @@ void SceneRecorder::record(SlaveContext& ctx, const Call& c, const uint8_t* tupl
     if (kind == RedrawKind::Ignored && !rec.in_begin_end) return;
     if (rec.compiling_list) return;
     const bool to_window = ctx.drawing_to_window;
+    if (kind == RedrawKind::Clear) {  // never kept
+        if (to_window && !rec.in_begin_end && depth_clear_starts_overlays(facts, GLbitfield(c.args[0].bits)) &&
+            on_overlays_start)
+            on_overlays_start(ctx);
+        return;
+    }
     if (kind == RedrawKind::Copy && !to_window && facts.main_known && facts.scene_framebuffer &&
         !sc.loan.scene_texture && !sc.presents)
         lending_.note_resolved_scene(sc, state);

@@ -44,8 +44,9 @@ class SceneRecorder {
 public:
     SceneRecorder(Replayer& core, TileAdapter& tile) : core_(core), tile_(tile), lending_(core, tile, scenes_) {}
 
-    // Called when a draw to the window starts the overlays, before it runs: the window then
-    // holds the scene alone (the effects runner copies it).
+    // Called when a draw to the window, or a clear of its depth, starts the overlays, before it
+    // runs: the window then holds the scene alone (the effects runner copies it, and its depth
+    // when it is about to be cleared).
     std::function<void(SlaveContext&)> on_overlays_start;
 
     // Before each call the replay runs on the current context `ctx`.

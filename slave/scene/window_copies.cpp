@@ -89,7 +89,14 @@ void WindowCopies::copy(SlaveContext& ctx, GLuint copy_fb, bool depth, bool back
     else gl.glReadBuffer(GLenum(program_buffer));
 }
 
+void WindowCopies::keep_depth(SlaveContext& ctx) {
+    size(ctx);
+    copy(ctx, depth_fb_, true);
+    depth_kept_ = true;
+}
+
 GLuint WindowCopies::window_copy(SlaveContext& ctx, bool depth, ContextScene& scene, const ContextScene& shown) {
+    if (depth && depth_kept_) return depth_texture_;
     if (depth && scene.facts.scene_framebuffer) {
         if (depth_copied_) return scene_depth_;
         const GLuint copy = scene_depth_copy(ctx, scene, shown);

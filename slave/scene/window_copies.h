@@ -40,7 +40,11 @@ public:
     // DEPTH_COMPONENT32F texture of the window's size, made once a frame.
     GLuint pass_depth(SlaveContext& ctx, GLuint program_depth, const DepthConvention& convention,
                       const glm::dmat4& pass_clip_from_program_clip);
+    // The window's depth now, before the program clears it for a view model: window_copy's
+    // depth until end_frame.
+    void keep_depth(SlaveContext& ctx);
     void new_frame() { color_copied_ = depth_copied_ = pass_depth_done_ = false; }
+    void end_frame() { depth_kept_ = false; }
 
     GLuint program_image = 0, program_image_fb = 0;
     bool program_image_saved = false;
@@ -52,7 +56,7 @@ private:
     Replayer& core_;
     GLuint color_texture_ = 0, depth_texture_ = 0, color_fb_ = 0, depth_fb_ = 0;
     int width_ = 0, height_ = 0;
-    bool color_copied_ = false, depth_copied_ = false;
+    bool color_copied_ = false, depth_copied_ = false, depth_kept_ = false;
     // Resolved at the program's size, then this tile's part of it at the window's size.
     GLuint scene_depth_full_ = 0, scene_depth_full_fb_ = 0, scene_depth_ = 0, scene_depth_fb_ = 0;
     GLuint scene_depth_program_ = 0, scene_depth_vao_ = 0;

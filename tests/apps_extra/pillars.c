@@ -43,7 +43,13 @@
  * multisampled framebuffer object (4 samples) and resolved with glBlitFramebuffer into the
  * texture the window's quad shows.
  *
+ * With --hand (not with --fbo) the scene is followed by a view model as voxel games draw their
+ * player's hand: the window's depth cleared alone, then a square (200, 180, 150) under a
+ * projection of its own (a wider field of view), writing depth, at window x 0.69..0.94 and
+ * y 0.67..0.92 of the width and height (GL: y up), where the picture shows sky between pillars.
+ *
  *   pillars [--shader | --builtins | --mvp] [--grow] [--fbo [--half] [--mrt | --msaa]] [--reversed] [--hud]
+ *           [--hand]
  *           [--frames N] [--size WxH]
  */
 #define GL_GLEXT_PROTOTYPES 1
@@ -115,6 +121,11 @@ int main(int argc, char **argv)
     const int msaa = fbo_mode && app_take_flag(&argc, &argv, "--msaa");
     const int reversed = app_take_flag(&argc, &argv, "--reversed");
     const int hud = app_take_flag(&argc, &argv, "--hud");
+    const int hand = app_take_flag(&argc, &argv, "--hand");
+    if (hand && fbo_mode) {
+        fprintf(stderr, "pillars: --hand draws into the window: not with --fbo\n");
+        return 2;
+    }
     app_parse_args("pillars", argc, argv, &a);
     Display *dpy = XOpenDisplay(NULL);
     if (!dpy) {
@@ -287,6 +298,22 @@ int main(int argc, char **argv)
             glTexCoord2f(0, 1); glVertex2f(-1, 1);
             glEnd();
             glDisable(GL_TEXTURE_2D);
+        }
+        if (hand) {
+            glClear(GL_DEPTH_BUFFER_BIT);
+            glMatrixMode(GL_PROJECTION);
+            glLoadIdentity();
+            const double hx = 0.4, hy = hx * a.height / a.width;  /* 77 degrees across, not the scene's 60 */
+            glFrustum(-hx, hx, -hy, hy, 0.5, 10);
+            glMatrixMode(GL_MODELVIEW);
+            glLoadIdentity();
+            /* window fraction u maps to x = (2u - 1) hx / 0.5 at z = -1 */
+            const double x0 = (2 * 0.69 - 1) * hx * 2, x1 = (2 * 0.94 - 1) * hx * 2;
+            const double y0 = (2 * 0.67 - 1) * hy * 2, y1 = (2 * 0.92 - 1) * hy * 2;
+            glColor3ub(200, 180, 150);
+            glBegin(GL_QUADS);
+            glVertex3d(x0, y0, -1); glVertex3d(x1, y0, -1); glVertex3d(x1, y1, -1); glVertex3d(x0, y1, -1);
+            glEnd();
         }
         if (hud) {
             const double ortho[16] = {2.0 / a.width, 0, 0, 0, 0, 2.0 / a.height, 0, 0, 0, 0, -1, 0, -1, -1, 0, 1};

@@ -14,6 +14,9 @@ shadows.method=screen-space) darken at least 70% of the floor the shadow map sha
 else, for every program (the rest: shadows of the pillars' tops, which lie above the picture).
 Reversed depth (pillars --reversed: glClipControl GL_ZERO_TO_ONE, near at 1, no far plane) is
 covered, shadowed and snowed on as the standard depth is (before: nothing at all).
+A view model drawn after a depth-only clear of the window (pillars --hand, as a voxel game draws
+its player's hand) leaves the scene covered and shadowed as without it, and keeps every pixel of
+the hand under every pass (before: the cleared depth hid the whole scene from the passes).
 
     modern_camera_test.py     with GLCAST, GLCAST_SHIM, APPS_DIR, OUT_DIR in the environment
 """
@@ -30,6 +33,7 @@ GLCAST = os.environ["GLCAST"]
 APPS = os.environ.get("APPS_DIR", "")
 OUT = os.path.join(os.environ.get("OUT_DIR", "/tmp/glcast-e2e"), "modern_camera")
 FLOOR = (90, 90, 90)  # pillars.c
+HAND = (200, 180, 150)  # pillars.c --hand
 
 
 def check(cond, msg):
@@ -69,7 +73,8 @@ def main():
     modes = {"fixed": [], "shader": ["--shader"], "builtins": ["--builtins"], "mvp": ["--mvp"], "fbo": ["--fbo"],
              "fbo_half": ["--builtins", "--fbo", "--half"], "fbo_mvp": ["--mvp", "--fbo"],
              "reversed": ["--reversed"], "reversed_builtins": ["--builtins", "--reversed"],
-             "fbo_msaa": ["--fbo", "--msaa"], "fbo_mrt": ["--fbo", "--mrt"]}
+             "fbo_msaa": ["--fbo", "--msaa"], "fbo_mrt": ["--fbo", "--mrt"],
+             "hand": ["--hand"], "hand_builtins": ["--builtins", "--hand"]}
     for mode, flags in modes.items():
         capture = os.path.join(OUT, f"{mode}.glcs")
         with Xvfb():
@@ -110,6 +115,17 @@ def main():
               f"{mode}: {c} floor pixels covered, the fixed-function program {covered}")
         check(abs(s - shadowed) <= max(10, shadowed // 10),
               f"{mode}: {s} floor pixels shadowed, the fixed-function program {shadowed}")
+    # The view model keeps its pixels under every pass.
+    frame = "frame-000001.png"
+    for mode in ("hand", "hand_builtins"):
+        w, h, plain = read_png(os.path.join(OUT, f"{mode}-plain", frame))
+        hand = [(x, y) for y in range(h) for x in range(w) if tuple(plain[y][x][:3]) == HAND]
+        check(len(hand) > 0.04 * w * h, f"{mode}: the hand covers {len(hand)} pixels of the program's picture")
+        for name in ("cover", "shadows", "screen", "snow"):
+            _, _, b = read_png(os.path.join(OUT, f"{mode}-{name}", frame))
+            changed = sum(1 for x, y in hand if b[y][x][:3] != plain[y][x][:3])
+            print(f"{mode} {name}: {changed} of the hand's {len(hand)} pixels changed")
+            check(changed == 0, f"{mode}: {name} changed {changed} of the hand's {len(hand)} pixels")
     # Falling snow passes behind the pillars by the depth: the same flakes whatever the depth convention.
     frame = "frame-000001.png"
     for mode in ("reversed", "reversed_builtins"):

@@ -189,6 +189,28 @@ TEST(SceneClassifier, PixelsAtTheRasterPositionStartTheOverlays) {
     EXPECT_EQ(window_draw(facts, s, RedrawKind::Pixels), WindowDrawMeaning::StartsOverlays);
 }
 
+TEST(SceneClassifier, ADepthOnlyClearAfterTheMainViewStartsAViewModel) {
+    SceneFacts facts;
+    EXPECT_FALSE(depth_clear_starts_overlays(facts, GL_DEPTH_BUFFER_BIT));  // no view yet: the frame's own clear
+    Given s;
+    classify_draw(facts, s, 0, kPasses);
+    EXPECT_FALSE(depth_clear_starts_overlays(facts, GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT));  // a new picture
+    EXPECT_FALSE(depth_clear_starts_overlays(facts, GL_STENCIL_BUFFER_BIT));
+    EXPECT_FALSE(facts.overlay);
+    EXPECT_TRUE(depth_clear_starts_overlays(facts, GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT));
+    EXPECT_TRUE(facts.overlay && facts.depth_cleared);
+    // The hand, drawn with the main view's projection or not, is not the scene's.
+    EXPECT_FALSE(classify_draw(facts, s, 0, kPasses).main);
+    EXPECT_FALSE(depth_clear_starts_overlays(facts, GL_DEPTH_BUFFER_BIT));  // once a frame
+}
+
+TEST(SceneClassifier, ADepthClearOfAnOffscreenSceneIsNotAViewModel) {
+    SceneFacts facts;
+    Given s;
+    classify_draw(facts, s, 7, kPasses);  // found in framebuffer object 7
+    EXPECT_FALSE(depth_clear_starts_overlays(facts, GL_DEPTH_BUFFER_BIT));
+}
+
 TEST(SceneClassifier, StateCallsNeverStartTheOverlays) {
     SceneFacts facts;
     Given s;
