@@ -97,6 +97,16 @@ void TileAdapter::correct_projection() {
     if (ctx.drawing_to_window && !redrawing_) s.window_drawn = true;
     const GLuint program = !redrawing_ || redraw_programs_ ? program_in_use() : 0;
     if (program) {  // a shader program: its patched vertex shader multiplies by glcast_clip
+        // (a built-in gl_ModelViewProjectionMatrix must then hold the program's own projection,
+        // not one a fixed-function draw before it left corrected)
+        auto& top = s.projection.back();
+        if (top.corrected) {
+            const glm::dmat4 app = program_projection_now();
+            GlStateGuard mode(gl, kGuardMatrixMode);
+            gl.glMatrixMode(GL_PROJECTION);
+            gl.glLoadMatrixd(&app[0][0]);
+            top = State::Projection{};
+        }
         redraw_refused_ = !correct_shader_program(GLuint(program)) && redrawing_;
         return;
     }

@@ -14,13 +14,17 @@ glm::dmat4 ViewCorrection::correction(const glm::dmat4& app) const {
     // mapping (its z and w rows) along the view, so that what it does with depth stays true on
     // every tile: reversed depth, clip control GL_ZERO_TO_ONE, an infinite far plane.
     // (up to rounding: a projection read back through an inverted correction has 1e-16s there)
-    const double k = -app[2][3];
-    const double tiny = 1e-6 * std::abs(k);
+    // w = s z: s < 0 in GL's right-handed eye space (looking down -Z), s > 0 in a left-handed
+    // one (looking down +Z, as Direct3D-minded engines such as Irrlicht keep it).
+    const double s = app[2][3], k = std::abs(s);
+    const bool left_handed = s > 0;
+    const double ahead = left_handed ? 1 : -1;  // the eye's forward z
+    const double tiny = 1e-6 * k;
     if (k > 0 && std::abs(app[0][3]) <= tiny && std::abs(app[1][3]) <= tiny && std::abs(app[3][3]) <= tiny) {
         tile[0][0] = k * 2 / (tr - tl);
-        tile[2][0] = k * (tr + tl) / (tr - tl);
+        tile[2][0] = -ahead * k * (tr + tl) / (tr - tl);
         tile[1][1] = k * 2 / (tt - tb);
-        tile[2][1] = k * (tt + tb) / (tt - tb);
+        tile[2][1] = -ahead * k * (tt + tb) / (tt - tb);
         for (int c = 0; c < 4; ++c) tile[c][2] = app[c][2], tile[c][3] = app[c][3];
     } else {  // another kind: glFrustum(l, r, b, t, n, f) over a generic range
         const double n = 0.1, f = 1000.0;
@@ -47,7 +51,12 @@ glm::dmat4 ViewCorrection::correction(const glm::dmat4& app) const {
                                                : (j == 0 ? -u[1] : j == 1 ? u[0] : 0));
         return m;
     };
-    const glm::dmat4 orientation = rotate(-yaw_deg, up) * rotate(pitch_deg, right) * rotate(roll_deg, back);
+    glm::dmat4 orientation = rotate(-yaw_deg, up) * rotate(pitch_deg, right) * rotate(roll_deg, back);
+    if (left_handed) {  // the same turn written in left-handed coordinates (z mirrored)
+        glm::dmat4 mirror(1.0);
+        mirror[2][2] = -1;
+        orientation = mirror * orientation * mirror;
+    }
     return tile * glm::transpose(orientation) * glm::inverse(app);
 }
 

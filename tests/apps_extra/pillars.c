@@ -48,8 +48,14 @@
  * projection of its own (a wider field of view), writing depth, at window x 0.69..0.94 and
  * y 0.67..0.92 of the width and height (GL: y up), where the picture shows sky between pillars.
  *
+ * With --left-handed the world and the eye space are left-handed, as Irrlicht's (minetest's) are:
+ * every z is negated in the vertices and the projection has w = +z (glLoadMatrixd of the
+ * standard one with its third column negated), so the picture is the standard one's. With
+ * --builtins --mixed the floor is drawn by fixed function and the pillars by the shader program
+ * (a sky or a cloud layer by fixed function, the terrain by built-ins, as minetest draws).
+ *
  *   pillars [--shader | --builtins | --mvp] [--grow] [--fbo [--half] [--mrt | --msaa]] [--reversed] [--hud]
- *           [--hand]
+ *           [--hand] [--left-handed] [--mixed]
  *           [--frames N] [--size WxH]
  */
 #define GL_GLEXT_PROTOTYPES 1
@@ -122,6 +128,13 @@ int main(int argc, char **argv)
     const int reversed = app_take_flag(&argc, &argv, "--reversed");
     const int hud = app_take_flag(&argc, &argv, "--hud");
     const int hand = app_take_flag(&argc, &argv, "--hand");
+    const int left_handed = app_take_flag(&argc, &argv, "--left-handed");
+    const int mixed = builtins && app_take_flag(&argc, &argv, "--mixed");
+    const double zs = left_handed ? -1 : 1;  /* the world's z as the program keeps it */
+    if (left_handed && (mvp || reversed)) {
+        fprintf(stderr, "pillars: --left-handed is not for --mvp or --reversed\n");
+        return 2;
+    }
     if (hand && fbo_mode) {
         fprintf(stderr, "pillars: --hand draws into the window: not with --fbo\n");
         return 2;
@@ -246,10 +259,12 @@ int main(int argc, char **argv)
         const double standard[16] = {n / half, 0, 0, 0, 0, n / top, 0, 0, 0, 0, -(fa + n) / (fa - n), -1,
                                      0, 0, -2 * fa * n / (fa - n), 0};
         const double reverse_infinite[16] = {n / half, 0, 0, 0, 0, n / top, 0, 0, 0, 0, 0, -1, 0, 0, n, 0};
-        const double *proj = reversed ? reverse_infinite : standard;
-        if (reversed) glLoadMatrixd(proj);
+        double left[16];
+        for (int i = 0; i < 16; i++) left[i] = i >= 8 && i < 12 ? -standard[i] : standard[i];
+        const double *proj = reversed ? reverse_infinite : left_handed ? left : standard;
+        if (reversed || left_handed) glLoadMatrixd(proj);
         else glFrustum(-half, half, -top, top, n, fa);
-        if (shader) glUseProgram(program);
+        if (shader && !mixed) glUseProgram(program);
         if (shader && !builtins && !mvp) {
             GLfloat m[16];
             for (int i = 0; i < 16; i++) m[i] = (GLfloat)proj[i];
@@ -262,15 +277,17 @@ int main(int argc, char **argv)
         } else {
             glBegin(GL_QUADS);  /* the floor */
             glColor3ub(90, 90, 90);
-            glVertex3f(-50, -2, -50); glVertex3f(50, -2, -50); glVertex3f(50, -2, 50); glVertex3f(-50, -2, 50);
+            glVertex3d(-50, -2, -50 * zs); glVertex3d(50, -2, -50 * zs); glVertex3d(50, -2, 50 * zs);
+            glVertex3d(-50, -2, 50 * zs);
             glEnd();
+            if (mixed) glUseProgram(program);
             for (int k = 0; k < 12; k++) {
                 const double yaw = k * 30.0 * M_PI / 180.0, x = 6 * sin(yaw), z = -6 * cos(yaw), w = 0.6;
                 const double tx = cos(yaw) * w, tz = sin(yaw) * w;  /* across the line of sight */
                 glColor3ub((GLubyte)(40 + 16 * k), (GLubyte)(200 - 12 * k), (GLubyte)(255 - 20 * k));
                 glBegin(GL_QUADS);
-                glVertex3d(x - tx, -2, z - tz); glVertex3d(x + tx, -2, z + tz);
-                glVertex3d(x + tx, 6, z + tz); glVertex3d(x - tx, 6, z - tz);
+                glVertex3d(x - tx, -2, (z - tz) * zs); glVertex3d(x + tx, -2, (z + tz) * zs);
+                glVertex3d(x + tx, 6, (z + tz) * zs); glVertex3d(x - tx, 6, (z - tz) * zs);
                 glEnd();
             }
         }

@@ -235,6 +235,24 @@ def case_cylinder_builtins():
     cylinder("cylinder_builtins", os.path.join(CONFIGS, "cylinder-360.json"), ["--builtins"])
 
 
+def case_cylinder_left_handed():
+    # A left-handed world and eye space (w = +z), as Irrlicht keeps them (minetest): before, every
+    # turned tile lost all of it (turned into a right-handed frustum, the scene lay behind the eye).
+    cylinder("cylinder_left_handed", os.path.join(CONFIGS, "cylinder-360.json"), ["--left-handed"])
+
+
+def case_cylinder_left_handed_mixed():
+    # ... with the floor by fixed function and the pillars by built-ins: GL_PROJECTION as the
+    # fixed-function draw left it corrected must not be corrected again by glcast_clip.
+    cylinder("cylinder_left_handed_mixed", os.path.join(CONFIGS, "cylinder-360.json"),
+             ["--builtins", "--left-handed", "--mixed"])
+
+
+def case_cylinder_builtins_mixed():
+    # The floor by fixed function, the pillars by built-ins, right-handed.
+    cylinder("cylinder_builtins_mixed", os.path.join(CONFIGS, "cylinder-360.json"), ["--builtins", "--mixed"])
+
+
 def case_cylinder_mvp():
     # One premultiplied projection * view * model matrix per draw: each draw's camera split alone.
     cylinder("cylinder_mvp", os.path.join(CONFIGS, "cylinder-360.json"), ["--mvp"])

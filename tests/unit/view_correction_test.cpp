@@ -78,3 +78,20 @@ TEST(ViewCorrection, RoundingInTheWRowDoesNotChangeTheCorrection) {
     const glm::dmat4 a = v.correction(app) * app, b = v.correction(rounded) * rounded;
     for (double d : {0.6, 6.0, 90.0}) EXPECT_NEAR(ndc(a, at_yaw(60, d)).z, ndc(b, at_yaw(60, d)).z, 1e-9) << d;
 }
+
+// A left-handed eye space (looking down +Z, w = +z: Irrlicht's): the same turn, written with z
+// mirrored. Before, it went through the fallback for non-frustums and every point lay behind the eye.
+TEST(ViewCorrection, ALeftHandedProjectionTurnsAsARightHandedOne) {
+    glm::dmat4 left = glm::frustum(-0.5, 0.5, -0.375, 0.375, 0.5, 100.0);
+    left[2] = -left[2];  // P * diag(1, 1, -1, 1): eye z mirrored
+    for (double yaw : {0.0, 60.0, -120.0}) {
+        const ViewCorrection v = tile(yaw);
+        glm::dvec3 ahead = at_yaw(yaw, 6), edge = at_yaw(yaw + 30, 6);
+        ahead.z = -ahead.z, edge.z = -edge.z;
+        const glm::dmat4 m = v.correction(left) * left;
+        EXPECT_NEAR(ndc(m, ahead).x, 0, 1e-9) << yaw;
+        EXPECT_NEAR(ndc(m, edge).x, 1, 1e-9) << yaw;
+        EXPECT_GT((m * glm::dvec4(ahead, 1.0)).w, 0) << "in front of the eye";
+        EXPECT_NEAR(ndc(m, ahead).z, ndc(left, glm::dvec3(0, 0, 6)).z, 1e-9) << "its depth mapping kept";
+    }
+}
