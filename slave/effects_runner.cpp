@@ -184,6 +184,15 @@ void EffectsRunner::frame_view(SlaveContext& ctx, effects::FrameView& v) {
     if (v.view_known) {
         v.projection = facts.projection;
         v.modelview = facts.modelview;
+        if (v.projection[2][3] > 0) {
+            // A left-handed eye space (w = +z, Irrlicht's): the passes get it mirrored into GL's,
+            // P * F and F * MV (F mirrors z), the same clip coordinates and the same turn.
+            glm::dmat4 mirror(1.0);
+            mirror[2][2] = -1;
+            v.projection = v.projection * mirror;
+            v.modelview = mirror * v.modelview;
+            v.light.eye_position.z = -v.light.eye_position.z;
+        }
         // The program's viewport as this slave applies it, in tile pixels.
         const int W = ctx.master_width, H = ctx.master_height;
         // A scene drawn at another size is shown stretched over the window.
@@ -200,7 +209,7 @@ void EffectsRunner::frame_view(SlaveContext& ctx, effects::FrameView& v) {
         planar[3][0] = (2 * vx + vw) / ctx.width - 1;
         planar[1][1] = vh / ctx.height;
         planar[3][1] = (2 * vy + vh) / ctx.height - 1;
-        const glm::dmat4 rotated = options.view.enabled ? options.view.correction(facts.projection) : glm::dmat4(1.0);
+        const glm::dmat4 rotated = options.view.enabled ? options.view.correction(v.projection) : glm::dmat4(1.0);
         v.tile_clip_from_app_clip = planar * rotated;
         v.tile_clip_from_eye = v.tile_clip_from_app_clip * v.projection;
         v.eye_from_tile_clip = glm::inverse(v.tile_clip_from_eye);

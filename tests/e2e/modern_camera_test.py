@@ -14,6 +14,8 @@ shadows.method=screen-space) darken at least 70% of the floor the shadow map sha
 else, for every program (the rest: shadows of the pillars' tops, which lie above the picture).
 Reversed depth (pillars --reversed: glClipControl GL_ZERO_TO_ONE, near at 1, no far plane) is
 covered, shadowed and snowed on as the standard depth is (before: nothing at all).
+A left-handed program (pillars --left-handed: w = +z, as Irrlicht's minetest) is decorated as the
+right-handed one: the passes see its eye space mirrored into GL's.
 A view model drawn after a depth-only clear of the window (pillars --hand, as a voxel game draws
 its player's hand) leaves the scene covered and shadowed as without it, and keeps every pixel of
 the hand under every pass (before: the cleared depth hid the whole scene from the passes).
@@ -74,7 +76,8 @@ def main():
              "fbo_half": ["--builtins", "--fbo", "--half"], "fbo_mvp": ["--mvp", "--fbo"],
              "reversed": ["--reversed"], "reversed_builtins": ["--builtins", "--reversed"],
              "fbo_msaa": ["--fbo", "--msaa"], "fbo_mrt": ["--fbo", "--mrt"],
-             "hand": ["--hand"], "hand_builtins": ["--builtins", "--hand"]}
+             "hand": ["--hand"], "hand_builtins": ["--builtins", "--hand"],
+             "left_handed": ["--left-handed"], "left_handed_mixed": ["--builtins", "--left-handed", "--mixed"]}
     for mode, flags in modes.items():
         capture = os.path.join(OUT, f"{mode}.glcs")
         with Xvfb():
@@ -139,19 +142,23 @@ def main():
         check(differ <= snowed // 50, f"{mode}: the snow differs from the fixed-function program's in {differ} pixels")
     # On a rotated tile of the cylinder the passes turn with the program's depth convention too.
     config = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "display_configs", "cylinder-360.json")
+    # (the cover's patches and grain lie in world coordinates, mirrored in a left-handed world:
+    # that one is compared by its shadows)
     tiles = {}
-    for mode in ("fixed", "reversed"):
-        out = os.path.join(OUT, f"{mode}-cylinder")
+    for mode, effects in (("fixed", "shadows,cover"), ("reversed", "shadows,cover"), ("fixed", "shadows"),
+                          ("left_handed", "shadows")):
+        out = os.path.join(OUT, f"{mode}-cylinder-{effects.replace(',', '-')}")
         r = subprocess.run([GLCAST, "replay", os.path.join(OUT, f"{mode}.glcs"), "--backend", "egl", "--config", config,
-                            "--tile", "yaw060", "--frames", "1:1", "--out", out, "--effects", "shadows,cover"],
+                            "--tile", "yaw060", "--frames", "1:1", "--out", out, "--effects", effects],
                            capture_output=True, text=True, timeout=300, env=headless)
         check(r.returncode == 0, f"cylinder replay {mode} failed: {r.stderr[-2000:]}")
-        tiles[mode] = read_png(os.path.join(out, frame))
-    w, h, a = tiles["fixed"]
-    b = tiles["reversed"][2]
-    differ = sum(1 for y in range(h) for x in range(w) if max(abs(a[y][x][i] - b[y][x][i]) for i in range(3)) > 8)
-    print(f"cylinder tile yaw060 with shadows and cover: reversed differs from fixed in {differ} of {w * h} pixels")
-    check(differ <= w * h // 10000, f"on the cylinder the reversed program's passes differ in {differ} pixels")
+        tiles[mode, effects] = read_png(os.path.join(out, frame))
+    for mode, effects in (("reversed", "shadows,cover"), ("left_handed", "shadows")):
+        w, h, a = tiles["fixed", effects]
+        b = tiles[mode, effects][2]
+        differ = sum(1 for y in range(h) for x in range(w) if max(abs(a[y][x][i] - b[y][x][i]) for i in range(3)) > 8)
+        print(f"cylinder tile yaw060 with {effects}: {mode} differs from fixed in {differ} of {w * h} pixels")
+        check(differ <= w * h // 10000, f"on the cylinder the {mode} program's passes differ in {differ} pixels")
     print("modern cameras: every shader program's floor is covered and shadowed as the fixed-function one's, "
           "whatever its depth convention")
 
