@@ -322,6 +322,19 @@ void EffectsRunner::redraw_main_view(SlaveContext& ctx, const glm::dmat4& correc
     gl.glGetIntegerv(GL_FRONT_FACE, &caller_front_face);
     bool cull = caller_cull;
     GLenum cull_face = GLenum(caller_cull_face), front_face = GLenum(caller_front_face);
+    // So is the alpha test of shader programs' draws (their fragment shaders write the alpha it
+    // tests); the caller's own shading keeps the caller's.
+    const bool alpha_tests = programs && compatibility;
+    const bool caller_alpha = alpha_tests && gl.glIsEnabled(GL_ALPHA_TEST);
+    GLint caller_alpha_func = GL_ALWAYS;
+    GLfloat caller_alpha_ref = 0;
+    if (alpha_tests) {
+        gl.glGetIntegerv(GL_ALPHA_TEST_FUNC, &caller_alpha_func);
+        gl.glGetFloatv(GL_ALPHA_TEST_REF, &caller_alpha_ref);
+    }
+    bool alpha = caller_alpha;
+    GLenum alpha_func = GLenum(caller_alpha_func);
+    float alpha_ref = caller_alpha_ref;
     Call c;
     for (const RecordEntry& e : rec.entries) {
         if ((e.draw && !e.main) || (e.program_state && !programs)) continue;
@@ -329,6 +342,9 @@ void EffectsRunner::redraw_main_view(SlaveContext& ctx, const glm::dmat4& correc
             if (e.cull != cull) set_enabled(gl, GL_CULL_FACE, cull = e.cull);
             if (e.cull_face != cull_face) gl.glCullFace(cull_face = e.cull_face);
             if (e.front_face != front_face) gl.glFrontFace(front_face = e.front_face);
+            if (alpha_tests && e.alpha_test != alpha) set_enabled(gl, GL_ALPHA_TEST, alpha = e.alpha_test);
+            if (alpha_tests && e.alpha_test && (e.alpha_func != alpha_func || e.alpha_ref != alpha_ref))
+                gl.glAlphaFunc(alpha_func = e.alpha_func, alpha_ref = e.alpha_ref);
         }
         redispatch_entry(core_, rec, e, c);
     }
@@ -336,6 +352,10 @@ void EffectsRunner::redraw_main_view(SlaveContext& ctx, const glm::dmat4& correc
     set_enabled(gl, GL_CULL_FACE, caller_cull);
     gl.glCullFace(GLenum(caller_cull_face));
     gl.glFrontFace(GLenum(caller_front_face));
+    if (alpha_tests) {
+        set_enabled(gl, GL_ALPHA_TEST, caller_alpha);
+        gl.glAlphaFunc(GLenum(caller_alpha_func), caller_alpha_ref);
+    }
     ctx.list_base = saved_list_base;
     ctx.current_program = saved_program_stream;
     gl.glActiveTexture(GLenum(active_texture));

@@ -96,6 +96,9 @@ CullState DriverDrawState::cull() {
                      known_or(known_.front_face, [&] { return GLenum(integer(gl_, GL_FRONT_FACE)); })};
 }
 
+// From the calls alone (GL_ALPHA_TEST does not exist in a core profile, where asking would be an error).
+AlphaTest DriverDrawState::alpha_test() { return AlphaTest{known_.alpha_test, known_.alpha_func, known_.alpha_ref}; }
+
 void DriverDrawState::viewport(int32_t out[4]) { tile_.program_viewport(out); }
 
 bool DriverDrawState::camera(GLuint program, ProgramCamera& out) { return tile_.shader_camera(program, out); }

@@ -28,6 +28,14 @@ struct CullState {
     GLenum cull_face = GL_BACK, front_face = GL_CCW;
 };
 
+// The fixed-function alpha test, which a compatibility context applies to shader programs' output
+// too: foliage drawn as alpha-tested quads (a voxel game's plants) casts the shadow of its leaves.
+struct AlphaTest {
+    bool enabled = false;
+    GLenum func = GL_ALWAYS;
+    double ref = 0;
+};
+
 class DrawState {
 public:
     virtual ~DrawState() = default;
@@ -43,6 +51,7 @@ public:
     virtual GLenum matrix_mode() = 0;
     virtual effects::SceneLight light() = 0;  // the first enabled fixed-function light, if lighting
     virtual CullState cull() = 0;
+    virtual AlphaTest alpha_test() = 0;
     virtual void viewport(int32_t out[4]) = 0;  // the program's viewport 0, master window coordinates
     // The camera of a shader program's draw (TileAdapter::shader_camera); false: none.
     virtual bool camera(GLuint program, ProgramCamera& out) = 0;
@@ -67,6 +76,7 @@ public:
     GLenum matrix_mode() override;
     effects::SceneLight light() override;
     CullState cull() override;
+    AlphaTest alpha_test() override;
     void viewport(int32_t out[4]) override;
     bool camera(GLuint program, ProgramCamera& out) override;
     GLenum color_attachment_type() override;

@@ -21,6 +21,10 @@ struct FollowedState {
     std::optional<bool> depth_test, depth_mask, cull_face;
     std::optional<GLenum> cull_face_mode, front_face;
     std::optional<std::pair<double, double>> depth_range;
+    // Alpha test (compatibility profile): a value no call set counts as GL's initial one.
+    bool alpha_test = false;
+    GLenum alpha_func = GL_ALWAYS;
+    double alpha_ref = 0;
     bool compiling_list = false;  // between glNewList(GL_COMPILE) and glEndList: nothing runs
 
     // Follows one call the slave's driver carried out in the context whose names are `names`.

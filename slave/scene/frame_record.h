@@ -26,6 +26,11 @@ struct RecordEntry {
     // floor behind the backs of its rails).
     bool cull = false;
     uint16_t cull_face = 0, front_face = 0;
+    // The alpha test as the draw had it: a redraw of shader programs tests what the program's
+    // fragment shaders write as the program did (leaves cut out of alpha-tested quads).
+    bool alpha_test = false;
+    uint16_t alpha_func = GL_ALWAYS;
+    float alpha_ref = 0;
 };
 
 // More than this a frame: the frame cannot be re-rendered (the record says so once and stops).

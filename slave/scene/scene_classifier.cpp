@@ -75,7 +75,7 @@ DrawVerdict classify_draw(SceneFacts& f, DrawState& s, GLuint framebuffer, const
     } else {
         v.main = fixed_function_draw_is_main(f, s, framebuffer, v.found_view);
     }
-    if (v.main) v.cull = s.cull();
+    if (v.main) v.cull = s.cull(), v.alpha = s.alpha_test();
     return v;
 }
 

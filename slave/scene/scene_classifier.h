@@ -66,6 +66,7 @@ struct DrawVerdict {
     bool main = false;        // it belongs to the main view
     bool found_view = false;  // ... and is its first: the main view was found with it
     CullState cull;           // a main draw's face culling
+    AlphaTest alpha;          // ... and alpha test
 };
 
 // What a draw to the window after the main view means for the overlays.

@@ -108,6 +108,8 @@ void SceneRecorder::record(SlaveContext& ctx, const Call& c, const uint8_t* tupl
         if (e.main) {
             e.cull = verdict.cull.enabled;
             e.cull_face = uint16_t(verdict.cull.cull_face), e.front_face = uint16_t(verdict.cull.front_face);
+            e.alpha_test = verdict.alpha.enabled;
+            e.alpha_func = uint16_t(verdict.alpha.func), e.alpha_ref = float(verdict.alpha.ref);
         }
         if (kind == RedrawKind::Begin) rec.in_begin_end = true, rec.begin_is_main = e.main;
     } else if (rec.in_begin_end) {

@@ -54,8 +54,13 @@
  * --builtins --mixed the floor is drawn by fixed function and the pillars by the shader program
  * (a sky or a cloud layer by fixed function, the terrain by built-ins, as minetest draws).
  *
+ * With --builtins --foliage the pillars are alpha-tested cut-outs, as a voxel game's plants: a 2x1
+ * texture, opaque on the left and transparent on the right, across each pillar, the fragment
+ * shader writing its alpha and GL_ALPHA_TEST (GL_GREATER 0.5) on for the scene's draws, off
+ * after them; each pillar shows its left half only.
+ *
  *   pillars [--shader | --builtins | --mvp] [--grow] [--fbo [--half] [--mrt | --msaa]] [--reversed] [--hud]
- *           [--hand] [--left-handed] [--mixed]
+ *           [--hand] [--left-handed] [--mixed] [--foliage]
  *           [--frames N] [--size WxH]
  */
 #define GL_GLEXT_PROTOTYPES 1
@@ -130,6 +135,7 @@ int main(int argc, char **argv)
     const int hand = app_take_flag(&argc, &argv, "--hand");
     const int left_handed = app_take_flag(&argc, &argv, "--left-handed");
     const int mixed = builtins && app_take_flag(&argc, &argv, "--mixed");
+    const int foliage = builtins && app_take_flag(&argc, &argv, "--foliage");
     const double zs = left_handed ? -1 : 1;  /* the world's z as the program keeps it */
     if (left_handed && (mvp || reversed)) {
         fprintf(stderr, "pillars: --left-handed is not for --mvp or --reversed\n");
@@ -163,13 +169,17 @@ int main(int argc, char **argv)
     GLuint program = 0;
     GLint proj_location = -1;
     if (shader) {
-        const char *vs = builtins ? "#version 120\n"
+        const char *vs = foliage ? "#version 120\nvoid main() { gl_FrontColor = gl_Color; gl_TexCoord[0] = gl_MultiTexCoord0;"
+                                   " gl_Position = gl_ModelViewProjectionMatrix * gl_Vertex; }\n"
+                         : builtins ? "#version 120\n"
                                     "void main() { gl_FrontColor = gl_Color; gl_Position = gl_ModelViewProjectionMatrix * gl_Vertex; }\n"
                          : mvp ? "#version 120\nuniform mat4 mvp;\n"
                                  "void main() { gl_FrontColor = gl_Color; gl_Position = mvp * gl_Vertex; }\n"
                                : "#version 120\nuniform mat4 proj;\n"
                                  "void main() { gl_FrontColor = gl_Color; gl_Position = proj * gl_Vertex; }\n";
-        const char *fs = "#version 120\nvoid main() { gl_FragColor = gl_Color; }\n";
+        const char *fs = foliage ? "#version 120\nuniform sampler2D leaves;\n"
+                                   "void main() { gl_FragColor = gl_Color * texture2D(leaves, gl_TexCoord[0].st); }\n"
+                                 : "#version 120\nvoid main() { gl_FragColor = gl_Color; }\n";
         GLuint v = glCreateShader(GL_VERTEX_SHADER), fr = glCreateShader(GL_FRAGMENT_SHADER);
         glShaderSource(v, 1, &vs, NULL);
         glShaderSource(fr, 1, &fs, NULL);
@@ -186,6 +196,15 @@ int main(int argc, char **argv)
             return 1;
         }
         proj_location = glGetUniformLocation(program, mvp ? "mvp" : "proj");
+    }
+    GLuint leaves = 0;
+    if (foliage) {  /* opaque white, then transparent */
+        const GLubyte texels[8] = {255, 255, 255, 255, 255, 255, 255, 0};
+        glGenTextures(1, &leaves);
+        glBindTexture(GL_TEXTURE_2D, leaves);
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, 2, 1, 0, GL_RGBA, GL_UNSIGNED_BYTE, texels);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     }
     GLuint fbo = 0, color = 0, msaa_fbo = 0;
     const int fw = half ? a.width / 2 : a.width, fh = half ? a.height / 2 : a.height;
@@ -275,8 +294,14 @@ int main(int argc, char **argv)
         if (mvp) {
             draw_mvp(proj_location, proj);
         } else {
+            if (foliage) {
+                glBindTexture(GL_TEXTURE_2D, leaves);
+                glEnable(GL_ALPHA_TEST);
+                glAlphaFunc(GL_GREATER, 0.5f);
+            }
             glBegin(GL_QUADS);  /* the floor */
             glColor3ub(90, 90, 90);
+            glTexCoord2f(0.25f, 0.5f);  /* (--foliage: the opaque texel) */
             glVertex3d(-50, -2, -50 * zs); glVertex3d(50, -2, -50 * zs); glVertex3d(50, -2, 50 * zs);
             glVertex3d(-50, -2, 50 * zs);
             glEnd();
@@ -286,10 +311,13 @@ int main(int argc, char **argv)
                 const double tx = cos(yaw) * w, tz = sin(yaw) * w;  /* across the line of sight */
                 glColor3ub((GLubyte)(40 + 16 * k), (GLubyte)(200 - 12 * k), (GLubyte)(255 - 20 * k));
                 glBegin(GL_QUADS);
-                glVertex3d(x - tx, -2, (z - tz) * zs); glVertex3d(x + tx, -2, (z + tz) * zs);
-                glVertex3d(x + tx, 6, (z + tz) * zs); glVertex3d(x - tx, 6, (z - tz) * zs);
+                glTexCoord2f(0, 0.5f); glVertex3d(x - tx, -2, (z - tz) * zs);
+                glTexCoord2f(1, 0.5f); glVertex3d(x + tx, -2, (z + tz) * zs);
+                glTexCoord2f(1, 0.5f); glVertex3d(x + tx, 6, (z + tz) * zs);
+                glTexCoord2f(0, 0.5f); glVertex3d(x - tx, 6, (z - tz) * zs);
                 glEnd();
             }
+            if (foliage) glDisable(GL_ALPHA_TEST);
         }
         if (fbo_mode) {  /* the scene shown in the window, as a last post-processing pass does */
             if (msaa) {

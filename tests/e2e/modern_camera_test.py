@@ -16,6 +16,8 @@ Reversed depth (pillars --reversed: glClipControl GL_ZERO_TO_ONE, near at 1, no 
 covered, shadowed and snowed on as the standard depth is (before: nothing at all).
 A left-handed program (pillars --left-handed: w = +z, as Irrlicht's minetest) is decorated as the
 right-handed one: the passes see its eye space mirrored into GL's.
+Alpha-tested pillars (pillars --builtins --foliage, half of each cut out, as a voxel game's
+plants) cast half the shadow: redraws test alpha as each draw did.
 A view model drawn after a depth-only clear of the window (pillars --hand, as a voxel game draws
 its player's hand) leaves the scene covered and shadowed as without it, and keeps every pixel of
 the hand under every pass (before: the cleared depth hid the whole scene from the passes).
@@ -77,7 +79,8 @@ def main():
              "reversed": ["--reversed"], "reversed_builtins": ["--builtins", "--reversed"],
              "fbo_msaa": ["--fbo", "--msaa"], "fbo_mrt": ["--fbo", "--mrt"],
              "hand": ["--hand"], "hand_builtins": ["--builtins", "--hand"],
-             "left_handed": ["--left-handed"], "left_handed_mixed": ["--builtins", "--left-handed", "--mixed"]}
+             "left_handed": ["--left-handed"], "left_handed_mixed": ["--builtins", "--left-handed", "--mixed"],
+             "foliage": ["--builtins", "--foliage"]}
     for mode, flags in modes.items():
         capture = os.path.join(OUT, f"{mode}.glcs")
         with Xvfb():
@@ -104,11 +107,15 @@ def main():
               f"({100 * found / max(1, len(mapped)):.1f}%), {elsewhere} floor pixels more")
         check(found >= 0.7 * len(mapped), f"{mode}: screen-space shadows darken {found} of the {len(mapped)} floor "
                                          f"pixels the shadow map shadows")
-        check(elsewhere <= 0.25 * len(mapped), f"{mode}: screen-space shadows darken {elsewhere} floor pixels the "
+        # (thin cut-out casters leave the screen-space method more to guess: 1,088 pixels more for
+        # 2,165 when this was written)
+        check(elsewhere <= (0.6 if mode == "foliage" else 0.25) * len(mapped), f"{mode}: screen-space shadows darken {elsewhere} floor pixels the "
                                              f"shadow map leaves lit (it shadows {len(mapped)})")
     floor, covered, shadowed = results["fixed"]
     check(covered > floor // 2 and shadowed > 100, f"the fixed-function program itself is not decorated: {results}")
     for mode in modes:
+        if mode == "foliage":
+            continue  # another picture: below
         f, c, s = results[mode]
         # (at half size the floor's edge moves by up to a pixel, multisampled edges are blended:
         # 1% of its pixels)
@@ -118,6 +125,11 @@ def main():
               f"{mode}: {c} floor pixels covered, the fixed-function program {covered}")
         check(abs(s - shadowed) <= max(10, shadowed // 10),
               f"{mode}: {s} floor pixels shadowed, the fixed-function program {shadowed}")
+    # Alpha-tested pillars (their right halves cut out) cast the shadows of their left halves:
+    # about half of the solid pillars' (before: all of it, the cut-out halves' too).
+    solid, cut = results["builtins"][2], results["foliage"][2]
+    print(f"foliage: {cut} floor pixels shadowed, the solid pillars {solid} ({100 * cut / max(1, solid):.0f}%)")
+    check(0.3 * solid <= cut <= 0.7 * solid, f"alpha-tested pillars shadow {cut} floor pixels, solid ones {solid}")
     # The view model keeps its pixels under every pass.
     frame = "frame-000001.png"
     for mode in ("hand", "hand_builtins"):

@@ -22,6 +22,7 @@ struct Given final : DrawState {
     GLenum mode = GL_MODELVIEW;
     effects::SceneLight lit;
     CullState culling{true, GL_BACK, GL_CCW};
+    AlphaTest alpha;
     int32_t vp[4] = {0, 0, 640, 480};
     bool has_camera = false;
     ProgramCamera cam;
@@ -39,6 +40,7 @@ struct Given final : DrawState {
     GLenum matrix_mode() override { return asked++, mode; }
     effects::SceneLight light() override { return asked++, lit; }
     CullState cull() override { return asked++, culling; }
+    AlphaTest alpha_test() override { return alpha; }
     void viewport(int32_t out[4]) override { asked++, std::copy(vp, vp + 4, out); }
     bool camera(GLuint, ProgramCamera& out) override {
         asked++;
