@@ -33,7 +33,7 @@ void TileAdapter::track_matrix(const Call& c) {
 }
 
 glm::dmat4 TileAdapter::program_projection_now() {
-    GLdouble m[16];
+    GLdouble m[16] = {};  // (a driver that answers nothing: no projection, not stack garbage)
     core_.api().glGetDoublev(GL_PROJECTION_MATRIX, m);
     glm::dmat4 p;
     std::memcpy(&p[0][0], m, sizeof m);
@@ -123,7 +123,7 @@ void TileAdapter::correct_projection() {
     if (!core_.options().view.enabled || !(ctx.drawing_to_window || draws_scene_target(ctx))) return;
     auto& top = s.projection.back();
     if ((top.corrected || top.left) && !top.dirty) return;
-    GLdouble current[16];
+    GLdouble current[16] = {};
     gl.glGetDoublev(GL_PROJECTION_MATRIX, current);
     glm::dmat4 p;
     std::memcpy(&p[0][0], current, sizeof current);
@@ -230,7 +230,7 @@ bool TileAdapter::shader_camera(uint32_t program, ProgramCamera& out) {
     if (!cameras.reads_fixed_function(program)) return false;
     const glm::dmat4 projection = program_projection_now();
     if (!is_perspective(projection)) return false;
-    GLdouble modelview[16];
+    GLdouble modelview[16] = {};
     core_.api().glGetDoublev(GL_MODELVIEW_MATRIX, modelview);
     out.projection = projection;
     std::memcpy(&out.modelview[0][0], modelview, sizeof modelview);

@@ -63,7 +63,7 @@ double DriverDrawState::view_model_far() {
 glm::dmat4 DriverDrawState::projection() { return tile_.program_projection_now(); }
 
 glm::dmat4 DriverDrawState::modelview() {
-    GLdouble mv[16];
+    GLdouble mv[16] = {};
     gl_.glGetDoublev(GL_MODELVIEW_MATRIX, mv);
     glm::dmat4 m;
     std::memcpy(&m[0][0], mv, sizeof mv);
@@ -83,7 +83,7 @@ effects::SceneLight DriverDrawState::light() {
         GLboolean on = GL_FALSE;
         gl_.glGetBooleanv(light, &on);
         if (!on) continue;
-        GLfloat pos[4];
+        GLfloat pos[4] = {0, 0, 1, 0};
         gl_.glGetLightfv(light, GL_POSITION, pos);
         return effects::SceneLight{true, glm::dvec4(pos[0], pos[1], pos[2], pos[3])};
     }
