@@ -63,6 +63,10 @@ int replay(ReplayArgs& a) {
         std::fprintf(stderr, "glcast replay: --out: %s\n", mkdir_error.c_str());
         return 1;
     }
+    if (!opt.scene_report_dir.empty() && !make_directories(opt.scene_report_dir, mkdir_error)) {
+        std::fprintf(stderr, "glcast replay: --scene-report: %s\n", mkdir_error.c_str());
+        return 1;
+    }
     std::string error;
     std::unique_ptr<Backend> backend = make_backend(a.backend_kind, error);
     if (!backend) {
@@ -151,6 +155,10 @@ Command add_replay(CLI::App& glcast) {
     add_ints(*app, "--tile-rect", 4, 0, 65536, "X,Y,W,H", a->tile_rect,
              "show one rectangle of the canvas (pixels from the top left), as one tile of a wall does");
     add_effect_options(*app, a->opt.effects);
+    app->add_option("--scene-report", a->opt.scene_report_dir,
+                    "with --effects: write what the passes took each frame of --frames for into DIR\n"
+                    "(its depth, its view, the program's pixels kept; slave/scene_report.h)")
+        ->type_name("DIR");
     add_limit_option(*app, a->opt.limits);
     return {app, [a](const std::vector<std::string>&) { return replay(*a); }};
 }

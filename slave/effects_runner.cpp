@@ -11,6 +11,7 @@
 #include "protocol/format.h"
 #include "slave/effects/gl_util.h"
 #include "slave/replayer.h"
+#include "slave/scene_report.h"
 #include "slave/scene/redraw.h"
 #include "slave/tile_adapter.h"
 
@@ -140,6 +141,9 @@ void EffectsRunner::run_effects(SlaveContext& ctx) {
         st.pipeline->run(view);
         if (!st.depth.standard) set_depth_state(gl, st.depth.program);
         if (overlays || view_model || placed) put_overlays_back(ctx, overlays);
+        const ReplayOptions& opt = core_.options();
+        if (!opt.scene_report_dir.empty() && view.frame >= opt.first_frame && view.frame <= opt.last_frame)
+            report_scene(ctx, view, overlays, overlays || view_model || placed);
         if (core_.after_effects) core_.after_effects(view);
         if (scene.loan.borrowed_from && !said_borrowed_) {
             said_borrowed_ = true;
@@ -361,7 +365,7 @@ void EffectsRunner::redraw_main_view(SlaveContext& ctx, const glm::dmat4& correc
     gl.glActiveTexture(GLenum(active_texture));
 }
 
-void EffectsRunner::put_overlays_back(SlaveContext& ctx, bool overlays) {
+void EffectsRunner::put_overlays_back(SlaveContext& ctx, bool overlays, GLuint target) {
     ContextPasses& st = passes(ctx);
     const ContextScene& scene = scenes_.scene(ctx);
     const GlApi& gl = core_.api();
@@ -370,7 +374,7 @@ void EffectsRunner::put_overlays_back(SlaveContext& ctx, bool overlays) {
         gl.glGenVertexArrays(1, &st.overlay_vao);
     }
     effects::StateGuard guard(gl);
-    gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
+    gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
     gl.glViewport(0, 0, ctx.width, ctx.height);
     gl.glDisable(GL_BLEND);
     gl.glDisable(GL_DEPTH_TEST);
@@ -392,6 +396,34 @@ void EffectsRunner::put_overlays_back(SlaveContext& ctx, bool overlays) {
     gl.glUniform4f(effects::uniform(gl, st.overlay_program, "scene_rect"), GLfloat(rect[0]), GLfloat(rect[1]),
                    GLfloat(rect[2]), GLfloat(rect[3]));
     effects::draw_fullscreen(gl, st.overlay_vao);
+}
+
+// The same pixels put back into a mask, then the frame's depth and view, for measurements.
+void EffectsRunner::report_scene(SlaveContext& ctx, const effects::FrameView& view, bool overlays, bool kept) {
+    ContextPasses& st = passes(ctx);
+    const GlApi& gl = core_.api();
+    if (st.report_size[0] != ctx.width || st.report_size[1] != ctx.height) {
+        effects::StateGuard guard(gl);
+        if (st.report_mask) {
+            gl.glDeleteTextures(1, &st.report_mask);
+            gl.glDeleteFramebuffers(1, &st.report_mask_fb);
+        }
+        st.report_mask = effects::make_texture(gl, GL_RGBA8, ctx.width, ctx.height);
+        st.report_mask_fb = effects::make_framebuffer(gl, st.report_mask, 0);
+        st.report_size[0] = ctx.width, st.report_size[1] = ctx.height;
+    }
+    {
+        effects::StateGuard guard(gl);
+        gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, st.report_mask_fb);
+        gl.glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+        gl.glDisable(GL_SCISSOR_TEST);
+        gl.glClearColor(0, 0, 0, 0);
+        gl.glClear(GL_COLOR_BUFFER_BIT);
+    }
+    if (kept) put_overlays_back(ctx, overlays, st.report_mask_fb);
+    std::string error;
+    if (!write_scene_report(gl, core_.options().scene_report_dir, view, st.report_mask_fb, error))
+        throw EffectsError("effects: --scene-report: " + error);
 }
 
 // Where the frame's scene is in this tile's pixels: the whole window, or the rectangle a borrowed

@@ -59,6 +59,8 @@ private:
         GLint program_vao = 0, program_active_texture = GL_TEXTURE0, program_textures[8] = {};
         DepthConvention depth;  // this frame's: the program's depth as the passes read it
         glm::dmat4 pass_clip_from_program_clip{1.0};  // the depth conversion's, with the tile's map
+        GLuint report_mask = 0, report_mask_fb = 0;   // --scene-report: the kept pixels
+        int report_size[2] = {0, 0};
     };
     ContextPasses& passes(const SlaveContext& ctx);
     void run_effects(SlaveContext& ctx);
@@ -67,7 +69,9 @@ private:
     // projection, the window's depth converted, redraws corrected.
     void convert_depth(SlaveContext& ctx, effects::FrameView& v, const glm::dmat4& planar);
     void redraw_main_view(SlaveContext& ctx, const glm::dmat4& correction);
-    void put_overlays_back(SlaveContext& ctx, bool overlays);
+    // Draws the program's own pixels back over the passes' into `target` (0: the window).
+    void put_overlays_back(SlaveContext& ctx, bool overlays, GLuint target = 0);
+    void report_scene(SlaveContext& ctx, const effects::FrameView& view, bool overlays, bool kept);
     void scene_rect(SlaveContext& ctx, int32_t out[4]);  // where the scene is, tile pixels
 
     Replayer& core_;

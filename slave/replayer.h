@@ -58,6 +58,7 @@ struct ReplayOptions {
     ViewCorrection view;            // a rotated or asymmetric tile
     effects::EffectsSettings effects;  // injected passes run before each present (docs/effects.md)
     ReplayLimits limits;
+    std::string scene_report_dir;  // write what the passes took each frame for here (scene_report.h)
 };
 
 struct ReplayStats {

@@ -24,8 +24,10 @@ the hand under every pass (before: the cleared depth hid the whole scene from th
 
     modern_camera_test.py     with GLCAST, GLCAST_SHIM, APPS_DIR, OUT_DIR in the environment
 """
+import json
 import os
 import shutil
+import struct
 import subprocess
 import sys
 
@@ -125,6 +127,28 @@ def main():
               f"{mode}: {c} floor pixels covered, the fixed-function program {covered}")
         check(abs(s - shadowed) <= max(10, shadowed // 10),
               f"{mode}: {s} floor pixels shadowed, the fixed-function program {shadowed}")
+    # What the slave reports of the frame (glcast replay --scene-report, which the compatibility
+    # table measures with): the pixels it keeps are the hand's, and the depth the passes read
+    # is the scene's under it (the floor at the bottom, the sky's far plane under the hand).
+    report = os.path.join(OUT, "hand-report")
+    r = subprocess.run([GLCAST, "replay", os.path.join(OUT, "hand.glcs"), "--backend", "egl", "--frames", "1",
+                        "--effects", "cover", "--scene-report", report], capture_output=True, text=True, timeout=300,
+                       env=headless)
+    check(r.returncode == 0, f"replay with --scene-report failed: {r.stderr[-2000:]}")
+    w, h, plain = read_png(os.path.join(OUT, "hand-plain", "frame-000001.png"))
+    _, _, kept = read_png(os.path.join(report, "frame-000001-kept.png"))
+    hand = {(x, y) for y in range(h) for x in range(w) if tuple(plain[y][x][:3]) == HAND}
+    marked = {(x, y) for y in range(h) for x in range(w) if kept[y][x][0] == 255}
+    with open(os.path.join(report, "frame-000001-scene.json")) as f:
+        facts = json.load(f)
+    with open(os.path.join(report, "frame-000001-depth.f32"), "rb") as f:
+        depth = struct.unpack(f"<{w * h}f", f.read())
+    under_hand = depth[int(0.8 * h) * w + int(0.8 * w)]  # rows bottom to top
+    print(f"scene report: {len(marked)} pixels kept, the hand {len(hand)}; depth at the bottom "
+          f"{depth[w // 2]:.4f}, under the hand {under_hand:.4f}")
+    check(marked == hand and facts["kept_pixels"] == len(hand) and facts["view_known"],
+          f"the report keeps {len(marked)} pixels ({len(marked & hand)} of the hand's {len(hand)})")
+    check(depth[w // 2] < 1.0 and under_hand == 1.0, "the reported depth is not the scene's (the sky under the hand)")
     # Alpha-tested pillars (their right halves cut out) cast the shadows of their left halves:
     # about half of the solid pillars' (before: all of it, the cut-out halves' too).
     solid, cut = results["builtins"][2], results["foliage"][2]
