@@ -5,8 +5,10 @@
 Per program: a capture of N frames under Xvfb with the program's own frames kept
 (GLCAST_SNAPSHOT_DIR); a replay on EGL and on OSMesa, each compared with them; the 2x2 wall of
 display_configs/wall-2x2.json stitched and compared with the canvas replay at 1280x960 (pixels
-more than 2 levels off; tolerance 0.01%, as the wall tests); and a replay with each effect
-(shadows, cover with icicles, snow), whose last frame is shown, with the program's own.
+more than 2 levels off; tolerance 0.01%, as the wall tests); the six tiles of
+display_configs/cylinder-360.json (turned, or unturned with the slave's reason); and a replay
+with each effect (shadows, cover with icicles, snow) with `--scene-report`, whose last frame is
+measured against the program's own (measure() below) and shown.
 
     scripts/compatibility.py [--build build] [--only a,b] [--frames N] [--install]
                              [--out DIR] [--doc docs/compatibility.md] [--resume]
@@ -25,6 +27,7 @@ import signal
 import struct
 import subprocess
 import sys
+import time
 import zlib
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -59,7 +62,82 @@ PROGRAMS = [
     ("osgviewer", "openscenegraph", ["osgviewer", "--window", "0", "0", "640", "480", "{scene}.25,0,0.rot"], 60),
     ("view3dscene", "view3dscene", ["view3dscene", "--geometry", "640x480", "{x3d}"], 60),
     ("openscad", "openscad", ["openscad", "{scad}"], 60),
+    # Renderers built on shaders and framebuffer objects.
+    # A voxel engine (Irrlicht, GLSL built-ins, a left-handed eye space, the hand after a depth clear),
+    # in a world made in --out with a fixed seed.
+    ("minetest", "minetest", ["/usr/games/minetest", "--go", "--world", "{out}/minetest-world", "--gameid",
+                              "minetest", "--config", "{out}/minetest.conf"], 240),
+    # A kart racer with a GL 3 renderer (scenes in framebuffer objects, post-processing), driving itself.
+    ("supertuxkart", "supertuxkart", ["/usr/games/supertuxkart", "-R", "--track=lighthouse", "--numkarts=2",
+                                      "--laps=1", "--profile-time=60", "-w", "--screensize=640x480"], 240),
+    # A planetarium (Qt), which projects the sky itself.
+    ("stellarium", "stellarium", ["stellarium", "--user-dir", "{out}/stellarium", "--full-screen", "no",
+                                  "--sky-date", "20261204", "--sky-time", "21:00:00"], 120),
+    # A molecular viewer (Qt), with its own OpenGL interface panel.
+    ("pymol", "pymol", ["pymol", "-q", "-W", "640", "-H", "480", "{out}/peptide.pml"], 60),
+    # A scientific visualizer on VTK 9 (OpenGL 3.2 core, its own framebuffer blitted to the window).
+    ("vtk", "python3-vtk9", ["/usr/bin/python3", "{out}/vtk_scene.py"], 60),
 ]
+# Files the new programs start from, written to --out.
+MINETEST_CONF = """screen_w = 640
+screen_h = 480
+enable_sound = false
+fixed_map_seed = 42
+mg_name = v7
+viewing_range = 60
+creative_mode = true
+enable_damage = false
+fps_max = 30
+menu_clouds = false
+"""
+PEPTIDE_PML = """fab ACDEFGHIKLMNPQRSTVWY, pep, ss=1
+hide everything
+show cartoon
+show sticks, sidechain
+set cartoon_transparency, 0
+orient
+turn x, -50
+"""
+VTK_SCENE = """import vtk
+ren = vtk.vtkRenderer()
+ren.SetBackground(0.4, 0.5, 0.7)
+def add(source, color):
+    m = vtk.vtkPolyDataMapper()
+    m.SetInputConnection(source.GetOutputPort())
+    a = vtk.vtkActor()
+    a.SetMapper(m)
+    a.GetProperty().SetColor(*color)
+    ren.AddActor(a)
+ground = vtk.vtkCubeSource()
+ground.SetBounds(-5, 5, -0.2, 0, -5, 5)
+add(ground, (0.8, 0.8, 0.8))
+for x, z, size in ((-2, 0, 2), (2, 1, 1.5), (0, -2.5, 1)):
+    box = vtk.vtkCubeSource()
+    box.SetBounds(x - size / 2, x + size / 2, 0, size * (1.5 if size == 1 else 1), z - size / 2, z + size / 2)
+    add(box, (0.9, 0.6, 0.3))
+sphere = vtk.vtkSphereSource()
+sphere.SetCenter(0, 1, 2)
+sphere.SetThetaResolution(32)
+sphere.SetPhiResolution(32)
+add(sphere, (0.3, 0.6, 0.9))
+text = vtk.vtkTextActor()
+text.SetInput("glcast compatibility: VTK")
+text.SetPosition(10, 10)
+text.GetTextProperty().SetFontSize(18)
+ren.AddActor2D(text)
+win = vtk.vtkRenderWindow()
+win.SetSize(640, 480)
+win.AddRenderer(ren)
+camera = ren.GetActiveCamera()
+camera.SetPosition(7, 6, 9)
+camera.SetFocalPoint(0, 0.5, 0)
+camera.SetViewUp(0, 1, 0)
+ren.ResetCameraClippingRange()
+for frame in range(100):
+    camera.Azimuth(0.5)
+    ren.ResetCameraClippingRange()
+    win.Render()
+"""
 # {scene}: a ground and three boxes (Wavefront OBJ), {x3d}: the same in X3D with a viewpoint looking down
 # onto it, {scad}: in OpenSCAD with its viewport ($vp*), written to --out. Without a viewpoint the three
 # viewers look straight down at the ground, where a light from the viewer's side hides each shadow.
@@ -124,6 +202,28 @@ def write_x3d(path):
                      f"material Material {{ diffuseColor 0.8 0.8 0.8 }} }} geometry Box {{ size {sx} {sz} {sy} }} }} }}")
     with open(path, "w") as f:
         f.write("\n".join(lines) + "\n")
+STELLARIUM_CONFIG = """[video]
+fullscreen = false
+screen_w = 640
+screen_h = 480
+[navigation]
+startup_time_mode = preset
+"""
+
+
+def write_inputs(out):
+    """The files the programs' command lines name ({out}/...), made once per run."""
+    world = os.path.join(out, "minetest-world")
+    os.makedirs(world, exist_ok=True)
+    files = {"minetest.conf": MINETEST_CONF, "minetest-world/world.mt": "gameid = minetest\nbackend = sqlite3\n",
+             "peptide.pml": PEPTIDE_PML, "vtk_scene.py": VTK_SCENE, "stellarium/config.ini": STELLARIUM_CONFIG}
+    for name, text in files.items():
+        path = os.path.join(out, name)
+        os.makedirs(os.path.dirname(path), exist_ok=True)
+        with open(path, "w") as f:
+            f.write(text)
+
+
 EFFECTS = [("shadows", "shadows"), ("cover", "cover,icicles"), ("snow", "snow")]
 # What the columns do not say, found by looking (kept here so that the table can be made again).
 KNOWN = """## What the table does not show
@@ -198,7 +298,6 @@ KNOWN = """## What the table does not show
   flush its pending current colour; osgviewer enables GL_COLOR_MATERIAL each frame, and Mesa's
   glEnable then takes the material from the colour as last flushed. The program's own picture
   depends on when Mesa flushes, which nothing between frames can leave as it was.
-- The effect columns say the passes ran; whether they look right is in the pictures below.
 """
 TILES = ["top-left", "top-right", "bottom-left", "bottom-right"]
 
@@ -238,8 +337,9 @@ def thumbnail(src, dst, width=200):
     write_png(dst, [[px[y][x] for x in range(0, w - step + 1, step)] for y in range(0, h - step + 1, step)])
 
 
-def replay_compare(glcast, capture, backend, reference):
-    r = run([glcast, "replay", capture, "--backend", backend, "--compare", reference], env=headless())
+def replay_compare(glcast, capture, backend, reference, out=None):
+    r = run([glcast, "replay", capture, "--backend", backend, "--compare", reference] + (["--out", out] if out else []),
+            env=headless())
     m = re.search(r"compared (\d+) frames: (\d+) differ", r.stdout)
     if r.returncode not in (0, 1) or not m:
         return False, f"failed: {(r.stderr or r.stdout).strip().splitlines()[-1:]}"
@@ -248,14 +348,21 @@ def replay_compare(glcast, capture, backend, reference):
 
 def mosaic(glcast, capture, out, frame):
     config = os.path.join(ROOT, "display_configs", "wall-2x2.json")
-    tiles = []
+    tiles, seconds = [], []
     for tile in TILES:
         d = os.path.join(out, "tiles", tile)
+        start = time.monotonic()
         r = run([glcast, "replay", capture, "--backend", "egl", "--config", config, "--tile", tile, "--out", d,
                  "--frames", str(frame)], env=headless())
+        seconds.append(time.monotonic() - start)
         if r.returncode != 0:
             return False, f"tile {tile} failed"
         tiles.append(os.path.join(d, f"frame-{frame:06d}.png"))
+    # No tile may take more than 3x the slowest of the others (a wall waits for its slowest tile).
+    slowest, second = sorted(seconds)[-1], sorted(seconds)[-2]
+    timing = f"; tiles {min(seconds):.0f}-{slowest:.0f} s"
+    if slowest > 3 * second:
+        return False, f"tile {TILES[seconds.index(slowest)]} took {slowest:.0f} s, the others at most {second:.0f} s"
     canvas = os.path.join(out, "canvas")
     r = run([glcast, "replay", capture, "--backend", "egl", "--canvas", "1280x960", "--tile-rect", "0,0,1280,960",
              "--out", canvas, "--frames", str(frame)], env=headless())
@@ -266,8 +373,9 @@ def mosaic(glcast, capture, out, frame):
     _, _, b = read_png(os.path.join(canvas, f"frame-{frame:06d}.png"))
     large = off_by_more_than_2(a, b)
     if len(large) <= 1e-4 * 1280 * 960:
-        return True, f"{len(large)} px > 2 off"
-    return rounding(glcast, capture, out, frame, b, large)
+        return True, f"{len(large)} px > 2 off" + timing
+    ok, text = rounding(glcast, capture, out, frame, b, large)
+    return ok, text + timing
 
 
 def off_by_more_than_2(a, b, dx=0, dy=0):
@@ -301,6 +409,131 @@ def rounding(glcast, capture, out, frame, canvas, large):
     return True, "rounding: " + text
 
 
+def load_report(report, frame):
+    """The slave's scene report of `frame` (slave/scene_report.h): facts, depth rows top to bottom
+    (as the PNGs), and the set of kept pixels."""
+    base = os.path.join(report, f"frame-{frame:06d}")
+    with open(base + "-scene.json") as f:
+        facts = json.load(f)
+    w, h = facts["width"], facts["height"]
+    depth = None
+    if facts["view_known"] and os.path.exists(base + "-depth.f32"):
+        with open(base + "-depth.f32", "rb") as f:
+            flat = struct.unpack(f"<{w * h}f", f.read())
+        depth = [flat[(h - 1 - y) * w:(h - y) * w] for y in range(h)]
+    _, _, mask = read_png(base + "-kept.png")
+    kept = {(x, y) for y in range(h) for x in range(w) if mask[y][x][0]}
+    return facts, depth, kept
+
+
+def upward_pixels(facts, depth, up_world, spread_deg=40):
+    """Scene pixels whose surface faces up: within spread_deg of the world's up (the cover's
+    default spread), the normal from the reported depth (neighbours' eye positions), pixels at a
+    depth edge left out. Independent of the cover pass's own normals."""
+    w, h = facts["width"], facts["height"]
+    e = facts["eye_from_tile_clip"]
+    mv = facts["modelview"]
+    up = [sum(mv[c * 4 + r] * up_world[c] for c in range(3)) for r in range(3)]  # to eye space
+    n = math.sqrt(sum(u * u for u in up)) or 1
+    up = [u / n for u in up]
+    cos_spread = math.cos(math.radians(spread_deg))
+
+    def eye(x, y):
+        d = depth[y][x]
+        if d >= 0.999999:
+            return None
+        ndc = ((x + 0.5) / w * 2 - 1, 1 - (y + 0.5) / h * 2, 2 * d - 1, 1.0)  # y: rows top to bottom
+        p = [sum(e[c * 4 + r] * ndc[c] for c in range(4)) for r in range(4)]
+        return (p[0] / p[3], p[1] / p[3], p[2] / p[3]) if p[3] else None
+
+    points = [[eye(x, y) for x in range(w)] for y in range(h)]
+    result = set()
+    for y in range(1, h - 1):
+        row, above, below = points[y], points[y - 1], points[y + 1]
+        for x in range(1, w - 1):
+            p, l, r, u, d = row[x], row[x - 1], row[x + 1], above[x], below[x]
+            if not (p and l and r and u and d):
+                continue
+            dist = math.sqrt(p[0] ** 2 + p[1] ** 2 + p[2] ** 2)
+            if max(abs(l[2] - p[2]), abs(r[2] - p[2]), abs(u[2] - p[2]), abs(d[2] - p[2])) > 0.05 * dist:
+                continue  # a depth edge: no surface
+            a = (r[0] - l[0], r[1] - l[1], r[2] - l[2])
+            b = (u[0] - d[0], u[1] - d[1], u[2] - d[2])
+            nx, ny, nz = a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]
+            length = math.sqrt(nx * nx + ny * ny + nz * nz)
+            if not length:
+                continue
+            if nx * p[0] + ny * p[1] + nz * p[2] > 0:  # towards the eye
+                nx, ny, nz = -nx, -ny, -nz
+            if (nx * up[0] + ny * up[1] + nz * up[2]) / length >= cos_spread:
+                result.add((x, y))
+    return result
+
+
+def measure(column, own_png, decorated_png, report, frame, up_world):
+    """(ok, text) of one pass on the last frame: the kept pixels (overlays, a view model) must all
+    be the program's; cover: the share of upward-facing scene pixels made whiter; shadows: the
+    share of lit scene pixels made darker; snow: the share of scene pixels it changed."""
+    w, h, own = read_png(own_png)
+    _, _, dec = read_png(decorated_png)
+    facts, depth, kept = load_report(report, frame)
+    if (facts["width"], facts["height"]) != (w, h):
+        return False, f"the report is {facts['width']}x{facts['height']}, the picture {w}x{h}"
+    delta = [[sum(dec[y][x][:3]) - sum(own[y][x][:3]) for x in range(w)] for y in range(h)]
+    changed_kept = sum(1 for x, y in kept if max(abs(a - b) for a, b in zip(own[y][x][:3], dec[y][x][:3])) > 2)
+    kept_text = f"{changed_kept} of {len(kept)} kept px changed"
+    if not facts["view_known"] or depth is None:
+        changed = sum(1 for y in range(h) for x in range(w) if delta[y][x])
+        return changed_kept == 0, f"no view found; {changed} px changed, {kept_text}"
+    scene = [(x, y) for y in range(h) for x in range(w) if depth[y][x] < 0.999999 and (x, y) not in kept]
+    if column == "cover":
+        upward = upward_pixels(facts, depth, up_world) - kept
+        covered = sum(1 for x, y in upward if delta[y][x] > 30)
+        text = f"{100 * covered / max(1, len(upward)):.0f}% of {len(upward)} upward px covered"
+    elif column == "shadows":
+        lit = [(x, y) for x, y in scene if sum(own[y][x][:3]) > 120]
+        darker = sum(1 for x, y in lit if delta[y][x] < -30)
+        text = f"{100 * darker / max(1, len(lit)):.1f}% of {len(lit)} lit px shadowed"
+    else:
+        touched = sum(1 for x, y in scene if delta[y][x])
+        text = f"{100 * touched / max(1, len(scene)):.0f}% of {len(scene)} scene px"
+    return changed_kept == 0, f"{text}; {kept_text}"
+
+
+def world_up(stderr):
+    """The world axis the cover took as up (its message), +Y if it said none."""
+    m = re.search(r"up is the world's ([+-])([YZ])", stderr)
+    if not m:
+        return (0.0, 1.0, 0.0)
+    sign = 1.0 if m.group(1) == "+" else -1.0
+    return (0.0, sign, 0.0) if m.group(2) == "Y" else (0.0, 0.0, sign)
+
+
+CYLINDER_TILES = [f"yaw{60 * i:03d}" for i in range(6)]
+
+
+def cylinder(glcast, capture, out, frame):
+    """(ok, text, picture): the six tiles of cylinder-360.json at `frame`. Turned, unless the
+    slave says why not; failed if a tile does not replay."""
+    config = os.path.join(ROOT, "display_configs", "cylinder-360.json")
+    pictures, said = [], set()
+    for tile in CYLINDER_TILES:
+        d = os.path.join(out, tile)
+        r = run([glcast, "replay", capture, "--backend", "egl", "--config", config, "--tile", tile, "--out", d,
+                 "--frames", str(frame)], env=headless())
+        if r.returncode != 0:
+            return False, f"tile {tile} failed: {(r.stderr.strip().splitlines() or [''])[-1][:80]}", None
+        said.update(line for line in r.stderr.splitlines() if "not turned" in line or "cannot be turned" in line)
+        pictures.append(os.path.join(d, f"frame-{frame:06d}.png"))
+    picture = os.path.join(out, "cylinder.png")
+    if run([glcast, "image", "mosaic", "6x1", picture] + pictures).returncode != 0:
+        picture = None
+    if said:
+        reason = sorted(said)[0].split(": ", 1)[-1]
+        return True, f"unturned: {reason[:120]}", picture
+    return True, "turned", picture
+
+
 def one(glcast, name, argv, frames, out, images):
     row = {"program": name}
     os.makedirs(out, exist_ok=True)
@@ -309,7 +542,9 @@ def one(glcast, name, argv, frames, out, images):
     write_x3d(x3d)
     with open(scad, "w") as f:
         f.write(SCAD)
-    argv = [a.replace("{scene}", scene).replace("{x3d}", x3d).replace("{scad}", scad) for a in argv]
+    write_inputs(out)
+    argv = [a.replace("{scene}", scene).replace("{x3d}", x3d).replace("{scad}", scad).replace("{out}", out)
+            for a in argv]
     slug = re.sub(r"[^a-z0-9]+", "-", name.lower()).strip("-")
     work = os.path.join(out, slug)
     shutil.rmtree(work, ignore_errors=True)
@@ -324,37 +559,53 @@ def one(glcast, name, argv, frames, out, images):
     d = run([glcast, "dump", capture, "--summary"])
     unserialized = re.findall(r"(\d+) unserialized", d.stdout)
     row["capture"] = (True, f"{len(shown)} frames" + (f", {sum(map(int, unserialized))} unserialized" if unserialized else ""))
+    plain = os.path.join(work, "plain")  # the EGL replay: what the passes' pictures are measured against
     for backend in ("egl", "osmesa"):
-        row[backend] = replay_compare(glcast, capture, backend, own)
+        row[backend] = replay_compare(glcast, capture, backend, own, plain if backend == "egl" else None)
     last = int(shown[-1][6:12])
     row["mosaic"] = mosaic(glcast, capture, os.path.join(work, "mosaic"), last)
+    ok, text, turned = cylinder(glcast, capture, os.path.join(work, "cylinder"), last)
+    row["cylinder"] = (ok, text)
     pictures = {"program": os.path.join(own, shown[-1])}
+    up = (0.0, 1.0, 0.0)
     for column, effects in EFFECTS:
-        d = os.path.join(work, column)
+        d, report = os.path.join(work, column), os.path.join(work, column + "-report")
         r = run([glcast, "replay", capture, "--backend", "egl", "--effects", effects, "--out", d,
-                 "--frames", str(last)], env=headless())
+                 "--frames", str(last), "--scene-report", report], env=headless())
         picture = os.path.join(d, f"frame-{last:06d}.png")
-        row[column] = (r.returncode == 0 and os.path.exists(picture),
-                       "ran" if r.returncode == 0 else f"failed: {(r.stderr.strip().splitlines() or [''])[-1][:80]}")
-        if os.path.exists(picture):
-            pictures[column] = picture
+        if column == "cover":
+            up = world_up(r.stderr)
+        if r.returncode != 0 or not os.path.exists(picture):
+            row[column] = (False, f"failed: {(r.stderr.strip().splitlines() or [''])[-1][:80]}")
+            continue
+        row[column] = measure(column, os.path.join(plain, f"frame-{last:06d}.png"), picture, report, last, up)
+        pictures[column] = picture
+    if turned:
+        pictures["cylinder"] = turned
     if images:
         os.makedirs(images, exist_ok=True)
         row["pictures"] = {}
         for column, path in pictures.items():
             dst = os.path.join(images, f"{slug}-{column}.png")
-            thumbnail(path, dst)
+            thumbnail(path, dst, 600 if column == "cylinder" else 200)
             row["pictures"][column] = os.path.relpath(dst, os.path.dirname(os.path.dirname(images)))
     return row
 
 
 def table(rows, doc):
-    columns = ["capture", "egl", "osmesa", "mosaic"] + [c for c, _ in EFFECTS]
+    columns = ["capture", "egl", "osmesa", "mosaic", "cylinder"] + [c for c, _ in EFFECTS]
     lines = ["# Compatibility with real programs", "",
              "Made by `scripts/compatibility.py` (do not edit by hand): each program captured under Xvfb for the",
              "frames given there, replayed on EGL and OSMesa against its own frames, as a 2x2 wall",
              "(`display_configs/wall-2x2.json`) against the 1280x960 canvas (pixels more than 2 levels off;",
-             "0.01% allowed), and with each effect. Mesa llvmpipe, 2 cores.", "",
+             "0.01% allowed), on the six tiles of `display_configs/cylinder-360.json`, and with each effect.",
+             "Mesa llvmpipe, 2 cores.", "",
+             "The effect columns measure the last frame against the program's own, with what the slave",
+             "took the frame for (`glcast replay --scene-report`): the pixels it keeps as the program drew",
+             "them (overlays, a view model; every one must be unchanged, or the column fails), **cover**: the",
+             "share of upward-facing scene pixels (normals from the reported depth, within the cover's 40",
+             "degrees of the world's up) made whiter, **shadows**: the share of lit scene pixels made darker,",
+             "**snow**: the share of scene pixels changed. Whether it looks right is in the pictures.", "",
              "| program | " + " | ".join(columns) + " |", "|---" * (len(columns) + 1) + "|"]
     for row in rows:
         cells = []
@@ -365,11 +616,15 @@ def table(rows, doc):
             ok, text = row[c]
             cells.append(("pass: " if ok else "**FAIL**: ") + text)
         lines.append(f"| {row['program']} | " + " | ".join(cells) + " |")
-    lines += ["", KNOWN, "## Pictures (the last frame: the program's own, then with each effect)", ""]
+    lines += ["", KNOWN, "## Pictures (the last frame: the program's own, then with each effect; below, the six "
+              "tiles of the cylinder)", ""]
     for row in rows:
         if row.get("pictures"):
+            flat = {c: p for c, p in row["pictures"].items() if c != "cylinder"}
             lines.append(f"**{row['program']}**  ")
-            lines.append(" ".join(f"![{c}]({p})" for c, p in row["pictures"].items()))
+            lines.append(" ".join(f"![{c}]({p})" for c, p in flat.items()) + ("  " if "cylinder" in row["pictures"] else ""))
+            if "cylinder" in row["pictures"]:
+                lines.append(f"![cylinder]({row['pictures']['cylinder']})")
             lines.append("")
     with open(doc, "w") as f:
         f.write("\n".join(lines) + "\n")

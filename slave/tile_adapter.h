@@ -82,6 +82,7 @@ private:
     void track_matrix(const Call& c);
     void correct_projection();
     bool draws_scene_target(SlaveContext& ctx);
+    void saw_view(SlaveContext& ctx, const glm::dmat4& projection);
     bool correct_shader_program(uint32_t program);  // false: not patched
     // Vertex shaders get glcast_clip: for rotated tiles, and for passes that redraw the scene.
     bool patching() const;

@@ -34,7 +34,8 @@ struct TileAdapter::State {
     // there. Asked of the driver at the first draw into each, forgotten when attachments change.
     std::unordered_map<uint64_t, bool> colour_and_depth;
     // Engines draw their other views (a monitor's, a reflection's) first and their scene last
-    // before showing it: the last such target drawn before the window in a frame held the
+    // before showing it: the last such target drawn with a perspective view before the window
+    // in a frame (not a post-processing target its full-screen quads fill after it) held the
     // scene, unless the window itself got a perspective view (then none did), and from the next
     // frame on only it is turned (until then, every one).
     uint64_t scene_target = 0;  // 0: the window

@@ -60,8 +60,17 @@ bool TileAdapter::draws_scene_target(SlaveContext& ctx) {
         known->second = colour != GL_NONE && depth != GL_NONE;
     }
     if (!known->second) return false;
-    if (!s.window_drawn) s.frame_scene_target = s.draw_framebuffer;
     return !s.scene_target_known || s.draw_framebuffer == s.scene_target;
+}
+
+// A perspective view drawn now: the window's, or, before the window is drawn, the scene
+// target's. The target is the one that got the frame's last view (a post-processing chain's own
+// window-shaped targets, drawn with full-screen quads after it, are not the scene's).
+void TileAdapter::saw_view(SlaveContext& ctx, const glm::dmat4& projection) {
+    State& s = state();
+    (ctx.drawing_to_window ? s.window_view : s.scene_view) = true;
+    (ctx.drawing_to_window ? s.window_projection : s.scene_projection) = projection;
+    if (!ctx.drawing_to_window && !s.window_drawn) s.frame_scene_target = s.draw_framebuffer;
 }
 
 void TileAdapter::end_frame(SlaveContext& ctx) {
@@ -128,10 +137,7 @@ void TileAdapter::correct_projection() {
     glm::dmat4 p;
     std::memcpy(&p[0][0], current, sizeof current);
     const glm::dmat4 app = top.corrected ? glm::inverse(top.m) * p : p;
-    if (is_perspective(app)) {
-        (ctx.drawing_to_window ? s.window_view : s.scene_view) = true;
-        (ctx.drawing_to_window ? s.window_projection : s.scene_projection) = app;
-    }
+    if (is_perspective(app)) saw_view(ctx, app);
     const glm::dmat4* screen = !is_perspective(app) && ctx.drawing_to_window ? screen_of_flat_draw() : nullptr;
     if (screen) {
         // Drawn over the scene a view showed (a HUD, a game's menu over it): on the program's
@@ -189,12 +195,10 @@ bool TileAdapter::correct_shader_program(uint32_t program) {
         State& s = state();
         if (view.program_fov_y_deg) {
             m = glm::mat4(view.correction(view.program_projection(aspect)));
-            (ctx.drawing_to_window ? s.window_view : s.scene_view) = true;
-            (ctx.drawing_to_window ? s.window_projection : s.scene_projection) = view.program_projection(aspect);
+            saw_view(ctx, view.program_projection(aspect));
         } else if (shader_camera(program, camera)) {
             m = glm::mat4(view.correction(camera.projection));
-            (ctx.drawing_to_window ? s.window_view : s.scene_view) = true;
-            (ctx.drawing_to_window ? s.window_projection : s.scene_projection) = camera.projection;
+            saw_view(ctx, camera.projection);
         } else if (const glm::dmat4* screen = ctx.drawing_to_window ? screen_of_flat_draw() : nullptr) {
             m = glm::mat4(view.correction(*screen));  // over a view: on the program's screen
         } else if (ctx.drawing_to_window && (s.scene_view || s.window_view)) {

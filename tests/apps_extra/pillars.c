@@ -59,8 +59,12 @@
  * shader writing its alpha and GL_ALPHA_TEST (GL_GREATER 0.5) on for the scene's draws, off
  * after them; each pillar shows its left half only.
  *
+ * With --fbo --post a post-processing step follows the scene: a full-screen quad copies its
+ * texture into a second framebuffer object of the window's size, with a depth buffer of its own
+ * (as VTK's and many engines' are), and that one is shown in the window.
+ *
  *   pillars [--shader | --builtins | --mvp] [--grow] [--fbo [--half] [--mrt | --msaa]] [--reversed] [--hud]
- *           [--hand] [--left-handed] [--mixed] [--foliage]
+ *           [--hand] [--left-handed] [--mixed] [--foliage] [--post]
  *           [--frames N] [--size WxH]
  */
 #define GL_GLEXT_PROTOTYPES 1
@@ -136,6 +140,7 @@ int main(int argc, char **argv)
     const int left_handed = app_take_flag(&argc, &argv, "--left-handed");
     const int mixed = builtins && app_take_flag(&argc, &argv, "--mixed");
     const int foliage = builtins && app_take_flag(&argc, &argv, "--foliage");
+    const int post = fbo_mode && app_take_flag(&argc, &argv, "--post");
     const double zs = left_handed ? -1 : 1;  /* the world's z as the program keeps it */
     if (left_handed && (mvp || reversed)) {
         fprintf(stderr, "pillars: --left-handed is not for --mvp or --reversed\n");
@@ -254,6 +259,23 @@ int main(int argc, char **argv)
         }
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
     }
+    GLuint post_fbo = 0, post_color = 0;
+    if (post) {
+        GLuint post_depth = 0;
+        glGenTextures(1, &post_color);
+        glBindTexture(GL_TEXTURE_2D, post_color);
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, a.width, a.height, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        glGenRenderbuffers(1, &post_depth);
+        glBindRenderbuffer(GL_RENDERBUFFER, post_depth);
+        glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, a.width, a.height);
+        glGenFramebuffers(1, &post_fbo);
+        glBindFramebuffer(GL_FRAMEBUFFER, post_fbo);
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, post_color, 0);
+        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, post_depth);
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    }
     for (int f = 0; f < a.frames; f++) {
         if (fbo_mode) {
             glBindFramebuffer(GL_FRAMEBUFFER, msaa ? msaa_fbo : fbo);
@@ -325,7 +347,6 @@ int main(int argc, char **argv)
                 glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo);
                 glBlitFramebuffer(0, 0, fw, fh, 0, 0, fw, fh, GL_COLOR_BUFFER_BIT, GL_NEAREST);
             }
-            glBindFramebuffer(GL_FRAMEBUFFER, 0);
             glViewport(0, 0, a.width, a.height);
             if (shader) glUseProgram(0);
             glDisable(GL_DEPTH_TEST);
@@ -334,14 +355,18 @@ int main(int argc, char **argv)
             glMatrixMode(GL_MODELVIEW);
             glLoadIdentity();
             glEnable(GL_TEXTURE_2D);
-            glBindTexture(GL_TEXTURE_2D, color);
             glColor3ub(255, 255, 255);
-            glBegin(GL_QUADS);
-            glTexCoord2f(0, 0); glVertex2f(-1, -1);
-            glTexCoord2f(1, 0); glVertex2f(1, -1);
-            glTexCoord2f(1, 1); glVertex2f(1, 1);
-            glTexCoord2f(0, 1); glVertex2f(-1, 1);
-            glEnd();
+            /* (--post: first into the post-processing target, then that into the window) */
+            for (int step = post ? 0 : 1; step < 2; step++) {
+                glBindFramebuffer(GL_FRAMEBUFFER, step == 0 ? post_fbo : 0);
+                glBindTexture(GL_TEXTURE_2D, post && step == 1 ? post_color : color);
+                glBegin(GL_QUADS);
+                glTexCoord2f(0, 0); glVertex2f(-1, -1);
+                glTexCoord2f(1, 0); glVertex2f(1, -1);
+                glTexCoord2f(1, 1); glVertex2f(1, 1);
+                glTexCoord2f(0, 1); glVertex2f(-1, 1);
+                glEnd();
+            }
             glDisable(GL_TEXTURE_2D);
         }
         if (hand) {

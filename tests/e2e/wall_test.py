@@ -264,6 +264,13 @@ def case_cylinder_fbo():
     cylinder("cylinder_fbo", os.path.join(CONFIGS, "cylinder-360.json"), ["--fbo"])
 
 
+def case_cylinder_fbo_post():
+    # ... followed by a post-processing step into a second window-sized target with depth (VTK's
+    # way, many engines'): before, that target was taken for the scene's from the second frame on
+    # and the scene itself no longer turned.
+    cylinder("cylinder_fbo_post", os.path.join(CONFIGS, "cylinder-360.json"), ["--builtins", "--fbo", "--post"], frames=3)
+
+
 def case_cylinder_fbo_half():
     # ... at half the window's size (a render scale), shader program on the built-ins.
     cylinder("cylinder_fbo_half", os.path.join(CONFIGS, "cylinder-360.json"), ["--builtins", "--fbo", "--half"])
@@ -358,21 +365,21 @@ def cylinder_hud(name, flags):
     pillars_on_tiles(name, out)  # and the scene under it turned as ever
 
 
-def cylinder(name, config, flags):
+def cylinder(name, config, flags, frames=1):
     # A ring of pillars every 30 degrees around the viewer; six tiles every 60 degrees, each
     # from -30 to +30: pillar 2i stands at the centre of tile i, pillar 2i+1 on the seam
     # between tile i and tile i+1, and must show on both sides of it.
     out = os.path.join(OUT, name)
     shutil.rmtree(out, ignore_errors=True)
     r = run([GLCAST, "run", "--config", config, "--backend", "egl", "--out", out,
-             "--frames", "1", "--", os.path.join(APPS, "pillars")] + flags + ["--size", "400x300", "--frames", "5"])
+             "--frames", str(frames), "--", os.path.join(APPS, "pillars")] + flags + ["--size", "400x300", "--frames", "5"])
     check(r.returncode == 0, f"glcast run failed: {r.stderr[-3000:]}")
-    pillars_on_tiles(name, out)
+    pillars_on_tiles(name, out, frames - 1)
 
 
-def pillars_on_tiles(name, out):
+def pillars_on_tiles(name, out, last=0):
     tiles = [f"yaw{60 * i:03d}" for i in range(6)]
-    frame = "frame-000000.png"
+    frame = f"frame-{last:06d}.png"
     y = 1200 * 30 // 50 - 100  # a little above the horizon (top +30, bottom -20 degrees)
     for i, tile in enumerate(tiles):
         image = os.path.join(out, tile, frame)

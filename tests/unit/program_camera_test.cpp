@@ -52,3 +52,15 @@ TEST(ProgramCamera, RigidMatricesAreViews) {
     EXPECT_FALSE(is_rigid(glm::scale(glm::dmat4(1.0), glm::dvec3(1, 2, 1))));
     EXPECT_FALSE(is_rigid(glm::perspective(1.0, 1.0, 0.1, 10.0)));
 }
+
+// VTK 9's MCDCMatrix as a VTK program uploaded it (tests/data would hold the capture; the numbers
+// are its frame 59's): VTK keeps its matrices row-major and multiplies row vectors, so the upload
+// is GL's column-major P * V as it stands.
+TEST(ProgramCamera, VtksModelToClipMatrixSplits) {
+    const float uploaded[16] = {1.0542f, -1.50208f, -0.836032f, -0.834362f, 0, 3.3614f, -0.435344f, -0.434474f,
+                                -2.59293f, -0.610695f, -0.339903f, -0.339224f, 0, -1.6807f, 12.8448f, 12.8762f};
+    glm::dmat4 m;
+    for (int i = 0; i < 16; ++i) m[i / 4][i % 4] = uploaded[i];
+    glm::dmat4 p, v;
+    EXPECT_TRUE(glcast::slave::split_perspective(m, p, v));
+}
