@@ -43,6 +43,10 @@ bool DriverDrawState::depth_test() {
     return known_or(known_.depth_test, [&] { return gl_.glIsEnabled(GL_DEPTH_TEST) != 0; });
 }
 
+bool DriverDrawState::depth_always() {
+    return known_or(known_.depth_func, [&] { return GLenum(integer(gl_, GL_DEPTH_FUNC)); }) == GL_ALWAYS;
+}
+
 bool DriverDrawState::writes_depth() {
     return depth_test() && known_or(known_.depth_mask, [&] {
                GLboolean mask = GL_FALSE;

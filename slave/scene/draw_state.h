@@ -44,6 +44,7 @@ public:
     virtual GLuint program() = 0;           // the slave's name of the current program; 0: none
     virtual bool depth_test() = 0;
     virtual bool writes_depth() = 0;        // the depth test on and depth writes enabled
+    virtual bool depth_always() = 0;        // the depth function passes everything (GL_ALWAYS)
     // glDepthRange(0, f) with f < 1, a draw kept in front of the world (a view model); else 0.
     virtual double view_model_far() = 0;
     virtual glm::dmat4 projection() = 0;    // the program's own fixed-function projection now
@@ -70,6 +71,7 @@ public:
     GLuint program() override;
     bool depth_test() override;
     bool writes_depth() override;
+    bool depth_always() override;
     double view_model_far() override;
     glm::dmat4 projection() override;
     glm::dmat4 modelview() override;

@@ -71,6 +71,7 @@ void FollowedState::follow(const Call& c, ContextNames& names) {
     }
     case OP_glAlphaFunc: alpha_func = u32(c, 0), alpha_ref = f64(c, 1, true); return;
     case OP_glDepthMask: depth_mask = u32(c, 0) != 0; return;
+    case OP_glDepthFunc: depth_func = u32(c, 0); return;
     case OP_glDepthRange: depth_range = std::make_pair(f64(c, 0, false), f64(c, 1, false)); return;
     case OP_glDepthRangef: depth_range = std::make_pair(f64(c, 0, true), f64(c, 1, true)); return;
     case OP_glDepthRangeIndexed:

@@ -134,7 +134,8 @@ WindowDrawMeaning window_draw(SceneFacts& f, DrawState& s, RedrawKind kind) {
     if (kind != RedrawKind::Draw && kind != RedrawKind::Begin && kind != RedrawKind::Pixels)
         return WindowDrawMeaning::Scene;
     if (f.scene_framebuffer && !f.presented) {
-        if (kind == RedrawKind::Pixels || !s.writes_depth()) {
+        // (a draw whose depth test passes everything copies depth: VTK copies the scene's that way)
+        if (kind == RedrawKind::Pixels || !s.writes_depth() || s.depth_always()) {
             f.presented = true;  // the scene's image drawn over the window
             return WindowDrawMeaning::Scene;
         }

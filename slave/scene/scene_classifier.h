@@ -103,7 +103,10 @@ bool offscreen_scene(const SceneFacts& facts, DrawState& state, int master_width
 // view's (the caller unmarks the record's offscreen entries).
 bool later_scene_target(SceneFacts& facts, DrawState& state, int master_width, int master_height);
 
-// A draw of `kind` to the window while the main view is known and overlays have not started.
+// A draw of `kind` to the window while the main view is known and overlays have not started. The
+// first after a scene drawn offscreen shows it (pixels, a draw without depth writes, or one
+// whose depth function is GL_ALWAYS: a copy of the scene's depth); a 3D draw instead means the
+// offscreen draws were not the scene.
 WindowDrawMeaning window_draw(SceneFacts& facts, DrawState& state, RedrawKind kind);
 
 // glClear(mask) of the window while its main view is known and overlays have not started: a

@@ -61,7 +61,8 @@
  *
  * With --fbo --post a post-processing step follows the scene: a full-screen quad copies its
  * texture into a second framebuffer object of the window's size, with a depth buffer of its own
- * (as VTK's and many engines' are), and that one is shown in the window.
+ * (as VTK's and many engines' are), and that one is shown in the window with the depth test on,
+ * GL_ALWAYS and depth writes (VTK copies its scene's depth into the window so).
  *
  *   pillars [--shader | --builtins | --mvp] [--grow] [--fbo [--half] [--mrt | --msaa]] [--reversed] [--hud]
  *           [--hand] [--left-handed] [--mixed] [--foliage] [--post]
@@ -359,6 +360,11 @@ int main(int argc, char **argv)
             /* (--post: first into the post-processing target, then that into the window) */
             for (int step = post ? 0 : 1; step < 2; step++) {
                 glBindFramebuffer(GL_FRAMEBUFFER, step == 0 ? post_fbo : 0);
+                if (post && step == 1) {
+                    glEnable(GL_DEPTH_TEST);
+                    glDepthFunc(GL_ALWAYS);
+                    glDepthMask(GL_TRUE);
+                }
                 glBindTexture(GL_TEXTURE_2D, post && step == 1 ? post_color : color);
                 glBegin(GL_QUADS);
                 glTexCoord2f(0, 0); glVertex2f(-1, -1);
@@ -368,6 +374,10 @@ int main(int argc, char **argv)
                 glEnd();
             }
             glDisable(GL_TEXTURE_2D);
+            if (post) {
+                glDepthFunc(GL_LESS);
+                glDisable(GL_DEPTH_TEST);
+            }
         }
         if (hand) {
             glClear(GL_DEPTH_BUFFER_BIT);

@@ -23,6 +23,7 @@ struct Given final : DrawState {
     effects::SceneLight lit;
     CullState culling{true, GL_BACK, GL_CCW};
     AlphaTest alpha;
+    bool always = false;
     int32_t vp[4] = {0, 0, 640, 480};
     bool has_camera = false;
     ProgramCamera cam;
@@ -41,6 +42,7 @@ struct Given final : DrawState {
     effects::SceneLight light() override { return asked++, lit; }
     CullState cull() override { return asked++, culling; }
     AlphaTest alpha_test() override { return alpha; }
+    bool depth_always() override { return always; }
     void viewport(int32_t out[4]) override { asked++, std::copy(vp, vp + 4, out); }
     bool camera(GLuint, ProgramCamera& out) override {
         asked++;
@@ -421,6 +423,17 @@ TEST(SceneClassifier, A3DDrawToTheWindowMeansTheOffscreenTargetWasNotTheScene) {
     EXPECT_EQ(facts.scene_framebuffer, 0u);
     EXPECT_FALSE(facts.light.known);
     EXPECT_TRUE(classify_draw(facts, s, 0, kPasses).found_view);  // the window's draws find it again
+}
+
+TEST(SceneClassifier, ADepthCopyToTheWindowShowsTheOffscreenScene) {
+    // VTK copies its scene's depth into the window with a full-window draw, colour masked, the
+    // depth test on with GL_ALWAYS: that shows the scene, it is no 3D draw.
+    SceneFacts facts;
+    Given s;
+    classify_draw(facts, s, 3, kPasses);
+    s.always = true;
+    EXPECT_EQ(window_draw(facts, s, RedrawKind::Draw), WindowDrawMeaning::Scene);
+    EXPECT_TRUE(facts.presented && facts.main_known);
 }
 
 TEST(FrameRecord, AppendKeepsTuplesInOrderAndClearStartsOverWithTheMemoryKept) {
