@@ -62,8 +62,19 @@ private:
     std::thread thread_;
 };
 
+// The sockets' files are removed when the test program ends.
+struct SocketFiles {
+    std::vector<std::string> paths;
+    ~SocketFiles() {
+        for (const std::string& p : paths) std::remove(p.c_str());
+    }
+};
+
 std::string endpoint(const char* name) {
-    return "ipc:///tmp/glcast-hostile-" + std::to_string(getpid()) + "-" + name;
+    static SocketFiles made;
+    const std::string path = "/tmp/glcast-hostile-" + std::to_string(getpid()) + "-" + name;
+    made.paths.push_back(path);
+    return "ipc://" + path;
 }
 
 std::string join_error(const std::string& keeper, int wait_seconds, uint64_t catch_up_bytes = 0) {

@@ -8,6 +8,7 @@
 
 #include <chrono>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <random>
 #include <thread>
@@ -30,9 +31,20 @@ std::vector<std::string> released(BarrierState& s, double now, std::vector<std::
     return out;
 }
 
+// Removed when the test program ends (they held key files and sockets).
+struct TempDirs {
+    std::vector<std::string> paths;
+    ~TempDirs() {
+        std::error_code ignored;
+        for (const std::string& p : paths) std::filesystem::remove_all(p, ignored);
+    }
+};
+
 std::string temp_dir() {
+    static TempDirs made;
     char dir[] = "/tmp/glcast-keys-XXXXXX";
     EXPECT_NE(mkdtemp(dir), nullptr);
+    made.paths.push_back(dir);
     return dir;
 }
 
