@@ -30,6 +30,16 @@ std::string shim_path() {
     return std::string(GLCAST_LIBDIR) + "/libglcast.so";
 }
 
+namespace {
+
+volatile sig_atomic_t g_program = 0;  // the program run_with_shim waits for
+
+void pass_on(int sig) {
+    if (g_program > 0) kill(pid_t(g_program), sig);
+}
+
+}  // namespace
+
 int run_with_shim(const std::vector<std::string>& argv, const std::map<std::string, std::string>& env) {
     const std::string shim = shim_path();
     if (!readable(shim)) {
@@ -53,12 +63,28 @@ int run_with_shim(const std::vector<std::string>& argv, const std::map<std::stri
         std::fprintf(stderr, "glcast: cannot run %s: %s\n", args[0], std::strerror(errno));
         _exit(127);
     }
-    // Ctrl-C reaches the program (same process group); we only wait for it.
+    // Ctrl-C reaches the program (same process group); we only wait for it. A SIGTERM or SIGHUP
+    // sent to glcast alone (timeout(1), a service manager) is passed on: the program ends, and
+    // whatever glcast does after it (finishing a capture) still runs.
     signal(SIGINT, SIG_IGN);
+    g_program = pid;
+    struct sigaction pass{}, old_term{}, old_hup{};
+    pass.sa_handler = pass_on;
+    sigemptyset(&pass.sa_mask);
+    sigaction(SIGTERM, &pass, &old_term);
+    sigaction(SIGHUP, &pass, &old_hup);
     int status = 0;
+    bool waited = true;
     while (waitpid(pid, &status, 0) < 0)
-        if (errno != EINTR) return -1;
+        if (errno != EINTR) {
+            waited = false;
+            break;
+        }
+    sigaction(SIGTERM, &old_term, nullptr);
+    sigaction(SIGHUP, &old_hup, nullptr);
+    g_program = 0;
     signal(SIGINT, SIG_DFL);
+    if (!waited) return -1;
     if (WIFEXITED(status)) return WEXITSTATUS(status);
     if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
     return -1;

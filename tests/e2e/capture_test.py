@@ -6,8 +6,10 @@ dump of what they sent is checked against what they did (names they printed, cal
 """
 import os
 import re
+import signal
 import subprocess
 import sys
+import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from xvfb import Xvfb  # noqa: E402
@@ -206,6 +208,34 @@ def case_children():
                        capture_output=True, text=True, timeout=120)
     check(r.returncode == 0, f"glxgears under sh: {r.stderr}")
     common(dump(p), 3)
+
+
+def case_terminated():
+    # glcast capture stopped by SIGTERM (timeout(1), a service manager) stops its program too;
+    # before, the program ran on without it (found when a timed-out capture of a game kept
+    # running for half an hour)
+    p = os.path.join(OUT, "terminated.glcs")
+    proc = subprocess.Popen([GLCAST, "capture", "-o", p, "--", "glxgears"], stdout=subprocess.DEVNULL,
+                            stderr=subprocess.PIPE, text=True)
+    time.sleep(3)
+    with open(f"/proc/{proc.pid}/task/{proc.pid}/children") as f:
+        children = [int(c) for c in f.read().split()]
+    program = [c for c in children if b"glxgears" in open(f"/proc/{c}/cmdline", "rb").read()]
+    check(len(program) == 1, f"glxgears is not among glcast's children {children}")
+    proc.send_signal(signal.SIGTERM)
+    try:
+        proc.wait(timeout=60)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        raise AssertionError("glcast capture did not end within 60 s of SIGTERM")
+    try:
+        os.kill(program[0], 0)
+        alive = True
+    except ProcessLookupError:
+        alive = False
+    if alive:
+        os.kill(program[0], signal.SIGKILL)
+    check(not alive, "the program runs on after glcast capture was stopped")
 
 
 def case_relative_paths():
