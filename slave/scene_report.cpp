@@ -34,21 +34,8 @@ std::string numbers(const glm::dmat4& m) {
 bool write_scene_report(const GlApi& gl, const std::string& dir, const effects::FrameView& view, GLuint kept_fb,
                         std::string& error) {
     const int w = view.width, h = view.height;
-    effects::StateGuard guard(gl);
-    // (the program's pack state, which the guard does not keep, comes back below)
-    GLint pack_alignment = 4, pack_buffer = 0;
-    gl.glGetIntegerv(GL_PACK_ALIGNMENT, &pack_alignment);
-    gl.glGetIntegerv(GL_PIXEL_PACK_BUFFER_BINDING, &pack_buffer);
+    effects::StateGuard guard(gl);  // (pack buffer and pixel store too: kGuardPixelStore)
     gl.glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    gl.glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
-    struct PackBack {
-        const GlApi& gl;
-        GLint alignment, buffer;
-        ~PackBack() {
-            gl.glPixelStorei(GL_PACK_ALIGNMENT, alignment);
-            gl.glBindBuffer(GL_PIXEL_PACK_BUFFER, GLuint(buffer));
-        }
-    } pack_back{gl, pack_alignment, pack_buffer};
     Image kept;
     kept.width = w, kept.height = h;
     kept.rgba.assign(size_t(w) * size_t(h) * 4, 0);
