@@ -34,6 +34,18 @@ bool tile_options(const std::string& path, const std::string& name, ReplayOption
         c.enabled = true;
         c.yaw_deg = v.yaw_deg, c.pitch_deg = v.pitch_deg, c.roll_deg = v.roll_deg;
         c.left_deg = v.left_deg, c.right_deg = v.right_deg, c.bottom_deg = v.bottom_deg, c.top_deg = v.top_deg;
+        if (v.screen) {
+            c.screen = true;
+            c.bottom_left = glm::dvec3(v.bottom_left[0], v.bottom_left[1], v.bottom_left[2]);
+            c.bottom_right = glm::dvec3(v.bottom_right[0], v.bottom_right[1], v.bottom_right[2]);
+            c.top_left = glm::dvec3(v.top_left[0], v.top_left[1], v.top_left[2]);
+        }
+        c.units_per_metre = config.viewer.units_per_metre;
+        Viewer& viewer = options.viewer;
+        viewer.head.position = glm::dvec3(config.viewer.position[0], config.viewer.position[1], config.viewer.position[2]);
+        viewer.eye_separation = config.viewer.eye_separation;
+        viewer.eye = tile->eye == TileEye::left ? Eye::left : tile->eye == TileEye::right ? Eye::right : Eye::centre;
+        c.set_eye(eye_position(viewer));  // the config checked that the viewer faces every screen
         m.enabled = true;
         m.canvas_width = m.width = tile->width;
         m.canvas_height = m.height = tile->height;

@@ -9,7 +9,8 @@
 // never reach a terminal raw.
 #include "display_configs/display_config.h"
 
-#include "common/edit_distance.h"
+#include "display_configs/config_check.h"
+#include "display_configs/immersive_config.h"
 #include "slave/effects/effect_params.h"
 
 #include <fcntl.h>
@@ -34,77 +35,7 @@ namespace glcast::slave {
 
 namespace {
 
-using json = nlohmann::json;
-
-// ---- message helpers ------------------------------------------------------------------
-
-// A string for a message: in double quotes, printable ASCII kept, everything else \xNN, and
-// cut to about `max` characters.
-std::string quote(const std::string& s, size_t max = 64) {
-    std::string out = "\"";
-    size_t shown = 0;
-    for (unsigned char c : s) {
-        if (shown >= max) {
-            out += "...";
-            break;
-        }
-        if (c == '"' || c == '\\') {
-            out += '\\';
-            out += static_cast<char>(c);
-        } else if (c >= 0x20 && c < 0x7f) {
-            out += static_cast<char>(c);
-        } else {
-            char buf[8];
-            std::snprintf(buf, sizeof buf, "\\x%02x", c);
-            out += buf;
-        }
-        ++shown;
-    }
-    return out + "\"";
-}
-
-// The shortest text that reads back as `v`: 30, 120.5, 1e+300.
-std::string format_double(double v) {
-    if (std::isnan(v)) return "nan";
-    if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
-    char buf[40];
-    if (std::floor(v) == v && std::fabs(v) < 1e15) {
-        std::snprintf(buf, sizeof buf, "%.0f", v);
-        return buf;
-    }
-    for (int precision = 1; precision <= 17; ++precision) {
-        std::snprintf(buf, sizeof buf, "%.*g", precision, v);
-        if (std::strtod(buf, nullptr) == v) break;
-    }
-    return buf;
-}
-
-// What a JSON value is, for "got ..." in messages.
-std::string describe(const json& v) {
-    switch (v.type()) {
-    case json::value_t::null: return "null";
-    case json::value_t::boolean: return v.get<bool>() ? "true" : "false";
-    case json::value_t::number_integer: return std::to_string(v.get<int64_t>());
-    case json::value_t::number_unsigned: return std::to_string(v.get<uint64_t>());
-    case json::value_t::number_float: return format_double(v.get<double>());
-    case json::value_t::string: return quote(v.get_ref<const std::string&>());
-    case json::value_t::array: return "an array";
-    case json::value_t::object: return "an object";
-    default: return "a value of an unexpected kind";
-    }
-}
-
-// A key in a JSON path: as it is if it is a plain word, else quoted ("tiles[0].\"wid th\"").
-std::string join_key(const std::string& path, const std::string& key) {
-    bool plain = !key.empty() && key.size() <= 64 &&
-                 std::all_of(key.begin(), key.end(), [](unsigned char c) { return std::isalnum(c) || c == '_' || c == '-'; });
-    std::string shown = plain ? key : quote(key);
-    return path.empty() ? shown : path + "." + shown;
-}
-
-std::string join_index(const std::string& path, size_t index) {
-    return path + "[" + std::to_string(index) + "]";
-}
+using namespace config_check;
 
 // "line L, column C" of byte offset `pos`, counted as nlohmann-json counts them (1-based line;
 // column = bytes read on the line so far, the offending one included), except that the end of
@@ -255,116 +186,13 @@ private:
 // ---- validation -------------------------------------------------------------------------
 
 const char* const kRootKeys[] = {"name", "description", "canvas", "tiles", "swap_barrier", "effects",
-                                 "effect_params", "program_projection", "master", "keys"};
+                                 "effect_params", "program_projection", "master", "keys", "viewer"};
 const char* const kMasterKeys[] = {"address", "port"};
 const char* const kProjectionKeys[] = {"fov_y", "near", "far"};
 const char* const kCanvasKeys[] = {"width", "height"};
-const char* const kTileKeys[] = {"name", "x", "y", "width", "height", "view", "machine"};
+const char* const kTileKeys[] = {"name", "x", "y", "width", "height", "view", "screen", "eye", "stereo", "machine"};
 const char* const kViewKeys[] = {"yaw", "pitch", "roll", "left", "right", "bottom", "top"};
 
-class Validator {
-public:
-    Validator(const std::string& origin, std::string& error) : origin_(origin), error_(error) {}
-
-    bool fail(const std::string& path, const std::string& what) {
-        error_ = origin_ + ": " + (path.empty() ? std::string() : path + ": ") + what;
-        return false;
-    }
-
-    // Every key of `object` must be one of `known`.
-    template <size_t N>
-    bool check_keys(const json& object, const std::string& path, const char* const (&known)[N]) {
-        for (const auto& item : object.items()) {
-            const std::string& key = item.key();
-            if (std::find_if(known, known + N, [&](const char* k) { return key == k; }) != known + N) continue;
-            std::string list, suggestion;
-            // Suggest the nearest known key if it is 1 edit away (2 for keys of 5 letters or more).
-            size_t best = key.size() >= 5 ? 3 : 2;
-            for (const char* k : known) {
-                list += (list.empty() ? "" : ", ") + std::string(k);
-                size_t d = edit_distance(key, k);
-                if (d < best) {
-                    best = d;
-                    suggestion = k;
-                }
-            }
-            std::string hint = suggestion.empty() ? "" : "did you mean \"" + suggestion + "\"? ";
-            return fail(join_key(path, key), "unknown key (" + hint + "known keys: " + list + ")");
-        }
-        return true;
-    }
-
-    // An integer field with min <= value <= kMaxDisplaySize. Absent: `present` false, `out` kept,
-    // an error only if `required`.
-    bool int_field(const json& object, const std::string& path, const char* key, bool required, int min,
-                   int& out, bool* present = nullptr) {
-        std::string field = join_key(path, key);
-        auto it = object.find(key);
-        if (present) *present = it != object.end();
-        if (it == object.end()) return required ? fail(field, "missing required key") : true;
-        const json& v = *it;
-        const char* must = min > 0 ? "must be a positive integer" : "must be a non-negative integer";
-        int64_t n = 0;
-        if (!as_integer(v, n) || n < min) return fail(field, std::string(must) + ", got " + describe(v));
-        if (n > kMaxDisplaySize) return fail(field, "must be at most " + std::to_string(kMaxDisplaySize) + ", got " + describe(v));
-        out = static_cast<int>(n);
-        return true;
-    }
-
-    bool number_field(const json& object, const std::string& path, const char* key, double& out) {
-        auto it = object.find(key);
-        if (it == object.end()) return true;
-        std::string field = join_key(path, key);
-        if (!it->is_number()) return fail(field, "must be a number (degrees), got " + describe(*it));
-        double v = it->get<double>();
-        if (!std::isfinite(v)) return fail(field, "must be a finite number, got " + describe(*it));
-        out = v;
-        return true;
-    }
-
-    bool name_field(const json& object, const std::string& path, std::string& out) {
-        std::string field = join_key(path, "name");
-        auto it = object.find("name");
-        if (it == object.end()) return fail(field, "missing required key");
-        if (!it->is_string()) return fail(field, "must be a string, got " + describe(*it));
-        const std::string& name = it->get_ref<const std::string&>();
-        if (name.empty()) return fail(field, "must not be empty");
-        if (!is_valid_display_name(name))
-            return fail(field, "must contain only letters, digits, '_', '.' and '-', and start with a letter, a digit or "
-                               "'_' ([A-Za-z0-9_][A-Za-z0-9_.-]*: a name becomes a folder and a command-line word), got " +
-                               quote(name));
-        out = name;
-        return true;
-    }
-
-private:
-    // Integral JSON numbers (also 1e3 or 640.0) as int64; huge values clamp so that range checks
-    // reject them with the original value in the message.
-    static bool as_integer(const json& v, int64_t& out) {
-        if (v.is_number_unsigned()) {
-            uint64_t u = v.get<uint64_t>();
-            out = u > static_cast<uint64_t>(std::numeric_limits<int64_t>::max()) ? std::numeric_limits<int64_t>::max()
-                                                                                  : static_cast<int64_t>(u);
-            return true;
-        }
-        if (v.is_number_integer()) {
-            out = v.get<int64_t>();
-            return true;
-        }
-        if (v.is_number_float()) {
-            double d = v.get<double>();
-            if (!std::isfinite(d) || std::floor(d) != d) return false;
-            if (d > 1e15) out = std::numeric_limits<int64_t>::max();
-            else if (d < -1e15) out = std::numeric_limits<int64_t>::min();
-            else out = static_cast<int64_t>(d);
-            return true;
-        }
-        return false;
-    }
-
-    const std::string& origin_;
-    std::string& error_;
-};
 
 bool parse_view(Validator& check, const json& v, const std::string& path, TileView& view) {
     if (!v.is_object()) return check.fail(path, "must be an object, got " + describe(v));
@@ -402,8 +230,12 @@ bool parse_tile(Validator& check, const json& v, const std::string& path, int ne
                               "must be a machine name of letters, digits, '_', '.' and '-', got " + describe(*machine));
         tile.machine = machine->get<std::string>();
     }
-    auto view = v.find("view");
+    auto view = v.find("view"), screen = v.find("screen");
+    if (view != v.end() && screen != v.end())
+        return check.fail(path, "has both \"view\" (angles) and \"screen\" (corners in metres): give one");
     if (view != v.end() && !parse_view(check, *view, join_key(path, "view"), tile.view)) return false;
+    if (screen != v.end() && !parse_screen(check, *screen, join_key(path, "screen"), tile.view)) return false;
+    if (!parse_tile_eyes(check, v, path, tile)) return false;
     bool planar = !tile.view.enabled, has_x = false, has_y = false;
     if (!check.int_field(v, path, "x", planar, 0, tile.x, &has_x) || !check.int_field(v, path, "y", planar, 0, tile.y, &has_y) ||
         !check.int_field(v, path, "width", true, 1, tile.width) || !check.int_field(v, path, "height", true, 1, tile.height))
@@ -461,7 +293,7 @@ bool parse_config(Validator& check, const json& root, DisplayConfig& config) {
         for (size_t i = 0; i < config.tiles.size(); ++i)
             if (!config.tiles[i].view.enabled)
                 return check.fail("canvas", "missing; it is required because " + join_index("tiles", i) +
-                                                " has no \"view\" (a planar tile is a rectangle of the canvas)");
+                                                " has no \"view\" or \"screen\" (a planar tile is a rectangle of the canvas)");
         if (widths > kMaxDisplaySize)
             return check.fail("canvas", "missing, and the tiles side by side would make it " + std::to_string(widths) + "x" +
                                             std::to_string(max_height) + ", wider than " + std::to_string(kMaxDisplaySize) +
@@ -498,6 +330,8 @@ bool parse_config(Validator& check, const json& root, DisplayConfig& config) {
         if (!(p.near > 0 && p.far > p.near)) return check.fail("program_projection", "needs 0 < near < far");
         p.given = true;
     }
+
+    if (!parse_viewer(check, root, config)) return false;
 
     if (auto it = root.find("master"); it != root.end()) {
         WallMaster& m = config.master;

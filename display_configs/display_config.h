@@ -9,6 +9,7 @@
 //   wall.json: line 3, column 7: syntax error while parsing object key - ...
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -24,13 +25,31 @@ struct TileView {
     bool enabled = false;                 // false: planar tile (a rectangle of the canvas)
     double yaw_deg = 0, pitch_deg = 0, roll_deg = 0;   // yaw: positive turns right; pitch: positive looks up
     double left_deg = -30, right_deg = 30, bottom_deg = -20, top_deg = 30;  // frustum edges, angles from the axis
+    // Or a physical screen ("screen", docs/immersive.md): three corners of its rectangle in the
+    // room, in metres (x right, y up, z towards the viewer), seen from the viewer's eye.
+    bool screen = false;
+    std::array<double, 3> bottom_left{}, bottom_right{}, top_left{};
 };
+
+// Which of the viewer's eyes a tile shows: the head's centre (mono), one eye (passive stereo:
+// one output per eye), or both in one output by `Stereo`.
+enum class TileEye { centre, left, right };
+enum class Stereo { none, quad_buffer, side_by_side, top_bottom, anaglyph };
 
 struct Tile {
     std::string name;
     std::string machine;  // the display machine that shows it ("machine"); empty: the master's
     int x = 0, y = 0, width = 0, height = 0;  // rectangle on the canvas in pixels; origin top-left, y down
     TileView view;
+    TileEye eye = TileEye::centre;
+    Stereo stereo = Stereo::none;
+};
+
+// Where the viewer's eyes are when no tracker says otherwise ("viewer", docs/immersive.md).
+struct ViewerConfig {
+    std::array<double, 3> position{};  // metres, room coordinates
+    double eye_separation = 0.064;     // metres
+    double units_per_metre = 1;        // the program's eye-space units in a metre
 };
 
 // The projection of a program whose projection the stream does not show (shader programs), for
@@ -58,6 +77,7 @@ struct DisplayConfig {
     std::vector<std::string> effects;          // e.g. "snow", "shadows" (names only; validated against a list)
     std::vector<std::pair<std::string, std::string>> effect_params;  // name, value (checked: slave/effects/effect_params.h)
     ProgramProjection program_projection;
+    ViewerConfig viewer;
     WallMaster master;
     std::string keys;  // a folder of CURVE keys (net/security.h); empty: GLCAST_KEYS or none
     const Tile* find(const std::string& name) const;   // nullptr if absent
@@ -74,6 +94,7 @@ constexpr size_t kMaxDisplayConfigBytes = 1 << 20;  // 1 MiB
 constexpr int kMaxDisplaySize = 16384;               // pixels, any width, height or canvas side
 constexpr double kMaxFrustumAngleDeg = 89;           // frustum edges lie strictly within +-89 degrees
 constexpr int kMaxJsonDepth = 64;                    // nesting of arrays and objects
+constexpr double kMaxRoomMetres = 10000;             // screen corners and the viewer lie within +-10 km
 
 // The effect names "effects" may list, in the order the documentation gives them.
 using effects::known_display_effects;

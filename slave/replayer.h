@@ -39,6 +39,7 @@
 #include "slave/scratch_memory.h"
 #include "slave/tile_mapping.h"
 #include "slave/view_correction.h"
+#include "slave/viewer.h"
 
 namespace glcast::slave {
 
@@ -56,6 +57,7 @@ struct ReplayOptions {
     bool verify = false;            // execute reply-only calls too and compare with the replies
     TileMapping tile;               // show one tile of a wall instead of the whole window
     ViewCorrection view;            // a rotated or asymmetric tile
+    Viewer viewer;                  // an immersive wall's viewer: view.eye is its eye
     effects::EffectsSettings effects;  // injected passes run before each present (docs/effects.md)
     ReplayLimits limits;
     std::string scene_report_dir;  // write what the passes took each frame for here (scene_report.h)

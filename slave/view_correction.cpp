@@ -6,9 +6,62 @@ namespace glcast::slave {
 
 static double radians(double deg) { return deg * 3.14159265358979323846 / 180.0; }
 
+// The tile camera from angles (a turn of the program's camera), or from a screen's corners and
+// the eye (the generalized perspective projection: the screen's axes, the eye's distance to its
+// plane, the corners' offsets along the axes over that distance).
+ViewCorrection::Camera ViewCorrection::camera() const {
+    Camera c;
+    if (screen) {
+        const glm::dvec3 across = glm::normalize(bottom_right - bottom_left), up = glm::normalize(top_left - bottom_left);
+        const glm::dvec3 normal = glm::normalize(glm::cross(across, up));  // towards the viewer
+        const glm::dvec3 a = bottom_left - eye, b = bottom_right - eye, t = top_left - eye;
+        const double distance = -glm::dot(normal, a);
+        c.left = glm::dot(across, a) / distance, c.right = glm::dot(across, b) / distance;
+        c.bottom = glm::dot(up, a) / distance, c.top = glm::dot(up, t) / distance;
+        glm::dmat4 axes(1.0);  // rows: the screen's axes
+        for (int i = 0; i < 3; ++i) axes[i][0] = across[i], axes[i][1] = up[i], axes[i][2] = normal[i];
+        glm::dmat4 offset(1.0);
+        offset[3] = glm::dvec4(-eye * units_per_metre, 1.0);
+        c.view = axes * offset;
+        return c;
+    }
+    c.left = std::tan(radians(left_deg)), c.right = std::tan(radians(right_deg));
+    c.bottom = std::tan(radians(bottom_deg)), c.top = std::tan(radians(top_deg));
+    // The tile camera in the program's eye space (looking down -Z, +Y up): heading (yaw, positive
+    // turns right), then pitch (positive looks up), then roll (positive lowers the right side).
+    const glm::dvec3 up(0, 1, 0), right(1, 0, 0), back(0, 0, 1);
+    auto rotate = [](double deg, const glm::dvec3& axis) {
+        const double cs = std::cos(radians(deg)), s = std::sin(radians(deg));
+        const glm::dvec3 u = glm::normalize(axis);
+        glm::dmat4 m(1.0);
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j)
+                m[j][i] = (i == j ? cs : 0) + (1 - cs) * u[i] * u[j] +
+                          s * (i == 0 ? (j == 1 ? -u[2] : j == 2 ? u[1] : 0)
+                                      : i == 1 ? (j == 0 ? u[2] : j == 2 ? -u[0] : 0)
+                                               : (j == 0 ? -u[1] : j == 1 ? u[0] : 0));
+        return m;
+    };
+    const glm::dmat4 orientation = rotate(-yaw_deg, up) * rotate(pitch_deg, right) * rotate(roll_deg, back);
+    glm::dmat4 offset(1.0);  // an eye off the origin (stereo) looks the same way from there
+    offset[3] = glm::dvec4(-eye * units_per_metre, 1.0);
+    c.view = glm::transpose(orientation) * offset;
+    return c;
+}
+
+bool ViewCorrection::set_eye(const glm::dvec3& position) {
+    if (!std::isfinite(position.x) || !std::isfinite(position.y) || !std::isfinite(position.z)) return false;
+    if (screen) {
+        const glm::dvec3 normal = glm::normalize(glm::cross(bottom_right - bottom_left, top_left - bottom_left));
+        if (glm::dot(normal, position - bottom_left) < 1e-3) return false;
+    }
+    eye = position;
+    return true;
+}
+
 glm::dmat4 ViewCorrection::correction(const glm::dmat4& app) const {
-    const double tl = std::tan(radians(left_deg)), tr = std::tan(radians(right_deg));
-    const double tb = std::tan(radians(bottom_deg)), tt = std::tan(radians(top_deg));
+    const Camera cam = camera();
+    const double tl = cam.left, tr = cam.right, tb = cam.bottom, tt = cam.top;
     glm::dmat4 tile(0.0);
     // A perspective projection (w = k * -z): the tile's frustum across, the program's own depth
     // mapping (its z and w rows) along the view, so that what it does with depth stays true on
@@ -36,28 +89,13 @@ glm::dmat4 ViewCorrection::correction(const glm::dmat4& app) const {
         tile[2][3] = -1;
         tile[3][2] = -2 * f * n / (f - n);
     }
-    // The tile camera in the program's eye space (looking down -Z, +Y up): heading (yaw, positive
-    // turns right), then pitch (positive looks up), then roll (positive lowers the right side).
-    const glm::dvec3 up(0, 1, 0), right(1, 0, 0), back(0, 0, 1);
-    auto rotate = [](double deg, const glm::dvec3& axis) {
-        const double c = std::cos(radians(deg)), s = std::sin(radians(deg));
-        const glm::dvec3 u = glm::normalize(axis);
-        glm::dmat4 m(1.0);
-        for (int i = 0; i < 3; ++i)
-            for (int j = 0; j < 3; ++j)
-                m[j][i] = (i == j ? c : 0) + (1 - c) * u[i] * u[j] +
-                          s * (i == 0 ? (j == 1 ? -u[2] : j == 2 ? u[1] : 0)
-                                      : i == 1 ? (j == 0 ? u[2] : j == 2 ? -u[0] : 0)
-                                               : (j == 0 ? -u[1] : j == 1 ? u[0] : 0));
-        return m;
-    };
-    glm::dmat4 orientation = rotate(-yaw_deg, up) * rotate(pitch_deg, right) * rotate(roll_deg, back);
-    if (left_handed) {  // the same turn written in left-handed coordinates (z mirrored)
+    glm::dmat4 view = cam.view;
+    if (left_handed) {  // the same camera written in left-handed coordinates (z mirrored)
         glm::dmat4 mirror(1.0);
         mirror[2][2] = -1;
-        orientation = mirror * orientation * mirror;
+        view = mirror * view * mirror;
     }
-    return tile * glm::transpose(orientation) * glm::inverse(app);
+    return tile * view * glm::inverse(app);
 }
 
 glm::dmat4 ViewCorrection::program_projection(double aspect) const {

@@ -64,8 +64,12 @@
  * (as VTK's and many engines' are), and that one is shown in the window with the depth test on,
  * GL_ALWAYS and depth writes (VTK copies its scene's depth into the window so).
  *
+ * With --markers the scene gets marker points (GL_POINTS of size 4, depth-tested, unlit) at known
+ * positions of its eye space, one colour each, for the immersive-wall tests (units are metres there,
+ * the camera at a room's origin): MARKERS below, the first straight ahead behind a CAVE's front wall.
+ *
  *   pillars [--shader | --builtins | --mvp] [--grow] [--fbo [--half] [--mrt | --msaa]] [--reversed] [--hud]
- *           [--hand] [--left-handed] [--mixed] [--foliage] [--post]
+ *           [--hand] [--left-handed] [--mixed] [--foliage] [--post] [--markers]
  *           [--frames N] [--size WxH]
  */
 #define GL_GLEXT_PROTOTYPES 1
@@ -124,6 +128,29 @@ static void draw_mvp(GLint location, const double *proj)
     }
 }
 
+/* --markers: where each marker is (eye space) and its colour; tests/e2e/immersive_test.py knows them */
+static const struct marker {
+    double x, y, z;
+    GLubyte r, g, b;
+} MARKERS[] = {
+    {0.0, 0.0, -2.5, 0, 0, 255},      /* straight ahead, 1 m behind a 3 m CAVE's front wall */
+    {0.4, 0.3, -1.2, 255, 0, 0},      /* front, up and to the right */
+    {-1.2, 0.2, -0.4, 255, 255, 0},   /* left */
+    {1.2, -0.3, 0.5, 0, 255, 0},      /* right, behind the program's camera plane */
+    {0.3, -1.2, -0.3, 255, 0, 255},   /* below, on a CAVE's floor */
+};
+
+static void draw_markers(double zs)
+{
+    glPointSize(4);
+    glBegin(GL_POINTS);
+    for (size_t i = 0; i < sizeof MARKERS / sizeof MARKERS[0]; i++) {
+        glColor3ub(MARKERS[i].r, MARKERS[i].g, MARKERS[i].b);
+        glVertex3d(MARKERS[i].x, MARKERS[i].y, MARKERS[i].z * zs);
+    }
+    glEnd();
+}
+
 int main(int argc, char **argv)
 {
     struct app_args a;
@@ -142,6 +169,7 @@ int main(int argc, char **argv)
     const int mixed = builtins && app_take_flag(&argc, &argv, "--mixed");
     const int foliage = builtins && app_take_flag(&argc, &argv, "--foliage");
     const int post = fbo_mode && app_take_flag(&argc, &argv, "--post");
+    const int markers = app_take_flag(&argc, &argv, "--markers");
     const double zs = left_handed ? -1 : 1;  /* the world's z as the program keeps it */
     if (left_handed && (mvp || reversed)) {
         fprintf(stderr, "pillars: --left-handed is not for --mvp or --reversed\n");
@@ -341,6 +369,11 @@ int main(int argc, char **argv)
                 glEnd();
             }
             if (foliage) glDisable(GL_ALPHA_TEST);
+        }
+        if (markers) {
+            if (mvp) upload(proj_location, proj);  /* the view is the identity: the points as modelled */
+            else if (shader && mixed) glUseProgram(program);
+            draw_markers(zs);
         }
         if (fbo_mode) {  /* the scene shown in the window, as a last post-processing pass does */
             if (msaa) {

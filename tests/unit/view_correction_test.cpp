@@ -95,3 +95,91 @@ TEST(ViewCorrection, ALeftHandedProjectionTurnsAsARightHandedOne) {
         EXPECT_NEAR(ndc(m, ahead).z, ndc(left, glm::dvec3(0, 0, 6)).z, 1e-9) << "its depth mapping kept";
     }
 }
+
+// Screens in metres (docs/immersive.md): where a room point lands on a screen seen from an eye,
+// computed here by intersecting the eye's ray with the screen's plane.
+namespace {
+
+struct Wall {
+    glm::dvec3 bottom_left, bottom_right, top_left;
+};
+
+// The point's position on the wall as normalized device coordinates (-1..1 across and up).
+glm::dvec2 on_wall(const Wall& w, const glm::dvec3& eye, const glm::dvec3& p) {
+    const glm::dvec3 across = w.bottom_right - w.bottom_left, up = w.top_left - w.bottom_left;
+    const glm::dvec3 normal = glm::normalize(glm::cross(across, up));
+    const double t = glm::dot(w.bottom_left - eye, normal) / glm::dot(p - eye, normal);
+    const glm::dvec3 hit = eye + t * (p - eye) - w.bottom_left;
+    return {2 * glm::dot(hit, across) / glm::dot(across, across) - 1, 2 * glm::dot(hit, up) / glm::dot(up, up) - 1};
+}
+
+ViewCorrection screen_tile(const Wall& w, const glm::dvec3& eye, double units_per_metre = 1) {
+    ViewCorrection v;
+    v.enabled = true;
+    v.screen = true;
+    v.bottom_left = w.bottom_left, v.bottom_right = w.bottom_right, v.top_left = w.top_left;
+    v.units_per_metre = units_per_metre;
+    EXPECT_TRUE(v.set_eye(eye));
+    return v;
+}
+
+const Wall kFront{{-1.5, -1.5, -1.5}, {1.5, -1.5, -1.5}, {-1.5, 1.5, -1.5}};
+const Wall kLeft{{-1.5, -1.5, 1.5}, {-1.5, -1.5, -1.5}, {-1.5, 1.5, 1.5}};
+const Wall kFloor{{-1.5, -1.5, 1.5}, {1.5, -1.5, 1.5}, {-1.5, -1.5, -1.5}};
+
+}  // namespace
+
+TEST(ViewCorrection, AScreenSeenFromTheCentreIsTheAngleTileOfTheSameFrustum) {
+    const glm::dmat4 app = glm::frustum(-0.5, 0.5, -0.375, 0.375, 0.5, 100.0);
+    struct Case {
+        Wall wall;
+        double yaw, pitch;
+    } cases[] = {{kFront, 0, 0}, {kLeft, -90, 0}, {kFloor, 0, -90}};
+    for (const Case& c : cases) {
+        ViewCorrection angles;
+        angles.enabled = true;
+        angles.yaw_deg = c.yaw, angles.pitch_deg = c.pitch;
+        angles.left_deg = angles.bottom_deg = -45, angles.right_deg = angles.top_deg = 45;
+        const glm::dmat4 a = angles.correction(app), s = screen_tile(c.wall, glm::dvec3(0.0)).correction(app);
+        for (int i = 0; i < 4; ++i)
+            for (int j = 0; j < 4; ++j) EXPECT_NEAR(a[i][j], s[i][j], 1e-9) << c.yaw << " " << c.pitch << " " << i << j;
+    }
+}
+
+TEST(ViewCorrection, AScreenPutsARoomPointWhereTheEyesRayMeetsIt) {
+    const glm::dmat4 app = glm::frustum(-0.5, 0.5, -0.375, 0.375, 0.5, 100.0);
+    const glm::dvec3 eyes[] = {{0.5, 0, 0}, {-0.3, 0.4, 0.5}, {0.032, -0.2, -0.6}};
+    const glm::dvec3 points[] = {{0.4, 0.3, -2.5}, {-2.2, 0.5, -0.4}, {0.3, -2.4, 0.2}, {0.1, -0.2, -1.0}};
+    for (const Wall& w : {kFront, kLeft, kFloor})
+        for (const glm::dvec3& eye : eyes)
+            for (const glm::dvec3& p : points) {
+                const glm::dvec3 n = glm::normalize(glm::cross(w.bottom_right - w.bottom_left, w.top_left - w.bottom_left));
+                if (glm::dot(p - eye, n) >= 0) continue;  // behind the eye for this wall
+                const ViewCorrection v = screen_tile(w, eye);
+                const glm::dvec3 got = ndc(v.correction(app) * app, p);
+                const glm::dvec2 want = on_wall(w, eye, p);
+                EXPECT_NEAR(got.x, want.x, 1e-9);
+                EXPECT_NEAR(got.y, want.y, 1e-9);
+            }
+}
+
+TEST(ViewCorrection, ProgramUnitsScaleTheRoom) {
+    // A program whose eye space is in centimetres: the room point (0.4, 0.3, -2.5) m is (40, 30, -250).
+    const glm::dmat4 app = glm::frustum(-50.0, 50.0, -37.5, 37.5, 50.0, 10000.0);
+    const ViewCorrection v = screen_tile(kFront, {0.5, 0.2, 0.1}, 100);
+    const glm::dvec3 got = ndc(v.correction(app) * app, {40, 30, -250});
+    const glm::dvec2 want = on_wall(kFront, {0.5, 0.2, 0.1}, {0.4, 0.3, -2.5});
+    EXPECT_NEAR(got.x, want.x, 1e-9);
+    EXPECT_NEAR(got.y, want.y, 1e-9);
+}
+
+TEST(ViewCorrection, AnEyeBehindOrOnTheScreenIsRefusedAndTheLastKept) {
+    ViewCorrection v = screen_tile(kFront, {0.1, 0, 0});
+    const glm::dmat4 app = glm::frustum(-0.5, 0.5, -0.375, 0.375, 0.5, 100.0);
+    const glm::dmat4 before = v.correction(app);
+    EXPECT_FALSE(v.set_eye({0, 0, -1.5}));
+    EXPECT_FALSE(v.set_eye({0, 0, -2}));
+    EXPECT_FALSE(v.set_eye({std::nan(""), 0, 0}));
+    EXPECT_EQ(v.eye, glm::dvec3(0.1, 0, 0));
+    EXPECT_EQ(v.correction(app), before);
+}

@@ -1,0 +1,29 @@
+// The viewer of an immersive wall (docs/immersive.md): where the head is, and which of its eyes
+// a tile renders for. Room coordinates are metres, x right, y up, z towards the viewer.
+#pragma once
+
+#include <glm/glm.hpp>
+#include <glm/gtc/quaternion.hpp>
+
+namespace glcast::slave {
+
+struct HeadPose {
+    glm::dvec3 position{0.0};
+    glm::dquat orientation{1, 0, 0, 0};  // w, x, y, z: the identity looks down -z
+};
+
+enum class Eye { centre, left, right };
+
+struct Viewer {
+    HeadPose head;
+    double eye_separation = 0.064;  // metres between the eyes
+    Eye eye = Eye::centre;          // the one this tile shows
+};
+
+// The eye's position: half the separation along the head's right axis, to the left or right.
+inline glm::dvec3 eye_position(const Viewer& v) {
+    const double side = v.eye == Eye::left ? -0.5 : v.eye == Eye::right ? 0.5 : 0.0;
+    return v.head.position + v.head.orientation * glm::dvec3(side * v.eye_separation, 0, 0);
+}
+
+}  // namespace glcast::slave

@@ -1,0 +1,174 @@
+#!/usr/bin/env python3
+"""Immersive walls (docs/immersive.md), end to end: tests/apps_extra/pillars.c --markers captured
+under Xvfb, its tiles replayed headless with display configs whose screens are given in metres.
+
+    immersive_test.py CASE      with GLCAST, APPS_DIR, OUT_DIR in the environment
+
+cave_metres: the four-sided CAVE in metres (display_configs/cave-4-metres.json) with the eye at
+  the room's origin shows on every wall what the angle-based display_configs/cave-4.json shows.
+cave_eye_moved_ff, _shader, _mvp: with the viewer 0.5 m off the origin, every marker point lands
+  within 1 pixel of where the generalized perspective projection, computed here from the corners
+  alone, puts it on each wall, and on no wall that does not see it; by fixed function, by a GLSL
+  program with its projection in a uniform, and by one with projection * view * model premultiplied.
+"""
+import json
+import os
+import shutil
+import subprocess
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from png import read_png  # noqa: E402
+from xvfb import Xvfb  # noqa: E402
+
+GLCAST = os.environ["GLCAST"]
+APPS = os.environ.get("APPS_DIR", "")
+ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
+CONFIGS = os.path.join(ROOT, "display_configs")
+OUT = os.path.join(os.environ.get("OUT_DIR", "/tmp/glcast-e2e"), "immersive")
+WALLS = ["front", "left", "right", "floor"]
+
+# tests/apps_extra/pillars.c MARKERS: position (eye space, here metres) and colour.
+MARKERS = [((0.0, 0.0, -2.5), (0, 0, 255)), ((0.4, 0.3, -1.2), (255, 0, 0)), ((-1.2, 0.2, -0.4), (255, 255, 0)),
+           ((1.2, -0.3, 0.5), (0, 255, 0)), ((0.3, -1.2, -0.3), (255, 0, 255))]
+NEAR = 0.5  # pillars' near plane: nearer points are clipped on every tile
+
+
+def check(cond, msg):
+    if not cond:
+        raise AssertionError(msg)
+
+
+def run(cmd, env=None, timeout=600):
+    return subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=env)
+
+
+def capture(name, flags, frames=2):
+    out = os.path.join(OUT, name)
+    shutil.rmtree(out, ignore_errors=True)
+    os.makedirs(out)
+    path = os.path.join(out, "capture.glcs")
+    r = run([GLCAST, "capture", "-o", path, "--frames", str(frames), "--", os.path.join(APPS, "pillars")] +
+            flags + ["--markers", "--size", "400x300", "--frames", str(frames + 1)])
+    check(r.returncode == 0, f"capture failed: {r.stderr[-3000:]}")
+    return out, path
+
+
+def replay_tile(capture_path, config, tile, out, frame=1, extra=()):
+    r = run([GLCAST, "replay", capture_path, "--config", config, "--tile", tile, "--frames", f"{frame}:{frame}",
+             "--out", out] + list(extra), env={k: v for k, v in os.environ.items() if k != "DISPLAY"})
+    check(r.returncode == 0, f"replay of {tile} failed: {r.stderr[-3000:]}")
+    return os.path.join(out, f"frame-{frame:06d}.png")
+
+
+def sub(a, b):
+    return tuple(x - y for x, y in zip(a, b))
+
+
+def dot(a, b):
+    return sum(x * y for x, y in zip(a, b))
+
+
+def cross(a, b):
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+def on_screen(screen, eye, p, width, height):
+    """Where the eye's ray through room point p meets the screen, in pixels from the top left;
+    None when the screen does not show it (behind the eye, nearer than the near plane, off the
+    screen)."""
+    bl, br, tl = screen["bottom_left"], screen["bottom_right"], screen["top_left"]
+    across, up = sub(br, bl), sub(tl, bl)
+    n = cross(across, up)
+    n = tuple(c / dot(n, n) ** 0.5 for c in n)
+    depth = -dot(sub(p, eye), n)  # along the screen's normal, away from the viewer
+    if depth < NEAR:
+        return None
+    t = -dot(sub(bl, eye), n) / depth
+    hit = sub(tuple(e + t * d for e, d in zip(eye, sub(p, eye))), bl)
+    u, v = dot(hit, across) / dot(across, across), dot(hit, up) / dot(up, up)
+    if not (0 <= u <= 1 and 0 <= v <= 1):
+        return None
+    return u * width, (1 - v) * height
+
+
+def found(image, colour):
+    """The centre of the pixels of exactly `colour` (pixel centres at +0.5) and their count."""
+    w, h, rows = image
+    xs = ys = n = 0
+    for y in range(h):
+        row = rows[y]
+        for x in range(w):
+            if tuple(row[x][:3]) == colour:
+                xs, ys, n = xs + x + 0.5, ys + y + 0.5, n + 1
+    return (xs / n, ys / n, n) if n else None
+
+
+def markers_where_predicted(name, config_path, images):
+    config = json.load(open(config_path))
+    eye = tuple(config.get("viewer", {}).get("position", [0, 0, 0]))
+    worst, seen = 0.0, 0
+    for tile in config["tiles"]:
+        image = read_png(images[tile["name"]])
+        for position, colour in MARKERS:
+            want = on_screen(tile["screen"], eye, position, tile["width"], tile["height"])
+            got = found(image, colour)
+            if want is None:
+                check(got is None, f"{name}: {tile['name']} shows marker {colour}, which it cannot see from {eye}")
+                continue
+            margin = 8  # a point cut by the tile's edge has its centre elsewhere
+            if not (margin < want[0] < tile["width"] - margin and margin < want[1] < tile["height"] - margin):
+                continue
+            check(got is not None, f"{name}: {tile['name']} lacks marker {colour}, expected at {want}")
+            error = ((got[0] - want[0]) ** 2 + (got[1] - want[1]) ** 2) ** 0.5
+            check(error <= 1.0, f"{name}: {tile['name']}: marker {colour} at ({got[0]:.2f}, {got[1]:.2f}), "
+                                f"the projection puts it at ({want[0]:.2f}, {want[1]:.2f}): {error:.2f} px off")
+            worst, seen = max(worst, error), seen + 1
+    print(f"{name}: {seen} markers on the walls, each within {worst:.2f} px of its predicted place")
+    check(seen >= 5, f"{name}: only {seen} markers checked")
+
+
+def case_cave_metres():
+    out, path = capture("cave_metres", [])
+    for wall in WALLS:
+        a = replay_tile(path, os.path.join(CONFIGS, "cave-4.json"), wall, os.path.join(out, "angles", wall))
+        b = replay_tile(path, os.path.join(CONFIGS, "cave-4-metres.json"), wall, os.path.join(out, "metres", wall))
+        r = run([GLCAST, "image", "compare", a, b])
+        print(f"cave_metres {wall}: {r.stdout.strip()}")
+        check(r.returncode == 0, f"{wall}: the wall in metres differs from the angle-based one: {r.stdout} {r.stderr}")
+    images = {w: os.path.join(out, "metres", w, "frame-000001.png") for w in WALLS}
+    markers_where_predicted("cave_metres", os.path.join(CONFIGS, "cave-4-metres.json"), images)
+
+
+def moved_config(out, position):
+    config = json.load(open(os.path.join(CONFIGS, "cave-4-metres.json")))
+    config["viewer"]["position"] = position
+    path = os.path.join(out, "cave-moved.json")
+    with open(path, "w") as f:
+        json.dump(config, f)
+    return path
+
+
+def cave_eye_moved(name, flags):
+    out, path = capture(name, flags)
+    config = moved_config(out, [0.3, 0.4, 0.0])  # 0.5 m from the origin
+    images = {w: replay_tile(path, config, w, os.path.join(out, w)) for w in WALLS}
+    markers_where_predicted(name, config, images)
+
+
+def case_cave_eye_moved_ff():
+    cave_eye_moved("cave_eye_moved_ff", [])
+
+
+def case_cave_eye_moved_shader():
+    cave_eye_moved("cave_eye_moved_shader", ["--shader"])
+
+
+def case_cave_eye_moved_mvp():
+    cave_eye_moved("cave_eye_moved_mvp", ["--mvp"])
+
+
+if __name__ == "__main__":
+    with Xvfb():
+        globals()["case_" + sys.argv[1]]()
+    print("PASS")

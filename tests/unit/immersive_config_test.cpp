@@ -1,0 +1,110 @@
+// Screens in metres, eyes and the viewer in display configs (display_configs/immersive_config.h):
+// the shipped CAVE in metres loads with its corners, and every rule gives its message.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "display_configs/display_config.h"
+
+using namespace glcast::slave;
+
+namespace {
+
+std::string with_tile(const std::string& tile, const std::string& extra = "") {
+    return R"({"name": "room", "tiles": [)" + tile + "]" + extra + "}";
+}
+
+std::string screen_tile(const std::string& screen, const std::string& more = "") {
+    return R"({"name": "s", "width": 100, "height": 100, "screen": )" + screen + more + "}";
+}
+
+const char* const kFront = R"({"bottom_left": [-1.5, -1.5, -1.5], "bottom_right": [1.5, -1.5, -1.5], "top_left": [-1.5, 1.5, -1.5]})";
+
+std::string error_of(const std::string& text) {
+    DisplayConfig c;
+    std::string error;
+    EXPECT_FALSE(parse_display_config(text, "room.json", c, error)) << "accepted:\n" << text;
+    return error;
+}
+
+DisplayConfig parse_ok(const std::string& text) {
+    DisplayConfig c;
+    std::string error;
+    EXPECT_TRUE(parse_display_config(text, "room.json", c, error)) << error << "\n" << text;
+    return c;
+}
+
+}  // namespace
+
+TEST(ImmersiveConfig, TheShippedCaveInMetres) {
+    DisplayConfig c;
+    std::string error;
+    ASSERT_TRUE(load_display_config(std::string(GLCAST_SOURCE_DIR) + "/display_configs/cave-4-metres.json", c, error)) << error;
+    ASSERT_EQ(c.tiles.size(), 4u);
+    EXPECT_EQ(c.canvas_width, 4096);
+    for (const Tile& t : c.tiles) {
+        EXPECT_TRUE(t.view.enabled && t.view.screen) << t.name;
+        EXPECT_EQ(t.eye, TileEye::centre);
+    }
+    const Tile* floor = c.find("floor");
+    ASSERT_NE(floor, nullptr);
+    EXPECT_EQ(floor->view.top_left, (std::array<double, 3>{-1.5, -1.5, -1.5}));
+    EXPECT_EQ(c.viewer.eye_separation, 0.064);
+    EXPECT_EQ(c.viewer.units_per_metre, 1);
+}
+
+TEST(ImmersiveConfig, EyesStereoAndTheViewerAreRead) {
+    const DisplayConfig c = parse_ok(with_tile(screen_tile(kFront, R"(, "eye": "right")") + "," +
+                                                   R"({"name": "t", "width": 100, "height": 100, "screen": )" + kFront +
+                                                   R"(, "stereo": "side-by-side"})",
+                                               R"(, "viewer": {"position": [0.1, 0.2, 0.3], "eye_separation": 0.07, "units_per_metre": 100})"));
+    EXPECT_EQ(c.tiles[0].eye, TileEye::right);
+    EXPECT_EQ(c.tiles[1].stereo, Stereo::side_by_side);
+    EXPECT_EQ(c.viewer.position, (std::array<double, 3>{0.1, 0.2, 0.3}));
+    EXPECT_EQ(c.viewer.eye_separation, 0.07);
+    EXPECT_EQ(c.viewer.units_per_metre, 100);
+}
+
+TEST(ImmersiveConfig, BadScreensAreRefusedWithWhatIsWrong) {
+    EXPECT_EQ(error_of(with_tile(screen_tile(R"({"bottom_left": [0, 0, -1], "bottom_right": [1, 0, -1]})"))),
+              "room.json: tiles[0].screen.top_left: missing required key");
+    EXPECT_EQ(error_of(with_tile(screen_tile(R"({"bottom_left": [0, 0], "bottom_right": [1, 0, -1], "top_left": [0, 1, -1]})"))),
+              "room.json: tiles[0].screen.bottom_left: must be [x, y, z] in metres, got an array");
+    EXPECT_EQ(error_of(with_tile(screen_tile(R"({"bottom_left": [0, 0, 1e9], "bottom_right": [1, 0, -1], "top_left": [0, 1, -1]})"))),
+              "room.json: tiles[0].screen.bottom_left[2]: must be a number of metres within +-10000, got 1000000000");
+    EXPECT_EQ(error_of(with_tile(screen_tile(R"({"bottom_left": [0, 0, -1], "bottom_right": [1, 0, -1], "top_left": [0.2, 1, -1]})"))),
+              "room.json: tiles[0].screen: the corners must make a rectangle: bottom_left->bottom_right and "
+              "bottom_left->top_left meet at 78.69 degrees, not 90");
+    EXPECT_EQ(error_of(with_tile(screen_tile(R"({"bottom_left": [0, 0, -1], "bottom_right": [0, 0, -1], "top_left": [0, 1, -1]})"))),
+              "room.json: tiles[0].screen: the screen is 0 m wide and 1 m high: both must be at least a millimetre");
+    EXPECT_EQ(error_of(with_tile(screen_tile(R"({"bottom_left": [0, 0, -1], "bottom_right": [1, 0, -1], "top_left": [0, 1, -1], "up": 1})"))),
+              "room.json: tiles[0].screen.up: unknown key (known keys: bottom_left, bottom_right, top_left)");
+    // The corners turned the other way: the screen faces away from the viewer.
+    EXPECT_EQ(error_of(with_tile(screen_tile(R"({"bottom_left": [1.5, -1.5, -1.5], "bottom_right": [-1.5, -1.5, -1.5], "top_left": [1.5, 1.5, -1.5]})"))),
+              "room.json: tiles[0].screen: the viewer's position [0, 0, 0] is behind this screen (its front is where "
+              "bottom_left->bottom_right x bottom_left->top_left points): turn the corners or move the viewer");
+    EXPECT_EQ(error_of(with_tile(R"({"name": "s", "width": 100, "height": 100, "view": {"yaw": 0}, "screen": )" + std::string(kFront) + "}")),
+              "room.json: tiles[0]: has both \"view\" (angles) and \"screen\" (corners in metres): give one");
+}
+
+TEST(ImmersiveConfig, BadEyesAndViewersAreRefused) {
+    EXPECT_EQ(error_of(with_tile(screen_tile(kFront, R"(, "eye": "centre")"))),
+              "room.json: tiles[0].eye: must be \"left\" or \"right\", got \"centre\"");
+    EXPECT_EQ(error_of(with_tile(screen_tile(kFront, R"(, "stereo": "interlaced")"))),
+              "room.json: tiles[0].stereo: must be \"quad-buffer\", \"side-by-side\", \"top-bottom\" or \"anaglyph\", got \"interlaced\"");
+    EXPECT_EQ(error_of(with_tile(screen_tile(kFront, R"(, "stereo": "anaglyph", "eye": "left")"))),
+              "room.json: tiles[0]: has both \"eye\" (one eye per output) and \"stereo\" (both eyes in one output): give one");
+    EXPECT_EQ(error_of(R"({"name": "room", "canvas": {"width": 100, "height": 100}, "tiles": [{"name": "p", "x": 0, "y": 0, "width": 100, "height": 100, "eye": "left"}]})"),
+              "room.json: tiles[0].eye: needs a \"view\" or a \"screen\": a planar tile has no camera to move to an eye");
+    EXPECT_EQ(error_of(with_tile(screen_tile(kFront), R"(, "viewer": {"eye_separation": -0.1})")),
+              "room.json: viewer.eye_separation: must be a number of metres from 0 to 1, got -0.1");
+    EXPECT_EQ(error_of(with_tile(screen_tile(kFront), R"(, "viewer": {"units_per_metre": 0})")),
+              "room.json: viewer.units_per_metre: must be a number from 1e-6 to 1e6, got 0");
+    EXPECT_EQ(error_of(with_tile(screen_tile(kFront), R"(, "viewer": {"position": [0, 0, -1.5]})")),
+              "room.json: tiles[0].screen: the viewer's position [0, 0, -1.5] is on this screen's plane (its front is where "
+              "bottom_left->bottom_right x bottom_left->top_left points): turn the corners or move the viewer");
+    EXPECT_EQ(error_of(with_tile(screen_tile(kFront), R"(, "viewer": {"position": [0, 0, "x"]})")),
+              "room.json: viewer.position[2]: must be a number of metres within +-10000, got \"x\"");
+    EXPECT_EQ(error_of(with_tile(screen_tile(kFront), R"(, "viewer": {"head": 1})")),
+              "room.json: viewer.head: unknown key (known keys: position, eye_separation, units_per_metre)");
+}
