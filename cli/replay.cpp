@@ -13,6 +13,7 @@
 #include "cli/options.h"
 #include "cli/paths.h"
 #include "cli/tile_options.h"
+#include "display_configs/head_poses.h"
 #include "protocol/decoder.h"
 #include "common/image.h"
 #include "slave/replayer.h"
@@ -24,7 +25,7 @@ using namespace glcast::slave;
 namespace {
 
 struct ReplayArgs {
-    std::string path, backend_kind = "egl", out_dir, compare_dir, config_path, tile_name;
+    std::string path, backend_kind = "egl", out_dir, compare_dir, config_path, tile_name, head_poses_path;
     uint64_t offset_names = 0;
     std::vector<int> tile_rect;  // X,Y,W,H on the canvas, from the top left
     ReplayOptions opt;
@@ -58,6 +59,14 @@ int replay(ReplayArgs& a) {
         t.place_x = t.x, t.place_y = t.y;
         t.place_canvas_width = t.canvas_width, t.place_canvas_height = t.canvas_height;
     }
+    HeadPoseTrack head_poses;
+    if (!a.head_poses_path.empty()) {
+        std::string error;
+        if (!head_poses.load(a.head_poses_path, error)) {
+            std::fprintf(stderr, "glcast replay: --head-poses: %s\n", error.c_str());
+            return 1;
+        }
+    }
     std::string mkdir_error;
     if (!out_dir.empty() && !make_directories(out_dir, mkdir_error)) {
         std::fprintf(stderr, "glcast replay: --out: %s\n", mkdir_error.c_str());
@@ -76,6 +85,9 @@ int replay(ReplayArgs& a) {
 
     uint64_t mismatched = 0, compared = 0, missing = 0;
     Replayer replayer(std::move(backend), opt);
+    if (head_poses.size()) replayer.before_frame = [&](uint64_t frame) {
+        if (const HeadPose* pose = head_poses.at(frame)) move_head(replayer, *pose, frame, "glcast replay");
+    };
     if (a.offset_names) replayer.on_first_context = [&](Replayer& r) { r.keep_own_objects(int(a.offset_names)); };
     if (!out_dir.empty() || !compare_dir.empty()) replayer.on_frame = [&](uint64_t frame, int w, int h, const std::vector<uint8_t>& rgba) {
         Image image{w, h, rgba};
@@ -150,6 +162,12 @@ Command add_replay(CLI::App& glcast) {
     CLI::Option* tile = app->add_option("--tile", a->tile_name, "the tile of --config to show")->type_name("NAME");
     config->needs(tile);
     tile->needs(config);
+    app->add_option("--head-poses", a->head_poses_path,
+                    "with --config: play a recorded viewer's head poses, JSON lines\n"
+                    "{\"frame\": N, \"position\": [x,y,z], \"orientation\": [w,x,y,z]}, each holding from its frame on\n"
+                    "(docs/immersive.md)")
+        ->type_name("FILE")
+        ->needs(config);
     add_size(*app, "--canvas", 65536, a->opt.tile.canvas_width, a->opt.tile.canvas_height,
              "stretch the program's window over a canvas of WxH (with --tile-rect)");
     add_ints(*app, "--tile-rect", 4, 0, 65536, "X,Y,W,H", a->tile_rect,

@@ -1,5 +1,7 @@
 #include "cli/tile_options.h"
 
+#include <cstdio>
+
 #include "display_configs/display_config.h"
 
 namespace glcast::cli {
@@ -66,6 +68,22 @@ bool tile_options(const std::string& path, const std::string& name, ReplayOption
     m.place_x = m.x, m.place_y = m.y;
     m.place_canvas_width = m.canvas_width, m.place_canvas_height = m.canvas_height;
     return true;
+}
+
+}  // namespace glcast::cli
+
+namespace glcast::cli {
+
+void move_head(slave::Replayer& replayer, const slave::HeadPose& head, uint64_t frame, const char* who) {
+    slave::Viewer viewer = replayer.options().viewer;
+    if (viewer.head.position == head.position && viewer.head.orientation == head.orientation) return;
+    viewer.head = head;
+    static bool said = false;
+    if (!replayer.set_viewer(viewer) && !said) {
+        said = true;
+        std::fprintf(stderr, "%s: frame %llu: the head pose puts the eye behind this tile's screen or on it; the last "
+                             "eye is kept (said once)\n", who, (unsigned long long)frame);
+    }
 }
 
 }  // namespace glcast::cli

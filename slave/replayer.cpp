@@ -163,6 +163,14 @@ void Replayer::reset() {
     api_.forget();
     frame_ = 0;
     call_index_ = 0;
+    frame_begun_ = UINT64_MAX;
+}
+
+bool Replayer::set_viewer(const Viewer& viewer) {
+    if (!options_.view.set_eye(eye_position(viewer))) return false;
+    options_.viewer = viewer;
+    tile_->view_changed();
+    return true;
 }
 
 void Replayer::replay(MessageSource& reader) {
@@ -179,6 +187,10 @@ void Replayer::replay(MessageSource& reader) {
             } catch (const DecodeError& e) {
                 throw DecodeError(m.offset, "message " + std::to_string(m.header.sequence) + ", payload byte " +
                                                 std::to_string(e.offset()) + ": " + e.what());
+            }
+            if (frame_ != frame_begun_) {
+                frame_begun_ = frame_;
+                if (before_frame) before_frame(frame_);
             }
             try {
                 dispatch(c, m.payload.data() + tuple_start, size_t(r.offset() - tuple_start));

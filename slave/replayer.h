@@ -79,6 +79,8 @@ public:
     std::function<void(Replayer&)> on_first_context;
     // Called just before each frame is presented (the swap barrier waits here).
     std::function<void(uint64_t frame)> before_present;
+    // Called before the first call of each frame, with its number (a tracked viewer's pose).
+    std::function<void(uint64_t frame)> before_frame;
     // Called after the injected passes of each frame, with the frame's view (tests of redraw).
     std::function<void(const effects::FrameView& view)> after_effects;
 
@@ -95,6 +97,9 @@ public:
     ReplayStats& stats() { return stats_; }
     Backend& backend() { return *backend_; }
     const ReplayOptions& options() const { return options_; }
+    // Moves the viewer (head pose, eye separation): the tile's eye follows from the next draw.
+    // False, nothing changed, for an eye the tile cannot have (behind its screen, not finite).
+    bool set_viewer(const Viewer& viewer);
     const GlApi& api() const override { return api_; }
     const ReplayLimits& limits() const override { return options_.limits; }
     bool turns_vertex_shader(uint64_t master_shader) override;
@@ -183,6 +188,7 @@ private:
     std::map<uint32_t, std::unique_ptr<SlaveContext>> contexts_;
     SlaveContext* current_ = nullptr;
     uint64_t frame_ = 0, call_index_ = 0;
+    uint64_t frame_begun_ = UINT64_MAX;  // the frame before_frame was last called for
     bool first_context_done_ = false;
     std::map<uint32_t, uint64_t> unserialized_seen_;
 

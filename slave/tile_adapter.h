@@ -67,6 +67,9 @@ public:
     // Whether the vertex shader of master name `shader` gets the clip-space correction.
     bool patches_vertex_shader(uint64_t shader);
 
+    // The tile's camera moved (a tracked head, the eye separation): projections it corrected are
+    // corrected again at their next draw.
+    void view_changed();
     // Redraw by the injected passes: draws get `correction` premultiplied into the program's
     // projection, or as glcast_clip when `programs` (the redraw binds the program's shader
     // programs); end_redraw puts the projection tracking back as it was.

@@ -32,6 +32,15 @@ void TileAdapter::track_matrix(const Call& c) {
     else top.dirty = top.corrected || top.left;  // M * P_app * X: M must be redone for P_app * X
 }
 
+void TileAdapter::view_changed() {
+    for (auto& [id, state] : states_)
+        for (State::Projection& level : state->projection)
+            if (level.corrected) level.dirty = true;
+    if (saved_)
+        for (State::Projection& level : saved_->projection)
+            if (level.corrected) level.dirty = true;
+}
+
 glm::dmat4 TileAdapter::program_projection_now() {
     GLdouble m[16] = {};  // (a driver that answers nothing: no projection, not stack garbage)
     core_.api().glGetDoublev(GL_PROJECTION_MATRIX, m);

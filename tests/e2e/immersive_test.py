@@ -6,6 +6,8 @@ under Xvfb, its tiles replayed headless with display configs whose screens are g
 
 cave_metres: the four-sided CAVE in metres (display_configs/cave-4-metres.json) with the eye at
   the room's origin shows on every wall what the angle-based display_configs/cave-4.json shows.
+head_poses_replay: poses played from a file (glcast replay --head-poses) move the eye at the frames
+  they are stamped with, and each holds until the next.
 cave_eye_moved_ff, _shader, _mvp: with the viewer 0.5 m off the origin, every marker point lands
   within 1 pixel of where the generalized perspective projection, computed here from the corners
   alone, puts it on each wall, and on no wall that does not see it; by fixed function, by a GLSL
@@ -54,8 +56,8 @@ def capture(name, flags, frames=2):
     return out, path
 
 
-def replay_tile(capture_path, config, tile, out, frame=1, extra=()):
-    r = run([GLCAST, "replay", capture_path, "--config", config, "--tile", tile, "--frames", f"{frame}:{frame}",
+def replay_tile(capture_path, config, tile, out, frame=1, extra=(), last=None):
+    r = run([GLCAST, "replay", capture_path, "--config", config, "--tile", tile, "--frames", f"{frame}:{last or frame}",
              "--out", out] + list(extra), env={k: v for k, v in os.environ.items() if k != "DISPLAY"})
     check(r.returncode == 0, f"replay of {tile} failed: {r.stderr[-3000:]}")
     return os.path.join(out, f"frame-{frame:06d}.png")
@@ -104,9 +106,9 @@ def found(image, colour):
     return (xs / n, ys / n, n) if n else None
 
 
-def markers_where_predicted(name, config_path, images):
+def markers_where_predicted(name, config_path, images, eye=None):
     config = json.load(open(config_path))
-    eye = tuple(config.get("viewer", {}).get("position", [0, 0, 0]))
+    eye = eye or tuple(config.get("viewer", {}).get("position", [0, 0, 0]))
     worst, seen = 0.0, 0
     for tile in config["tiles"]:
         image = read_png(images[tile["name"]])
@@ -166,6 +168,25 @@ def case_cave_eye_moved_shader():
 
 def case_cave_eye_moved_mvp():
     cave_eye_moved("cave_eye_moved_mvp", ["--mvp"])
+
+
+def write_poses(path, poses):
+    with open(path, "w") as f:
+        for frame, position in poses:
+            f.write(json.dumps({"frame": frame, "position": position, "orientation": [1, 0, 0, 0]}) + "\n")
+
+
+def case_head_poses_replay():
+    # A recorded head: each pose changes every wall at the frame it is stamped with, and holds.
+    out, path = capture("head_poses_replay", [], frames=6)
+    poses = os.path.join(out, "poses.jsonl")
+    write_poses(poses, [(2, [0.3, 0.4, 0.0]), (4, [-0.2, 0.1, 0.3])])
+    config = os.path.join(CONFIGS, "cave-4-metres.json")
+    for w in WALLS:
+        replay_tile(path, config, w, os.path.join(out, w), frame=1, last=5, extra=["--head-poses", poses])
+    for frame, eye in [(1, (0, 0, 0)), (2, (0.3, 0.4, 0.0)), (3, (0.3, 0.4, 0.0)), (4, (-0.2, 0.1, 0.3)), (5, (-0.2, 0.1, 0.3))]:
+        images = {w: os.path.join(out, w, f"frame-{frame:06d}.png") for w in WALLS}
+        markers_where_predicted(f"head_poses_replay frame {frame}", config, images, eye)
 
 
 if __name__ == "__main__":

@@ -4,7 +4,10 @@
 
 #include <string>
 
+#include <cstdio>
+
 #include "display_configs/display_config.h"
+#include "display_configs/head_poses.h"
 
 using namespace glcast::slave;
 
@@ -107,4 +110,91 @@ TEST(ImmersiveConfig, BadEyesAndViewersAreRefused) {
               "room.json: viewer.position[2]: must be a number of metres within +-10000, got \"x\"");
     EXPECT_EQ(error_of(with_tile(screen_tile(kFront), R"(, "viewer": {"head": 1})")),
               "room.json: viewer.head: unknown key (known keys: position, eye_separation, units_per_metre)");
+}
+
+// ---- head poses (display_configs/head_poses.h) ---------------------------------------------
+
+TEST(HeadPoses, APoseIsRead) {
+    HeadPose p;
+    uint64_t frame = 0;
+    double time = 0;
+    std::string error;
+    ASSERT_TRUE(parse_head_pose(R"({"frame": 12, "time": 3.5, "position": [0.1, 1.6, -0.2], "orientation": [0.7071068, 0, 0.7071068, 0]})",
+                                p, &frame, &time, error)) << error;
+    EXPECT_EQ(frame, 12u);
+    EXPECT_EQ(time, 3.5);
+    EXPECT_EQ(p.position, glm::dvec3(0.1, 1.6, -0.2));
+    // A quarter turn to the left about y: the head's right axis points towards the viewer (+z).
+    const glm::dvec3 right = p.orientation * glm::dvec3(1, 0, 0);
+    EXPECT_NEAR(right.z, -1, 1e-6);
+}
+
+TEST(HeadPoses, CraftedPosesAreRefusedWithWhatIsWrong) {
+    const std::pair<std::string, std::string> cases[] = {
+        {R"({"position": [0, 0], "orientation": [1, 0, 0, 0]})", "pose: position: must be [x, y, z], metres within +-10000, got an array"},
+        {R"({"position": [0, 0, 1e300], "orientation": [1, 0, 0, 0]})", "pose: position: must be [x, y, z], metres within +-10000, got an array"},
+        {R"({"position": [0, 0, NaN], "orientation": [1, 0, 0, 0]})", "not JSON"},
+        {R"({"position": [0, 0, 0], "orientation": [2, 0, 0, 0]})", "pose: orientation: must be a unit quaternion, its length is 2"},
+        {R"({"position": [0, 0, 0], "orientation": [0, 0, 0, 0]})", "pose: orientation: must be a unit quaternion, its length is 0"},
+        {R"({"position": [0, 0, 0]})", "pose: orientation: must be a quaternion [w, x, y, z], got nothing"},
+        {R"({"position": [0, 0, 0], "orientation": [1, 0, 0, 0], "scale": 2})",
+         "pose: scale: unknown key (known keys: frame, time, position, orientation)"},
+        {R"([1, 2, 3])", "pose: must be a JSON object, got an array"},
+        {R"({"position": [0, 0, 0], "orientation": [1, 0, 0, 0], "time": "now"})", "pose: time: must be seconds, got \"now\""},
+        {"", "not JSON"},
+        {std::string(5000, ' '), "5000 bytes, more than the 4096 a pose may have"},
+    };
+    for (const auto& [text, message] : cases) {
+        HeadPose p;
+        p.position = {7, 7, 7};
+        std::string error;
+        EXPECT_FALSE(parse_head_pose(text, p, nullptr, nullptr, error)) << text;
+        EXPECT_EQ(error, message) << text;
+        EXPECT_EQ(p.position, glm::dvec3(7, 7, 7)) << "a refused pose changed the output";
+    }
+}
+
+TEST(HeadPoses, ATrackHoldsEachPoseFromItsFrameOn) {
+    const std::string path = ::testing::TempDir() + "/poses.jsonl";
+    {
+        std::FILE* f = std::fopen(path.c_str(), "w");
+        std::fputs("# a recorded head\n{\"frame\": 2, \"position\": [1, 0, 0], \"orientation\": [1, 0, 0, 0]}\n\n"
+                   "{\"frame\": 5, \"position\": [2, 0, 0], \"orientation\": [1, 0, 0, 0]}\n", f);
+        std::fclose(f);
+    }
+    HeadPoseTrack track;
+    std::string error;
+    ASSERT_TRUE(track.load(path, error)) << error;
+    EXPECT_EQ(track.size(), 2u);
+    EXPECT_EQ(track.at(0), nullptr);
+    EXPECT_EQ(track.at(1), nullptr);
+    EXPECT_EQ(track.at(2)->position.x, 1);
+    EXPECT_EQ(track.at(4)->position.x, 1);
+    EXPECT_EQ(track.at(5)->position.x, 2);
+    EXPECT_EQ(track.at(1000)->position.x, 2);
+}
+
+TEST(HeadPoses, ABadTrackIsRefusedWholeWithItsLine) {
+    const std::string path = ::testing::TempDir() + "/bad-poses.jsonl";
+    auto refused = [&](const std::string& text) {
+        std::FILE* f = std::fopen(path.c_str(), "w");
+        std::fputs(text.c_str(), f);
+        std::fclose(f);
+        HeadPoseTrack track;
+        std::string error;
+        EXPECT_FALSE(track.load(path, error)) << text;
+        EXPECT_EQ(track.size(), 0u);
+        return error.substr(path.size());
+    };
+    EXPECT_EQ(refused("{\"frame\": 5, \"position\": [0, 0, 0], \"orientation\": [1, 0, 0, 0]}\n"
+                      "{\"frame\": 5, \"position\": [0, 0, 0], \"orientation\": [1, 0, 0, 0]}\n"),
+              ": line 2: frame 5 does not come after the previous line's 5");
+    EXPECT_EQ(refused("{\"position\": [0, 0, 0], \"orientation\": [1, 0, 0, 0]}\n"),
+              ": line 1: pose: frame: must be a frame number (0 or more), got nothing");
+    EXPECT_EQ(refused("{\"frame\": -1, \"position\": [0, 0, 0], \"orientation\": [1, 0, 0, 0]}\n"),
+              ": line 1: pose: frame: must be a frame number (0 or more), got -1");
+    HeadPoseTrack track;
+    std::string error;
+    EXPECT_FALSE(track.load("/nonexistent/poses.jsonl", error));
+    EXPECT_EQ(error, "/nonexistent/poses.jsonl: cannot open");
 }

@@ -3,6 +3,8 @@
 // call by call, with no GL, no window and no Xvfb. The unit tests of the replay use it.
 #pragma once
 
+#include <functional>
+
 #include <gtest/gtest.h>  // before the X11 headers, whose None and Bool macros it cannot take
 
 #include <memory>
@@ -23,6 +25,7 @@ public:
     std::shared_ptr<slave::RecordingGl> gl = std::make_shared<slave::RecordingGl>();
     std::unique_ptr<slave::Replayer> replayer;
     std::string log;  // what the replay said on stderr
+    std::function<void(slave::Replayer&)> prepare;  // called on the new Replayer before it replays
 
     // Context 1 current on a window of width x height.
     explicit ReplayHarness(int32_t width = 640, int32_t height = 480) : width_(width), height_(height) {
@@ -50,6 +53,7 @@ public:
     slave::Replayer& replay() {
         gl->clear();
         replayer = std::make_unique<slave::Replayer>(slave::make_recording_backend(gl), options);
+        if (prepare) prepare(*replayer);
         file_ = stream.file();
         CaptureReader reader(memory_source(file_.data(), file_.size()));
         ::testing::internal::CaptureStderr();

@@ -261,3 +261,49 @@ TEST(TileAdapter, AViewportSetBeforeTheWindowGrewIsMappedForItsNewSize) {
     EXPECT_EQ(h.calls_from("glClear(").size(), 1u);
     EXPECT_EQ(h.calls("glViewport").back(), "glViewport(-320, -240, 640, 480)");  // before: (-320, -240, 12800, 7200)
 }
+
+TEST(TileAdapter, AViewerWhoMovesGetsAProjectionTheProgramSetOnceCorrectedAgain) {
+    // A tracked head: the eye moves between frames while the program keeps the projection it set
+    // at its start (as glxgears does); the next frame's draws must see the new eye.
+    ReplayHarness h;
+    slave::ViewCorrection& v = h.options.view;
+    v.enabled = v.screen = true;
+    v.bottom_left = {-1.5, -1.5, -1.5}, v.bottom_right = {1.5, -1.5, -1.5}, v.top_left = {-1.5, 1.5, -1.5};
+    GLint mode = GL_MODELVIEW;
+    glm::dmat4 projection = glm::frustum(-1.0, 1.0, -0.75, 0.75, 1.0, 100.0);
+    std::vector<glm::dmat4> loaded;
+    h.gl->answer = [&](slave::RecordedCall& c) {
+        if (c.opcode == OP_glMatrixMode) mode = GLint(c.args[0]);
+        if (c.opcode == OP_glGetIntegerv && c.args[0] == GL_MATRIX_MODE) *c.pointer<GLint>(1) = mode;
+        if (c.opcode == OP_glLoadMatrixd && mode == GL_PROJECTION) {
+            std::memcpy(&projection[0][0], c.pointer<GLdouble>(0), sizeof projection);
+            loaded.push_back(projection);
+        }
+        if (c.opcode == OP_glGetDoublev && c.args[0] == GL_PROJECTION_MATRIX)
+            std::memcpy(c.pointer<GLdouble>(1), &projection[0][0], sizeof projection);
+    };
+    GL(glMatrixMode, GL_PROJECTION);
+    GL(glFrustum, -1.0, 1.0, -0.75, 0.75, 1.0, 100.0);
+    GL(glMatrixMode, GL_MODELVIEW);
+    for (int frame = 0; frame < 3; ++frame) {
+        GL(glDrawArrays, GL_TRIANGLES, 0, 3);
+        h.swap();
+    }
+    h.prepare = [](slave::Replayer& r) {
+        r.before_frame = [&r](uint64_t frame) {
+            if (frame != 1) return;
+            slave::Viewer viewer = r.options().viewer;
+            viewer.head.position = {0.3, 0.1, 0};
+            EXPECT_TRUE(r.set_viewer(viewer));
+        };
+    };
+    h.replay();
+    ASSERT_EQ(loaded.size(), 2u) << "frame 0 corrects the projection, frame 1 again for the moved eye, frame 2 keeps it";
+    // The second is the program's projection corrected for the moved eye, not the first corrected twice.
+    slave::ViewCorrection moved = v;
+    moved.eye = {0.3, 0.1, 0};
+    const glm::dmat4 app = glm::frustum(-1.0, 1.0, -0.75, 0.75, 1.0, 100.0);
+    const glm::dmat4 want = moved.correction(app) * app;
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) EXPECT_NEAR(loaded[1][i][j], want[i][j], 1e-9) << i << j;
+}
