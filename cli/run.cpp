@@ -28,6 +28,7 @@
 #include "cli/launcher.h"
 #include "cli/options.h"
 #include "cli/paths.h"
+#include "cli/pose_receiver.h"
 #include "cli/run_session.h"
 #include "cli/wall_control.h"
 #include "common/environment.h"
@@ -35,6 +36,7 @@
 #include "net/wall_endpoints.h"
 #include "slave/wall_link.h"
 #include "display_configs/display_config.h"
+#include "display_configs/head_poses.h"
 #include "slave/effects/effect_params.h"
 
 namespace glcast::cli {
@@ -43,7 +45,7 @@ namespace {
 
 struct RunArgs {
     std::string config_path, backend = std::getenv("DISPLAY") ? "window" : "egl", out_dir, endpoint, keys, machine,
-                                     status_json;
+                                     status_json, head_poses, tracker;
     uint64_t frames = 0;  // 0: as long as the program runs
     bool lockstep = false, insecure = false;
     int wait_tiles = 10;  // seconds to wait for the tiles of other machines before the program starts
@@ -143,7 +145,7 @@ struct WallPlan {
     std::vector<std::pair<std::string, std::string>> tiles;  // name, machine
     std::vector<std::string> local_tiles, remote_tiles;      // "" for the one window without a config
     bool swap_barrier = false;
-    std::string keys, endpoint;
+    std::string keys, endpoint, tracker;
 };
 
 bool plan_wall(const RunArgs& a, const std::string& here, WallPlan& plan) {
@@ -173,6 +175,7 @@ bool plan_wall(const RunArgs& a, const std::string& here, WallPlan& plan) {
         return false;
     }
     plan.swap_barrier = config.swap_barrier;
+    plan.tracker = config.viewer.tracker;
     if (plan.keys.empty() && !config.keys.empty()) plan.keys = relative_to(a.config_path, config.keys);
     if (plan.endpoint.empty() && config.master.given) plan.endpoint = "tcp://*:" + std::to_string(config.master.port);
     return true;
@@ -279,6 +282,28 @@ int run(RunArgs& a, const std::vector<std::string>& program) {
         std::fprintf(stderr, "glcast run: --out: %s\n", error.c_str());
         return 1;
     }
+    // A recorded viewer: each frame's pose goes to every tile with the barrier's GO, so the
+    // barrier is on.
+    auto track = std::make_shared<slave::HeadPoseTrack>();
+    HeadPoseFor head_for;
+    if (a.tracker.empty()) a.tracker = plan.tracker;
+    if (!a.head_poses.empty() && !a.tracker.empty()) {
+        std::fprintf(stderr, "glcast run: --head-poses plays recorded poses, the tracker (%s) sends live ones: give one\n",
+                     a.tracker.c_str());
+        return 1;
+    }
+    if (!a.head_poses.empty()) {
+        if (!track->load(a.head_poses, error)) {
+            std::fprintf(stderr, "glcast run: --head-poses: %s\n", error.c_str());
+            return 1;
+        }
+        plan.swap_barrier = true;
+        head_for = [track](uint64_t frame, slave::HeadPose& out) {
+            const slave::HeadPose* pose = track->at(frame);
+            if (pose) out = *pose;
+            return pose != nullptr;
+        };
+    }
     try {
         RunSession session;  // its folder and children go however this block is left
         const RunEndpoints e = plan_endpoints(plan.endpoint, session.dir());
@@ -292,7 +317,16 @@ int run(RunArgs& a, const std::vector<std::string>& program) {
         // last frames after it ended.
         std::vector<std::string> tile_names;
         for (const auto& t : plan.tiles) tile_names.push_back(t.first);
-        WallControl wall(e.control, tile_names, plan.swap_barrier);
+        // A live tracker: its newest pose for every frame, the last one while it is silent.
+        std::unique_ptr<PoseReceiver> tracker;
+        if (!a.tracker.empty()) {
+            net::check_endpoint(a.tracker, net::process_security(), true);
+            tracker = std::make_unique<PoseReceiver>(a.tracker);
+            std::fprintf(stderr, "glcast run: head poses on %s\n", tracker->bound().c_str());
+            plan.swap_barrier = true;
+            head_for = [&tracker](uint64_t, slave::HeadPose& out) { return tracker->latest(out); };
+        }
+        WallControl wall(e.control, tile_names, plan.swap_barrier, head_for);
         // Slaves first: they join through the journal whenever the program starts publishing.
         start_slaves(session, a, plan, e, here);
         const int remote_here = wait_for_remote_tiles(wall, plan.remote_tiles, a.wait_tiles);
@@ -319,6 +353,10 @@ int run(RunArgs& a, const std::vector<std::string>& program) {
             failed = session.wait_for_slaves(std::chrono::steady_clock::now() + std::chrono::seconds(120));
             wait_for_remote_tiles_idle(wall, plan.remote_tiles);
         }
+        if (tracker)
+            std::fprintf(stderr, "glcast run: pose socket: %llu poses taken, %llu refused, %llu peers without an authorized key\n",
+                         (unsigned long long)tracker->accepted(), (unsigned long long)tracker->refused(),
+                         (unsigned long long)tracker->unauthenticated());
         if (status != 0) return status < 0 ? 1 : status;
         return failed ? 1 : 0;
     } catch (const std::exception& ex) {
@@ -355,6 +393,15 @@ Command add_run(CLI::App& glcast) {
     add_int(*app, "--wait-tiles", a->wait_tiles, 0, 3600,
             "seconds to wait for the tiles of other machines before starting the program (default 10)")
         ->type_name("SECONDS");
+    app->add_option("--head-poses", a->head_poses,
+                    "play a recorded viewer's head poses on an immersive wall, JSON lines {\"frame\": N,\n"
+                    "\"position\": [x,y,z], \"orientation\": [w,x,y,z]}, each handed to every tile with its frame\n"
+                    "(turns the swap barrier on; docs/immersive.md)")
+        ->type_name("FILE");
+    app->add_option("--tracker", a->tracker,
+                    "bind the wall's pose socket here (ZeroMQ PULL; a tracker bridge pushes JSON head poses,\n"
+                    "docs/immersive.md); default: the config's viewer.tracker. Turns the swap barrier on")
+        ->type_name("ENDPOINT");
     app->add_option("--status-json", a->status_json, "write the wall's status once a second as JSON lines")
         ->type_name("FILE");
     add_int(*app, "--max-local-slaves", a->max_local_slaves, 1, 256,

@@ -10,6 +10,8 @@
 #include <cstdlib>
 #include <cstring>
 #include <memory>
+#include <optional>
+#include <utility>
 #include <thread>
 
 #include "cli/commands.h"
@@ -191,6 +193,14 @@ private:
         };
         source.on_idle = [this] { say_status(false); };
         replayer.before_present = [this, &source](uint64_t frame) { before_present(source, frame); };
+        // A tracked viewer: the pose the wall's run handed on with the last GO, from its frame on.
+        next_head_.reset();
+        replayer.before_frame = [this, &replayer](uint64_t frame) {
+            if (next_head_ && frame >= next_head_->first) {
+                move_head(replayer, next_head_->second, frame, ("glcast slave " + label_).c_str());
+                next_head_.reset();
+            }
+        };
         Rates rates;
         rates.frames = replayer.stats().frames;
         replayer.on_frame = [this, &source, &rates, &out](uint64_t frame, int w, int h, const std::vector<uint8_t>& rgba) {
@@ -206,7 +216,10 @@ private:
         bool held = false;
         if (link_ && a_.swap_barrier && source.live()) {
             const int wait_ms = barrier_answered_ ? kBarrierWaitMs : 100;
-            held = barrier_answered_ = link_->barrier(frame, wait_ms);
+            HeadPose head;
+            bool has_head = false;
+            held = barrier_answered_ = link_->barrier(frame, wait_ms, &head, &has_head);
+            if (has_head) next_head_ = {frame + 1, head};
             if (!barrier_answered_ && wait_ms == kBarrierWaitMs)
                 std::fprintf(stderr, "\nglcast slave %s: swap barrier: frame %" PRIu64 " went alone after %d s\n",
                              label_.c_str(), frame, kBarrierWaitMs / 1000);
@@ -258,6 +271,7 @@ private:
     TileReport report_;
     std::chrono::steady_clock::time_point last_report_ = std::chrono::steady_clock::now() - std::chrono::seconds(10);
     bool barrier_answered_ = true;
+    std::optional<std::pair<uint64_t, HeadPose>> next_head_;  // a pose from the barrier, and its frame
 };
 
 int slave(SlaveArgs& a) {

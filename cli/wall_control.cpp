@@ -101,8 +101,9 @@ bool TileOwners::speaks_for(const std::string& tile, const std::string& peer, do
     return true;
 }
 
-WallControl::WallControl(std::string endpoint, std::vector<std::string> tiles, bool barrier)
-    : endpoint_(std::move(endpoint)), tiles_(std::move(tiles)), barrier_(barrier), sockets_(std::make_unique<Sockets>()) {
+WallControl::WallControl(std::string endpoint, std::vector<std::string> tiles, bool barrier, HeadPoseFor head_for)
+    : endpoint_(std::move(endpoint)), tiles_(std::move(tiles)), barrier_(barrier), head_for_(std::move(head_for)),
+      sockets_(std::make_unique<Sockets>()) {
     for (const std::string& t : tiles_) status_[t];
     zmq::socket_t& router = sockets_->router;
     try {
@@ -131,6 +132,24 @@ std::map<std::string, TileStatus> WallControl::status() const {
         if (auto it = heard_.find(tile); it != heard_.end())
             s.age_seconds = std::chrono::duration<double>(now - it->second).count();
     return out;
+}
+
+// The pose words of frame n's GO: the same for every tile released at n (the tracker's pose may
+// change between two of them).
+std::string WallControl::pose_words(uint64_t frame) {
+    if (!head_for_) return "";
+    auto known = pose_words_.find(frame);
+    if (known != pose_words_.end()) return known->second;
+    slave::HeadPose h;
+    std::string words;
+    if (head_for_(frame + 1, h)) {
+        char text[256];
+        std::snprintf(text, sizeof text, " POSE %.17g %.17g %.17g %.17g %.17g %.17g %.17g", h.position.x, h.position.y,
+                      h.position.z, h.orientation.w, h.orientation.x, h.orientation.y, h.orientation.z);
+        words = text;
+    }
+    while (pose_words_.size() >= 64) pose_words_.erase(pose_words_.begin());  // frames long gone
+    return pose_words_[frame] = words;
 }
 
 void WallControl::serve() {
@@ -187,7 +206,7 @@ void WallControl::serve() {
         if (!barrier_) continue;
         std::vector<std::string> dropped;
         for (const auto& r : state.release(seconds_since_start(), &dropped)) {
-            const std::string go = "GO " + std::to_string(r.frame);
+            const std::string go = "GO " + std::to_string(r.frame) + pose_words(r.frame);
             router.send(zmq::buffer(identity_of[r.tile]), zmq::send_flags::sndmore | zmq::send_flags::dontwait);
             router.send(zmq::buffer(go), zmq::send_flags::dontwait);
         }

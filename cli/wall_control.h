@@ -7,6 +7,8 @@
 // nothing (no READY, no report of a program being shown) for kDropSeconds while others wait is
 // no longer counted (said once); it is again as soon as it says READY.
 //
+// A tracked viewer (docs/immersive.md): "GO n" carries the head pose for frame n + 1.
+//
 // Status: each slave says "STATUS TILE STATE FRAME MASTER_FRAME FPS MBPS LAG RECOVERIES MACHINE"
 // once a second (slave/wall_link.h);
 // status() gathers the newest of each tile.
@@ -15,12 +17,15 @@
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
 #include <string>
 #include <thread>
 #include <vector>
+
+#include "slave/viewer.h"
 
 namespace glcast::cli {
 
@@ -83,20 +88,28 @@ private:
     uint64_t refused_ = 0;
 };
 
+// The head pose that holds at a frame (a recorded track, a tracker's latest); false: none.
+using HeadPoseFor = std::function<bool(uint64_t frame, slave::HeadPose& out)>;
+
 class WallControl {
 public:
     static constexpr double kDropSeconds = 2;
     static constexpr double kTakeoverSeconds = 5;  // TileOwners
-    // Binds `endpoint` (secured as net/security.h says); throws std::runtime_error.
-    WallControl(std::string endpoint, std::vector<std::string> tiles, bool barrier);
+    // Binds `endpoint` (secured as net/security.h says); throws std::runtime_error. With
+    // `head_for`, each "GO n" carries the pose for frame n + 1 as " POSE px py pz qw qx qy qz",
+    // asked once per frame, so that every tile of a frame gets the same one.
+    WallControl(std::string endpoint, std::vector<std::string> tiles, bool barrier, HeadPoseFor head_for = nullptr);
     ~WallControl();
     std::map<std::string, TileStatus> status() const;
 
 private:
     void serve();
+    std::string pose_words(uint64_t frame);
+    std::map<uint64_t, std::string> pose_words_;  // by frame, the last 64
     std::string endpoint_;
     std::vector<std::string> tiles_;
     bool barrier_;
+    HeadPoseFor head_for_;
     std::atomic<bool> stopping_{false};
     mutable std::mutex mutex_;
     std::map<std::string, TileStatus> status_;

@@ -50,6 +50,7 @@ struct ViewerConfig {
     std::array<double, 3> position{};  // metres, room coordinates
     double eye_separation = 0.064;     // metres
     double units_per_metre = 1;        // the program's eye-space units in a metre
+    std::string tracker;               // where glcast run binds the pose socket (empty: no tracker)
 };
 
 // The projection of a program whose projection the stream does not show (shader programs), for

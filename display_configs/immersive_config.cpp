@@ -10,7 +10,7 @@ namespace {
 using Vec = std::array<double, 3>;
 
 const char* const kScreenKeys[] = {"bottom_left", "bottom_right", "top_left"};
-const char* const kViewerKeys[] = {"position", "eye_separation", "units_per_metre"};
+const char* const kViewerKeys[] = {"position", "eye_separation", "units_per_metre", "tracker"};
 
 Vec minus(const Vec& a, const Vec& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
 double dot(const Vec& a, const Vec& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
@@ -97,6 +97,13 @@ bool parse_viewer(Validator& check, const json& root, DisplayConfig& config) {
             if (!sep->is_number() || !(sep->get<double>() >= 0 && sep->get<double>() <= 1))
                 return check.fail("viewer.eye_separation", "must be a number of metres from 0 to 1, got " + describe(*sep));
             viewer.eye_separation = sep->get<double>();
+        }
+        if (const auto tracker = it->find("tracker"); tracker != it->end()) {
+            const bool endpoint_like = tracker->is_string() && tracker->get_ref<const std::string&>().size() <= 256 &&
+                                       tracker->get_ref<const std::string&>().find("://") != std::string::npos;
+            if (!endpoint_like)
+                return check.fail("viewer.tracker", "must be a ZeroMQ endpoint to bind, e.g. \"tcp://*:5560\", got " + describe(*tracker));
+            viewer.tracker = tracker->get<std::string>();
         }
         if (const auto units = it->find("units_per_metre"); units != it->end()) {
             if (!units->is_number() || !(units->get<double>() >= 1e-6 && units->get<double>() <= 1e6))

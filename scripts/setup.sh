@@ -16,6 +16,7 @@ packages=(
   libcli11-dev                          # the glcast command's argument parsing (cli/)
   # tests: X server, real third-party GL programs
   xvfb xauth mesa-utils xscreensaver-gl googletest libgtest-dev iproute2  # iproute2: multicast test namespaces
+  python3-zmq                           # the tracker bridge of docs/immersive.md, played by a test
   # benchmarks
   apitrace xscreensaver-gl-extra        # bench/stream_coding_bench.py: atlantis, sproingies
 )

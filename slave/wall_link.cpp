@@ -5,6 +5,7 @@
 #include <zmq.hpp>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <thread>
@@ -14,13 +15,17 @@
 
 namespace glcast::slave {
 
+namespace {
+constexpr size_t kMaxGoBytes = 256;
+}  // namespace
+
 WallLink::WallLink(std::string endpoint, std::string tile, std::string machine)
     : endpoint_(std::move(endpoint)), tile_(std::move(tile)), machine_(std::move(machine)),
       context_(std::make_unique<zmq::context_t>(1)) {
     socket_ = std::make_unique<zmq::socket_t>(*context_, zmq::socket_type::dealer);
     socket_->set(zmq::sockopt::linger, 0);
     socket_->set(zmq::sockopt::sndhwm, 16);
-    socket_->set(zmq::sockopt::maxmsgsize, int64_t(64));  // "GO n"
+    socket_->set(zmq::sockopt::maxmsgsize, int64_t(kMaxGoBytes));  // "GO n", and a head pose
     // Nothing is queued while no run serves the wall: what this tile says between two runs (the
     // last program's frames, its READYs) would reach the next run as if about its program.
     socket_->set(zmq::sockopt::immediate, 1);
@@ -33,7 +38,33 @@ WallLink::~WallLink() {
     context_->shutdown();
 }
 
-bool WallLink::barrier(uint64_t frame, int timeout_ms) {
+namespace {
+
+// "GO n" and, for a tracked viewer, " POSE px py pz qw qx qy qz" (cli/wall_control.h).
+bool parse_go(const std::string& answer, const std::string& go, HeadPose* head, bool* has_head) {
+    if (answer.compare(0, go.size(), go) != 0) return false;
+    if (answer.size() == go.size()) return true;
+    double v[7];
+    char tail = 0;
+    if (std::sscanf(answer.c_str() + go.size(), " POSE %lf %lf %lf %lf %lf %lf %lf %c", &v[0], &v[1], &v[2], &v[3], &v[4],
+                    &v[5], &v[6], &tail) != 7)
+        return false;
+    for (double x : v)
+        if (!std::isfinite(x) || std::fabs(x) > 1e4) return true;  // the frame goes, the pose is not taken
+    const double norm = std::sqrt(v[3] * v[3] + v[4] * v[4] + v[5] * v[5] + v[6] * v[6]);
+    if (std::fabs(norm - 1) > 0.01) return true;
+    if (head && has_head) {
+        head->position = glm::dvec3(v[0], v[1], v[2]);
+        head->orientation = glm::dquat(v[3] / norm, v[4] / norm, v[5] / norm, v[6] / norm);
+        *has_head = true;
+    }
+    return true;
+}
+
+}  // namespace
+
+bool WallLink::barrier(uint64_t frame, int timeout_ms, HeadPose* next_head, bool* has_head) {
+    if (has_head) *has_head = false;
     const std::string ready = "READY " + tile_ + " " + std::to_string(frame), go = "GO " + std::to_string(frame);
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
     // Nothing is queued before the run's channel is connected (CURVE's handshake takes a while
@@ -47,7 +78,11 @@ bool WallLink::barrier(uint64_t frame, int timeout_ms) {
         zmq::poll(&item, 1, std::chrono::milliseconds(50));
         if (!(item.revents & ZMQ_POLLIN)) continue;
         zmq::message_t answer;
-        if (socket_->recv(answer) && answer.to_string() == go) return true;  // older GOs are skipped
+        // (older GOs are skipped; "GO 1" is not "GO 12": the frame ends at a space or the end)
+        const std::string text = socket_->recv(answer) ? answer.to_string() : std::string();
+        if ((text.size() == go.size() || (text.size() > go.size() && text[go.size()] == ' ')) &&
+            parse_go(text, go, next_head, has_head))
+            return true;
     }
     return false;
 }

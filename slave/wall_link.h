@@ -6,6 +6,8 @@
 #include <memory>
 #include <string>
 
+#include "slave/viewer.h"
+
 namespace zmq {
 class context_t;
 class socket_t;
@@ -25,8 +27,11 @@ public:
     // Connects (secured as net/security.h says; throws std::runtime_error when refused).
     WallLink(std::string endpoint, std::string tile, std::string machine);
     ~WallLink();
-    // "READY TILE n", then waits at most timeout_ms for "GO n". False on a timeout.
-    bool barrier(uint64_t frame, int timeout_ms);
+    // "READY TILE n", then waits at most timeout_ms for "GO n". False on a timeout. A GO may
+    // carry the viewer's head pose for frame n + 1 (docs/immersive.md): then `next_head` holds it
+    // and `has_head` is true; a pose that is not finite, not within 10 km or not a unit
+    // quaternion is not taken.
+    bool barrier(uint64_t frame, int timeout_ms, HeadPose* next_head = nullptr, bool* has_head = nullptr);
     void report(const TileReport& r);  // never waits; a report may be lost
 
 private:

@@ -8,6 +8,11 @@ cave_metres: the four-sided CAVE in metres (display_configs/cave-4-metres.json) 
   the room's origin shows on every wall what the angle-based display_configs/cave-4.json shows.
 head_poses_replay: poses played from a file (glcast replay --head-poses) move the eye at the frames
   they are stamped with, and each holds until the next.
+head_poses_run: the same poses played by glcast run (--head-poses) reach two slaves with the swap
+  barrier's GO and change both at the frame they are stamped with.
+tracker_run: a live tracker bridge (scripts/tracker_bridge.py) pushes poses to glcast run's pose
+  socket: every frame shows one pose on both walls alike, in the order sent, and the last holds
+  after the bridge stops.
 cave_eye_moved_ff, _shader, _mvp: with the viewer 0.5 m off the origin, every marker point lands
   within 1 pixel of where the generalized perspective projection, computed here from the corners
   alone, puts it on each wall, and on no wall that does not see it; by fixed function, by a GLSL
@@ -15,9 +20,11 @@ cave_eye_moved_ff, _shader, _mvp: with the viewer 0.5 m off the origin, every ma
 """
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
+import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from png import read_png  # noqa: E402
@@ -106,7 +113,7 @@ def found(image, colour):
     return (xs / n, ys / n, n) if n else None
 
 
-def markers_where_predicted(name, config_path, images, eye=None):
+def markers_where_predicted(name, config_path, images, eye=None, least=5):
     config = json.load(open(config_path))
     eye = eye or tuple(config.get("viewer", {}).get("position", [0, 0, 0]))
     worst, seen = 0.0, 0
@@ -127,7 +134,7 @@ def markers_where_predicted(name, config_path, images, eye=None):
                                 f"the projection puts it at ({want[0]:.2f}, {want[1]:.2f}): {error:.2f} px off")
             worst, seen = max(worst, error), seen + 1
     print(f"{name}: {seen} markers on the walls, each within {worst:.2f} px of its predicted place")
-    check(seen >= 5, f"{name}: only {seen} markers checked")
+    check(seen >= least, f"{name}: only {seen} markers checked")
 
 
 def case_cave_metres():
@@ -187,6 +194,107 @@ def case_head_poses_replay():
     for frame, eye in [(1, (0, 0, 0)), (2, (0.3, 0.4, 0.0)), (3, (0.3, 0.4, 0.0)), (4, (-0.2, 0.1, 0.3)), (5, (-0.2, 0.1, 0.3))]:
         images = {w: os.path.join(out, w, f"frame-{frame:06d}.png") for w in WALLS}
         markers_where_predicted(f"head_poses_replay frame {frame}", config, images, eye)
+
+
+def case_head_poses_run():
+    # The same, live: glcast run hands each frame's pose to both slaves with the swap barrier's GO.
+    out = os.path.join(OUT, "head_poses_run")
+    shutil.rmtree(out, ignore_errors=True)
+    os.makedirs(out)
+    config = json.load(open(os.path.join(CONFIGS, "cave-4-metres.json")))
+    config["tiles"] = [t for t in config["tiles"] if t["name"] in ("front", "left")]
+    config["swap_barrier"] = False  # --head-poses turns it on
+    config_path = os.path.join(out, "two-walls.json")
+    with open(config_path, "w") as f:
+        json.dump(config, f)
+    poses = os.path.join(out, "poses.jsonl")
+    write_poses(poses, [(2, [0.3, 0.4, 0.0]), (4, [-0.2, 0.1, 0.3])])
+    r = run([GLCAST, "run", "--config", config_path, "--backend", "egl", "--out", out, "--head-poses", poses,
+             "--frames", "6", "--", os.path.join(APPS, "pillars"), "--markers", "--size", "400x300", "--frames", "8"])
+    check(r.returncode == 0, f"glcast run failed: {r.stderr[-3000:]}")
+    for frame, eye in [(1, (0, 0, 0)), (2, (0.3, 0.4, 0.0)), (3, (0.3, 0.4, 0.0)), (4, (-0.2, 0.1, 0.3)), (5, (-0.2, 0.1, 0.3))]:
+        images = {w: os.path.join(out, w, f"frame-{frame:06d}.png") for w in ("front", "left")}
+        markers_where_predicted(f"head_poses_run frame {frame}", config_path, images, eye, least=2)
+
+
+def which_eye(config, images, candidates):
+    """The candidate eye whose projection puts every visible marker within 1 px on every tile,
+    or None."""
+    for eye in candidates:
+        fits = True
+        for tile in config["tiles"]:
+            image = images[tile["name"]]
+            for position, colour in MARKERS:
+                want = on_screen(tile["screen"], eye, position, tile["width"], tile["height"])
+                got = found(image, colour)
+                if want is None or not (8 < want[0] < tile["width"] - 8 and 8 < want[1] < tile["height"] - 8):
+                    continue
+                if got is None or ((got[0] - want[0]) ** 2 + (got[1] - want[1]) ** 2) ** 0.5 > 1.0:
+                    fits = False
+        if fits:
+            return eye
+    return None
+
+
+def case_tracker_run():
+    # A live tracker: a bridge (scripts/tracker_bridge.py) pushes pose A, then B, then stops. Every
+    # frame shows one pose on both walls alike (the barrier's GO carries it), A before B, and B
+    # holds after the bridge has stopped.
+    out = os.path.join(OUT, "tracker_run")
+    shutil.rmtree(out, ignore_errors=True)
+    os.makedirs(out)
+    config = json.load(open(os.path.join(CONFIGS, "cave-4-metres.json")))
+    config["tiles"] = [dict(t, width=384, height=384) for t in config["tiles"] if t["name"] in ("front", "left")]
+    config["viewer"]["tracker"] = f"ipc://{out}/poses"
+    config_path = os.path.join(out, "tracked.json")
+    with open(config_path, "w") as f:
+        json.dump(config, f)
+    frames = 600  # longer than the bridge sends: the last pose must hold after it stops
+    wall = subprocess.Popen([GLCAST, "run", "--config", config_path, "--backend", "egl", "--out", out, "--frames",
+                             str(frames), "--", os.path.join(APPS, "pillars"), "--markers", "--size", "400x300",
+                             "--frames", str(frames + 2)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    # The bridge starts once the wall shows frames, so that every pose it sends meets some.
+    for _ in range(600):
+        if os.path.exists(os.path.join(out, "left", "frame-000002.png")) or wall.poll() is not None:
+            break
+        time.sleep(0.1)
+    python = "/usr/bin/python3" if os.path.exists("/usr/bin/python3") else sys.executable  # Debian's: python3-zmq
+    bridge = subprocess.Popen([python, os.path.join(ROOT, "scripts", "tracker_bridge.py"), config["viewer"]["tracker"]],
+                              stdin=subprocess.PIPE, text=True)
+    a, b = (0.3, 0.4, 0.0), (-0.2, 0.1, 0.3)
+    for eye, seconds in ((a, 1.5), (b, 0.5)):
+        for _ in range(int(seconds / 0.02)):
+            bridge.stdin.write(json.dumps({"position": eye, "orientation": [1, 0, 0, 0]}) + "\n")
+            bridge.stdin.flush()
+            time.sleep(0.02)
+    bridge.stdin.close()
+    check(bridge.wait(timeout=30) == 0, "the bridge failed")
+    stopped = time.time()
+    stdout, stderr = wall.communicate(timeout=600)
+    check(wall.returncode == 0, f"glcast run failed: {stderr[-3000:]}")
+    taken = re.search(r"pose socket: (\d+) poses taken, (\d+) refused", stderr)
+    check(taken and int(taken.group(1)) > 50 and taken.group(2) == "0", f"the pose socket: {taken and taken.group(0)}")
+    seen, after_stop = [], 0
+    for frame in sorted(set(range(0, frames, 6)) | set(range(frames - 5, frames))):
+        images = {}
+        for t in config["tiles"]:
+            path = os.path.join(out, t["name"], f"frame-{frame:06d}.png")
+            images[t["name"]] = read_png(path)
+        eye = which_eye(config, images, [(0, 0, 0), a, b])
+        check(eye is not None, f"tracker_run: frame {frame} shows no one pose on both walls")
+        if os.path.getmtime(path) > stopped + 0.5:  # shown well after the bridge went
+            check(eye == b, f"tracker_run: frame {frame}, after the bridge stopped, shows {eye}, not its last pose")
+            after_stop += 1
+        if not seen or seen[-1][0] != eye:
+            seen.append([eye, frame, frame])
+        seen[-1][2] = frame
+    print("tracker_run: " + ", ".join(f"frames {f0}-{f1} eye {e}" for e, f0, f1 in seen) +
+          f"; {after_stop} frames checked from 0.5 s after the bridge stopped")
+    check(after_stop >= 3, "tracker_run: the program ended before the bridge had stopped long enough")
+    order = [e for e, _, _ in seen]
+    check(order[-1] == b and order.index(b) > order.index(a) if a in order else False,
+          f"tracker_run: poses in the order {order}; A then B, B last, expected")
+    check(len(order) == len(set(order)), f"tracker_run: a pose came back: {order}")
 
 
 if __name__ == "__main__":

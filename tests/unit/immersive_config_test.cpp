@@ -109,7 +109,7 @@ TEST(ImmersiveConfig, BadEyesAndViewersAreRefused) {
     EXPECT_EQ(error_of(with_tile(screen_tile(kFront), R"(, "viewer": {"position": [0, 0, "x"]})")),
               "room.json: viewer.position[2]: must be a number of metres within +-10000, got \"x\"");
     EXPECT_EQ(error_of(with_tile(screen_tile(kFront), R"(, "viewer": {"head": 1})")),
-              "room.json: viewer.head: unknown key (known keys: position, eye_separation, units_per_metre)");
+              "room.json: viewer.head: unknown key (known keys: position, eye_separation, units_per_metre, tracker)");
 }
 
 // ---- head poses (display_configs/head_poses.h) ---------------------------------------------
