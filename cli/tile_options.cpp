@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "display_configs/display_config.h"
+#include "slave/stereo.h"
 
 namespace glcast::cli {
 
@@ -48,9 +49,15 @@ bool tile_options(const std::string& path, const std::string& name, ReplayOption
         viewer.eye_separation = config.viewer.eye_separation;
         viewer.eye = tile->eye == TileEye::left ? Eye::left : tile->eye == TileEye::right ? Eye::right : Eye::centre;
         c.set_eye(eye_position(viewer));  // the config checked that the viewer faces every screen
+        options.stereo = tile->stereo == Stereo::quad_buffer    ? StereoMode::quad_buffer
+                         : tile->stereo == Stereo::side_by_side ? StereoMode::side_by_side
+                         : tile->stereo == Stereo::top_bottom   ? StereoMode::top_bottom
+                         : tile->stereo == Stereo::anaglyph     ? StereoMode::anaglyph
+                                                                : StereoMode::none;
         m.enabled = true;
-        m.canvas_width = m.width = tile->width;
-        m.canvas_height = m.height = tile->height;
+        eye_size(options.stereo, tile->width, tile->height, m.width, m.height);  // each eye's image
+        m.canvas_width = m.width;
+        m.canvas_height = m.height;
         m.x = m.y = 0;
         m.place_x = tile->x;
         m.place_y = config.canvas_height - tile->y - tile->height;

@@ -175,36 +175,46 @@ bool Replayer::set_viewer(const Viewer& viewer) {
 
 void Replayer::replay(MessageSource& reader) {
     Message m;
+    while (frame_ <= options_.last_frame && reader.next(m)) replay_message(m);
+}
+
+bool Replayer::replay_message(const Message& m) {
     Call c;
     DecodeLimits decode_limits;
     decode_limits.list_entries = uint32_t(std::min<uint64_t>(options_.limits.list_entries, UINT32_MAX));
-    while (frame_ <= options_.last_frame && reader.next(m)) {
-        ByteReader r(m.payload.data(), m.payload.size(), 0);
-        while (r.remaining() && frame_ <= options_.last_frame) {
-            const uint64_t tuple_start = r.offset();
-            try {
-                decode_tuple(r, c, decode_limits);
-            } catch (const DecodeError& e) {
-                throw DecodeError(m.offset, "message " + std::to_string(m.header.sequence) + ", payload byte " +
-                                                std::to_string(e.offset()) + ": " + e.what());
-            }
-            if (frame_ != frame_begun_) {
-                frame_begun_ = frame_;
-                if (before_frame) before_frame(frame_);
-            }
-            try {
-                dispatch(c, m.payload.data() + tuple_start, size_t(r.offset() - tuple_start));
-            } catch (const ReplayError& e) {
-                const char* name = c.info ? c.info->name : synthetic_name(c.opcode);
-                report(std::string(name ? name : "?") + ": " + e.what());
-            } catch (const GlMissing& e) {
-                report(std::string("the slave's ") + e.what());  // "driver has no glX"
-            }
-            scratch_.end_call();
-            call_index_++;
-            stats_.calls++;
+    ByteReader r(m.payload.data(), m.payload.size(), 0);
+    while (r.remaining() && frame_ <= options_.last_frame) {
+        const uint64_t tuple_start = r.offset();
+        try {
+            decode_tuple(r, c, decode_limits);
+        } catch (const DecodeError& e) {
+            throw DecodeError(m.offset, "message " + std::to_string(m.header.sequence) + ", payload byte " +
+                                            std::to_string(e.offset()) + ": " + e.what());
         }
+        if (frame_ != frame_begun_) {
+            frame_begun_ = frame_;
+            if (before_frame) before_frame(frame_);
+        }
+        try {
+            dispatch(c, m.payload.data() + tuple_start, size_t(r.offset() - tuple_start));
+        } catch (const ReplayError& e) {
+            const char* name = c.info ? c.info->name : synthetic_name(c.opcode);
+            report(std::string(name ? name : "?") + ": " + e.what());
+        } catch (const GlMissing& e) {
+            report(std::string("the slave's ") + e.what());  // "driver has no glX"
+        }
+        scratch_.end_call();
+        call_index_++;
+        stats_.calls++;
     }
+    return frame_ <= options_.last_frame;
+}
+
+void Replayer::resume() {
+    if (!current_) return;
+    std::string error;
+    if (!backend_->make_current(current_->id, current_->width, current_->height, error))
+        throw std::runtime_error("cannot make the context current again: " + error);
 }
 
 // Tuples name the context their call was made in: the master's threads each have their own

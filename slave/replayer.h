@@ -58,6 +58,7 @@ struct ReplayOptions {
     TileMapping tile;               // show one tile of a wall instead of the whole window
     ViewCorrection view;            // a rotated or asymmetric tile
     Viewer viewer;                  // an immersive wall's viewer: view.eye is its eye
+    StereoMode stereo = StereoMode::none;  // both eyes in one output: replayed by a StereoPair
     effects::EffectsSettings effects;  // injected passes run before each present (docs/effects.md)
     ReplayLimits limits;
     std::string scene_report_dir;  // write what the passes took each frame for here (scene_report.h)
@@ -85,6 +86,11 @@ public:
     std::function<void(const effects::FrameView& view)> after_effects;
 
     void replay(MessageSource& source);  // throws DecodeError on a bad stream
+    // One message of it; false once past options().last_frame. Two replayers may take turns on
+    // one thread (the two eyes of a stereo tile, slave/stereo.h): each resume()s first, which
+    // makes its current context current again.
+    bool replay_message(const Message& m);
+    void resume();
     // Adds an observer after the slave's own (at most kMaxObservers in all; one more throws
     // std::logic_error): a keeper's (keeper/kept_calls.h).
     void watch(ReplayObserver* observer) { add_observer(observer); }

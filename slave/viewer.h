@@ -14,6 +14,11 @@ struct HeadPose {
 
 enum class Eye { centre, left, right };
 
+// Both eyes in one output (slave/stereo.h): none (one eye), GL_BACK_LEFT and GL_BACK_RIGHT of a
+// stereo window, the left eye in the left (top) half, or red from the left eye and green and
+// blue from the right.
+enum class StereoMode { none, quad_buffer, side_by_side, top_bottom, anaglyph };
+
 struct Viewer {
     HeadPose head;
     double eye_separation = 0.064;  // metres between the eyes

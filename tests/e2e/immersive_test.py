@@ -13,6 +13,9 @@ head_poses_run: the same poses played by glcast run (--head-poses) reach two sla
 tracker_run: a live tracker bridge (scripts/tracker_bridge.py) pushes poses to glcast run's pose
   socket: every frame shows one pose on both walls alike, in the order sent, and the last holds
   after the bridge stops.
+stereo_disparity: a point 2.5 m away behind a screen 1.5 m away shows in the two eyes with the
+  disparity the eye separation predicts, within 1 px, in every stereo mode: one eye per tile,
+  side by side, top and bottom, quad-buffer; the anaglyph is exactly the eyes' channels.
 cave_eye_moved_ff, _shader, _mvp: with the viewer 0.5 m off the origin, every marker point lands
   within 1 pixel of where the generalized perspective projection, computed here from the corners
   alone, puts it on each wall, and on no wall that does not see it; by fixed function, by a GLSL
@@ -295,6 +298,69 @@ def case_tracker_run():
     check(order[-1] == b and order.index(b) > order.index(a) if a in order else False,
           f"tracker_run: poses in the order {order}; A then B, B last, expected")
     check(len(order) == len(set(order)), f"tracker_run: a pose came back: {order}")
+
+
+FRONT = {"bottom_left": [-1.5, -1.5, -1.5], "bottom_right": [1.5, -1.5, -1.5], "top_left": [-1.5, 1.5, -1.5]}
+SEPARATION = 0.064
+
+
+def stereo_config(out):
+    # One front wall, 1024x1024 per eye, shown as every kind of stereo tile.
+    tiles = [{"name": "left", "width": 1024, "height": 1024, "eye": "left", "screen": FRONT},
+             {"name": "right", "width": 1024, "height": 1024, "eye": "right", "screen": FRONT},
+             {"name": "side-by-side", "width": 2048, "height": 1024, "stereo": "side-by-side", "screen": FRONT},
+             {"name": "top-bottom", "width": 1024, "height": 2048, "stereo": "top-bottom", "screen": FRONT},
+             {"name": "anaglyph", "width": 1024, "height": 1024, "stereo": "anaglyph", "screen": FRONT},
+             {"name": "quad-buffer", "width": 1024, "height": 1024, "stereo": "quad-buffer", "screen": FRONT}]
+    config = {"name": "stereo", "tiles": tiles, "viewer": {"position": [0, 0, 0], "eye_separation": SEPARATION}}
+    path = os.path.join(out, "stereo.json")
+    with open(path, "w") as f:
+        json.dump(config, f)
+    return path
+
+
+def crop(image, x, y, w, h):
+    _, _, rows = image
+    return w, h, [row[x:x + w] for row in rows[y:y + h]]
+
+
+def case_stereo_disparity():
+    # The blue marker straight ahead, 2.5 m away behind a screen 1.5 m away: each eye sees it where
+    # its ray meets the screen, the left eye's image to the left (positive parallax).
+    out, path = capture("stereo_disparity", [])
+    config = stereo_config(out)
+    eyes = {"left": (-SEPARATION / 2, 0, 0), "right": (SEPARATION / 2, 0, 0)}
+    marker = MARKERS[0]
+    want = {e: on_screen(FRONT, eyes[e], marker[0], 1024, 1024) for e in eyes}
+    predicted = want["left"][0] - want["right"][0]
+    images = {}
+    for tile in ("left", "right", "side-by-side", "top-bottom", "anaglyph", "quad-buffer"):
+        replay_tile(path, config, tile, os.path.join(out, tile))
+    images["passive"] = (read_png(os.path.join(out, "left", "frame-000001.png")),
+                         read_png(os.path.join(out, "right", "frame-000001.png")))
+    sbs = read_png(os.path.join(out, "side-by-side", "frame-000001.png"))
+    images["side-by-side"] = (crop(sbs, 0, 0, 1024, 1024), crop(sbs, 1024, 0, 1024, 1024))
+    tb = read_png(os.path.join(out, "top-bottom", "frame-000001.png"))
+    images["top-bottom"] = (crop(tb, 0, 0, 1024, 1024), crop(tb, 0, 1024, 1024, 1024))
+    images["quad-buffer"] = (read_png(os.path.join(out, "quad-buffer", "frame-000001-left.png")),
+                             read_png(os.path.join(out, "quad-buffer", "frame-000001-right.png")))
+    for mode, (left, right) in images.items():
+        l, r = found(left, marker[1]), found(right, marker[1])
+        check(l and r, f"{mode}: the marker is missing in an eye")
+        disparity = l[0] - r[0]
+        print(f"stereo_disparity {mode}: left eye at ({l[0]:.2f}, {l[1]:.2f}), right at ({r[0]:.2f}, {r[1]:.2f}): "
+              f"disparity {disparity:.2f} px, predicted {predicted:.2f}")
+        check(abs(disparity - predicted) <= 1.0, f"{mode}: disparity {disparity:.2f} px, predicted {predicted:.2f}")
+        for eye, got in (("left", l), ("right", r)):
+            check(abs(got[0] - want[eye][0]) <= 1.0 and abs(got[1] - want[eye][1]) <= 1.0,
+                  f"{mode}: the {eye} eye's marker at {got[:2]}, predicted {want[eye]}")
+    # The anaglyph: red from the left eye's image, green and blue from the right eye's, exactly.
+    (_, _, ana), (_, _, lrows), (_, _, rrows) = (read_png(os.path.join(out, "anaglyph", "frame-000001.png")),
+                                                 *images["passive"])
+    wrong = sum(1 for y in range(1024) for x in range(1024)
+                if tuple(ana[y][x][:3]) != (lrows[y][x][0], rrows[y][x][1], rrows[y][x][2]))
+    print(f"stereo_disparity anaglyph: {wrong} pixels differ from (left red, right green, right blue)")
+    check(wrong == 0, f"anaglyph: {wrong} pixels are not the eyes' channels")
 
 
 if __name__ == "__main__":

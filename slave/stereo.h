@@ -1,0 +1,56 @@
+// A stereo tile (docs/immersive.md): both of the viewer's eyes in one output. Two replayers, one
+// per eye, each with its own contexts and its eye's camera, take turns on one thread: every
+// message is read (and unpacked) once and replayed by the left eye, then by the right. When both
+// eyes have finished a frame, the two images are composed into the tile's one: side by side,
+// top and bottom, or as a red-cyan anaglyph; for quad-buffer stereo both go on, as they are, to
+// a window with GL_BACK_LEFT and GL_BACK_RIGHT (slave/stereo_window.h).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "common/image.h"
+#include "slave/replayer.h"
+
+namespace glcast::slave {
+
+// The tile's image from the two eyes' (each the size compose_size gives).
+Image compose_eyes(StereoMode mode, const Image& left, const Image& right);
+// The size each eye renders at for a tile of width x height: half the width side by side, half
+// the height top and bottom, the whole tile otherwise.
+void eye_size(StereoMode mode, int width, int height, int& eye_width, int& eye_height);
+
+class StereoPair {
+public:
+    // `options` are the tile's (options.stereo set, its view and viewer those of the head's
+    // centre): each eye gets them with its own eye. False from valid() when a backend could not
+    // be made (`error`).
+    StereoPair(const std::function<std::unique_ptr<Backend>(std::string& error)>& make_backend, const ReplayOptions& options);
+    ~StereoPair();
+    bool valid() const { return left_ && right_; }
+    const std::string& error() const { return error_; }
+
+    // Both eyes of each frame, once both have it (the composed tile image, and each eye's).
+    std::function<void(uint64_t frame, const Image& tile, const Image& left, const Image& right)> on_frame;
+    // Before each frame is shown, once per frame (the swap barrier waits here).
+    std::function<void(uint64_t frame)> before_present;
+
+    void replay(MessageSource& source);  // throws DecodeError on a bad stream
+    bool replay_message(const Message& m);
+    Replayer& left() { return *left_; }
+    Replayer& right() { return *right_; }
+    // Moves the viewer (head, eye separation) of both eyes; false: an eye refused, nothing changed.
+    bool set_viewer(const Viewer& viewer);
+    void reset();
+    void set_frame(uint64_t frame);
+
+private:
+    std::unique_ptr<Replayer> left_, right_;
+    std::string error_;
+    Image left_image_;
+    uint64_t left_frame_ = UINT64_MAX;
+};
+
+}  // namespace glcast::slave
