@@ -13,7 +13,7 @@
 #include "cli/options.h"
 #include "cli/paths.h"
 #include "cli/tile_options.h"
-#include "slave/stereo.h"
+#include "cli/stereo_tile.h"
 #include "display_configs/head_poses.h"
 #include "protocol/decoder.h"
 #include "common/image.h"
@@ -41,11 +41,13 @@ std::string frame_file(const std::string& dir, uint64_t frame) {
 // A stereo tile: both eyes, each message read once (slave/stereo.h); the composed frames to
 // --out (quad-buffer: each eye's, as frame-N-left.png and frame-N-right.png).
 int replay_stereo(ReplayArgs& a, const HeadPoseTrack& head_poses) {
-    StereoPair pair([&a](std::string& error) { return make_backend(a.backend_kind, error); }, a.opt);
-    if (!pair.valid()) {
-        std::fprintf(stderr, "glcast replay: %s\n", pair.error().c_str());
+    StereoTile tile;
+    std::string error;
+    if (!open_stereo_tile(a.backend_kind, a.opt, tile, error)) {
+        std::fprintf(stderr, "glcast replay: %s\n", error.c_str());
         return 1;
     }
+    StereoPair& pair = *tile.pair;
     if (head_poses.size()) pair.left().before_frame = [&](uint64_t frame) {
         if (const HeadPose* pose = head_poses.at(frame)) {
             Viewer viewer = pair.left().options().viewer;
@@ -55,15 +57,11 @@ int replay_stereo(ReplayArgs& a, const HeadPoseTrack& head_poses) {
                              (unsigned long long)frame);
         }
     };
-    const bool quad = a.opt.stereo == StereoMode::quad_buffer;
-    pair.on_frame = [&](uint64_t frame, const Image& tile, const Image& left, const Image& right) {
-        if (a.out_dir.empty()) return;
+    pair.on_frame = [&](uint64_t frame, const Image& composed, const Image& left, const Image& right) {
+        if (tile.window) tile.window->show(composed, left, right);
         std::string err;
-        const std::string base = frame_file(a.out_dir, frame);
-        const bool ok = quad ? write_png(base.substr(0, base.size() - 4) + "-left.png", left, err) &&
-                                   write_png(base.substr(0, base.size() - 4) + "-right.png", right, err)
-                             : write_png(base, tile, err);
-        if (!ok) std::fprintf(stderr, "glcast replay: %s\n", err.c_str());
+        if (!a.out_dir.empty() && !write_stereo_frame(a.out_dir, frame, a.opt.stereo, composed, left, right, err))
+            std::fprintf(stderr, "glcast replay: %s\n", err.c_str());
     };
     try {
         CaptureReader reader(open_file_source(a.path));

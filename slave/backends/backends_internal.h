@@ -13,6 +13,11 @@ std::unique_ptr<Backend> make_osmesa_backend(std::string& error);
 std::unique_ptr<Backend> make_window_backend(std::string& error);
 std::unique_ptr<Backend> make_null_backend(std::string& error);
 
+// glfwInit and glfwTerminate are process-wide: every user of GLFW (the window backend, the stereo
+// window) counts itself in; the last one out terminates it.
+bool glfw_acquire(std::string& error);
+void glfw_release();
+
 // "3.3 core", "4.6 core forward-compatible debug", "compatibility (highest)": for messages.
 inline std::string describe(const ContextRequest& r) {
     std::string s = r.major == 0 ? std::string("compatibility, highest version")

@@ -35,6 +35,25 @@ std::string glfw_error() {
     return description ? description : "GLFW error " + std::to_string(code);
 }
 
+}  // namespace
+
+bool glfw_acquire(std::string& error) {
+    std::lock_guard<std::mutex> lock(g_glfw_mutex);
+    if (!glfwInit()) {
+        error = "window: glfwInit failed: " + glfw_error();
+        return false;
+    }
+    ++g_glfw_users;
+    return true;
+}
+
+void glfw_release() {
+    std::lock_guard<std::mutex> lock(g_glfw_mutex);
+    if (--g_glfw_users == 0) glfwTerminate();
+}
+
+namespace {
+
 class WindowDriver : public DriverDefaults {
 public:
     struct Context {
@@ -45,20 +64,12 @@ public:
     static constexpr const char* name = "window";
 
     ~WindowDriver() {
-        if (!glfw_counted_) return;
-        std::lock_guard<std::mutex> lock(g_glfw_mutex);
-        if (--g_glfw_users == 0) glfwTerminate();
+        if (glfw_counted_) glfw_release();
     }
 
     bool init(std::string& error) {
-        std::lock_guard<std::mutex> lock(g_glfw_mutex);
-        if (!glfwInit()) {
-            error = "window: glfwInit failed: " + glfw_error();
-            return false;
-        }
-        ++g_glfw_users;
-        glfw_counted_ = true;
-        return true;
+        glfw_counted_ = glfw_acquire(error);
+        return glfw_counted_;
     }
 
     bool create(const Context* share, const ContextRequest& request, Context& out, std::string& error) {

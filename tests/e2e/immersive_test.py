@@ -16,6 +16,10 @@ tracker_run: a live tracker bridge (scripts/tracker_bridge.py) pushes poses to g
 stereo_disparity: a point 2.5 m away behind a screen 1.5 m away shows in the two eyes with the
   disparity the eye separation predicts, within 1 px, in every stereo mode: one eye per tile,
   side by side, top and bottom, quad-buffer; the anaglyph is exactly the eyes' channels.
+stereo_window: a stereo tile on a display (Xvfb): the eyes headless, the composed frame in a window,
+  equal to the headless frame; quad-buffer refused where there is no stereo visual.
+stereo_effects: the injected passes in both eyes: the spectral snow layer identical (on the screen's
+  plane), the cover on the floor in both eyes alike.
 cave_eye_moved_ff, _shader, _mvp: with the viewer 0.5 m off the origin, every marker point lands
   within 1 pixel of where the generalized perspective projection, computed here from the corners
   alone, puts it on each wall, and on no wall that does not see it; by fixed function, by a GLSL
@@ -361,6 +365,48 @@ def case_stereo_disparity():
                 if tuple(ana[y][x][:3]) != (lrows[y][x][0], rrows[y][x][1], rrows[y][x][2]))
     print(f"stereo_disparity anaglyph: {wrong} pixels differ from (left red, right green, right blue)")
     check(wrong == 0, f"anaglyph: {wrong} pixels are not the eyes' channels")
+
+
+def case_stereo_window():
+    # A stereo tile on a display: the eyes replay headless (EGL), the composed frame goes to a
+    # window (its GLX context on a thread of its own); the frames equal the headless ones.
+    # Quad-buffer needs a stereo visual, which Xvfb does not offer: refused, saying so.
+    out, path = capture("stereo_window", [])
+    config = stereo_config(out)
+    headless = replay_tile(path, config, "side-by-side", os.path.join(out, "headless"))
+    r = run([GLCAST, "replay", path, "--config", config, "--tile", "side-by-side", "--backend", "window", "--frames", "1:1",
+             "--out", os.path.join(out, "window")])
+    check(r.returncode == 0, f"the stereo window failed: {r.stderr[-2000:]}")
+    same = run([GLCAST, "image", "compare", headless, os.path.join(out, "window", "frame-000001.png")])
+    check(same.returncode == 0, f"the windowed stereo tile's frame differs: {same.stdout}")
+    r = run([GLCAST, "replay", path, "--config", config, "--tile", "quad-buffer", "--backend", "window"])
+    check(r.returncode == 1 and "quad-buffer stereo: this display offers no stereo visual" in r.stderr,
+          f"quad-buffer on Xvfb: exit {r.returncode}, {r.stderr[-500:]}")
+    print("stereo_window: side by side through a window as headless; quad-buffer refused: " + r.stderr.strip()[:120])
+
+
+def case_stereo_effects():
+    # The injected passes in both eyes: the particles, 3D in the program's world, have each
+    # eye's parallax; the spectral layer, a texture over the canvas, is the same in both eyes
+    # (it lies on the screen's plane); the cover lies on the scene in both.
+    out, path = capture("stereo_effects", [])
+    config = stereo_config(out)
+    plain = read_png(replay_tile(path, config, "side-by-side", os.path.join(out, "plain")))
+    snow = read_png(replay_tile(path, config, "side-by-side", os.path.join(out, "snow"),
+                                extra=["--effects", "snow,cover", "--effect-param", "snow.particles=0"]))
+    (_, _, p), (_, _, s) = plain, snow
+    sky, differ, covered = [0, 0], 0, [0, 0]
+    for y in range(0, 1024, 2):
+        for x in range(0, 1024, 2):
+            if tuple(p[y][x][:3]) == (0, 0, 0) and tuple(p[y][x + 1024][:3]) == (0, 0, 0):
+                sky[0] += 1
+                differ += tuple(s[y][x][:3]) != tuple(s[y][x + 1024][:3])
+            for eye in (0, 1):
+                covered[eye] += tuple(p[y][x + 1024 * eye][:3]) == (90, 90, 90) and s[y][x + 1024 * eye][2] > 150
+    print(f"stereo_effects: {sky[0]} sky pixels seen by both eyes, {differ} differ in the spectral layer; "
+          f"floor pixels under cover: left {covered[0]}, right {covered[1]}")
+    check(differ == 0, "the spectral layer differs between the eyes")
+    check(min(covered) > 20000 and abs(covered[0] - covered[1]) < 0.05 * max(covered), f"cover per eye: {covered}")
 
 
 if __name__ == "__main__":
