@@ -17,6 +17,7 @@
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "cli/paths.h"
+#include "cli/stereo_tile.h"
 #include "cli/tile_options.h"
 #include "common/environment.h"
 #include "common/image.h"
@@ -87,7 +88,12 @@ public:
         : a_(a), label_(a.tile_name.empty() ? std::string("window") : a.tile_name) {
         if (!a.control.empty())
             link_ = std::make_unique<WallLink>(a.control, label_, a.machine.empty() ? machine_name() : a.machine);
-        replayer_ = std::make_unique<Replayer>(std::move(backend), a.opt);
+        std::string error;
+        if (a.opt.stereo != StereoMode::none) {
+            if (!open_stereo_tile(a.backend_kind, a.opt, stereo_, error)) throw std::runtime_error(error);
+        } else {
+            replayer_ = std::make_unique<Replayer>(std::move(backend), a.opt);
+        }
         if (const std::string& log = environment().test_present_log; !log.empty())
             present_log_.reset(std::fopen(log.c_str(), "w"));
     }
@@ -106,7 +112,7 @@ public:
                 std::fprintf(stderr, "\nglcast slave %s: %s; waiting for the next program\n", label_.c_str(), e.what());
                 continue;
             }
-            const ReplayStats& s = replayer_->stats();
+            const ReplayStats& s = first().stats();
             std::fprintf(stderr, "\nglcast slave %s: the program ended%s; %" PRIu64 " frames, %" PRIu64 " errors, %" PRIu64
                                  " recoveries\n",
                          label_.c_str(), source->replaced() ? " (a new one started)" : "", s.frames, s.errors,
@@ -173,18 +179,22 @@ private:
                          j.state_seconds);
     }
 
+    // The tile's replayer: the one, or the left eye's of a stereo tile (its stats stand for both).
+    Replayer& first() { return stereo_.pair ? stereo_.pair->left() : *replayer_; }
+    void reset_replay() { stereo_.pair ? stereo_.pair->reset() : replayer_->reset(); }
+    void set_frame(uint64_t frame) { stereo_.pair ? stereo_.pair->set_frame(frame) : replayer_->set_frame(frame); }
+
     void replay(NetworkSource& source, const std::string& out) {
-        Replayer& replayer = *replayer_;
-        replayer.reset();
-        replayer.set_frame(source.joined_frame());
+        reset_replay();
+        set_frame(source.joined_frame());
         say_join(source);
-        source.on_restart = [this, &replayer] {
+        source.on_restart = [this] {
             std::fprintf(stderr, "glcast slave %s: the journal no longer holds them; starting over from %s\n",
                          label_.c_str(), a_.keeper.empty() ? "the master's journal" : "the keeper");
-            replayer.reset();
+            reset_replay();
         };
-        source.on_joined = [this, &replayer, &source](uint64_t frame) {
-            replayer.set_frame(frame);
+        source.on_joined = [this, &source](uint64_t frame) {
+            set_frame(frame);
             say_join(source);
         };
         source.on_gap = [this, &source] {
@@ -192,23 +202,47 @@ private:
                          label_.c_str(), source.gap().c_str());
         };
         source.on_idle = [this] { say_status(false); };
-        replayer.before_present = [this, &source](uint64_t frame) { before_present(source, frame); };
         // A tracked viewer: the pose the wall's run handed on with the last GO, from its frame on.
         next_head_.reset();
-        replayer.before_frame = [this, &replayer](uint64_t frame) {
+        first().before_frame = [this](uint64_t frame) {
             if (next_head_ && frame >= next_head_->first) {
-                move_head(replayer, next_head_->second, frame, ("glcast slave " + label_).c_str());
+                move_head_to(next_head_->second, frame);
                 next_head_.reset();
             }
         };
         Rates rates;
-        rates.frames = replayer.stats().frames;
+        rates.frames = first().stats().frames;
+        if (stereo_.pair) {
+            StereoPair& pair = *stereo_.pair;
+            pair.before_present = [this, &source](uint64_t frame) { before_present(source, frame); };
+            pair.on_frame = [this, &source, &rates, &out](uint64_t frame, const Image& tile, const Image& left,
+                                                          const Image& right) {
+                if (stereo_.window) stereo_.window->show(tile, left, right);
+                std::string err;
+                if (!out.empty() && !write_stereo_frame(out, frame, a_.opt.stereo, tile, left, right, err))
+                    std::fprintf(stderr, "glcast slave: %s\n", err.c_str());
+                frame_counted(source, rates, frame);
+            };
+            pair.replay(source);
+            return;
+        }
+        Replayer& replayer = *replayer_;
+        replayer.before_present = [this, &source](uint64_t frame) { before_present(source, frame); };
         replayer.on_frame = [this, &source, &rates, &out](uint64_t frame, int w, int h, const std::vector<uint8_t>& rgba) {
             frame_shown(source, rates, out, frame, w, h, rgba);
         };
         // Frames are read back only when written; without --out the status line still needs the
         // swap callback, which costs a readback: acceptable for a wall tile's status.
         replayer.replay(source);
+    }
+
+    void move_head_to(const HeadPose& head, uint64_t frame) {
+        if (!stereo_.pair) return move_head(*replayer_, head, frame, ("glcast slave " + label_).c_str());
+        Viewer viewer = stereo_.pair->left().options().viewer;
+        viewer.head = head;
+        if (!stereo_.pair->set_viewer(viewer))
+            std::fprintf(stderr, "glcast slave %s: frame %" PRIu64 ": the head pose puts an eye behind the screen; the last "
+                                 "eyes are kept\n", label_.c_str(), frame);
     }
 
     void before_present(NetworkSource& source, uint64_t frame) {
@@ -242,6 +276,10 @@ private:
             std::string err;
             if (!write_png(out + name, Image{width, height, rgba}, err)) std::fprintf(stderr, "glcast slave: %s\n", err.c_str());
         }
+        frame_counted(source, rates, frame);
+    }
+
+    void frame_counted(const NetworkSource& source, Rates& rates, uint64_t frame) {
         const auto now = std::chrono::steady_clock::now();
         const double dt = std::chrono::duration<double>(now - rates.last).count();
         report_.state = source.live() ? "live" : "joining";
@@ -250,14 +288,14 @@ private:
         report_.lag = std::max<int64_t>(0, int64_t(source.master_frame()) - int64_t(frame));  // 0 until live
         report_.recoveries = source.recoveries();
         if (dt >= 1.0) {
-            report_.fps = (replayer_->stats().frames - rates.frames) / dt;
+            report_.fps = (first().stats().frames - rates.frames) / dt;
             report_.mbps = (source.bytes() - rates.bytes) / dt / 1e6;
             if (!a_.quiet)
                 std::fprintf(stderr, "\rglcast slave %s: frame %" PRIu64 ", %.1f fps, %.2f MB/s, lag %" PRId64
                                      " frames, %" PRIu64 " recoveries   ",
                              label_.c_str(), frame, report_.fps, report_.mbps, report_.lag, report_.recoveries);
             rates.last = now;
-            rates.frames = replayer_->stats().frames;
+            rates.frames = first().stats().frames;
             rates.bytes = source.bytes();
         }
         say_status(false);
@@ -266,7 +304,8 @@ private:
     SlaveArgs& a_;
     const std::string label_;  // glcast run names a config-less slave's tile "window" too
     std::unique_ptr<WallLink> link_;
-    std::unique_ptr<Replayer> replayer_;
+    std::unique_ptr<Replayer> replayer_;  // or, for a stereo tile:
+    StereoTile stereo_;
     std::unique_ptr<FILE, FileCloser> present_log_;  // test hook: "frame seconds held-by-the-barrier" a present
     TileReport report_;
     std::chrono::steady_clock::time_point last_report_ = std::chrono::steady_clock::now() - std::chrono::seconds(10);
@@ -278,13 +317,13 @@ int slave(SlaveArgs& a) {
     int status = 0;
     if (!prepare(a, status)) return status;
     std::string error;
-    std::unique_ptr<Backend> backend = make_backend(a.backend_kind, error);
-    if (!backend) {
+    std::unique_ptr<Backend> backend = a.opt.stereo == StereoMode::none ? make_backend(a.backend_kind, error) : nullptr;
+    if (!backend && a.opt.stereo == StereoMode::none) {
         std::fprintf(stderr, "glcast slave: %s\n", error.c_str());
         return 1;
     }
     const ReplayOptions& opt = a.opt;
-    if (opt.tile.enabled && !opt.view.enabled)  // a window at its tile's place on the canvas
+    if (backend && opt.tile.enabled && !opt.view.enabled)  // a window at its tile's place on the canvas
         backend->set_position(opt.tile.x, opt.tile.canvas_height - opt.tile.y - opt.tile.height);
     const std::string label = a.tile_name.empty() ? std::string("window") : a.tile_name;
     try {

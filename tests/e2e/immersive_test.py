@@ -20,6 +20,8 @@ stereo_window: a stereo tile on a display (Xvfb): the eyes headless, the compose
   equal to the headless frame; quad-buffer refused where there is no stereo visual.
 stereo_effects: the injected passes in both eyes: the spectral snow layer identical (on the screen's
   plane), the cover on the floor in both eyes alike.
+stereo_run: stereo on a live wall (glcast run) with recorded head poses: a side-by-side tile's left
+  half equals a left-eye tile pixel for pixel, each eye's markers where that frame's pose puts them.
 cave_eye_moved_ff, _shader, _mvp: with the viewer 0.5 m off the origin, every marker point lands
   within 1 pixel of where the generalized perspective projection, computed here from the corners
   alone, puts it on each wall, and on no wall that does not see it; by fixed function, by a GLSL
@@ -407,6 +409,41 @@ def case_stereo_effects():
           f"floor pixels under cover: left {covered[0]}, right {covered[1]}")
     check(differ == 0, "the spectral layer differs between the eyes")
     check(min(covered) > 20000 and abs(covered[0] - covered[1]) < 0.05 * max(covered), f"cover per eye: {covered}")
+
+
+def case_stereo_run():
+    # Stereo on a live wall with a recorded head: a side-by-side tile and a left-eye tile, two
+    # slaves through the barrier. At every frame the side-by-side tile's left half is the
+    # left-eye tile's picture, pixel for pixel, and each eye's marker lies where the pose of that
+    # frame and the eye separation put it.
+    out = os.path.join(OUT, "stereo_run")
+    shutil.rmtree(out, ignore_errors=True)
+    os.makedirs(out)
+    config = {"name": "stereo-run", "tiles": [
+        {"name": "both", "width": 1024, "height": 512, "stereo": "side-by-side", "screen": FRONT},
+        {"name": "left-eye", "width": 512, "height": 512, "eye": "left", "screen": FRONT}],
+        "viewer": {"eye_separation": SEPARATION}}
+    config_path = os.path.join(out, "stereo-run.json")
+    with open(config_path, "w") as f:
+        json.dump(config, f)
+    poses = os.path.join(out, "poses.jsonl")
+    write_poses(poses, [(2, [0.3, 0.4, 0.0])])
+    r = run([GLCAST, "run", "--config", config_path, "--backend", "egl", "--out", out, "--head-poses", poses,
+             "--frames", "4", "--", os.path.join(APPS, "pillars"), "--markers", "--size", "400x300", "--frames", "6"])
+    check(r.returncode == 0, f"glcast run failed: {r.stderr[-3000:]}")
+    for frame, head in ((1, (0, 0, 0)), (3, (0.3, 0.4, 0.0))):
+        both = read_png(os.path.join(out, "both", f"frame-{frame:06d}.png"))
+        alone = read_png(os.path.join(out, "left-eye", f"frame-{frame:06d}.png"))
+        halves = (crop(both, 0, 0, 512, 512), crop(both, 512, 0, 512, 512))
+        check(halves[0][2] == alone[2], f"frame {frame}: the stereo tile's left half is not the left-eye tile's picture")
+        for eye, half in zip((-1, 1), halves):
+            position = (head[0] + eye * SEPARATION / 2, head[1], head[2])
+            for marker, colour in MARKERS[:2]:
+                want = on_screen(FRONT, position, marker, 512, 512)
+                got = found(half, colour)
+                check(got and abs(got[0] - want[0]) <= 1 and abs(got[1] - want[1]) <= 1,
+                      f"frame {frame}, eye {eye}: marker {colour} at {got}, predicted {want}")
+        print(f"stereo_run frame {frame}: left half = left-eye tile; both eyes' markers where head {head} puts them")
 
 
 if __name__ == "__main__":
