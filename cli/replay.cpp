@@ -50,9 +50,7 @@ int replay_stereo(ReplayArgs& a, const HeadPoseTrack& head_poses) {
     StereoPair& pair = *tile.pair;
     if (head_poses.size()) pair.left().before_frame = [&](uint64_t frame) {
         if (const HeadPose* pose = head_poses.at(frame)) {
-            Viewer viewer = pair.left().options().viewer;
-            viewer.head = *pose;
-            if (!pair.set_viewer(viewer))
+            if (!pair.set_viewer(with_head(pair.left().options().viewer, *pose)))
                 std::fprintf(stderr, "glcast replay: frame %llu: the head pose puts an eye behind the screen; kept the last\n",
                              (unsigned long long)frame);
         }

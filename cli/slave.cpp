@@ -238,9 +238,7 @@ private:
 
     void move_head_to(const HeadPose& head, uint64_t frame) {
         if (!stereo_.pair) return move_head(*replayer_, head, frame, ("glcast slave " + label_).c_str());
-        Viewer viewer = stereo_.pair->left().options().viewer;
-        viewer.head = head;
-        if (!stereo_.pair->set_viewer(viewer))
+        if (!stereo_.pair->set_viewer(with_head(stereo_.pair->left().options().viewer, head)))
             std::fprintf(stderr, "glcast slave %s: frame %" PRIu64 ": the head pose puts an eye behind the screen; the last "
                                  "eyes are kept\n", label_.c_str(), frame);
     }

@@ -82,9 +82,11 @@ bool tile_options(const std::string& path, const std::string& name, ReplayOption
 namespace glcast::cli {
 
 void move_head(slave::Replayer& replayer, const slave::HeadPose& head, uint64_t frame, const char* who) {
-    slave::Viewer viewer = replayer.options().viewer;
-    if (viewer.head.position == head.position && viewer.head.orientation == head.orientation) return;
-    viewer.head = head;
+    const slave::Viewer& now = replayer.options().viewer;
+    const slave::Viewer viewer = slave::with_head(now, head);
+    if (viewer.head.position == now.head.position && viewer.head.orientation == now.head.orientation &&
+        viewer.eye_separation == now.eye_separation)
+        return;
     static bool said = false;
     if (!replayer.set_viewer(viewer) && !said) {
         said = true;

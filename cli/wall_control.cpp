@@ -147,6 +147,10 @@ std::string WallControl::pose_words(uint64_t frame) {
         std::snprintf(text, sizeof text, " POSE %.17g %.17g %.17g %.17g %.17g %.17g %.17g", h.position.x, h.position.y,
                       h.position.z, h.orientation.w, h.orientation.x, h.orientation.y, h.orientation.z);
         words = text;
+        if (h.eye_separation >= 0) {
+            std::snprintf(text, sizeof text, " SEP %.17g", h.eye_separation);
+            words += text;
+        }
     }
     while (pose_words_.size() >= 64) pose_words_.erase(pose_words_.begin());  // frames long gone
     return pose_words_[frame] = words;

@@ -13,7 +13,7 @@ using namespace config_check;
 
 namespace {
 
-const char* const kPoseKeys[] = {"frame", "time", "position", "orientation"};
+const char* const kPoseKeys[] = {"frame", "time", "position", "orientation", "eye_separation"};
 
 bool numbers(const json& v, size_t n, double bound, double* out) {
     if (!v.is_array() || v.size() != n) return false;
@@ -62,6 +62,12 @@ bool parse_head_pose(const std::string& text, HeadPose& out, uint64_t* frame, do
     if (const auto t = v.find("time"); t != v.end()) {
         if (!t->is_number() || !std::isfinite(t->get<double>())) return check.fail("time", "must be seconds, got " + describe(*t));
         if (time) *time = t->get<double>();
+    }
+    out.eye_separation = -1;
+    if (const auto sep = v.find("eye_separation"); sep != v.end()) {
+        if (!sep->is_number() || !(sep->get<double>() >= 0 && sep->get<double>() <= 1))
+            return check.fail("eye_separation", "must be a number of metres from 0 to 1, got " + describe(*sep));
+        out.eye_separation = sep->get<double>();
     }
     out.position = glm::dvec3(p[0], p[1], p[2]);
     out.orientation = glm::dquat(q[0] / norm, q[1] / norm, q[2] / norm, q[3] / norm);

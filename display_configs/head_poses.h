@@ -5,6 +5,7 @@
 //
 //   {"position": [x, y, z], "orientation": [w, x, y, z]}             metres, a unit quaternion
 //   {"frame": N, "position": [...], "orientation": [...]}            a line of a track
+//   ... "eye_separation": 0.07                                       (optional) the eyes' distance from now on
 //
 // Nothing malformed is ever applied: a bad pose is refused with what is wrong, a bad track is
 // refused whole with its line.

@@ -33,8 +33,10 @@ def main():
     push.connect(sys.argv[1])
     for line in sys.stdin:
         pose = json.loads(line)  # where a tracker's callback would hand over its pose
-        push.send_string(json.dumps({"position": pose["position"], "orientation": pose["orientation"],
-                                     "time": time.time()}))
+        message = {"position": pose["position"], "orientation": pose["orientation"], "time": time.time()}
+        if "eye_separation" in pose:  # the eyes' distance, changed while running
+            message["eye_separation"] = pose["eye_separation"]
+        push.send_string(json.dumps(message))
     push.close(linger=2000)  # the last poses still go out
 
 

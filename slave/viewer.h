@@ -10,6 +10,7 @@ namespace glcast::slave {
 struct HeadPose {
     glm::dvec3 position{0.0};
     glm::dquat orientation{1, 0, 0, 0};  // w, x, y, z: the identity looks down -z
+    double eye_separation = -1;          // metres; < 0: unchanged (a pose may change it while running)
 };
 
 enum class Eye { centre, left, right };
@@ -24,6 +25,14 @@ struct Viewer {
     double eye_separation = 0.064;  // metres between the eyes
     Eye eye = Eye::centre;          // the one this tile shows
 };
+
+// The viewer with the head at `head` (and its eye separation, when the pose gives one).
+inline Viewer with_head(Viewer v, const HeadPose& head) {
+    v.head.position = head.position;
+    v.head.orientation = head.orientation;
+    if (head.eye_separation >= 0) v.eye_separation = head.eye_separation;
+    return v;
+}
 
 // The eye's position: half the separation along the head's right axis, to the left or right.
 inline glm::dvec3 eye_position(const Viewer& v) {

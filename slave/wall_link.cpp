@@ -44,11 +44,15 @@ namespace {
 bool parse_go(const std::string& answer, const std::string& go, HeadPose* head, bool* has_head) {
     if (answer.compare(0, go.size(), go) != 0) return false;
     if (answer.size() == go.size()) return true;
-    double v[7];
-    char tail = 0;
-    if (std::sscanf(answer.c_str() + go.size(), " POSE %lf %lf %lf %lf %lf %lf %lf %c", &v[0], &v[1], &v[2], &v[3], &v[4],
-                    &v[5], &v[6], &tail) != 7)
+    double v[7], separation = -1;
+    int used = 0;
+    if (std::sscanf(answer.c_str() + go.size(), " POSE %lf %lf %lf %lf %lf %lf %lf%n", &v[0], &v[1], &v[2], &v[3], &v[4],
+                    &v[5], &v[6], &used) != 7)
         return false;
+    const char* rest = answer.c_str() + go.size() + used;
+    int more = 0;
+    if (*rest && (std::sscanf(rest, " SEP %lf%n", &separation, &more) != 1 || rest[more] != 0)) return false;
+    if (!(separation >= -1 && separation <= 1)) separation = -1;  // (NaN too) not taken
     for (double x : v)
         if (!std::isfinite(x) || std::fabs(x) > 1e4) return true;  // the frame goes, the pose is not taken
     const double norm = std::sqrt(v[3] * v[3] + v[4] * v[4] + v[5] * v[5] + v[6] * v[6]);
@@ -56,6 +60,7 @@ bool parse_go(const std::string& answer, const std::string& go, HeadPose* head, 
     if (head && has_head) {
         head->position = glm::dvec3(v[0], v[1], v[2]);
         head->orientation = glm::dquat(v[3] / norm, v[4] / norm, v[5] / norm, v[6] / norm);
+        head->eye_separation = separation >= 0 ? separation : -1;
         *has_head = true;
     }
     return true;

@@ -188,8 +188,11 @@ def case_cave_eye_moved_mvp():
 
 def write_poses(path, poses):
     with open(path, "w") as f:
-        for frame, position in poses:
-            f.write(json.dumps({"frame": frame, "position": position, "orientation": [1, 0, 0, 0]}) + "\n")
+        for frame, position, *separation in poses:
+            pose = {"frame": frame, "position": position, "orientation": [1, 0, 0, 0]}
+            if separation:
+                pose["eye_separation"] = separation[0]
+            f.write(json.dumps(pose) + "\n")
 
 
 def case_head_poses_replay():
@@ -415,7 +418,7 @@ def case_stereo_run():
     # Stereo on a live wall with a recorded head: a side-by-side tile and a left-eye tile, two
     # slaves through the barrier. At every frame the side-by-side tile's left half is the
     # left-eye tile's picture, pixel for pixel, and each eye's marker lies where the pose of that
-    # frame and the eye separation put it.
+    # frame and the eye separation put it; the pose of frame 2 also widens the eyes to 0.2 m.
     out = os.path.join(OUT, "stereo_run")
     shutil.rmtree(out, ignore_errors=True)
     os.makedirs(out)
@@ -427,23 +430,24 @@ def case_stereo_run():
     with open(config_path, "w") as f:
         json.dump(config, f)
     poses = os.path.join(out, "poses.jsonl")
-    write_poses(poses, [(2, [0.3, 0.4, 0.0])])
+    write_poses(poses, [(2, [0.3, 0.4, 0.0], 0.2)])
     r = run([GLCAST, "run", "--config", config_path, "--backend", "egl", "--out", out, "--head-poses", poses,
              "--frames", "4", "--", os.path.join(APPS, "pillars"), "--markers", "--size", "400x300", "--frames", "6"])
     check(r.returncode == 0, f"glcast run failed: {r.stderr[-3000:]}")
-    for frame, head in ((1, (0, 0, 0)), (3, (0.3, 0.4, 0.0))):
+    for frame, head, separation in ((1, (0, 0, 0), SEPARATION), (3, (0.3, 0.4, 0.0), 0.2)):
         both = read_png(os.path.join(out, "both", f"frame-{frame:06d}.png"))
         alone = read_png(os.path.join(out, "left-eye", f"frame-{frame:06d}.png"))
         halves = (crop(both, 0, 0, 512, 512), crop(both, 512, 0, 512, 512))
         check(halves[0][2] == alone[2], f"frame {frame}: the stereo tile's left half is not the left-eye tile's picture")
         for eye, half in zip((-1, 1), halves):
-            position = (head[0] + eye * SEPARATION / 2, head[1], head[2])
+            position = (head[0] + eye * separation / 2, head[1], head[2])
             for marker, colour in MARKERS[:2]:
                 want = on_screen(FRONT, position, marker, 512, 512)
                 got = found(half, colour)
                 check(got and abs(got[0] - want[0]) <= 1 and abs(got[1] - want[1]) <= 1,
                       f"frame {frame}, eye {eye}: marker {colour} at {got}, predicted {want}")
-        print(f"stereo_run frame {frame}: left half = left-eye tile; both eyes' markers where head {head} puts them")
+        print(f"stereo_run frame {frame}: left half = left-eye tile; both eyes' markers where head {head} and "
+              f"separation {separation} put them")
 
 
 if __name__ == "__main__":

@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "cli/pose_receiver.h"
+#include "slave/wall_link.h"
 #include "net/security.h"
 
 using glcast::cli::PoseReceiver;
@@ -124,4 +125,51 @@ TEST(PoseSocket, APeerWithoutAnAuthorizedKeyIsNotHeard) {
     glcast::slave::HeadPose got;
     ASSERT_TRUE(receiver.latest(got));
     EXPECT_EQ(got.position, glm::dvec3(0.1, 1.6, -0.2));
+}
+
+// The pose as it reaches a slave, in the barrier's GO (slave/wall_link.h): a crafted one is not
+// taken, and the frame still goes.
+TEST(PoseInGo, ACraftedPoseIsNotTakenAndTheFrameStillGoes) {
+    unsetenv("GLCAST_KEYS");
+    TempDir dir;
+    const std::string endpoint = "ipc://" + dir.path + "/control";
+    zmq::context_t context(1);
+    zmq::socket_t run(context, zmq::socket_type::router);
+    run.set(zmq::sockopt::linger, 0);
+    run.bind(endpoint);
+    glcast::slave::WallLink link(endpoint, "front", "here");
+    struct Case {
+        std::string words;
+        bool goes, taken;
+        double x, separation;
+    } cases[] = {
+        {" POSE 0.5 1.5 -0.25 1 0 0 0", true, true, 0.5, -1},
+        {" POSE 0.5 1.5 -0.25 1 0 0 0 SEP 0.07", true, true, 0.5, 0.07},
+        {" POSE nan 1.5 -0.25 1 0 0 0", true, false, 0, -1},
+        {" POSE 1e300 1.5 -0.25 1 0 0 0", true, false, 0, -1},
+        {" POSE 0.5 1.5 -0.25 3 0 0 0", true, false, 0, -1},
+        {" POSE 0.5 1.5 -0.25 1 0 0 0 SEP nan", true, true, 0.5, -1},  // the pose, without the separation
+        {" POSE 0.5 1.5", false, false, 0, -1},                          // not a GO: the slave waits on
+        {" POSE 0.5 1.5 -0.25 1 0 0 0 rm -rf", false, false, 0, -1},
+    };
+    uint64_t frame = 10;
+    for (const Case& c : cases) {
+        std::thread answer([&] {
+            zmq::message_t identity, ready;
+            if (!run.recv(identity) || !run.recv(ready)) return;
+            run.send(identity, zmq::send_flags::sndmore);
+            run.send(zmq::buffer("GO " + std::to_string(frame) + c.words));
+        });
+        glcast::slave::HeadPose head;
+        bool has_head = true;
+        const bool went = link.barrier(frame, 300, &head, &has_head);
+        answer.join();
+        EXPECT_EQ(went, c.goes) << c.words;
+        EXPECT_EQ(has_head, c.taken) << c.words;
+        if (c.taken) {
+            EXPECT_EQ(head.position.x, c.x) << c.words;
+            EXPECT_EQ(head.eye_separation, c.separation) << c.words;
+        }
+        frame++;
+    }
 }
