@@ -7,7 +7,15 @@
 namespace glcast {
 
 std::vector<uint8_t> read_window(const GlApi& gl, GLenum buffer, int width, int height) {
-    std::vector<uint8_t> bottom_up(size_t(width) * height * 4), rgba(bottom_up.size());
+    std::vector<uint8_t> rgba, scratch;
+    read_window_into(gl, buffer, width, height, rgba, scratch);
+    return rgba;
+}
+
+void read_window_into(const GlApi& gl, GLenum buffer, int width, int height, std::vector<uint8_t>& rgba,
+                      std::vector<uint8_t>& bottom_up) {
+    bottom_up.resize(size_t(width) * height * 4);
+    rgba.resize(bottom_up.size());
     {
         GlStateGuard guard(gl, kGuardWindowRead | kGuardPixelPack);
         gl.glReadBuffer(buffer);
@@ -18,7 +26,6 @@ std::vector<uint8_t> read_window(const GlApi& gl, GLenum buffer, int width, int 
     for (int y = 0; y < height; ++y)
         std::memcpy(rgba.data() + size_t(y) * row_bytes, bottom_up.data() + size_t(height - 1 - y) * row_bytes, row_bytes);
     for (size_t i = 3; i < rgba.size(); i += 4) rgba[i] = 255;
-    return rgba;
 }
 
 }  // namespace glcast

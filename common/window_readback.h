@@ -14,5 +14,9 @@ namespace glcast {
 // shows none). Through the caller's table of the driver's functions (glBindFramebuffer and
 // glBindBuffer are used where the driver has them: GL 1.x has neither).
 std::vector<uint8_t> read_window(const GlApi& gl, GLenum buffer, int width, int height);
+// The same into `rgba`, with `scratch` for the rows as GL gives them: both keep their memory from
+// frame to frame (a slave reads every frame back; fresh buffers cost page faults each time).
+void read_window_into(const GlApi& gl, GLenum buffer, int width, int height, std::vector<uint8_t>& rgba,
+                      std::vector<uint8_t>& scratch);
 
 }  // namespace glcast

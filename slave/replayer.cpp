@@ -142,8 +142,10 @@ void Replayer::finish_frame() {
     SlaveContext& ctx = current();
     for (ReplayObserver* o : observers_) o->end_frame(ctx);
     if (frame_ >= options_.first_frame && frame_ <= options_.last_frame && on_frame && ctx.width > 0 && ctx.height > 0)
-        on_frame(frame_, ctx.width, ctx.height, read_window(api_, ctx.double_buffered ? GL_BACK : GL_FRONT, ctx.width,
-                                                            ctx.height));
+    {
+        read_window_into(api_, ctx.double_buffered ? GL_BACK : GL_FRONT, ctx.width, ctx.height, frame_rgba_, frame_scratch_);
+        on_frame(frame_, ctx.width, ctx.height, frame_rgba_);
+    }
     if (before_present) before_present(frame_);
     backend_->present();
     for (ReplayObserver* o : observers_) o->presented(ctx);

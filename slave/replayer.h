@@ -74,8 +74,9 @@ public:
     Replayer(std::unique_ptr<Backend> backend, ReplayOptions options);
     ~Replayer();
 
-    // Called after each swap with the finished window framebuffer (RGBA, rows top to bottom).
-    std::function<void(uint64_t frame, int width, int height, const std::vector<uint8_t>& rgba)> on_frame;
+    // Called after each swap with the finished window framebuffer (RGBA, rows top to bottom). The
+    // buffer is the replayer's: a callback may swap it for one of the same size to keep the image.
+    std::function<void(uint64_t frame, int width, int height, std::vector<uint8_t>& rgba)> on_frame;
     // Called once before the first call, with the slave current: lets tests allocate names.
     std::function<void(Replayer&)> on_first_context;
     // Called just before each frame is presented (the swap barrier waits here).
@@ -195,6 +196,7 @@ private:
     SlaveContext* current_ = nullptr;
     uint64_t frame_ = 0, call_index_ = 0;
     uint64_t frame_begun_ = UINT64_MAX;  // the frame before_frame was last called for
+    std::vector<uint8_t> frame_rgba_, frame_scratch_;  // the frame read back for on_frame, kept for the next
     bool first_context_done_ = false;
     std::map<uint32_t, uint64_t> unserialized_seen_;
 

@@ -16,8 +16,9 @@
 
 namespace glcast::slave {
 
-// The tile's image from the two eyes' (each the size compose_size gives).
+// The tile's image from the two eyes' (each the size eye_size gives); _into keeps `out`'s memory.
 Image compose_eyes(StereoMode mode, const Image& left, const Image& right);
+void compose_eyes_into(StereoMode mode, const Image& left, const Image& right, Image& out);
 // The size each eye renders at for a tile of width x height: half the width side by side, half
 // the height top and bottom, the whole tile otherwise.
 void eye_size(StereoMode mode, int width, int height, int& eye_width, int& eye_height);
@@ -32,7 +33,8 @@ public:
     bool valid() const { return left_ && right_; }
     const std::string& error() const { return error_; }
 
-    // Both eyes of each frame, once both have it (the composed tile image, and each eye's).
+    // Both eyes of each frame, once both have it (the composed tile image, and each eye's; for
+    // an anaglyph the right eye's image is the composed one).
     std::function<void(uint64_t frame, const Image& tile, const Image& left, const Image& right)> on_frame;
     // Before each frame is shown, once per frame (the swap barrier waits here).
     std::function<void(uint64_t frame)> before_present;
@@ -49,7 +51,7 @@ public:
 private:
     std::unique_ptr<Replayer> left_, right_;
     std::string error_;
-    Image left_image_;
+    Image left_image_, right_image_, composed_;  // kept from frame to frame
     uint64_t left_frame_ = UINT64_MAX;
 };
 
