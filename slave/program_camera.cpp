@@ -134,7 +134,9 @@ bool ProgramCameras::reads_fixed_function(uint32_t program) {
     return it != fixed_function_.end() && it->second;
 }
 
-bool is_perspective(const glm::dmat4& p) { return p[2][3] != 0 && p[3][3] == 0; }
+// (w = s z, with no constant: up to the rounding of a projection recovered from a corrected one,
+// inverse(M) * M * P, whose M moves the eye; GL keeps M * P in floats: 1e-8 of s and more)
+bool is_perspective(const glm::dmat4& p) { return p[2][3] != 0 && std::abs(p[3][3]) <= 1e-6 * std::abs(p[2][3]); }
 
 bool same_projection(const glm::dmat4& a, const glm::dmat4& b) {
     double scale = 0;

@@ -22,6 +22,8 @@ stereo_effects: the injected passes in both eyes: the spectral snow layer identi
   plane), the cover on the floor in both eyes alike.
 stereo_run: stereo on a live wall (glcast run) with recorded head poses: a side-by-side tile's left
   half equals a left-eye tile pixel for pixel, each eye's markers where that frame's pose puts them.
+cave_effects_eye_moved: with the eye 0.5 m off the origin along z too, every wall's floor holds the
+  snow cover pass's snow.
 cave_eye_moved_ff, _shader, _mvp: with the viewer 0.5 m off the origin, every marker point lands
   within 1 pixel of where the generalized perspective projection, computed here from the corners
   alone, puts it on each wall, and on no wall that does not see it; by fixed function, by a GLSL
@@ -448,6 +450,24 @@ def case_stereo_run():
                       f"frame {frame}, eye {eye}: marker {colour} at {got}, predicted {want}")
         print(f"stereo_run frame {frame}: left half = left-eye tile; both eyes' markers where head {head} and "
               f"separation {separation} put them")
+
+
+def case_cave_effects_eye_moved():
+    # The injected passes on every wall with the eye off the origin (also along z): each wall's
+    # floor holds snow cover. Before, an eye moved along z left the turned walls' frames "without
+    # a perspective view" (the program's projection, recovered from the corrected one GL keeps in
+    # floats, had 1e-8 where a perspective projection has 0) and they got none.
+    out, path = capture("cave_effects_eye_moved", [])
+    config = moved_config(out, [0.4, 0.3, 0.5])
+    covered = {}
+    for wall in WALLS:
+        _, _, rows = read_png(replay_tile(path, config, wall, os.path.join(out, wall), extra=["--effects", "cover"]))
+        covered[wall] = sum(1 for row in rows for px in row if px[0] > 180 and px[1] > 180 and px[2] > 180)
+    print(f"cave_effects_eye_moved: snow-white pixels per wall {covered}")
+    check(all(n > 250000 for n in covered.values()), f"a wall without cover: {covered}")
+    # The floor wall sees nothing but the floor (and a marker): all of it, the part behind the
+    # program's camera too (before, the cover's visibility test compared -z, negative there).
+    check(covered["floor"] > 0.9 * 1024 * 1024, f"the floor wall is covered in {covered['floor']} pixels only")
 
 
 if __name__ == "__main__":

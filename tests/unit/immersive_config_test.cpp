@@ -232,3 +232,15 @@ TEST(StereoCompose, EachModePutsTheEyesWhereItSays) {
     EXPECT_EQ(h, 540);
     EXPECT_THROW(compose_eyes(StereoMode::anaglyph, left, solid(1, 1, 0, 0, 0)), std::logic_error);
 }
+
+TEST(ImmersiveConfig, TheShippedTrackedPowerwall) {
+    DisplayConfig c;
+    std::string error;
+    ASSERT_TRUE(load_display_config(std::string(GLCAST_SOURCE_DIR) + "/display_configs/powerwall-tracked.json", c, error)) << error;
+    ASSERT_EQ(c.tiles.size(), 2u);
+    EXPECT_EQ(c.tiles[0].eye, TileEye::left);
+    EXPECT_EQ(c.tiles[1].eye, TileEye::right);
+    EXPECT_EQ(c.tiles[0].view.bottom_left, c.tiles[1].view.bottom_left);  // one screen, two projectors
+    EXPECT_EQ(c.viewer.tracker, "ipc:///tmp/glcast-poses");
+    EXPECT_TRUE(c.swap_barrier);
+}

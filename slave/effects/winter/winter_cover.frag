@@ -27,11 +27,13 @@ uniform vec2 canvas_size;
 // r: snow amount 0..1; g: eye distance (-z); b: 0; a: 1 surface, 0 background, -1 unknown.
 out vec4 out_color;
 
-float eye_distance_at(ivec2 t, float depth) {
+vec3 eye_at(ivec2 t, float depth) {
     vec4 clip = vec4((vec2(t) + 0.5) / tile_size * 2.0 - 1.0, depth * 2.0 - 1.0, 1.0);
     vec4 eye = eye_from_tile_clip * clip;
-    return -eye.z / eye.w;
+    return eye.xyz / eye.w;
 }
+float eye_distance_at(ivec2 t, float depth) { return -eye_at(t, depth).z; }
+float eye_range_at(ivec2 t, float depth) { return length(eye_at(t, depth)); }
 
 void main() {
     uint seed = uint(seed_bits);
@@ -47,9 +49,11 @@ void main() {
     if (check_visibility && all(greaterThanEqual(t, ivec2(0))) && all(lessThan(t, ivec2(tile_size)))) {
         // Something the re-render does not draw (another view, a HUD) is in front: no snow.
         float window = texelFetch(window_depth, t, 0).r;
-        float seen = window < 1.0 ? eye_distance_at(t, window) : 1e30;
-        if (seen < distance * (1.0 - 2e-3) - 1e-4) {
-            out_color = vec4(0.0, seen, 0.0, 1.0);
+        // (compared as distances from the eye: a turned tile of a CAVE or a cylinder sees points
+        // beside and behind the program's camera, whose -z is 0 or negative)
+        float seen = window < 1.0 ? eye_range_at(t, window) : 1e30;
+        if (seen < length(position.xyz) * (1.0 - 2e-3) - 1e-4) {
+            out_color = vec4(0.0, window < 1.0 ? eye_distance_at(t, window) : 1e30, 0.0, 1.0);
             return;
         }
     }
