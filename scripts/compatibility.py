@@ -572,6 +572,35 @@ def cylinder(glcast, capture, out, frame):
     return True, "turned" + (f" (the slave: {reason})" if reason else ""), picture
 
 
+def scene_share(rows, step=8):
+    """The share of pixels (every step-th, both ways) not of the picture's most common colour."""
+    counts = {}
+    total = 0
+    for row in rows[::step]:
+        for px in row[::step]:
+            key = tuple(px[:3])
+            counts[key] = counts.get(key, 0) + 1
+            total += 1
+    return 1 - max(counts.values()) / total if total else 0.0
+
+
+def around(out, frame, turned):
+    """(ok, text): what the program drew outside its own view, seen on the cylinder's tiles that
+    look back (yaw 120, 180, 240). A world that surrounds the camera and shows nothing there is
+    culled by the program (docs/immersive.md)."""
+    if not turned:
+        return True, "n/a (unturned)"
+    shares = {}
+    for tile in CYLINDER_TILES:
+        path = os.path.join(out, tile, f"frame-{frame:06d}.png")
+        if not os.path.exists(path):
+            return True, ""
+        shares[tile] = scene_share(read_png(path)[2])
+    back = [shares[t] for t in ("yaw120", "yaw180", "yaw240")]
+    word = "all around" if min(back) >= 0.02 else "in front only" if max(back) < 0.02 else "partly behind"
+    return True, f"{word}: back tiles {100 * min(back):.1f}-{100 * max(back):.1f}% scene, front {100 * shares['yaw000']:.1f}%"
+
+
 def one(glcast, name, argv, frames, out, images):
     row = {"program": name}
     os.makedirs(out, exist_ok=True)
@@ -604,6 +633,7 @@ def one(glcast, name, argv, frames, out, images):
     row["mosaic"] = mosaic(glcast, capture, os.path.join(work, "mosaic"), last)
     ok, text, turned = cylinder(glcast, capture, os.path.join(work, "cylinder"), last)
     row["cylinder"] = (ok, text)
+    row["around"] = around(os.path.join(work, "cylinder"), last, text.startswith("turned"))
     pictures = {"program": os.path.join(own, shown[-1])}
     up = (0.0, 1.0, 0.0)
     for column, effects in EFFECTS:
@@ -631,12 +661,16 @@ def one(glcast, name, argv, frames, out, images):
 
 
 def table(rows, doc):
-    columns = ["capture", "egl", "osmesa", "mosaic", "cylinder"] + [c for c, _ in EFFECTS]
+    columns = ["capture", "egl", "osmesa", "mosaic", "cylinder", "around"] + [c for c, _ in EFFECTS]
     lines = ["# Compatibility with real programs", "",
              "Made by `scripts/compatibility.py` (do not edit by hand): each program captured under Xvfb for the",
              "frames given there, replayed on EGL and OSMesa against its own frames, as a 2x2 wall",
              "(`display_configs/wall-2x2.json`) against the 1280x960 canvas (pixels more than 2 levels off;",
              "0.01% allowed), on the six tiles of `display_configs/cylinder-360.json`, and with each effect.",
+             "**around**: what the program draws outside its own view, on the cylinder's three tiles that look",
+             "back (the share of their pixels not of their most common colour): a world that surrounds the",
+             "camera but shows \"in front only\" is culled by the program (docs/immersive.md, \"Programs that",
+             "cull\"); an object viewer has nothing there to draw.",
              "Mesa llvmpipe, 2 cores.", "",
              "The effect columns measure the last frame against the program's own, with what the slave",
              "took the frame for (`glcast replay --scene-report`): the pixels it keeps as the program drew",
@@ -698,6 +732,14 @@ def main():
             if a.resume and os.path.exists(saved):
                 with open(saved) as f:
                     row = {k: tuple(v) if isinstance(v, list) else v for k, v in json.load(f).items()}
+                if "cylinder" in row:  # a row saved before the column: from its tiles
+                    work = os.path.join(a.out, re.sub(r"[^a-z0-9]+", "-", name.lower()).strip("-"), "cylinder")
+                    frames_there = sorted(f for f in os.listdir(os.path.join(work, "yaw000"))) if os.path.isdir(
+                        os.path.join(work, "yaw000")) else []
+                    if frames_there:
+                        row["around"] = around(work, int(frames_there[-1][6:12]), row["cylinder"][1].startswith("turned"))
+                        with open(saved, "w") as f:
+                            json.dump(row, f)
             else:
                 row = one(glcast, name, argv, a.frames or frames, a.out, images)
                 version = run(["dpkg-query", "-W", "-f", "${Version}", package]).stdout.strip()

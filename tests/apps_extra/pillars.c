@@ -68,8 +68,12 @@
  * positions of its eye space, one colour each, for the immersive-wall tests (units are metres there,
  * the camera at a room's origin): MARKERS below, the first straight ahead behind a CAVE's front wall.
  *
+ * With --cull the program culls as engines do: a pillar wholly outside its own horizontal field of
+ * view is not drawn at all (not by fixed function, --shader or --builtins). --fov DEG sets that
+ * field of view (default 60; the picture is then wider, the pillars smaller).
+ *
  *   pillars [--shader | --builtins | --mvp] [--grow] [--fbo [--half] [--mrt | --msaa]] [--reversed] [--hud]
- *           [--hand] [--left-handed] [--mixed] [--foliage] [--post] [--markers]
+ *           [--hand] [--left-handed] [--mixed] [--foliage] [--post] [--markers] [--cull] [--fov DEG]
  *           [--frames N] [--size WxH]
  */
 #define GL_GLEXT_PROTOTYPES 1
@@ -78,6 +82,7 @@
 #include <GL/glx.h>
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
@@ -170,6 +175,18 @@ int main(int argc, char **argv)
     const int foliage = builtins && app_take_flag(&argc, &argv, "--foliage");
     const int post = fbo_mode && app_take_flag(&argc, &argv, "--post");
     const int markers = app_take_flag(&argc, &argv, "--markers");
+    const int cull = app_take_flag(&argc, &argv, "--cull");
+    double fov = 60;
+    if (argc > 2 && strcmp(argv[1], "--fov") == 0) {
+        fov = atof(argv[2]);
+        if (!(fov > 1 && fov < 179)) {
+            fprintf(stderr, "pillars: --fov takes 1..179 degrees\n");
+            return 2;
+        }
+        argv[2] = argv[0];
+        argv += 2;
+        argc -= 2;
+    }
     const double zs = left_handed ? -1 : 1;  /* the world's z as the program keeps it */
     if (left_handed && (mvp || reversed)) {
         fprintf(stderr, "pillars: --left-handed is not for --mvp or --reversed\n");
@@ -322,7 +339,7 @@ int main(int argc, char **argv)
         glEnable(GL_DEPTH_TEST);
         glMatrixMode(GL_PROJECTION);
         glLoadIdentity();
-        const double n = 0.5, half = n * tan(30.0 * M_PI / 180.0);
+        const double n = 0.5, half = n * tan(fov / 2 * M_PI / 180.0);
         const double top = half * a.height / a.width;
         /* the matrix, column-major, for GL_PROJECTION and the uniforms */
         const double fa = 100.0;
@@ -359,6 +376,9 @@ int main(int argc, char **argv)
             if (mixed) glUseProgram(program);
             for (int k = 0; k < 12; k++) {
                 const double yaw = k * 30.0 * M_PI / 180.0, x = 6 * sin(yaw), z = -6 * cos(yaw), w = 0.6;
+                /* --cull: outside the field of view by more than the pillar's half width (0.6 at 6) */
+                const double off = fabs(remainder(k * 30.0, 360.0)) - fov / 2;
+                if (cull && off > atan(0.6 / 6) * 180 / M_PI) continue;
                 const double tx = cos(yaw) * w, tz = sin(yaw) * w;  /* across the line of sight */
                 glColor3ub((GLubyte)(40 + 16 * k), (GLubyte)(200 - 12 * k), (GLubyte)(255 - 20 * k));
                 glBegin(GL_QUADS);

@@ -24,6 +24,9 @@ stereo_run: stereo on a live wall (glcast run) with recorded head poses: a side-
   half equals a left-eye tile pixel for pixel, each eye's markers where that frame's pose puts them.
 cave_effects_eye_moved: with the eye 0.5 m off the origin along z too, every wall's floor holds the
   snow cover pass's snow.
+culling: a program that culls outside its own view (pillars --cull) leaves turned tiles without
+  what it culled; with a wider field of view in the program (--fov 170) the tiles within it get
+  it back, in the same places.
 cave_eye_moved_ff, _shader, _mvp: with the viewer 0.5 m off the origin, every marker point lands
   within 1 pixel of where the generalized perspective projection, computed here from the corners
   alone, puts it on each wall, and on no wall that does not see it; by fixed function, by a GLSL
@@ -468,6 +471,36 @@ def case_cave_effects_eye_moved():
     # The floor wall sees nothing but the floor (and a marker): all of it, the part behind the
     # program's camera too (before, the cover's visibility test compared -z, negative there).
     check(covered["floor"] > 0.9 * 1024 * 1024, f"the floor wall is covered in {covered['floor']} pixels only")
+
+
+def pillar_colour(k):  # tests/apps_extra/pillars.c
+    return (40 + 16 * k, 200 - 12 * k, 255 - 20 * k)
+
+
+def case_culling():
+    # A program that culls (pillars --cull: nothing outside its own 60-degree view is drawn) leaves
+    # the tiles that look elsewhere without what it culled; the remedy a site has: a wider field
+    # of view in the program. glcast turns any projection, so the tiles show the same pillars in
+    # the same places, and only what lies outside the wider view is still missing.
+    out = os.path.join(OUT, "culling")
+    shutil.rmtree(out, ignore_errors=True)
+    config = os.path.join(CONFIGS, "cylinder-360.json")
+    seen = {}
+    for name, flags in (("all", []), ("culled", ["--cull"]), ("culled-wide", ["--cull", "--fov", "170"])):
+        d = os.path.join(out, name)
+        r = run([GLCAST, "run", "--config", config, "--backend", "egl", "--out", d, "--frames", "1", "--",
+                 os.path.join(APPS, "pillars")] + flags + ["--size", "400x300", "--frames", "3"])
+        check(r.returncode == 0, f"{name}: glcast run failed: {r.stderr[-2000:]}")
+        seen[name] = []
+        for i in range(6):
+            _, _, rows = read_png(os.path.join(d, f"yaw{60 * i:03d}", "frame-000000.png"))
+            seen[name].append(tuple(rows[1200 * 30 // 50 - 100][800][:3]) == pillar_colour(2 * i))
+    print("culling: the pillar at each tile's centre (yaw 0, 60, ..., 300) shown: " +
+          "; ".join(f"{k} {['yes' if v else 'no' for v in s]}" for k, s in seen.items()))
+    check(all(seen["all"]), "without culling every tile shows its pillar")
+    check(seen["culled"] == [True, False, False, False, False, False], "culled: only the front tile keeps its pillar")
+    check(seen["culled-wide"] == [True, True, False, False, False, True],
+          "culled with a 170-degree view: the tiles at +-60 degrees get theirs back, the back ones not")
 
 
 if __name__ == "__main__":
