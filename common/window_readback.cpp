@@ -12,6 +12,14 @@ std::vector<uint8_t> read_window(const GlApi& gl, GLenum buffer, int width, int 
     return rgba;
 }
 
+void read_window_rows(const GlApi& gl, GLenum buffer, int width, int height, uint8_t* rows, int row_pixels) {
+    GlStateGuard guard(gl, kGuardWindowRead | kGuardPixelPack);
+    gl.glReadBuffer(buffer);
+    gl.glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    gl.glPixelStorei(GL_PACK_ROW_LENGTH, row_pixels);
+    gl.glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, rows);
+}
+
 void read_window_into(const GlApi& gl, GLenum buffer, int width, int height, std::vector<uint8_t>& rgba,
                       std::vector<uint8_t>& bottom_up) {
     bottom_up.resize(size_t(width) * height * 4);

@@ -18,5 +18,8 @@ std::vector<uint8_t> read_window(const GlApi& gl, GLenum buffer, int width, int 
 // frame to frame (a slave reads every frame back; fresh buffers cost page faults each time).
 void read_window_into(const GlApi& gl, GLenum buffer, int width, int height, std::vector<uint8_t>& rgba,
                       std::vector<uint8_t>& scratch);
+// The rows as GL gives them (bottom to top, RGBA, alpha as the buffer has it) into `rows`, each
+// `row_pixels` wide: one eye's image into its half of a stereo tile's image, with no copy between.
+void read_window_rows(const GlApi& gl, GLenum buffer, int width, int height, uint8_t* rows, int row_pixels);
 
 }  // namespace glcast

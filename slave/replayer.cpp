@@ -141,10 +141,14 @@ void Replayer::make_current(uint32_t id, uint64_t drawable, int width, int heigh
 void Replayer::finish_frame() {
     SlaveContext& ctx = current();
     for (ReplayObserver* o : observers_) o->end_frame(ctx);
-    if (frame_ >= options_.first_frame && frame_ <= options_.last_frame && on_frame && ctx.width > 0 && ctx.height > 0)
-    {
-        read_window_into(api_, ctx.double_buffered ? GL_BACK : GL_FRONT, ctx.width, ctx.height, frame_rgba_, frame_scratch_);
-        on_frame(frame_, ctx.width, ctx.height, frame_rgba_);
+    const GLenum shown = ctx.double_buffered ? GL_BACK : GL_FRONT;
+    if (frame_ >= options_.first_frame && frame_ <= options_.last_frame && ctx.width > 0 && ctx.height > 0) {
+        if (on_frame_drawn) {
+            on_frame_drawn(frame_, ctx.width, ctx.height, shown);
+        } else if (on_frame) {
+            read_window_into(api_, shown, ctx.width, ctx.height, frame_rgba_, frame_scratch_);
+            on_frame(frame_, ctx.width, ctx.height, frame_rgba_);
+        }
     }
     if (before_present) before_present(frame_);
     backend_->present();

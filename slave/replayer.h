@@ -79,6 +79,9 @@ public:
     std::function<void(uint64_t frame, int width, int height, std::vector<uint8_t>& rgba)> on_frame;
     // Called once before the first call, with the slave current: lets tests allocate names.
     std::function<void(Replayer&)> on_first_context;
+    // Instead of on_frame: called with the frame drawn and its context current, to read it back
+    // itself (a stereo tile's eye, straight into its half of the tile's image).
+    std::function<void(uint64_t frame, int width, int height, GLenum buffer)> on_frame_drawn;
     // Called just before each frame is presented (the swap barrier waits here).
     std::function<void(uint64_t frame)> before_present;
     // Called before the first call of each frame, with its number (a tracked viewer's pose).

@@ -33,8 +33,9 @@ public:
     bool valid() const { return left_ && right_; }
     const std::string& error() const { return error_; }
 
-    // Both eyes of each frame, once both have it (the composed tile image, and each eye's; for
-    // an anaglyph the right eye's image is the composed one).
+    // Both eyes of each frame, once both have it: the composed tile image, and for quad-buffer
+    // each eye's (the tile image is then the left eye's); the other modes give empty ones (each
+    // eye was read straight into the composition).
     std::function<void(uint64_t frame, const Image& tile, const Image& left, const Image& right)> on_frame;
     // Before each frame is shown, once per frame (the swap barrier waits here).
     std::function<void(uint64_t frame)> before_present;
@@ -52,6 +53,8 @@ private:
     std::unique_ptr<Replayer> left_, right_;
     std::string error_;
     Image left_image_, right_image_, composed_;  // kept from frame to frame
+    std::vector<uint8_t> halves_;      // side by side, top and bottom: both eyes, rows bottom to top
+    std::vector<uint8_t> right_rows_;  // an anaglyph's right eye, rows bottom to top (its left: halves_)
     uint64_t left_frame_ = UINT64_MAX;
 };
 
