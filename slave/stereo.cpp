@@ -4,53 +4,12 @@
 
 #include <algorithm>
 #include <cstring>
-#include <stdexcept>
 
 namespace glcast::slave {
 
 void eye_size(StereoMode mode, int width, int height, int& eye_width, int& eye_height) {
     eye_width = mode == StereoMode::side_by_side ? std::max(1, width / 2) : width;
     eye_height = mode == StereoMode::top_bottom ? std::max(1, height / 2) : height;
-}
-
-Image compose_eyes(StereoMode mode, const Image& left, const Image& right) {
-    Image out;
-    compose_eyes_into(mode, left, right, out);
-    return out;
-}
-
-void compose_eyes_into(StereoMode mode, const Image& left, const Image& right, Image& out) {
-    if (left.width != right.width || left.height != right.height)
-        throw std::logic_error("the eyes' images differ in size");
-    const int w = left.width, h = left.height;
-    const size_t row = size_t(w) * 4, bytes = row * size_t(h);
-    switch (mode) {
-    case StereoMode::side_by_side:
-        out.width = 2 * w, out.height = h;
-        out.rgba.resize(2 * bytes);
-        for (int y = 0; y < h; ++y) {
-            std::memcpy(&out.rgba[y * 2 * row], &left.rgba[y * row], row);
-            std::memcpy(&out.rgba[y * 2 * row + row], &right.rgba[y * row], row);
-        }
-        return;
-    case StereoMode::top_bottom:
-        out.width = w, out.height = 2 * h;
-        out.rgba.resize(2 * bytes);
-        std::memcpy(out.rgba.data(), left.rgba.data(), bytes);
-        std::memcpy(out.rgba.data() + bytes, right.rgba.data(), bytes);
-        return;
-    case StereoMode::anaglyph: {  // red-cyan: the left eye's red, the right eye's green and blue
-        out.width = w, out.height = h;
-        out.rgba.resize(bytes);
-        uint8_t* o = out.rgba.data();
-        const uint8_t *l = left.rgba.data(), *r = right.rgba.data();
-        for (size_t i = 0; i < bytes; i += 4) o[i] = l[i], o[i + 1] = r[i + 1], o[i + 2] = r[i + 2], o[i + 3] = r[i + 3];
-        return;
-    }
-    default:  // quad-buffer (shown as two images), none
-        out.width = w, out.height = h;
-        out.rgba.assign(left.rgba.begin(), left.rgba.end());
-    }
 }
 
 StereoPair::StereoPair(const std::function<std::unique_ptr<Backend>(std::string& error)>& make_backend,
@@ -68,7 +27,7 @@ StereoPair::StereoPair(const std::function<std::unique_ptr<Backend>(std::string&
     if (mode == StereoMode::side_by_side || mode == StereoMode::top_bottom) {
         // Each eye reads its frame straight into its half of the tile's image (rows bottom to
         // top, as GL gives them); the right eye's frame then flips the whole once.
-        auto read_half = [this, mode](Replayer& eye, bool left, uint64_t frame, int w, int h, GLenum buffer) {
+        auto read_half = [this, mode](Replayer& eye, bool left, int w, int h, GLenum buffer) {
             const bool wide = mode == StereoMode::side_by_side;
             const int tile_w = wide ? 2 * w : w, tile_h = wide ? h : 2 * h;
             halves_.resize(size_t(tile_w) * tile_h * 4);
@@ -79,13 +38,13 @@ StereoPair::StereoPair(const std::function<std::unique_ptr<Backend>(std::string&
             return std::pair<int, int>(tile_w, tile_h);
         };
         left_->on_frame_drawn = [this, read_half](uint64_t frame, int w, int h, GLenum buffer) {
-            read_half(*left_, true, frame, w, h, buffer);
+            read_half(*left_, true, w, h, buffer);
             left_frame_ = frame;
             left_image_.width = w, left_image_.height = h;
         };
         right_->on_frame_drawn = [this, read_half](uint64_t frame, int w, int h, GLenum buffer) {
             if (left_frame_ != frame || left_image_.width != w || left_image_.height != h) return;  // an eye alone
-            const auto [tile_w, tile_h] = read_half(*right_, false, frame, w, h, buffer);
+            const auto [tile_w, tile_h] = read_half(*right_, false, w, h, buffer);
             if (before_present) before_present(frame);
             composed_.width = tile_w, composed_.height = tile_h;
             composed_.rgba.resize(halves_.size());

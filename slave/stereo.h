@@ -2,8 +2,9 @@
 // per eye, each with its own contexts and its eye's camera, take turns on one thread: every
 // message is read (and unpacked) once and replayed by the left eye, then by the right. When both
 // eyes have finished a frame, the two images are composed into the tile's one: side by side,
-// top and bottom, or as a red-cyan anaglyph; for quad-buffer stereo both go on, as they are, to
-// a window with GL_BACK_LEFT and GL_BACK_RIGHT (slave/stereo_window.h).
+// top and bottom, or as a red-cyan anaglyph, each eye read straight into its place; for
+// quad-buffer stereo both go on, as they are, to a window with GL_BACK_LEFT and GL_BACK_RIGHT
+// (slave/backends/stereo_window.h).
 #pragma once
 
 #include <cstdint>
@@ -16,9 +17,6 @@
 
 namespace glcast::slave {
 
-// The tile's image from the two eyes' (each the size eye_size gives); _into keeps `out`'s memory.
-Image compose_eyes(StereoMode mode, const Image& left, const Image& right);
-void compose_eyes_into(StereoMode mode, const Image& left, const Image& right, Image& out);
 // The size each eye renders at for a tile of width x height: half the width side by side, half
 // the height top and bottom, the whole tile otherwise.
 void eye_size(StereoMode mode, int width, int height, int& eye_width, int& eye_height);

@@ -1,6 +1,6 @@
 // Screens in metres, eyes and the viewer in display configs (display_configs/immersive_config.h):
 // the shipped CAVE in metres loads with its corners, and every rule gives its message; head poses
-// (display_configs/head_poses.h) and the composition of a stereo tile's eyes (slave/stereo.h).
+// (display_configs/head_poses.h) and the size of a stereo tile's eyes (slave/stereo.h).
 #include <gtest/gtest.h>
 
 #include <string>
@@ -203,44 +203,19 @@ TEST(HeadPoses, ABadTrackIsRefusedWholeWithItsLine) {
     EXPECT_EQ(error, "/nonexistent/poses.jsonl: cannot open");
 }
 
-// ---- composing the eyes (slave/stereo.h) ----------------------------------------------------
+// ---- the eyes' size (slave/stereo.h; their composition: immersive_stereo_disparity) ---------
 
-namespace {
-Image solid(int w, int h, uint8_t r, uint8_t g, uint8_t b) {
-    Image i{w, h, {}};
-    for (int k = 0; k < w * h; ++k) i.rgba.insert(i.rgba.end(), {r, g, b, 255});
-    return i;
-}
-}  // namespace
-
-TEST(StereoCompose, EachModePutsTheEyesWhereItSays) {
-    const Image left = solid(2, 1, 200, 10, 20), right = solid(2, 1, 100, 50, 60);
-    const Image sbs = compose_eyes(StereoMode::side_by_side, left, right);
-    EXPECT_EQ(sbs.width, 4);
-    EXPECT_EQ(std::vector<uint8_t>(sbs.rgba.begin(), sbs.rgba.begin() + 4), (std::vector<uint8_t>{200, 10, 20, 255}));
-    EXPECT_EQ(std::vector<uint8_t>(sbs.rgba.begin() + 8, sbs.rgba.begin() + 12), (std::vector<uint8_t>{100, 50, 60, 255}));
-    const Image tb = compose_eyes(StereoMode::top_bottom, left, right);
-    EXPECT_EQ(tb.height, 2);
-    EXPECT_EQ(tb.rgba[8], 100);  // the second row: the right eye
-    const Image ana = compose_eyes(StereoMode::anaglyph, left, right);
-    EXPECT_EQ(std::vector<uint8_t>(ana.rgba.begin(), ana.rgba.begin() + 4), (std::vector<uint8_t>{200, 50, 60, 255}));
+TEST(StereoEyes, EachModeRendersTheEyesAtItsSize) {
     int w = 0, h = 0;
     eye_size(StereoMode::side_by_side, 1921, 1080, w, h);
     EXPECT_EQ(w, 960);
     EXPECT_EQ(h, 1080);
     eye_size(StereoMode::top_bottom, 1920, 1080, w, h);
+    EXPECT_EQ(w, 1920);
     EXPECT_EQ(h, 540);
-    EXPECT_THROW(compose_eyes(StereoMode::anaglyph, left, solid(1, 1, 0, 0, 0)), std::logic_error);
-}
-
-TEST(ImmersiveConfig, TheShippedTrackedPowerwall) {
-    DisplayConfig c;
-    std::string error;
-    ASSERT_TRUE(load_display_config(std::string(GLCAST_SOURCE_DIR) + "/display_configs/powerwall-tracked.json", c, error)) << error;
-    ASSERT_EQ(c.tiles.size(), 2u);
-    EXPECT_EQ(c.tiles[0].eye, TileEye::left);
-    EXPECT_EQ(c.tiles[1].eye, TileEye::right);
-    EXPECT_EQ(c.tiles[0].view.bottom_left, c.tiles[1].view.bottom_left);  // one screen, two projectors
-    EXPECT_EQ(c.viewer.tracker, "ipc:///tmp/glcast-poses");
-    EXPECT_TRUE(c.swap_barrier);
+    eye_size(StereoMode::anaglyph, 1920, 1080, w, h);
+    EXPECT_EQ(w, 1920);
+    EXPECT_EQ(h, 1080);
+    eye_size(StereoMode::side_by_side, 1, 1, w, h);
+    EXPECT_EQ(w, 1);
 }
