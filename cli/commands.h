@@ -31,5 +31,6 @@ Command add_trim(CLI::App& glcast);     // cli/trim.cpp
 Command add_keeper(CLI::App& glcast);   // cli/keeper.cpp
 Command add_record(CLI::App& glcast);   // cli/record.cpp
 Command add_keygen(CLI::App& glcast);   // cli/keygen.cpp
+Command add_doctor(CLI::App& glcast);   // cli/doctor.cpp
 
 }  // namespace glcast::cli

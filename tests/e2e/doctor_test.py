@@ -1,0 +1,104 @@
+#!/usr/bin/env python3
+"""`glcast doctor` on a display machine (cli/doctor.cpp): it finds what would stop a tile.
+
+    doctor_test.py CASE      with GLCAST in the environment
+
+drivers: under Xvfb, the EGL and GLX lines are ok, llvmpipe is named a software rasterizer (a
+  warning: exit 0).
+missing_key: a keys folder with the wall's master.pub but no slave.key: FAIL on the keys line, exit 1.
+unreachable_master: a master whose ports nobody serves: FAIL naming each port; the same master
+  once something listens on its control port: ok, exit 0.
+"""
+import os
+import shutil
+import socket
+import subprocess
+import sys
+import tempfile
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from xvfb import Xvfb  # noqa: E402
+
+GLCAST = os.environ["GLCAST"]
+
+
+def check(cond, msg):
+    if not cond:
+        raise AssertionError(msg)
+
+
+def doctor(*args, env=None):
+    r = subprocess.run([GLCAST, "doctor"] + list(args), capture_output=True, text=True, timeout=120, env=env)
+    print(r.stdout, end="")
+    return r.returncode, r.stdout.splitlines()
+
+
+def line(lines, start):
+    found = [l for l in lines if l.split(" ", 1)[-1].lstrip().startswith(start)]
+    check(found, f"no line about {start!r} in {lines}")
+    return found[0]
+
+
+def case_drivers():
+    with Xvfb():
+        status, lines = doctor()
+    check(status == 0, f"exit {status}")
+    check(line(lines, "gl (egl").startswith("ok"), "the EGL line")
+    check(line(lines, "glx").startswith("ok"), "the GLX line under Xvfb")
+    check(line(lines, "gl: llvmpipe").startswith("WARN"), "llvmpipe not named a software rasterizer")
+
+
+def case_missing_key():
+    keys = tempfile.mkdtemp(prefix="glcast-doctor-keys-")
+    try:
+        subprocess.run([GLCAST, "keygen", os.path.join(keys, "master")], check=True, capture_output=True)
+        os.remove(os.path.join(keys, "master.key"))  # as on a display machine, which lacks its own pair
+        env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "GLCAST_KEYS")}
+        status, lines = doctor("--keys", keys, env=env)
+        check(status == 1, f"exit {status}: a missing slave.key passed")
+        keys_line = line(lines, "keys")
+        check(keys_line.startswith("FAIL") and "slave.key" in keys_line, keys_line)
+    finally:
+        shutil.rmtree(keys, ignore_errors=True)
+
+
+def free_port_run(n):
+    """A port P with P..P+n-1 free (bound and released)."""
+    for _ in range(50):
+        s = socket.socket()
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+        s.close()
+        if port + n > 65535:
+            continue
+        try:
+            for i in range(n):
+                t = socket.socket()
+                t.bind(("127.0.0.1", port + i))
+                t.close()
+            return port
+        except OSError:
+            continue
+    raise RuntimeError("no run of free ports")
+
+
+def case_unreachable_master():
+    env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "GLCAST_KEYS")}
+    port = free_port_run(4)
+    status, lines = doctor("--master", f"127.0.0.1:{port}", "--timeout", "500", env=env)
+    master = line(lines, "master")
+    check(status == 1 and master.startswith("FAIL") and f"control {port + 3}" in master, master)
+    control = socket.socket()
+    control.bind(("127.0.0.1", port + 3))
+    control.listen(4)
+    try:
+        status, lines = doctor("--master", f"127.0.0.1:{port}", "--timeout", "500", env=env)
+    finally:
+        control.close()
+    master = line(lines, "master")
+    check(status == 0 and master.startswith("ok") and f"not now: stream {port}" in master, master)
+
+
+if __name__ == "__main__":
+    globals()["case_" + sys.argv[1]]()
+    print("PASS")
