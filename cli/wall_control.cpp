@@ -174,6 +174,14 @@ void WallControl::serve() {
             std::istringstream words(body.to_string());
             std::string verb, tile;
             words >> verb >> tile;
+            if (verb == "TIME" && tile.empty()) {  // glcast doctor's clock: this machine's, in seconds
+                char now[64];
+                std::snprintf(now, sizeof now, "TIME %.6f",
+                              std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count());
+                router.send(zmq::buffer(identity.data(), identity.size()), zmq::send_flags::sndmore | zmq::send_flags::dontwait);
+                router.send(zmq::buffer(std::string(now)), zmq::send_flags::dontwait);
+                continue;
+            }
             if (!plain_name(tile) || !std::count(tiles_.begin(), tiles_.end(), tile)) continue;
             // The peer: the CURVE key the ZAP handler proved (its User-Id), else the connection.
             const char* key = nullptr;

@@ -9,6 +9,9 @@
 //
 // A tracked viewer (docs/immersive.md): "GO n" carries the head pose for frame n + 1.
 //
+// Clock: "TIME" is answered "TIME SECONDS" (this machine's clock, since the epoch), for glcast
+// doctor's offset.
+//
 // Status: each slave says "STATUS TILE STATE FRAME MASTER_FRAME FPS MBPS LAG RECOVERIES MACHINE"
 // once a second (slave/wall_link.h);
 // status() gathers the newest of each tile.

@@ -8,6 +8,8 @@ drivers: under Xvfb, the EGL and GLX lines are ok, llvmpipe is named a software 
 missing_key: a keys folder with the wall's master.pub but no slave.key: FAIL on the keys line, exit 1.
 unreachable_master: a master whose ports nobody serves: FAIL naming each port; the same master
   once something listens on its control port: ok, exit 0.
+clock: a running glcast run answers the clock on its control channel: ok, the offset in ms.
+multicast: a group that is not one: FAIL.
 """
 import os
 import shutil
@@ -15,6 +17,7 @@ import socket
 import subprocess
 import sys
 import tempfile
+import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from xvfb import Xvfb  # noqa: E402
@@ -97,6 +100,35 @@ def case_unreachable_master():
         control.close()
     master = line(lines, "master")
     check(status == 0 and master.startswith("ok") and f"not now: stream {port}" in master, master)
+
+
+def case_clock():
+    # A real glcast run's control channel answers the clock: same machine, so the offset is small.
+    port = free_port_run(4)
+    with Xvfb():
+        env = {k: v for k, v in os.environ.items() if k != "GLCAST_KEYS"}
+        run = subprocess.Popen([GLCAST, "run", "--backend", "egl", "--endpoint", f"tcp://127.0.0.1:{port}", "--frames",
+                                "400", "--", os.path.join(os.environ["APPS_DIR"], "pillars"), "--frames", "500"],
+                               env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+        for _ in range(100):  # until its control channel is up
+            probe = socket.socket()
+            up = probe.connect_ex(("127.0.0.1", port + 3)) == 0
+            probe.close()
+            if up:
+                break
+            time.sleep(0.1)
+        status, lines = doctor("--master", f"127.0.0.1:{port}", env=env)
+        _, errors = run.communicate(timeout=240)
+        check(run.returncode == 0, f"glcast run failed: {errors[-1000:]}")
+    clock = line(lines, "clock")
+    check(status == 0 and clock.startswith("ok") and "ms from the master's" in clock, clock)
+
+
+def case_multicast():
+    env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "GLCAST_KEYS")}
+    status, lines = doctor("--multicast", "10.1.2.3", env=env)
+    bad = line(lines, "multicast")
+    check(status == 1 and bad.startswith("FAIL") and "not an IPv4 multicast group" in bad, bad)
 
 
 if __name__ == "__main__":
