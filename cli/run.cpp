@@ -334,7 +334,8 @@ int run(RunArgs& a, const std::vector<std::string>& program) {
             {"GLCAST_PUBLISH", e.publish},
             {"GLCAST_JOURNAL_ENDPOINT", e.journal},
             {"GLCAST_WAIT_SUBSCRIBERS", std::to_string(session.slaves() + size_t(remote_here) + (e.reachable ? 1 : 0))},
-            {"GLCAST_LOCKSTEP", a.lockstep ? std::to_string(plan.tiles.size()) : "0"}};
+            {"GLCAST_LOCKSTEP", a.lockstep ? std::to_string(plan.tiles.size()) : "0"},
+            {"GLCAST_PUBLISHED_MARK", session.dir() + "/published"}};
         if (a.frames) {
             env["GLCAST_FRAMES"] = std::to_string(a.frames);
             env["GLCAST_EXIT_AFTER_FRAMES"] = "1";
@@ -347,6 +348,11 @@ int run(RunArgs& a, const std::vector<std::string>& program) {
             // its slaves have nothing to finish.
             if (status < 0 || status == 127) {
                 std::fprintf(stderr, "glcast run: the program did not run; stopping the slaves\n");
+                session.stop_all();
+            } else if (access((session.dir() + "/published").c_str(), F_OK) != 0) {
+                // (the shim makes the mark at the program's first GL call: without it the slaves
+                // wait for a stream that will never come)
+                std::fprintf(stderr, "glcast run: the program made no GL calls; nothing to show, stopping the slaves\n");
                 session.stop_all();
             }
             // The program has ended: slaves finish the stream and exit; give them time, then stop them.

@@ -25,6 +25,7 @@ static ShimConfig load() {
     c.publish = env_text("GLCAST_PUBLISH");
     c.journal_endpoint = env_text("GLCAST_JOURNAL_ENDPOINT");
     c.swap_log = env_text("GLCAST_TEST_SWAP_LOG");
+    c.published_mark = env_text("GLCAST_PUBLISHED_MARK");
     ok &= read_uint("GLCAST_JOURNAL_MB", 0, 1 << 20, c.journal_mb);
     ok &= read_uint("GLCAST_SNAPSHOT_FROM", 0, UINT32_MAX, c.snapshot_from);
     ok &= read_uint("GLCAST_TEST_DROP_EVERY", 0, UINT32_MAX, c.drop_every);

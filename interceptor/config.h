@@ -25,6 +25,7 @@ struct ShimConfig {
     uint64_t wait_subscribers = 0; // GLCAST_WAIT_SUBSCRIBERS: slaves to wait for at start
     uint64_t lockstep = 0;         // GLCAST_LOCKSTEP: slaves that must replay each frame before the next
     std::string swap_log;          // GLCAST_TEST_SWAP_LOG: when each frame left the program (benchmarks)
+    std::string published_mark;    // GLCAST_PUBLISHED_MARK: a file made when the stream starts (glcast run)
     bool has_consumer() const { return !capture_path.empty() || !publish.empty(); }
 };
 

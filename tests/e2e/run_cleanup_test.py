@@ -27,7 +27,7 @@ def processes_naming(text):
     return found
 
 
-def case(glcast, name, args, expect_in_log, max_seconds):
+def case(glcast, name, args, expect_in_log, max_seconds, succeeds=False):
     with tempfile.TemporaryDirectory(prefix="glcast-cleanup-") as tmp:
         env = dict(os.environ, TMPDIR=tmp)
         env.pop("DISPLAY", None)
@@ -38,8 +38,8 @@ def case(glcast, name, args, expect_in_log, max_seconds):
         left = os.listdir(tmp)
         alive = processes_naming(tmp)
         problems = []
-        if r.returncode == 0:
-            problems.append("exited 0")
+        if (r.returncode == 0) != succeeds:
+            problems.append(f"exited {r.returncode}")
         if expect_in_log not in r.stderr:
             problems.append(f"no '{expect_in_log}' in its messages")
         if left:
@@ -63,6 +63,10 @@ def main():
     # The program cannot be started: the slaves, waiting for its stream, are stopped at once.
     ok &= case(glcast, "a program that does not exist",
                ["--", "/nonexistent-glcast-program"], "the program did not run", 30)
+    # A program that runs but never calls GL: its slaves would wait 120 s for a stream that never
+    # comes (they did); they are stopped at once, and run exits with the program's status.
+    ok &= case(glcast, "a program that makes no GL calls", ["--", "true"], "the program made no GL calls", 20,
+               succeeds=True)
     # A bad endpoint: refused before anything starts; the folder made for it goes.
     ok &= case(glcast, "an endpoint it cannot serve", ["--endpoint", "bogus://x", "--", "true"], "glcast run:", 30)
     ok &= case(glcast, "an endpoint without a port", ["--endpoint", "tcp://*", "--", "true"], "needs a port", 30)
