@@ -22,6 +22,8 @@ file(GLOB _display_configs ${CMAKE_SOURCE_DIR}/display_configs/*.json)
 install(FILES ${_display_configs} DESTINATION ${CMAKE_INSTALL_DATADIR}/glcast/display_configs)
 file(GLOB _docs ${CMAKE_SOURCE_DIR}/docs/*.md)
 install(FILES ${_docs} ${CMAKE_SOURCE_DIR}/README.md DESTINATION ${CMAKE_INSTALL_DOCDIR})
+# The licence (LICENSE, MIT) in Debian's machine-readable copyright format, where Debian keeps it.
+install(FILES ${CMAKE_SOURCE_DIR}/packaging/copyright DESTINATION ${CMAKE_INSTALL_DOCDIR})
 
 set(CPACK_GENERATOR DEB)
 set(CPACK_PACKAGE_NAME glcast)

@@ -50,6 +50,10 @@ def main():
     for path in ("./usr/bin/glcast", "/glcast/libglcast.so", "./usr/lib/systemd/system/glcast-slave@.service",
                  "./usr/share/glcast/display_configs/wall-2x2.json", "./usr/share/doc/glcast/wall.md"):
         check(path in files, f"the package lacks {path}")
+    copyright = open(os.path.join(root, "usr/share/doc/glcast/copyright")).read()
+    check(copyright.startswith("Format: https://www.debian.org/doc/packaging-manuals/copyright-format/1.0/") and
+          "License: Expat" in copyright and "Permission is hereby granted" in copyright,
+          "the package's copyright file does not give the licence (MIT, Debian's Expat)")
     unit = open(os.path.join(root, "usr/lib/systemd/system/glcast-slave@.service")).read()
     check("ExecStart=/usr/bin/glcast slave --service" in unit, "the unit does not start the installed glcast")
 
