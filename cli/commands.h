@@ -32,5 +32,6 @@ Command add_keeper(CLI::App& glcast);   // cli/keeper.cpp
 Command add_record(CLI::App& glcast);   // cli/record.cpp
 Command add_keygen(CLI::App& glcast);   // cli/keygen.cpp
 Command add_doctor(CLI::App& glcast);   // cli/doctor.cpp
+Command add_config(CLI::App& glcast);   // cli/config.cpp
 
 }  // namespace glcast::cli

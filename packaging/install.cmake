@@ -24,6 +24,8 @@ file(GLOB _docs ${CMAKE_SOURCE_DIR}/docs/*.md)
 install(FILES ${_docs} ${CMAKE_SOURCE_DIR}/README.md DESTINATION ${CMAKE_INSTALL_DOCDIR})
 # The licence (LICENSE, MIT) in Debian's machine-readable copyright format, where Debian keeps it.
 install(FILES ${CMAKE_SOURCE_DIR}/packaging/copyright DESTINATION ${CMAKE_INSTALL_DOCDIR})
+install(FILES ${CMAKE_SOURCE_DIR}/packaging/glcast.bash-completion DESTINATION ${CMAKE_INSTALL_DATADIR}/bash-completion/completions
+        RENAME glcast)
 
 set(CPACK_GENERATOR DEB)
 set(CPACK_PACKAGE_NAME glcast)

@@ -48,7 +48,8 @@ def main():
     check(run(["dpkg-deb", "-x", deb, root]).returncode == 0, "dpkg-deb -x failed")
     files = run(["dpkg-deb", "-c", deb]).stdout
     for path in ("./usr/bin/glcast", "/glcast/libglcast.so", "./usr/lib/systemd/system/glcast-slave@.service",
-                 "./usr/share/glcast/display_configs/wall-2x2.json", "./usr/share/doc/glcast/wall.md"):
+                 "./usr/share/glcast/display_configs/wall-2x2.json", "./usr/share/doc/glcast/wall.md",
+                 "./usr/share/bash-completion/completions/glcast"):
         check(path in files, f"the package lacks {path}")
     copyright = open(os.path.join(root, "usr/share/doc/glcast/copyright")).read()
     check(copyright.startswith("Format: https://www.debian.org/doc/packaging-manuals/copyright-format/1.0/") and
