@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "cli/commands.h"
+#include "protocol/format.h"
 #include "common/environment.h"
 
 using namespace glcast::cli;
@@ -64,7 +65,7 @@ int main(int argc, char** argv) {
     app.formatter(formatter);  // before the subcommands: they share it
     app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);  // the last one wins
     app.set_help_flag("-h,--help", "print this help and exit");
-    app.add_flag("--version", "print glcast's version and exit");  // answered before parsing, below
+    app.add_flag("--version", "print glcast's version and the stream format's, and exit");  // answered before parsing, below
     app.require_subcommand(1);  // exactly one: no later argument is taken for another command
 
     const std::vector<Command> commands = {add_capture(app), add_dump(app),  add_replay(app), add_run(app),
@@ -88,7 +89,10 @@ int main(int argc, char** argv) {
     };
     const Command* command = named(args[0]);
     if (args[0] == "--version") {
-        std::printf("glcast %s\n", GLCAST_VERSION);
+        // (the stream format it writes, and the oldest it reads: what decides whether a capture
+        // or a wall's machines go together, docs/stream-format.md)
+        std::printf("glcast %s\nstream format %u (reads %u to %u)\n", GLCAST_VERSION, glcast::kFormatVersion,
+                    glcast::kOldestReadableFormatVersion, glcast::kFormatVersion);
         return 0;
     }
     if (!command && args[0] != "help" && args[0] != "-h" && args[0] != "--help")

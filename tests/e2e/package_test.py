@@ -8,6 +8,7 @@ shim the installed glcast finds by itself (no GLCAST_SHIM), under Xvfb.
 """
 import glob
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -34,7 +35,7 @@ def main():
     os.makedirs(OUT)
     r = run(["cpack", "-G", "DEB", "-B", OUT], cwd=BUILD)
     check(r.returncode == 0, f"cpack failed: {r.stdout[-2000:]}{r.stderr[-2000:]}")
-    version = run([os.environ["GLCAST"], "--version"]).stdout.split()[-1]
+    version = run([os.environ["GLCAST"], "--version"]).stdout.splitlines()[0].split()[-1]
     deb = os.path.join(OUT, f"glcast_{version}_amd64.deb")
     check(os.path.exists(deb), f"no {deb}: {os.listdir(OUT)}")
     fields = run(["dpkg-deb", "-f", deb, "Package", "Version", "Depends"]).stdout
@@ -61,7 +62,9 @@ def main():
     glcast = os.path.join(root, "usr/bin/glcast")
     env = {k: v for k, v in os.environ.items() if k not in ("GLCAST_SHIM", "GLCAST")}
     r = run([glcast, "--version"], env=env)
-    check(r.returncode == 0 and r.stdout.strip() == f"glcast {version}", f"--version: {r.stdout}{r.stderr}")
+    check(r.returncode == 0 and r.stdout.splitlines()[0] == f"glcast {version}" and
+          re.fullmatch(r"stream format \d+ \(reads \d+ to \d+\)", r.stdout.splitlines()[1]),
+          f"--version: {r.stdout}{r.stderr}")
     capture = os.path.join(SOURCE, "tests/data/ff_scene.glcs")
     for name, exe in (("installed", glcast), ("build", os.environ["GLCAST"])):
         r = run([exe, "replay", capture, "--backend", "egl", "--out", os.path.join(OUT, name)], env=env)
