@@ -1,7 +1,12 @@
 // Message helpers of the display config loader (config_check.h).
 #include "display_configs/config_check.h"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <cctype>
+#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -74,6 +79,41 @@ std::string join_key(const std::string& path, const std::string& key) {
 
 std::string join_index(const std::string& path, size_t index) {
     return path + "[" + std::to_string(index) + "]";
+}
+
+FileProblem read_regular_file(const std::string& path, size_t max_bytes, std::string& text, int& error_number,
+                              std::string& kind) {
+    text.clear();
+    const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0) {
+        error_number = errno;
+        return FileProblem::cannot_open;
+    }
+    struct stat st {};
+    if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+        kind = S_ISDIR(st.st_mode) ? "a directory" : S_ISFIFO(st.st_mode) ? "a FIFO" : "not a plain file";
+        ::close(fd);
+        return FileProblem::not_regular;
+    }
+    char buf[65536];
+    ssize_t n;
+    FileProblem problem = FileProblem::none;
+    while ((n = ::read(fd, buf, sizeof buf)) != 0) {
+        if (n < 0) {
+            if (errno == EINTR) continue;
+            error_number = errno;
+            problem = FileProblem::cannot_read;
+            break;
+        }
+        text.append(buf, size_t(n));
+        if (text.size() > max_bytes) {
+            problem = FileProblem::too_large;
+            break;
+        }
+    }
+    ::close(fd);
+    if (problem != FileProblem::none) text.clear();
+    return problem;
 }
 
 }  // namespace glcast::slave::config_check

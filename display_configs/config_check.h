@@ -28,6 +28,15 @@ std::string describe(const json& v);
 std::string join_key(const std::string& path, const std::string& key);
 std::string join_index(const std::string& path, size_t index);
 
+// Reads `path` whole into `text` when it is a regular file of at most `max_bytes`. Opened without
+// blocking and read only if it is a regular file: a FIFO (or a device) named as a config would
+// hang the reader until something wrote to it, or forever; and no more than max_bytes + 1 is
+// ever read. Otherwise false, with what stopped it; `error_number` is errno's for cannot_open and
+// cannot_read, and `kind` what the path is for not_regular ("a directory", "a FIFO", ...).
+enum class FileProblem { none, cannot_open, not_regular, too_large, cannot_read };
+FileProblem read_regular_file(const std::string& path, size_t max_bytes, std::string& text, int& error_number,
+                              std::string& kind);
+
 class Validator {
 public:
     Validator(const std::string& origin, std::string& error) : origin_(origin), error_(error) {}

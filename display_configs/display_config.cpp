@@ -13,15 +13,11 @@
 #include "display_configs/immersive_config.h"
 #include "slave/effects/effect_params.h"
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cctype>
-#include <cerrno>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -446,48 +442,19 @@ bool parse_display_config(const std::string& json_text, const std::string& origi
     }
 }
 
-// Opened without blocking and read only if it is a regular file: a FIFO (or a device) named as a
-// config would hang the reader until something wrote to it, or forever.
 bool load_display_config(const std::string& path, DisplayConfig& out, std::string& error) {
-    const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-    if (fd < 0) {
-        error = path + ": cannot open: " + std::strerror(errno);
-        return false;
-    }
-    struct stat st {};
-    if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
-        const char* what = S_ISDIR(st.st_mode) ? "a directory" : S_ISFIFO(st.st_mode) ? "a FIFO" : "not a plain file";
-        error = path + ": is " + what + ", not a regular file";
-        ::close(fd);
-        return false;
-    }
-    std::string text;
-    char buf[65536];
-    bool too_big = false;
-    ssize_t n;
-    int read_errno = 0;
-    while ((n = ::read(fd, buf, sizeof buf)) != 0) {
-        if (n < 0) {
-            if (errno == EINTR) continue;
-            read_errno = errno;
-            break;
-        }
-        text.append(buf, size_t(n));
-        if (text.size() > kMaxDisplayConfigBytes) {
-            too_big = true;
-            break;
-        }
-    }
-    ::close(fd);
-    if (too_big) {
+    std::string text, kind;
+    int error_number = 0;
+    switch (read_regular_file(path, kMaxDisplayConfigBytes, text, error_number, kind)) {
+    case FileProblem::none: return parse_display_config(text, path, out, error);
+    case FileProblem::cannot_open: error = path + ": cannot open: " + std::strerror(error_number); break;
+    case FileProblem::not_regular: error = path + ": is " + kind + ", not a regular file"; break;
+    case FileProblem::too_large:
         error = path + ": larger than the " + std::to_string(kMaxDisplayConfigBytes) + "-byte (1 MiB) limit for a display config";
-        return false;
+        break;
+    case FileProblem::cannot_read: error = path + ": cannot read: " + std::strerror(error_number); break;
     }
-    if (read_errno != 0) {
-        error = path + ": cannot read: " + std::strerror(read_errno);
-        return false;
-    }
-    return parse_display_config(text, path, out, error);
+    return false;
 }
 
 }  // namespace glcast::slave

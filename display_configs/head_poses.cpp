@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 
 #include "display_configs/config_check.h"
 
@@ -76,23 +75,27 @@ bool parse_head_pose(const std::string& text, HeadPose& out, uint64_t* frame, do
 
 bool HeadPoseTrack::load(const std::string& path, std::string& error) {
     poses_.clear();
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
-        error = path + ": cannot open";
+    std::string text, kind;
+    int error_number = 0;
+    switch (read_regular_file(path, kMaxPoseTrackBytes, text, error_number, kind)) {
+    case FileProblem::none: break;
+    case FileProblem::cannot_open: error = path + ": cannot open"; return false;
+    case FileProblem::not_regular: error = path + ": is " + kind + ", not a regular file"; return false;
+    case FileProblem::too_large:
+        error = path + ": larger than the " + std::to_string(kMaxPoseTrackBytes >> 20) + " MiB a pose track may have";
         return false;
+    case FileProblem::cannot_read: error = path + ": cannot read"; return false;
     }
     std::vector<Stamped> poses;
-    std::string line;
-    size_t number = 0, bytes = 0;
-    while (std::getline(in, line)) {
+    size_t number = 0;
+    for (size_t start = 0; start < text.size();) {
+        size_t end = text.find('\n', start);
+        if (end == std::string::npos) end = text.size();
+        const std::string line = text.substr(start, end - start);
+        start = end + 1;
         ++number;
-        bytes += line.size() + 1;
-        if (bytes > kMaxPoseTrackBytes) {
-            error = path + ": larger than the " + std::to_string(kMaxPoseTrackBytes >> 20) + " MiB a pose track may have";
-            return false;
-        }
-        const size_t start = line.find_first_not_of(" \t\r");
-        if (start == std::string::npos || line[start] == '#') continue;
+        const size_t first = line.find_first_not_of(" \t\r");
+        if (first == std::string::npos || line[first] == '#') continue;
         Stamped s{};
         std::string why;
         if (!parse_head_pose(line, s.pose, &s.frame, nullptr, why)) {
@@ -105,10 +108,6 @@ bool HeadPoseTrack::load(const std::string& path, std::string& error) {
             return false;
         }
         poses.push_back(s);
-    }
-    if (in.bad()) {
-        error = path + ": cannot read";
-        return false;
     }
     poses_ = std::move(poses);
     return true;

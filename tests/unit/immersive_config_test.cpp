@@ -5,6 +5,9 @@
 
 #include <string>
 
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <cstdio>
 
 #include "display_configs/display_config.h"
@@ -201,6 +204,30 @@ TEST(HeadPoses, ABadTrackIsRefusedWholeWithItsLine) {
     std::string error;
     EXPECT_FALSE(track.load("/nonexistent/poses.jsonl", error));
     EXPECT_EQ(error, "/nonexistent/poses.jsonl: cannot open");
+}
+
+// A FIFO named as a track would hang the reader; a file of one endless line would be read whole
+// into memory before any limit applied.
+TEST(HeadPoses, AFifoOrAnOversizedTrackIsRefusedBeforeItIsRead) {
+    const std::string fifo = ::testing::TempDir() + "/poses.fifo";
+    ::unlink(fifo.c_str());
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    HeadPoseTrack track;
+    std::string error;
+    EXPECT_FALSE(track.load(fifo, error));
+    EXPECT_EQ(error, fifo + ": is a FIFO, not a regular file");
+    ::unlink(fifo.c_str());
+    const std::string big = ::testing::TempDir() + "/poses-big.jsonl";
+    {
+        std::FILE* f = std::fopen(big.c_str(), "w");
+        ASSERT_NE(f, nullptr);
+        ASSERT_EQ(::ftruncate(::fileno(f), off_t(kMaxPoseTrackBytes) + 1), 0);  // one line of NULs, sparse
+        std::fclose(f);
+    }
+    EXPECT_FALSE(track.load(big, error));
+    EXPECT_EQ(error, big + ": larger than the 64 MiB a pose track may have");
+    EXPECT_EQ(track.size(), 0u);
+    ::unlink(big.c_str());
 }
 
 // ---- the eyes' size (slave/stereo.h; their composition: immersive_stereo_disparity) ---------
