@@ -48,12 +48,10 @@ int replay_stereo(ReplayArgs& a, const HeadPoseTrack& head_poses) {
         return 1;
     }
     StereoPair& pair = *tile.pair;
-    if (head_poses.size()) pair.left().before_frame = [&](uint64_t frame) {
-        if (const HeadPose* pose = head_poses.at(frame)) {
-            if (!pair.set_viewer(with_head(pair.left().options().viewer, *pose)))
-                std::fprintf(stderr, "glcast replay: frame %llu: the head pose puts an eye behind the screen; kept the last\n",
-                             (unsigned long long)frame);
-        }
+    if (head_poses.size()) pair.head_for = [&](uint64_t frame, HeadPose& out) {
+        const HeadPose* pose = head_poses.at(frame);
+        if (pose) out = *pose;
+        return pose != nullptr;
     };
     pair.on_frame = [&](uint64_t frame, const Image& composed, const Image& left, const Image& right) {
         if (tile.window) tile.window->show(composed, left, right);

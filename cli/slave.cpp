@@ -202,18 +202,19 @@ private:
                          label_.c_str(), source.gap().c_str());
         };
         source.on_idle = [this] { say_status(false); };
-        // A tracked viewer: the pose the wall's run handed on with the last GO, from its frame on.
+        // A tracked viewer: the pose the wall's run handed on with the last GO, from its frame on
+        // (each eye of a stereo tile asks at its own frame's start).
         next_head_.reset();
-        first().before_frame = [this](uint64_t frame) {
-            if (next_head_ && frame >= next_head_->first) {
-                move_head_to(next_head_->second, frame);
-                next_head_.reset();
-            }
+        auto head_at = [this](uint64_t frame, HeadPose& out) {
+            if (!next_head_ || frame < next_head_->first) return false;
+            out = next_head_->second;
+            return true;
         };
         Rates rates;
         rates.frames = first().stats().frames;
         if (stereo_.pair) {
             StereoPair& pair = *stereo_.pair;
+            pair.head_for = head_at;
             pair.before_present = [this, &source](uint64_t frame) { before_present(source, frame); };
             pair.on_frame = [this, &source, &rates, &out](uint64_t frame, const Image& tile, const Image& left,
                                                           const Image& right) {
@@ -227,6 +228,10 @@ private:
             return;
         }
         Replayer& replayer = *replayer_;
+        replayer.before_frame = [this, &replayer, head_at](uint64_t frame) {
+            HeadPose head;
+            if (head_at(frame, head)) move_head(replayer, head, frame, ("glcast slave " + label_).c_str());
+        };
         replayer.before_present = [this, &source](uint64_t frame) { before_present(source, frame); };
         replayer.on_frame = [this, &source, &rates, &out](uint64_t frame, int w, int h, const std::vector<uint8_t>& rgba) {
             frame_shown(source, rates, out, frame, w, h, rgba);
@@ -234,13 +239,6 @@ private:
         // Frames are read back only when written; without --out the status line still needs the
         // swap callback, which costs a readback: acceptable for a wall tile's status.
         replayer.replay(source);
-    }
-
-    void move_head_to(const HeadPose& head, uint64_t frame) {
-        if (!stereo_.pair) return move_head(*replayer_, head, frame, ("glcast slave " + label_).c_str());
-        if (!stereo_.pair->set_viewer(with_head(stereo_.pair->left().options().viewer, head)))
-            std::fprintf(stderr, "glcast slave %s: frame %" PRIu64 ": the head pose puts an eye behind the screen; the last "
-                                 "eyes are kept\n", label_.c_str(), frame);
     }
 
     void before_present(NetworkSource& source, uint64_t frame) {

@@ -82,13 +82,8 @@ bool tile_options(const std::string& path, const std::string& name, ReplayOption
 namespace glcast::cli {
 
 void move_head(slave::Replayer& replayer, const slave::HeadPose& head, uint64_t frame, const char* who) {
-    const slave::Viewer& now = replayer.options().viewer;
-    const slave::Viewer viewer = slave::with_head(now, head);
-    if (viewer.head.position == now.head.position && viewer.head.orientation == now.head.orientation &&
-        viewer.eye_separation == now.eye_separation)
-        return;
     static bool said = false;
-    if (!replayer.set_viewer(viewer) && !said) {
+    if (!replayer.move_head(head) && !said) {
         said = true;
         std::fprintf(stderr, "%s: frame %llu: the head pose puts the eye behind this tile's screen or on it; the last "
                              "eye is kept (said once)\n", who, (unsigned long long)frame);

@@ -179,6 +179,14 @@ bool Replayer::set_viewer(const Viewer& viewer) {
     return true;
 }
 
+bool Replayer::move_head(const HeadPose& head) {
+    const Viewer moved = with_head(options_.viewer, head);
+    if (moved.head.position == options_.viewer.head.position && moved.head.orientation == options_.viewer.head.orientation &&
+        moved.eye_separation == options_.viewer.eye_separation)
+        return true;
+    return set_viewer(moved);
+}
+
 void Replayer::replay(MessageSource& reader) {
     Message m;
     while (frame_ <= options_.last_frame && reader.next(m)) replay_message(m);

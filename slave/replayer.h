@@ -110,6 +110,9 @@ public:
     // Moves the viewer (head pose, eye separation): the tile's eye follows from the next draw.
     // False, nothing changed, for an eye the tile cannot have (behind its screen, not finite).
     bool set_viewer(const Viewer& viewer);
+    // Moves the viewer's head (and eye separation, when the pose gives one) to `head`; nothing to
+    // do when it is there already. False: refused, as set_viewer.
+    bool move_head(const HeadPose& head);
     const GlApi& api() const override { return api_; }
     const ReplayLimits& limits() const override { return options_.limits; }
     bool turns_vertex_shader(uint64_t master_shader) override;

@@ -3,6 +3,7 @@
 #include "common/window_readback.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <cstring>
 
 namespace glcast::slave {
@@ -22,6 +23,16 @@ StereoPair::StereoPair(const std::function<std::unique_ptr<Backend>(std::string&
         if (!backend) return;
         (eye == Eye::left ? left_ : right_) = std::make_unique<Replayer>(std::move(backend), o);
     }
+    for (Replayer* eye : {left_.get(), right_.get()})
+        eye->before_frame = [this, eye](uint64_t frame) {
+            HeadPose head;
+            if (!head_for || !head_for(frame, head)) return;
+            if (!eye->move_head(head) && !said_refused_) {
+                said_refused_ = true;
+                std::fprintf(stderr, "glcast: frame %llu: the head pose puts an eye behind this tile's screen or on "
+                                     "it; that eye keeps its last place (said once)\n", (unsigned long long)frame);
+            }
+        };
     // The left eye's frame waits for the right's; the right eye's frame shows both.
     const StereoMode mode = options.stereo;
     if (mode == StereoMode::side_by_side || mode == StereoMode::top_bottom) {
@@ -113,18 +124,6 @@ bool StereoPair::replay_message(const Message& m) {
     right_->resume();
     const bool right_more = right_->replay_message(m);
     return left_more || right_more;
-}
-
-bool StereoPair::set_viewer(const Viewer& viewer) {
-    Viewer l = viewer, r = viewer;
-    l.eye = Eye::left, r.eye = Eye::right;
-    const Viewer old_left = left_->options().viewer;
-    if (!left_->set_viewer(l)) return false;
-    if (!right_->set_viewer(r)) {
-        left_->set_viewer(old_left);
-        return false;
-    }
-    return true;
 }
 
 void StereoPair::reset() {

@@ -37,13 +37,15 @@ public:
     std::function<void(uint64_t frame, const Image& tile, const Image& left, const Image& right)> on_frame;
     // Before each frame is shown, once per frame (the swap barrier waits here).
     std::function<void(uint64_t frame)> before_present;
+    // The head pose that holds at a frame (a recorded track, the barrier's GO); false: none. Each
+    // eye asks it at the start of its own frame: the eyes take turns over a message, so the left
+    // eye may start frame N while the right eye still has frame N - 1 to replay.
+    std::function<bool(uint64_t frame, HeadPose& out)> head_for;
 
     void replay(MessageSource& source);  // throws DecodeError on a bad stream
     bool replay_message(const Message& m);
     Replayer& left() { return *left_; }
     Replayer& right() { return *right_; }
-    // Moves the viewer (head, eye separation) of both eyes; false: an eye refused, nothing changed.
-    bool set_viewer(const Viewer& viewer);
     void reset();
     void set_frame(uint64_t frame);
 
@@ -54,6 +56,7 @@ private:
     std::vector<uint8_t> halves_;      // side by side, top and bottom: both eyes, rows bottom to top
     std::vector<uint8_t> right_rows_;  // an anaglyph's right eye, rows bottom to top (its left: halves_)
     uint64_t left_frame_ = UINT64_MAX;
+    bool said_refused_ = false;
 };
 
 }  // namespace glcast::slave

@@ -21,6 +21,7 @@ public:
     bool create_context(uint32_t, uint32_t, const ContextRequest&, std::string&) override { return true; }
     bool make_current(uint32_t id, int, int, std::string&) override {
         gl_->current_context = id;
+        if (id) g_current = gl_.get();  // as a driver does: calls go to the context made current last
         return true;
     }
     void destroy_context(uint32_t id) override {
