@@ -221,8 +221,8 @@ void start_slaves(RunSession& session, const RunArgs& a, const WallPlan& plan, c
         session.start("slave " + name, argv, true);
     }
     if (e.reachable)
-        session.start("keeper", {exe, "keeper", "--connect", e.local, "--journal", net::connectable(e.journal), "--bind",
-                                 e.keeper, "--wait", "120"}, false);
+        session.keep("keeper", {exe, "keeper", "--connect", e.local, "--journal", net::connectable(e.journal), "--bind",
+                                 e.keeper, "--wait", "120"});
 }
 
 // The tiles of other machines: their slaves (glcast slave --service) report to the control
@@ -344,6 +344,7 @@ int run(RunArgs& a, const std::vector<std::string>& program) {
         {
             StatusView view(wall, plan.tiles, a.status_json);
             status = run_with_shim(program, env);
+            session.end_keeping();  // the keeper ends with the stream now
             // A program that never ran (run_with_shim failed, or execvp exited 127) published nothing:
             // its slaves have nothing to finish.
             if (status < 0 || status == 127) {

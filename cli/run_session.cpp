@@ -39,13 +39,79 @@ RunSession::~RunSession() {
     ::rmdir(dir_.c_str());
 }
 
+pid_t RunSession::start_locked(Child child) {
+    const pid_t pid = pid_t(spawn(child.argv));
+    if (pid < 0) throw std::runtime_error("cannot start the " + child.name + ": " + std::strerror(errno));
+    child.started = std::chrono::steady_clock::now();
+    children_[pid] = std::move(child);
+    return pid;
+}
+
 void RunSession::start(const std::string& name, const std::vector<std::string>& argv, bool slave) {
-    const pid_t pid = pid_t(spawn(argv));
-    if (pid < 0) throw std::runtime_error("cannot start the " + name + ": " + std::strerror(errno));
-    children_[pid] = Child{name, slave};
+    std::lock_guard<std::mutex> lock(mutex_);
+    start_locked(Child{name, slave, false, argv, {}, 0});
+}
+
+void RunSession::keep(const std::string& name, const std::vector<std::string>& argv) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    keeping_ = true;
+    start_locked(Child{name, false, true, argv, {}, 0});
+    if (!watcher_.joinable()) watcher_ = std::thread([this] { watch_kept(); });
+}
+
+void RunSession::end_keeping() {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        keeping_ = false;
+    }
+    if (watcher_.joinable()) watcher_.join();
+}
+
+// Each kept child is waited for by its own pid (never waitpid(-1): the program and the slaves are
+// waited for elsewhere).
+void RunSession::watch_kept() {
+    for (;;) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (!keeping_) return;
+        for (auto it = children_.begin(); it != children_.end();) {
+            Child& c = it->second;
+            int status = 0;
+            if (!c.kept || waitpid(it->first, &status, WNOHANG) != it->first) {
+                ++it;
+                continue;
+            }
+            Child ended = std::move(c);
+            it = children_.erase(it);
+            if (WIFEXITED(status) && WEXITSTATUS(status) == 0) continue;  // it ended with the stream
+            const bool quick = std::chrono::steady_clock::now() - ended.started < std::chrono::seconds(10);
+            ended.quick_failures = quick ? ended.quick_failures + 1 : 0;
+            char why[64];
+            if (WIFSIGNALED(status)) std::snprintf(why, sizeof why, "was killed (signal %d)", WTERMSIG(status));
+            else std::snprintf(why, sizeof why, "failed (exit %d)", WEXITSTATUS(status));
+            if (ended.quick_failures >= 3) {
+                std::fprintf(stderr, "glcast run: the %s %s, the third time in a row within 10 s of its start; "
+                                     "not starting it again\n", ended.name.c_str(), why);
+                continue;
+            }
+            std::fprintf(stderr, "glcast run: the %s %s; starting it again in 1 s\n", ended.name.c_str(), why);
+            // Outside the lock: stop_all and the slaves' reaping go on meanwhile.
+            mutex_.unlock();
+            std::this_thread::sleep_for(std::chrono::seconds(1));
+            mutex_.lock();
+            if (!keeping_) return;
+            try {
+                start_locked(std::move(ended));
+            } catch (const std::exception& e) {
+                std::fprintf(stderr, "glcast run: %s\n", e.what());
+            }
+            break;  // children_ changed: look again at the next tick
+        }
+    }
 }
 
 size_t RunSession::slaves() const {
+    std::lock_guard<std::mutex> lock(mutex_);
     size_t n = 0;
     for (const auto& [pid, child] : children_) n += child.slave;
     return n;
@@ -54,25 +120,34 @@ size_t RunSession::slaves() const {
 int RunSession::wait_for_slaves(std::chrono::steady_clock::time_point deadline) {
     int failed = 0;
     while (slaves() > 0) {
-        int status = 0;
-        const pid_t pid = waitpid(-1, &status, WNOHANG);
-        if (pid > 0) {
-            auto it = children_.find(pid);
-            if (it == children_.end()) continue;
-            if (it->second.slave && !(WIFEXITED(status) && WEXITSTATUS(status) == 0)) {
-                std::fprintf(stderr, "glcast run: slave %s failed\n", it->second.name.c_str());
-                failed++;
-            }
-            children_.erase(it);  // a keeper that ended is reaped too; a failure is its own message
-            continue;
-        }
-        if (std::chrono::steady_clock::now() > deadline) {
-            for (const auto& [p, child] : children_)
-                if (child.slave) {
-                    std::fprintf(stderr, "glcast run: slave %s did not finish; stopping it\n", child.name.c_str());
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            // Each child by its pid: the program is waited for elsewhere. A keeper that ended is
+            // reaped too; a failure of one is its own message.
+            for (auto it = children_.begin(); it != children_.end();) {
+                int status = 0;
+                if (it->second.kept && keeping_) {
+                    ++it;
+                    continue;
+                }
+                if (waitpid(it->first, &status, WNOHANG) != it->first) {
+                    ++it;
+                    continue;
+                }
+                if (it->second.slave && !(WIFEXITED(status) && WEXITSTATUS(status) == 0)) {
+                    std::fprintf(stderr, "glcast run: slave %s failed\n", it->second.name.c_str());
                     failed++;
                 }
-            break;
+                it = children_.erase(it);
+            }
+            if (std::chrono::steady_clock::now() > deadline) {
+                for (const auto& [p, child] : children_)
+                    if (child.slave) {
+                        std::fprintf(stderr, "glcast run: slave %s did not finish; stopping it\n", child.name.c_str());
+                        failed++;
+                    }
+                break;
+            }
         }
         std::this_thread::sleep_for(std::chrono::milliseconds(50));
     }
@@ -80,6 +155,8 @@ int RunSession::wait_for_slaves(std::chrono::steady_clock::time_point deadline) 
 }
 
 void RunSession::stop_all(std::chrono::milliseconds grace) {
+    end_keeping();
+    std::lock_guard<std::mutex> lock(mutex_);
     for (const auto& [pid, child] : children_) kill(pid, SIGTERM);
     const auto until = std::chrono::steady_clock::now() + grace;
     while (!children_.empty()) {

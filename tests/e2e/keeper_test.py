@@ -239,6 +239,64 @@ def case_capture_start_frame():
     print(f"capture --start-frame {start} --frames {n}: {r.stdout.strip().splitlines()[-1]}")
 
 
+def case_run_keeper_killed():
+    """glcast run --endpoint tcp://...: its keeper is killed while the program runs. run starts it
+    again (as systemd would a slave), the new keeper rebuilds the state from the journal, and a
+    slave that starts later joins from its snapshot, not from the journal's start."""
+    out = os.path.join(OUT, "run_keeper_killed")
+    shutil.rmtree(out, ignore_errors=True)
+    os.makedirs(out)
+    port = 21000 + os.getpid() % 20000
+    swap_log = os.path.join(out, "swaps.log")
+    env = dict(os.environ, GLCAST_TEST_SWAP_LOG=swap_log)
+    run_log = os.path.join(out, "run.log")
+    with open(run_log, "w") as log:
+        run = subprocess.Popen([GLCAST, "run", "--endpoint", f"tcp://127.0.0.1:{port}", "--insecure", "--backend", "egl",
+                                "--frames", "100000", "--", "glxgears"], env=env, stdout=subprocess.DEVNULL, stderr=log,
+                               start_new_session=True)
+
+    def keepers():
+        r = subprocess.run(["pgrep", "-f", f"keeper --connect .* --bind tcp://127.0.0.1:{port + 2}"],
+                           capture_output=True, text=True)
+        return [int(p) for p in r.stdout.split()]
+
+    def wait_until(cond, what, seconds=120):
+        t0 = time.monotonic()
+        while not cond():
+            check(run.poll() is None, lambda: f"glcast run ended: {open(run_log).read()[-2000:]}")
+            check(time.monotonic() - t0 < seconds, lambda: f"no {what} within {seconds} s: {open(run_log).read()[-2000:]}")
+            time.sleep(0.05)
+
+    try:
+        wait_until(lambda: program_frame(swap_log) >= 300 and keepers(), "frame 300")
+        first = keepers()[0]
+        os.kill(first, signal.SIGKILL)
+        wait_until(lambda: keepers() and keepers()[0] != first, "keeper started again")
+        wait_until(lambda: program_frame(swap_log) >= 3000, "frame 3000")
+        slave_log = os.path.join(out, "slave.log")
+        with open(slave_log, "w") as log:
+            slave = subprocess.Popen([GLCAST, "slave", "--connect", f"tcp://127.0.0.1:{port}", "--journal",
+                                      f"tcp://127.0.0.1:{port + 1}", "--keeper", f"tcp://127.0.0.1:{port + 2}",
+                                      "--insecure", "--backend", "egl", "--wait", "60", "--quiet"],
+                                     stderr=log)
+        t0 = time.monotonic()
+        while "joined at frame" not in open(slave_log).read():
+            check(slave.poll() is None, lambda: f"the slave ended: {open(slave_log).read()[-2000:]}")
+            check(time.monotonic() - t0 < 60, lambda: f"the slave did not join in 60 s: {open(slave_log).read()[-2000:]}")
+            time.sleep(0.05)
+        joined = [l for l in open(slave_log).read().splitlines() if "joined at frame" in l][0]
+        frame = int(joined.split("joined at frame ")[1].split(":")[0])
+        check(frame >= 1000 and ": 0 snapshot" not in joined, f"the slave did not join from the keeper: {joined}")
+        said = [l for l in open(run_log).read().splitlines() if "keeper" in l and "again" in l]
+        check(said, f"glcast run did not say it started the keeper again: {open(run_log).read()[-2000:]}")
+        slave.kill()
+        print(f"run_keeper_killed: {said[0]}; the late slave: {joined}")
+    finally:
+        if run.poll() is None:
+            os.killpg(run.pid, signal.SIGTERM)
+            run.wait(timeout=60)
+
+
 if __name__ == "__main__":
     with Xvfb():
         globals()["case_" + sys.argv[1]]()
