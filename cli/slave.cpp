@@ -215,14 +215,13 @@ private:
         if (stereo_.pair) {
             StereoPair& pair = *stereo_.pair;
             pair.head_for = head_at;
-            pair.before_present = [this, &source](uint64_t frame) { before_present(source, frame); };
-            pair.on_frame = [this, &source, &rates, &out](uint64_t frame, const Image& tile, const Image& left,
+            pair.before_present = [this, &source, &rates](uint64_t frame) { before_present(source, rates, frame); };
+            pair.on_frame = [this, &out](uint64_t frame, const Image& tile, const Image& left,
                                                           const Image& right) {
                 if (stereo_.window) stereo_.window->show(tile, left, right);
                 std::string err;
                 if (!out.empty() && !write_stereo_frame(out, frame, a_.opt.stereo, tile, left, right, err))
                     std::fprintf(stderr, "glcast slave: %s\n", err.c_str());
-                frame_counted(source, rates, frame);
             };
             pair.replay(source);
             return;
@@ -232,16 +231,19 @@ private:
             HeadPose head;
             if (head_at(frame, head)) move_head(replayer, head, frame, ("glcast slave " + label_).c_str());
         };
-        replayer.before_present = [this, &source](uint64_t frame) { before_present(source, frame); };
-        replayer.on_frame = [this, &source, &rates, &out](uint64_t frame, int w, int h, const std::vector<uint8_t>& rgba) {
-            frame_shown(source, rates, out, frame, w, h, rgba);
-        };
-        // Frames are read back only when written; without --out the status line still needs the
-        // swap callback, which costs a readback: acceptable for a wall tile's status.
+        // Every frame replayed is counted for the status at its present, whether it is written or
+        // not (--frames A:B writes some); frames are read back only to be written.
+        replayer.before_present = [this, &source, &rates](uint64_t frame) { before_present(source, rates, frame); };
+        replayer.on_frame = nullptr;
+        if (!out.empty())
+            replayer.on_frame = [&out](uint64_t frame, int w, int h, const std::vector<uint8_t>& rgba) {
+                write_frame(out, frame, w, h, rgba);
+            };
         replayer.replay(source);
     }
 
-    void before_present(NetworkSource& source, uint64_t frame) {
+    void before_present(NetworkSource& source, Rates& rates, uint64_t frame) {
+        frame_counted(source, rates, frame);
         // After one wait in vain (glcast run is gone), later frames wait briefly until a GO comes again.
         bool held = false;
         if (link_ && a_.swap_barrier && source.live()) {
@@ -262,17 +264,14 @@ private:
         if (a_.lockstep && source.caught_up()) source.done(frame);
     }
 
-    void frame_shown(const NetworkSource& source, Rates& rates, const std::string& out, uint64_t frame, int width,
-                     int height, const std::vector<uint8_t>& rgba) {
-        // Frames replayed while catching up from the journal are written too: they are the same
-        // frames, only late.
-        if (!out.empty()) {
-            char name[48];
-            std::snprintf(name, sizeof name, "/frame-%06" PRIu64 ".png", frame);
-            std::string err;
-            if (!write_png(out + name, Image{width, height, rgba}, err)) std::fprintf(stderr, "glcast slave: %s\n", err.c_str());
-        }
-        frame_counted(source, rates, frame);
+    // Frames replayed while catching up from the journal are written too: they are the same
+    // frames, only late.
+    static void write_frame(const std::string& out, uint64_t frame, int width, int height,
+                            const std::vector<uint8_t>& rgba) {
+        char name[48];
+        std::snprintf(name, sizeof name, "/frame-%06" PRIu64 ".png", frame);
+        std::string err;
+        if (!write_png(out + name, Image{width, height, rgba}, err)) std::fprintf(stderr, "glcast slave: %s\n", err.c_str());
     }
 
     void frame_counted(const NetworkSource& source, Rates& rates, uint64_t frame) {

@@ -31,6 +31,7 @@ few interpolated colours one step differently, and an edge pixel can change cove
 on the test programs: at most 0.002% of the canvas pixels differ; the test allows 0.01%.
 """
 import glob
+import json
 import contextlib
 import math
 import os
@@ -632,6 +633,38 @@ def case_sigstop():
     slave.wait()
     check(r.returncode == 0, f"glxgears failed: {r.stderr[-2000:]}")
     print(f"sigstop: the program ran 3000 frames in {elapsed:.1f} s with its only slave stopped")
+
+
+def case_status_unwritten_frames():
+    """A tile's slave that writes only later frames (glcast slave --frames A:) still reports each
+    frame it replays to run's status: the status is the wall's, not the PNGs'."""
+    out = os.path.join(OUT, "status_unwritten_frames")
+    shutil.rmtree(out, ignore_errors=True)
+    os.makedirs(out)
+    port = 24000 + os.getpid() % 20000
+    config = os.path.join(out, "wall.json")
+    with open(config, "w") as f:
+        f.write('{"name": "status", "canvas": {"width": 300, "height": 300}, '
+                f'"master": {{"address": "127.0.0.1", "port": {port}}}, '
+                '"tiles": [{"name": "here", "x": 0, "y": 0, "width": 150, "height": 300}, '
+                '{"name": "there", "machine": "other", "x": 150, "y": 0, "width": 150, "height": 300}]}')
+    there = subprocess.Popen([GLCAST, "slave", "--service", "--config", config, "--tile", "there", "--machine", "other",
+                              "--insecure", "--backend", "egl", "--frames", "1000000:", "--out", os.path.join(out, "there"),
+                              "--wait", "60", "--quiet"], stderr=subprocess.PIPE, text=True)
+    status = os.path.join(out, "status.jsonl")
+    r = subprocess.run([GLCAST, "run", "--config", config, "--machine", "here", "--insecure", "--backend", "egl", "--frames", "6000",
+                        "--status-json", status, "--wait-tiles", "60", "--", "glxgears"],
+                       capture_output=True, text=True, timeout=300)
+    there.kill()
+    check(r.returncode == 0, f"glcast run failed: {r.stderr[-2000:]}")
+    states = []
+    for line in open(status):
+        tile = [t for t in json.loads(line)["tiles"] if t["tile"] == "there"][0]
+        states.append((tile["state"], tile["frame"]))
+    live = [frame for state, frame in states if state == "live"]
+    check(live and max(live) > 0, f"the tile that writes no frame never reported one: {states}")
+    print(f"status_unwritten_frames: the tile reported live up to frame {max(live)} ({len(live)} of {len(states)} "
+          f"status lines)")
 
 
 if __name__ == "__main__":
