@@ -26,15 +26,24 @@ struct RecordArgs {
 int record(const RecordArgs& a) {
     try {
         slave::NetworkSource source(a.endpoint, a.journal, a.wait_seconds, a.keeper, a.start_frame);
+        auto file = std::make_unique<CaptureFileSink>(a.output);
+        const CaptureFileSink& written = *file;
         std::vector<std::unique_ptr<MessageSink>> sinks;
-        sinks.push_back(std::make_unique<CaptureFileSink>(a.output));
+        sinks.push_back(std::move(file));
         Stream out(std::move(sinks), 1, 4);
         uint64_t frames = 0;
         Message m;
-        while ((!a.frames || frames < a.frames) && source.next(m)) {
+        // A write that fails (a full disk) stops the capture; the recording stops with it.
+        while ((!a.frames || frames < a.frames) && !written.failed() && source.next(m)) {
             if (keeper::append_message(out, m)) frames++;
         }
         out.close();
+        // Said as a capture's readers say it, and not a success: what the file holds replays to
+        // its last whole message.
+        if (const CaptureEnd end = capture_end(a.output); !end.complete) {
+            std::fprintf(stderr, "glcast record: %s was %s\n", a.output.c_str(), end.why.c_str());
+            return 1;
+        }
         std::printf("%s: %" PRIu64 " frames from frame %" PRIu64 " of the program\n", a.output.c_str(), frames,
                     source.joined_frame());
         return 0;

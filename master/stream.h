@@ -4,6 +4,7 @@
 // a bounded queue, so encoding is the only work on the application's threads.
 #pragma once
 
+#include <atomic>
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
@@ -99,13 +100,13 @@ public:
     // back to its last whole message and nothing more is written; the program goes on.
     void write(const std::vector<uint8_t>& message) override;
     void close() override;  // a capture not stopped ends with its end record
-    bool failed() const { return failed_; }
+    bool failed() const { return failed_.load(std::memory_order_relaxed); }  // any thread
 
 private:
     bool write_whole(const void* data, size_t size);  // false: stopped, the file cut back
     std::string path_;
     int fd_ = -1;
-    bool failed_ = false;
+    std::atomic<bool> failed_{false};  // set by the writer thread
     uint64_t whole_bytes_ = 0;  // the file up to its last whole message
     uint64_t next_sequence_ = 0, next_frame_ = 0;  // what the end record says it follows
 };

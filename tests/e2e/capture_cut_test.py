@@ -36,7 +36,8 @@ def main():
     shutil.rmtree(OUT, ignore_errors=True)
     os.makedirs(OUT)
     headless = {k: v for k, v in os.environ.items() if k != "DISPLAY"}
-    whole, cut, killed = (os.path.join(OUT, n) for n in ("whole.glcs", "cut.glcs", "killed.glcs"))
+    whole, cut, killed, recorded = (os.path.join(OUT, n) for n in ("whole.glcs", "cut.glcs", "killed.glcs",
+                                                                    "recorded.glcs"))
     with Xvfb():
         r = run([GLCAST, "capture", "-o", whole, "--frames", "30", "--", "glxgears"])
         check(r.returncode == 0, f"a whole capture failed: {r.stderr[-2000:]}")
@@ -49,6 +50,14 @@ def main():
         check(len(said) == 1, f"{len(said)} write error messages, not one: {said[:3]}")
         check("whole messages" in said[0] and "the program goes on" in said[0], said[0])
         check(os.path.getsize(cut) <= 12 * 1024, "the capture went on past the limit")
+        # The same disk under a recording from a frame on (glcast record behind a keeper).
+        r = run(["bash", "-c", f"trap '' XFSZ; ulimit -f 72; exec {GLCAST} capture -o {recorded} --start-frame 20 "
+                               f"--frames 3000 -- glxgears"])  # the snapshot alone is about 58 KiB
+        said = [line for line in r.stderr.splitlines() if line.startswith("glcast: writing")]
+        print(f"full disk under a recording: glcast capture --start-frame exit {r.returncode}, {len(said)} write error "
+              f"message(s), {os.path.getsize(recorded)} bytes kept")
+        check(r.returncode != 0, f"glcast capture --start-frame exited 0 on a recording the disk cut short: {r.stderr[-1500:]}")
+        check(len(said) == 1 and "whole messages" in said[0], f"write error messages: {said[:3]}")
         # A program killed while it captures: its stream never closed.
         program = subprocess.Popen([GLCAST, "capture", "-o", killed, "--", "glxgears"], stdout=subprocess.DEVNULL,
                                    stderr=subprocess.PIPE, text=True)
@@ -58,7 +67,7 @@ def main():
         program.wait(timeout=60)
     r = run([GLCAST, "replay", whole, "--backend", "egl"], env=headless)
     check(r.returncode == 0 and "cut" not in r.stderr, f"a whole capture replays with: {r.returncode} {r.stderr[-1000:]}")
-    for name, path in (("full disk", cut), ("killed program", killed)):
+    for name, path in (("full disk", cut), ("full disk under a recording", recorded), ("killed program", killed)):
         r = run([GLCAST, "replay", path, "--backend", "egl", "--out", path + ".frames"], env=headless)
         frames = len(os.listdir(path + ".frames")) if os.path.isdir(path + ".frames") else 0
         print(f"{name}: replay exit {r.returncode}, {frames} frames written; {r.stderr.strip().splitlines()[-1]}")
