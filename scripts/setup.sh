@@ -17,6 +17,7 @@ packages=(
   # tests: X server, real third-party GL programs
   xvfb xauth mesa-utils xscreensaver-gl googletest libgtest-dev iproute2  # iproute2: multicast test namespaces
   python3-zmq                           # the tracker bridge of docs/immersive.md, played by a test
+  iptables                              # scripts/chaos.sh: packet loss on a display machine's link
   # benchmarks
   apitrace xscreensaver-gl-extra        # bench/stream_coding_bench.py: atlantis, sproingies
 )

@@ -27,6 +27,7 @@ import sys
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import netns  # noqa: E402
 from wall_test import TOLERANCE, check, compare, run  # noqa: E402  (the one-machine wall's helpers)
 from xvfb import Xvfb  # noqa: E402
 
@@ -55,53 +56,15 @@ UNIFIED_BOOT = ("mount -t cgroup2 cgroup2 /sys/fs/cgroup\n"
 
 @contextlib.contextmanager
 def machines(name, tag):
-    """Three namespaces on a bridge in a fourth; yields their names by role, or None."""
-    if os.geteuid() != 0 or not shutil.which("ip"):
-        print(f"SKIP: {name} needs root and iproute2 to make network namespaces")
-        yield None
-        return
-    pid = os.getpid() % 100000
-    ns = {role: f"glcast-{role}-{tag}{pid}" for role in ADDRESS}
-    bridge = f"gcbr{tag}{pid}"[:15]
-    setup = [["ip", "link", "add", bridge, "type", "bridge"], ["ip", "link", "set", bridge, "up"]]
-    for i, (role, n) in enumerate(ns.items()):
-        outer, inner = f"gco{tag}{i}{pid}"[:15], f"gci{tag}{i}{pid}"[:15]
-        setup += [["ip", "netns", "add", n],
-                  ["ip", "link", "add", outer, "type", "veth", "peer", "name", inner],
-                  ["ip", "link", "set", outer, "master", bridge], ["ip", "link", "set", outer, "up"],
-                  ["ip", "link", "set", inner, "netns", n],
-                  ["ip", "netns", "exec", n, "ip", "addr", "add", ADDRESS[role] + "/24", "dev", inner],
-                  ["ip", "netns", "exec", n, "ip", "link", "set", inner, "up"],
-                  ["ip", "netns", "exec", n, "ip", "link", "set", "lo", "up"],
-                  ["ip", "netns", "exec", n, "ip", "route", "add", "224.0.0.0/4", "dev", inner]]
-    try:
-        for cmd in setup:
-            r = run(cmd)
-            if r.returncode != 0:
-                print(f"SKIP: cannot make the namespaces here ({' '.join(cmd)}: {r.stderr.strip()})")
-                yield None
-                return
-        yield ns
-    finally:
-        for n in ns.values():
-            run(["ip", "netns", "del", n])
-        run(["ip", "link", "del", bridge])
+    """Three namespaces on a bridge (netns.py); yields their names by role, or None."""
+    with netns.bridged(ADDRESS, tag, name) as made:
+        yield {role: n for role, (n, _) in made.items()} if made else None
 
 
 def keys(out):
     """master: master.key, authorized/dispa.pub, dispb.pub; each display machine: master.pub and
     its slave.key; stranger: a key the master does not know."""
-    dirs = {m: os.path.join(out, "keys", m) for m in ("master", "dispa", "dispb", "stranger")}
-    for d in dirs.values():  # writable by no one else, or the keys in it are refused
-        os.makedirs(d, mode=0o700)
-    os.makedirs(os.path.join(dirs["master"], "authorized"), mode=0o700)
-    check(run([GLCAST, "keygen", os.path.join(dirs["master"], "master")]).returncode == 0, "keygen failed")
-    for m in ("dispa", "dispb", "stranger"):
-        check(run([GLCAST, "keygen", os.path.join(dirs[m], "slave")]).returncode == 0, "keygen failed")
-        shutil.copy(os.path.join(dirs["master"], "master.pub"), dirs[m])
-    for m in ("dispa", "dispb"):
-        shutil.copy(os.path.join(dirs[m], "slave.pub"), os.path.join(dirs["master"], "authorized", m + ".pub"))
-    return dirs
+    return netns.wall_keys(GLCAST, out, ("dispa", "dispb"))
 
 
 def wall_config(out, port):
