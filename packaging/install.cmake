@@ -26,14 +26,37 @@ install(FILES ${_docs} ${CMAKE_SOURCE_DIR}/README.md DESTINATION ${CMAKE_INSTALL
 install(FILES ${CMAKE_SOURCE_DIR}/packaging/copyright DESTINATION ${CMAKE_INSTALL_DOCDIR})
 install(FILES ${CMAKE_SOURCE_DIR}/packaging/glcast.bash-completion DESTINATION ${CMAKE_INSTALL_DATADIR}/bash-completion/completions
         RENAME glcast)
+# Manual pages, glcast(1) and glcast-COMMAND(1), made by help2man from each command's --help.
+find_program(HELP2MAN help2man)
+if(HELP2MAN)
+  set(_man ${CMAKE_BINARY_DIR}/man)
+  add_custom_command(OUTPUT ${_man}/glcast.1.gz
+                     COMMAND sh ${CMAKE_SOURCE_DIR}/packaging/make_manpages.sh $<TARGET_FILE:glcast-cli> ${_man}
+                             ${PROJECT_VERSION}
+                     DEPENDS glcast-cli ${CMAKE_SOURCE_DIR}/packaging/make_manpages.sh
+                     COMMENT "Manual pages from glcast's --help (help2man)")
+  add_custom_target(manpages ALL DEPENDS ${_man}/glcast.1.gz)
+  install(DIRECTORY ${_man}/ DESTINATION ${CMAKE_INSTALL_MANDIR}/man1 FILES_MATCHING PATTERN "*.1.gz")
+else()
+  message(WARNING "help2man is missing (scripts/setup.sh installs it): the package will have no manual pages")
+endif()
+# A native package's changelog, where Debian keeps it.
+configure_file(${CMAKE_SOURCE_DIR}/packaging/debian/changelog.in ${CMAKE_BINARY_DIR}/packaging/changelog @ONLY)
+add_custom_command(OUTPUT ${CMAKE_BINARY_DIR}/packaging/changelog.gz
+                   COMMAND gzip -9n < ${CMAKE_BINARY_DIR}/packaging/changelog > ${CMAKE_BINARY_DIR}/packaging/changelog.gz
+                   DEPENDS ${CMAKE_BINARY_DIR}/packaging/changelog)
+add_custom_target(debian_changelog ALL DEPENDS ${CMAKE_BINARY_DIR}/packaging/changelog.gz)
+install(FILES ${CMAKE_BINARY_DIR}/packaging/changelog.gz DESTINATION ${CMAKE_INSTALL_DOCDIR})
 
 set(CPACK_GENERATOR DEB)
 set(CPACK_PACKAGE_NAME glcast)
 set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
-set(CPACK_PACKAGE_CONTACT "glcast developers <glcast@localhost>")
+set(CPACK_PACKAGE_CONTACT "glcast developers <glcast@glcast.invalid>")
 set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "unmodified OpenGL programs on tiled and curved display walls")
-set(CPACK_PACKAGE_DESCRIPTION "A preloaded shim publishes every GL call of a program with its reply; slaves on \
-display machines replay them per tile, over ZeroMQ with CURVE, and add falling snow, snow cover and soft shadows.")
+# (lines of at most 80 characters: Debian's policy for the extended description)
+set(CPACK_PACKAGE_DESCRIPTION "A preloaded shim publishes every GL call of a program with its reply;\n\
+slaves on display machines replay them per tile, over ZeroMQ with CURVE,\n\
+and add falling snow, snow cover and soft shadows.")
 set(CPACK_STRIP_FILES ON)
 set(CPACK_PACKAGING_INSTALL_PREFIX ${CMAKE_INSTALL_PREFIX})
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)  # glcast_VERSION_amd64.deb

@@ -18,6 +18,7 @@ packages=(
   xvfb xauth mesa-utils xscreensaver-gl googletest libgtest-dev iproute2  # iproute2: multicast test namespaces
   python3-zmq                           # the tracker bridge of docs/immersive.md, played by a test
   iptables                              # scripts/chaos.sh: packet loss on a display machine's link
+  help2man lintian man-db               # the package's manual pages, and Debian's checks of it
   # benchmarks
   apitrace xscreensaver-gl-extra        # bench/stream_coding_bench.py: atlantis, sproingies
 )

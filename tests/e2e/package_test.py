@@ -56,6 +56,23 @@ def main():
     check(copyright.startswith("Format: https://www.debian.org/doc/packaging-manuals/copyright-format/1.0/") and
           "License: Expat" in copyright and "Permission is hereby granted" in copyright,
           "the package's copyright file does not give the licence (MIT, Debian's Expat)")
+    # A manual page per command of glcast --help, found by man as an installed one is.
+    listed = run([os.environ["GLCAST"], "--help"]).stdout.split("Commands:", 1)[1]
+    commands = [line.split()[0] for line in listed.splitlines() if line.startswith("  ") and line.split()[0] != "help"]
+    check(len(commands) >= 10, f"glcast --help lists {commands}")
+    for page in ["glcast"] + [f"glcast-{c}" for c in commands]:
+        check(f"./usr/share/man/man1/{page}.1.gz" in files, f"the package lacks the manual page {page}(1)")
+    r = run(["man", "-P", "cat", "glcast-run"], env=dict(os.environ, MANPATH=os.path.join(root, "usr/share/man"),
+                                                         MANWIDTH="100"))
+    check(r.returncode == 0 and "glcast-run - run a program on a wall" in r.stdout and "--config FILE" in r.stdout,
+          f"man glcast-run: {r.returncode} {r.stdout[:500]} {r.stderr[-500:]}")
+    # Debian's checks of a package: no error.
+    lintian = "lintian: not installed"
+    if shutil.which("lintian"):
+        r = run(["lintian", "--tag-display-limit", "0", deb])
+        errors = [line for line in r.stdout.splitlines() if line.startswith("E:")]
+        check(not errors, "lintian finds errors:\n" + "\n".join(errors))
+        lintian = f"lintian: no error, {sum(l.startswith('W:') for l in r.stdout.splitlines())} warnings"
     unit = open(os.path.join(root, "usr/lib/systemd/system/glcast-slave@.service")).read()
     check("ExecStart=/usr/bin/glcast slave --service" in unit, "the unit does not start the installed glcast")
 
@@ -87,7 +104,8 @@ def main():
         r = run([glcast, "capture", "--frames", "5", "-o", cap, "--", "glxgears"], env=env)
         check(r.returncode == 0 and os.path.getsize(cap) > 0, f"installed capture failed: {r.stderr[-1500:]}")
     print(f"package: {os.path.basename(deb)} ({os.path.getsize(deb) // 1024} KiB), installed into a scratch root: "
-          f"--version, a replay of {len(frames)} frames equal to the build tree's, and a capture with its own shim")
+          f"--version, a replay of {len(frames)} frames equal to the build tree's, and a capture with its own shim; "
+          f"{len(commands) + 1} manual pages; {lintian}")
 
 
 main()
