@@ -208,7 +208,7 @@ void WallControl::serve() {
                     !plain_name(s.machine) || !(s.state == "idle" || s.state == "joining" || s.state == "live") ||
                     !std::isfinite(s.fps) || !std::isfinite(s.mbps))
                     continue;
-                if (s.state != "idle") state.heard(tile, seconds_since_start());
+                if (s.state == "live") state.heard(tile, seconds_since_start());
                 std::lock_guard lock(mutex_);
                 s.dropped = status_[tile].dropped;
                 status_[tile] = s;

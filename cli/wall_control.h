@@ -4,8 +4,10 @@
 //
 // Swap barrier: before presenting frame n a tile says "READY TILE n" and waits for "GO n", sent
 // once every tile of the wall still counted waits for frame n or a later one. A tile that says
-// nothing (no READY, no report of a program being shown) for kDropSeconds while others wait is
-// no longer counted (said once); it is again as soon as it says READY.
+// nothing (no READY, no report of drawing the program live) for kDropSeconds while others wait is
+// no longer counted (said once); it is again as soon as it says READY. A tile that is joining (a
+// restarted slave catching up from the keeper) draws none of the frames the others wait for and
+// does not hold them.
 //
 // A tracked viewer (docs/immersive.md): "GO n" carries the head pose for frame n + 1.
 //
@@ -51,8 +53,8 @@ public:
     };
     // A tile's READY; unknown tiles are ignored (false).
     bool ready(const std::string& tile, uint64_t frame, double now);
-    // A sign of life from a tile showing the program (a status report while it catches up):
-    // it is not dropped while it keeps saying something.
+    // A sign of life from a tile drawing the program's frames (a status report saying "live",
+    // while it is slow or catches up on a gap): it is not dropped while it keeps saying so.
     void heard(const std::string& tile, double now);
     // Who may present now; tiles dropped or taken back since the last call in `dropped`/`back`.
     std::vector<Release> release(double now, std::vector<std::string>* dropped = nullptr);

@@ -10,7 +10,9 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <random>
+#include <string>
 #include <thread>
 
 #include "cli/wall_control.h"
@@ -284,6 +286,41 @@ TEST(WallControlChannel, ATilesNameBelongsToThePeerThatProvedItUntilItGoesSilent
     EXPECT_TRUE(owners.speaks_for("a", "key A2", 9.5));  // silent for 5.5 s: a restarted slave takes it
     EXPECT_FALSE(owners.speaks_for("a", "key A", 10));
     EXPECT_EQ(owners.refused(), 3u);
+}
+
+// A tile that was restarted and is joining the program (from the keeper, then the journal) says
+// "joining" once a second but draws none of the frames the others wait for: it must not hold
+// them (found by the chaos run: three tiles waited 10 s, their own limit, at each restart of
+// the fourth). It is counted again at its first READY.
+TEST(WallControlChannel, AJoiningTileDoesNotHoldTheBarrier) {
+    unsetenv("GLCAST_KEYS");
+    const std::string endpoint = "ipc://" + temp_dir() + "/control";
+    WallControl wall(endpoint, kTiles, true);
+    zmq::context_t context(1);
+    std::map<std::string, zmq::socket_t> tiles;
+    for (const std::string& t : kTiles) {
+        zmq::socket_t s(context, zmq::socket_type::dealer);
+        s.set(zmq::sockopt::linger, 0);
+        s.set(zmq::sockopt::rcvtimeo, 50);
+        s.connect(endpoint);
+        tiles.emplace(t, std::move(s));
+    }
+    for (const std::string t : {"a", "b", "c"}) tiles.at(t).send(zmq::buffer("READY " + t + " 7"), zmq::send_flags::none);
+    const auto start = std::chrono::steady_clock::now();
+    int released = 0;
+    double seconds = 0;
+    while (released < 3 && seconds < 6) {
+        tiles.at("d").send(zmq::str_buffer("STATUS d joining 0 7 0 0 0 0 display-b"), zmq::send_flags::dontwait);
+        for (const char* t : {"a", "b", "c"}) {
+            zmq::message_t go;
+            if (tiles.at(t).recv(go, zmq::recv_flags::dontwait)) released += go.to_string() == "GO 7";
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(250));
+        seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    }
+    EXPECT_EQ(released, 3);
+    EXPECT_LT(seconds, 3.0) << "the others waited for the joining tile";
+    EXPECT_TRUE(wall.status().at("d").dropped);
 }
 
 // A stranger on the channel cannot report for a live tile (it could before: the newest report
