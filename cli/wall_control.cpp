@@ -62,6 +62,7 @@ std::vector<BarrierState::Release> BarrierState::release(double now, std::vector
             t.waiting = false;
             t.last_heard = now;  // drawing the next frame from now on
         }
+    started_ |= !out.empty();
     return out;
 }
 
@@ -208,7 +209,8 @@ void WallControl::serve() {
                     !plain_name(s.machine) || !(s.state == "idle" || s.state == "joining" || s.state == "live") ||
                     !std::isfinite(s.fps) || !std::isfinite(s.mbps))
                     continue;
-                if (s.state == "live") state.heard(tile, seconds_since_start());
+                if (s.state == "live" || (s.state == "joining" && !state.started()))
+                    state.heard(tile, seconds_since_start());
                 std::lock_guard lock(mutex_);
                 s.dropped = status_[tile].dropped;
                 status_[tile] = s;

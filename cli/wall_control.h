@@ -5,9 +5,9 @@
 // Swap barrier: before presenting frame n a tile says "READY TILE n" and waits for "GO n", sent
 // once every tile of the wall still counted waits for frame n or a later one. A tile that says
 // nothing (no READY, no report of drawing the program live) for kDropSeconds while others wait is
-// no longer counted (said once); it is again as soon as it says READY. A tile that is joining (a
-// restarted slave catching up from the keeper) draws none of the frames the others wait for and
-// does not hold them.
+// no longer counted (said once); it is again as soon as it says READY. A tile joining the program
+// holds the others only until the wall's first frame: one that joins later (a restarted slave
+// catching up from the keeper) draws none of the frames they wait for.
 //
 // A tracked viewer (docs/immersive.md): "GO n" carries the head pose for frame n + 1.
 //
@@ -59,6 +59,10 @@ public:
     // Who may present now; tiles dropped or taken back since the last call in `dropped`/`back`.
     std::vector<Release> release(double now, std::vector<std::string>* dropped = nullptr);
     bool counted(const std::string& tile) const;
+    // Whether a frame has been released: before, every tile is joining the program together and
+    // a joining one holds the others (the wall starts on one frame); after, one that joins again
+    // (a restarted slave) does not.
+    bool started() const { return started_; }
     std::vector<std::string> back;  // taken back since the last look (cleared by the caller)
 
 private:
@@ -69,6 +73,7 @@ private:
     };
     std::map<std::string, Tile> tiles_;
     double drop_seconds_;
+    bool started_ = false;
 };
 
 // Who speaks for each tile: the first peer that names it (its CURVE key on a wall across
