@@ -33,5 +33,6 @@ Command add_record(CLI::App& glcast);   // cli/record.cpp
 Command add_keygen(CLI::App& glcast);   // cli/keygen.cpp
 Command add_doctor(CLI::App& glcast);   // cli/doctor.cpp
 Command add_config(CLI::App& glcast);   // cli/config.cpp
+Command add_ctl(CLI::App& glcast);      // cli/ctl.cpp
 
 }  // namespace glcast::cli

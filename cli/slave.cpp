@@ -21,6 +21,7 @@
 #include "cli/tile_options.h"
 #include "common/environment.h"
 #include "common/image.h"
+#include "common/jpeg.h"
 #include "net/wall_endpoints.h"
 #include "slave/network_source.h"
 #include "slave/replayer.h"
@@ -73,6 +74,9 @@ bool prepare(SlaveArgs& a, int& status) {
         return false;
     }
     if (!use_keys(a.keys, a.insecure, "glcast slave", error)) return false;
+    // A tile of a run's wall follows the scene from the start, so that the operator may switch
+    // passes on while the program runs (glcast ctl, the dashboard).
+    if (!a.control.empty()) a.opt.effects.live = true;
     if (!a.out_dir.empty() && !make_directories(a.out_dir, error)) {
         std::fprintf(stderr, "glcast slave: --out: %s\n", error.c_str());
         return false;
@@ -219,6 +223,7 @@ private:
             pair.on_frame = [this, &out](uint64_t frame, const Image& tile, const Image& left,
                                                           const Image& right) {
                 if (stereo_.window) stereo_.window->show(tile, left, right);
+                send_thumbnail(frame, &tile);
                 std::string err;
                 if (!out.empty() && !write_stereo_frame(out, frame, a_.opt.stereo, tile, left, right, err))
                     std::fprintf(stderr, "glcast slave: %s\n", err.c_str());
@@ -242,6 +247,42 @@ private:
         replayer.replay(source);
     }
 
+    // The passes switched live (slave/live_effects.h): the newest state the run sent, applied
+    // from its frame on. Called before each present, after the barrier: the change is in place
+    // for the next frame's passes.
+    void follow_live_effects(uint64_t frame) {
+        slave::LiveEffects e;
+        if (link_ && link_->take_effects(e) && e.version != report_.effects_version) pending_effects_ = e;
+        if (!pending_effects_ || pending_effects_->frame > frame + 1) return;
+        const slave::LiveEffects& next = *pending_effects_;
+        const effects::EffectsSettings settings = next.applied_to(a_.opt.effects);
+        if (stereo_.pair) {
+            stereo_.pair->left().set_effects(settings);
+            stereo_.pair->right().set_effects(settings);
+        } else {
+            replayer_->set_effects(settings);
+        }
+        std::fprintf(stderr, "\nglcast slave %s: effects %s from frame %" PRIu64 "%s\n", label_.c_str(),
+                     next.enabled_list().c_str(), std::max(frame + 1, next.frame),
+                     next.frame < frame + 1 ? " (asked from an earlier one: this tile was behind)" : "");
+        report_.effects_version = next.version;
+        pending_effects_.reset();
+    }
+
+    // About once a second, a small JPEG of the frame about to be shown, for the dashboard.
+    void send_thumbnail(uint64_t frame, const Image* shown) {
+        const auto now = std::chrono::steady_clock::now();
+        if (!link_ || now - last_thumbnail_ < std::chrono::seconds(1)) return;
+        last_thumbnail_ = now;
+        Image image;
+        if (!shown) {
+            if (!replayer_->read_shown(image)) return;
+            shown = &image;
+        }
+        std::string jpeg, error;
+        if (thumbnail_jpeg(*shown, 256, 70, jpeg, error)) link_->thumbnail(frame, jpeg);
+    }
+
     void before_present(NetworkSource& source, Rates& rates, uint64_t frame) {
         frame_counted(source, rates, frame);
         // After one wait in vain (glcast run is gone), later frames wait briefly until a GO comes again.
@@ -261,6 +302,8 @@ private:
                          std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(), held);
             std::fflush(present_log_.get());
         }
+        follow_live_effects(frame);
+        if (!stereo_.pair) send_thumbnail(frame, nullptr);
         if (a_.lockstep && source.caught_up()) source.done(frame);
     }
 
@@ -306,6 +349,8 @@ private:
     std::chrono::steady_clock::time_point last_report_ = std::chrono::steady_clock::now() - std::chrono::seconds(10);
     bool barrier_answered_ = true;
     std::optional<std::pair<uint64_t, HeadPose>> next_head_;  // a pose from the barrier, and its frame
+    std::optional<slave::LiveEffects> pending_effects_;          // from the run, for a later frame
+    std::chrono::steady_clock::time_point last_thumbnail_;
 };
 
 int slave(SlaveArgs& a) {

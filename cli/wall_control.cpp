@@ -6,9 +6,12 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
+#include <set>
 #include <sstream>
 
 #include "net/security.h"
+#include "slave/wall_link.h"
 
 namespace glcast::cli {
 
@@ -74,7 +77,9 @@ struct WallControl::Sockets {
 
 namespace {
 
-constexpr size_t kMaxRequestBytes = 256;
+// A part: a request, or a thumbnail's JPEG (slave/wall_link.h).
+constexpr size_t kMaxRequestBytes = slave::WallLink::kMaxThumbnailBytes;
+constexpr size_t kMaxWordsBytes = 1024;  // the words of a request
 
 bool plain_name(const std::string& s) {
     return !s.empty() && s.size() <= 64 &&
@@ -135,6 +140,85 @@ std::map<std::string, TileStatus> WallControl::status() const {
     return out;
 }
 
+slave::LiveEffects WallControl::effects() const {
+    std::lock_guard lock(mutex_);
+    return effects_;
+}
+
+void WallControl::set_started_effects(const slave::LiveEffects& e) {
+    std::lock_guard lock(mutex_);
+    effects_ = e;
+    effects_.version = 0, effects_.frame = 0;
+}
+
+bool WallControl::thumbnail(const std::string& tile, std::string& jpeg, uint64_t& frame) const {
+    std::lock_guard lock(mutex_);
+    auto it = thumbnails_.find(tile);
+    if (it == thumbnails_.end()) return false;
+    jpeg = it->second.jpeg, frame = it->second.frame;
+    return true;
+}
+
+bool WallControl::change_effects(const std::string& request, std::string& reply) {
+    auto r = std::make_shared<Request>();
+    r->words = request;
+    std::unique_lock lock(mutex_);
+    requests_.push_back(r);
+    if (!requests_done_.wait_for(lock, std::chrono::seconds(5), [&] { return r->done; })) {
+        reply = "ERROR the control channel did not take the request within 5 s";
+        return false;
+    }
+    reply = r->reply;
+    return r->ok;
+}
+
+// A frame no tile has presented: with the barrier, every tile waits for (or replays) the frame
+// after the last released, so the one after that is the first that all of them can still switch
+// at; without it, the newest frame a tile reported, moved on by its rate for the report's age
+// and half a second more for the request to reach every tile.
+uint64_t WallControl::switch_frame() const {
+    if (barrier_ && released_any_) return last_released_ + 2;
+    const auto now = std::chrono::steady_clock::now();
+    double newest = 0;
+    for (const auto& [tile, s] : status_) {
+        auto heard = heard_.find(tile);
+        if (heard == heard_.end() || s.state == "idle") continue;
+        const double age = std::chrono::duration<double>(now - heard->second).count();
+        if (age > 3) continue;
+        newest = std::max(newest, double(s.frame) + s.fps * (age + 0.5));
+    }
+    return newest > 0 ? uint64_t(newest) + 2 : 0;
+}
+
+bool WallControl::apply_request(const std::string& request, std::string& reply) {
+    std::unique_lock lock(mutex_);
+    slave::LiveEffects next = effects_;
+    std::string error;
+    if (!next.change(request, error)) {
+        reply = "ERROR " + error;
+        return false;
+    }
+    next.version = effects_.version + 1;
+    next.frame = switch_frame();
+    effects_ = next;
+    lock.unlock();
+    std::set<std::string> sent;
+    for (const auto& [tile, identity] : identity_of_)
+        if (sent.insert(identity).second) send_effects(identity);
+    reply = "OK effects " + next.enabled_list() + " from frame " + std::to_string(next.frame) + " (version " +
+            std::to_string(next.version) + ")";
+    for (const auto& [name, value] : next.params) reply += " " + name + "=" + value;
+    std::fprintf(stderr, "\nglcast run: %s\n", reply.c_str() + 3);
+    return true;
+}
+
+void WallControl::send_effects(const std::string& identity) {
+    const std::string words = effects().words();
+    zmq::socket_t& router = sockets_->router;
+    if (router.send(zmq::buffer(identity), zmq::send_flags::sndmore | zmq::send_flags::dontwait))
+        (void)router.send(zmq::buffer(words), zmq::send_flags::dontwait);
+}
+
 // The pose words of frame n's GO: the same for every tile released at n (the tracker's pose may
 // change between two of them).
 std::string WallControl::pose_words(uint64_t frame) {
@@ -160,21 +244,41 @@ std::string WallControl::pose_words(uint64_t frame) {
 void WallControl::serve() {
     zmq::socket_t& router = sockets_->router;
     BarrierState state(tiles_, kDropSeconds, seconds_since_start());
-    std::map<std::string, std::string> identity_of;  // tile -> the ROUTER identity of its owner
     TileOwners owners(kTakeoverSeconds);
     bool said_refused = false;
     while (!stopping_) {
         zmq::pollitem_t item{router.handle(), 0, ZMQ_POLLIN, 0};
         zmq::poll(&item, 1, std::chrono::milliseconds(50));
         for (int n = 0; n < 256 && (item.revents & ZMQ_POLLIN); n++) {
-            zmq::message_t identity, body;
+            zmq::message_t identity, body, jpeg;
             if (!router.recv(identity, zmq::recv_flags::dontwait)) break;
-            bool well_formed = router.get(zmq::sockopt::rcvmore) && router.recv(body) && !router.get(zmq::sockopt::rcvmore);
-            while (router.get(zmq::sockopt::rcvmore)) (void)router.recv(body);  // extra parts: read and forget
-            if (!well_formed || identity.size() == 0 || identity.size() > 255) continue;
+            bool well_formed = router.get(zmq::sockopt::rcvmore) && router.recv(body);
+            const bool thumb = well_formed && body.size() > 6 && std::memcmp(body.data(), "THUMB ", 6) == 0;
+            if (thumb) well_formed = router.get(zmq::sockopt::rcvmore) && router.recv(jpeg);  // its second part
+            well_formed = well_formed && !router.get(zmq::sockopt::rcvmore);
+            while (router.get(zmq::sockopt::rcvmore)) (void)router.recv(jpeg);  // extra parts: read and forget
+            if (!well_formed || identity.size() == 0 || identity.size() > 255 || body.size() > kMaxWordsBytes) continue;
             std::istringstream words(body.to_string());
             std::string verb, tile;
             words >> verb >> tile;
+            // The peer: the CURVE key the ZAP handler proved (its User-Id), else the connection.
+            const char* key = nullptr;
+            try {
+                key = body.gets("User-Id");
+            } catch (const zmq::error_t&) {
+            }
+            if (verb == "CTL") {
+                const net::Security& security = net::process_security();
+                std::string reply;
+                if (security.keyed() && !(key && security.operators.count(key)))
+                    reply = "ERROR only the wall's operator may change it (a key of operators/ in the master's keys, "
+                            "or the master's own)";
+                else
+                    apply_request(body.to_string().substr(4), reply);
+                router.send(zmq::buffer(identity.data(), identity.size()), zmq::send_flags::sndmore | zmq::send_flags::dontwait);
+                router.send(zmq::buffer(reply), zmq::send_flags::dontwait);
+                continue;
+            }
             if (verb == "TIME" && tile.empty()) {  // glcast doctor's clock: this machine's, in seconds
                 char now[64];
                 std::snprintf(now, sizeof now, "TIME %.6f",
@@ -184,12 +288,6 @@ void WallControl::serve() {
                 continue;
             }
             if (!plain_name(tile) || !std::count(tiles_.begin(), tiles_.end(), tile)) continue;
-            // The peer: the CURVE key the ZAP handler proved (its User-Id), else the connection.
-            const char* key = nullptr;
-            try {
-                key = body.gets("User-Id");
-            } catch (const zmq::error_t&) {
-            }
             const std::string peer = key && *key ? std::string("key ") + key : "connection " + identity.to_string();
             if (!owners.speaks_for(tile, peer, seconds_since_start())) {
                 if (!said_refused)
@@ -201,7 +299,7 @@ void WallControl::serve() {
             if (verb == "READY" && barrier_) {
                 uint64_t frame = 0;
                 if (!(words >> frame)) continue;
-                identity_of[tile] = identity.to_string();
+                identity_of_[tile] = identity.to_string();
                 state.ready(tile, frame, seconds_since_start());
             } else if (verb == "STATUS") {
                 TileStatus s;
@@ -209,19 +307,42 @@ void WallControl::serve() {
                     !plain_name(s.machine) || !(s.state == "idle" || s.state == "joining" || s.state == "live") ||
                     !std::isfinite(s.fps) || !std::isfinite(s.mbps))
                     continue;
+                words >> s.effects_version;  // (0 from a slave of before live effects)
                 if (s.state == "live" || (s.state == "joining" && !state.started()))
                     state.heard(tile, seconds_since_start());
-                std::lock_guard lock(mutex_);
+                identity_of_[tile] = identity.to_string();
+                std::unique_lock lock(mutex_);
                 s.dropped = status_[tile].dropped;
                 status_[tile] = s;
                 heard_[tile] = std::chrono::steady_clock::now();
+                const bool behind = s.effects_version < effects_.version;
+                lock.unlock();
+                if (behind) send_effects(identity.to_string());  // it joined later, or lost the last
+            } else if (thumb) {
+                uint64_t frame = 0;
+                if (!(words >> frame) || jpeg.size() < 4 || std::memcmp(jpeg.data(), "\xff\xd8", 2) != 0) continue;
+                std::lock_guard lock(mutex_);
+                thumbnails_[tile] = Thumbnail{jpeg.to_string(), frame};
             }
         }
+        std::vector<std::shared_ptr<Request>> asked;
+        {
+            std::lock_guard lock(mutex_);
+            asked.swap(requests_);
+        }
+        for (const auto& r : asked) {
+            r->ok = apply_request(r->words, r->reply);
+            std::lock_guard lock(mutex_);
+            r->done = true;
+        }
+        if (!asked.empty()) requests_done_.notify_all();
         if (!barrier_) continue;
         std::vector<std::string> dropped;
         for (const auto& r : state.release(seconds_since_start(), &dropped)) {
             const std::string go = "GO " + std::to_string(r.frame) + pose_words(r.frame);
-            router.send(zmq::buffer(identity_of[r.tile]), zmq::send_flags::sndmore | zmq::send_flags::dontwait);
+            last_released_ = std::max(last_released_, r.frame);
+            released_any_ = true;
+            router.send(zmq::buffer(identity_of_[r.tile]), zmq::send_flags::sndmore | zmq::send_flags::dontwait);
             router.send(zmq::buffer(go), zmq::send_flags::dontwait);
         }
         std::lock_guard lock(mutex_);

@@ -14,13 +14,22 @@
 // Clock: "TIME" is answered "TIME SECONDS" (this machine's clock, since the epoch), for glcast
 // doctor's offset.
 //
-// Status: each slave says "STATUS TILE STATE FRAME MASTER_FRAME FPS MBPS LAG RECOVERIES MACHINE"
-// once a second (slave/wall_link.h);
-// status() gathers the newest of each tile.
+// Status: each slave says "STATUS TILE STATE FRAME MASTER_FRAME FPS MBPS LAG RECOVERIES MACHINE
+// EFFECTS_VERSION" once a second (slave/wall_link.h); status() gathers the newest of each tile.
+// "THUMB TILE FRAME" with a JPEG as a second part: what the tile shows, for the dashboard.
+//
+// Live effects (slave/live_effects.h): "CTL effects +snow -shadows" or "CTL param NAME=VALUE",
+// from the operator (on a keyed wall the master's key or one of operators/*.pub; on ipc:// or
+// loopback without keys, anyone who can connect), is answered "OK ..." or "ERROR ...". The
+// change holds from a frame no tile has presented yet: with the swap barrier the frame after the
+// one every tile waits for (every tile switches at it), without it the newest frame reported
+// plus half a second. Every tile gets "EFFECTS ..." at once, and again while its reports name an
+// older version (a tile that joins later).
 #pragma once
 
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -30,6 +39,7 @@
 #include <thread>
 #include <vector>
 
+#include "slave/live_effects.h"
 #include "slave/viewer.h"
 
 namespace glcast::cli {
@@ -39,6 +49,7 @@ struct TileStatus {
     uint64_t frame = 0, master_frame = 0, recoveries = 0;
     double fps = 0, mbps = 0;
     int64_t lag = 0;
+    uint64_t effects_version = 0;  // of the live effects it holds
     double age_seconds = -1;  // since its last report; < 0: never reported
     bool dropped = false;     // from the barrier
 };
@@ -112,8 +123,22 @@ public:
     ~WallControl();
     std::map<std::string, TileStatus> status() const;
 
+    // The wall's passes now, and the change an operator asks for (`glcast ctl`'s words, as
+    // LiveEffects::change takes them) from any thread (the dashboard): waits until the control
+    // channel has sent it to every tile. `reply` is what CTL answers ("OK ..." or "ERROR ...").
+    slave::LiveEffects effects() const;
+    bool change_effects(const std::string& request, std::string& reply);
+    // The newest thumbnail of a tile (a JPEG) and its frame; false: none yet.
+    bool thumbnail(const std::string& tile, std::string& jpeg, uint64_t& frame) const;
+    // What the tiles started with: the first state, version 0.
+    void set_started_effects(const slave::LiveEffects& e);
+
 private:
     void serve();
+    // In the serve thread: a request checked, scheduled and sent to every tile.
+    bool apply_request(const std::string& request, std::string& reply);
+    uint64_t switch_frame() const;
+    void send_effects(const std::string& identity);
     std::string pose_words(uint64_t frame);
     std::map<uint64_t, std::string> pose_words_;  // by frame, the last 64
     std::string endpoint_;
@@ -124,6 +149,22 @@ private:
     mutable std::mutex mutex_;
     std::map<std::string, TileStatus> status_;
     std::map<std::string, std::chrono::steady_clock::time_point> heard_;
+    struct Thumbnail {
+        std::string jpeg;
+        uint64_t frame = 0;
+    };
+    std::map<std::string, Thumbnail> thumbnails_;
+    slave::LiveEffects effects_;
+    uint64_t last_released_ = 0;  // the swap barrier's newest GO
+    bool released_any_ = false;
+    std::map<std::string, std::string> identity_of_;  // tile -> the ROUTER identity of its owner (serve thread)
+    // Requests of other threads for the serve thread, and their replies.
+    struct Request {
+        std::string words, reply;
+        bool done = false, ok = false;
+    };
+    std::vector<std::shared_ptr<Request>> requests_;
+    std::condition_variable requests_done_;
     struct Sockets;
     std::unique_ptr<Sockets> sockets_;
     std::thread thread_;

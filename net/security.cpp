@@ -179,7 +179,8 @@ bool load_security(const std::string& dir, bool insecure, Security& out, std::st
         return true;
     }
     s.dir = dir;
-    if (!trusted_folder(dir, error) || (exists(dir + "/authorized") && !trusted_folder(dir + "/authorized", error))) {
+    if (!trusted_folder(dir, error) || (exists(dir + "/authorized") && !trusted_folder(dir + "/authorized", error)) ||
+        (exists(dir + "/operators") && !trusted_folder(dir + "/operators", error))) {
         error = "keys: " + error;
         return false;
     }
@@ -202,6 +203,7 @@ bool load_security(const std::string& dir, bool insecure, Security& out, std::st
             return false;
         }
         s.has_client_pair = pair("slave.key", s.client);
+        s.has_operator_pair = pair("operator.key", s.operator_pair);
     } catch (const std::runtime_error& e) {
         error = std::string("keys: ") + e.what();
         return false;
@@ -210,28 +212,35 @@ bool load_security(const std::string& dir, bool insecure, Security& out, std::st
         s.client = s.master;
         s.has_client_pair = true;
     }
+    if (!s.has_operator_pair && s.has_client_pair) s.operator_pair = s.client, s.has_operator_pair = true;
     s.authorized.insert(s.master_public);
+    s.operators.insert(s.master_public);
     if (s.has_client_pair) s.authorized.insert(s.client.public_key);
-    const std::string authorized_dir = dir + "/authorized";
-    if (DIR* d = opendir(authorized_dir.c_str())) {
+    // Every NAME.pub of a folder into `keys` (and the authorized, whom the ZAP handler admits).
+    auto read_keys_in = [&](const std::string& folder, std::set<std::string>& keys) {
+        DIR* d = opendir(folder.c_str());
+        if (!d) return true;
         while (dirent* e = readdir(d)) {
             const std::string name = e->d_name;
             if (name.size() < 5 || name.compare(name.size() - 4, 4, ".pub") != 0) continue;
             KeyPair k;
-            if (!read_key_file(authorized_dir + "/" + name, false, k, error)) {
+            if (!read_key_file(folder + "/" + name, false, k, error)) {
                 closedir(d);
                 error = "keys: " + error;
                 return false;
             }
             if (s.authorized.size() >= kMaxAuthorizedKeys) {
                 closedir(d);
-                error = "keys: more than 4096 keys in " + authorized_dir;
+                error = "keys: more than 4096 keys in " + folder;
                 return false;
             }
+            keys.insert(k.public_key);
             s.authorized.insert(k.public_key);
         }
         closedir(d);
-    }
+        return true;
+    };
+    if (!read_keys_in(dir + "/authorized", s.authorized) || !read_keys_in(dir + "/operators", s.operators)) return false;
     out = s;
     return true;
 }

@@ -10,6 +10,10 @@
 //   master.key            the master's key pair: on the machine that runs programs
 //   slave.key             this display machine's key pair (a master uses master.key instead)
 //   authorized/NAME.pub   on the master: the display machines it serves
+//   operators/NAME.pub    on the master: who may switch the wall's passes live (glcast ctl);
+//                         the master's own key may too
+//   operator.key          an operator's key pair, on the machine glcast ctl runs on (else
+//                         slave.key or master.key)
 //
 // `glcast keygen DIR/NAME` writes NAME.key (mode 0600) and NAME.pub. Without keys, a TCP endpoint
 // on an address other than loopback is refused unless GLCAST_INSECURE=1 (--insecure); multicast
@@ -41,7 +45,10 @@ struct Security {
     KeyPair master;                   // valid with has_master_pair
     KeyPair client;                   // slave.key, else master.key: what this machine connects with
     bool has_client_pair = false;
-    std::set<std::string> authorized; // authorized/*.pub, and the master's own key
+    std::set<std::string> authorized; // authorized/*.pub, operators/*.pub, and the master's own key
+    std::set<std::string> operators;  // operators/*.pub, and the master's own key
+    KeyPair operator_pair;            // operator.key, else the client pair
+    bool has_operator_pair = false;
     bool insecure = false;            // GLCAST_INSECURE=1: non-loopback endpoints without keys allowed
     bool keyed() const { return !dir.empty(); }
 };

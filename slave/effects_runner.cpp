@@ -88,6 +88,10 @@ void EffectsRunner::reset() {
     passes_.clear();
 }
 
+void EffectsRunner::settings_changed() {
+    for (auto& [id, st] : passes_) st->pipeline.reset();  // built again, with the new settings, when next run
+}
+
 void EffectsRunner::context_removed(uint32_t id) {
     scenes_.forget(id);
     passes_.erase(id);
@@ -110,7 +114,8 @@ void EffectsRunner::presented(SlaveContext& ctx) {
 void EffectsRunner::run_effects(SlaveContext& ctx) {
     ContextPasses& st = passes(ctx);
     ContextScene& scene = scenes_.scene(ctx);
-    if (ctx.width <= 0 || ctx.height <= 0) {  // nothing shown: nothing to decorate
+    // Nothing shown, or every pass switched off live: nothing to decorate.
+    if (ctx.width <= 0 || ctx.height <= 0 || !core_.options().effects.any()) {
         st.copies.end_frame();
         scene.next_frame();
         return;

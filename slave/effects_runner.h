@@ -45,6 +45,8 @@ public:
     void context_removed(uint32_t id) override;
 
     SceneRecorder& scenes() { return scenes_; }
+    // The replay's effect settings changed (passes switched live): pipelines are built anew.
+    void settings_changed();
 
 private:
     // Per slave context: its pipeline, the copies of its window, the overlays' program, and the

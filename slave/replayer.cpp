@@ -27,7 +27,7 @@ Replayer::Replayer(std::unique_ptr<Backend> backend, ReplayOptions options)
     tile_ = std::make_unique<TileAdapter>(*this);
     add_observer(window_system_.get());
     add_observer(tile_.get());
-    if (options_.effects.any()) {
+    if (options_.effects.followed()) {
         effects_ = std::make_unique<EffectsRunner>(*this, *tile_);
         add_observer(effects_.get());
     }
@@ -41,6 +41,22 @@ Replayer::~Replayer() {
     std::string ignored;
     if (current_) backend_->make_current(0, 0, 0, ignored);
     for (auto& [id, ctx] : contexts_) backend_->destroy_context(id);
+}
+
+void Replayer::set_effects(const effects::EffectsSettings& settings) {
+    if (!effects_) throw std::logic_error("passes switched on a replay that does not follow the scene (effects.live)");
+    const bool live = options_.effects.live;
+    options_.effects = settings;
+    options_.effects.live = live;
+    effects_->settings_changed();
+}
+
+bool Replayer::read_shown(Image& out) {
+    SlaveContext* ctx = current_or_null();
+    if (!ctx || ctx->width <= 0 || ctx->height <= 0) return false;
+    read_window_into(api_, ctx->double_buffered ? GL_BACK : GL_FRONT, ctx->width, ctx->height, out.rgba, frame_scratch_);
+    out.width = ctx->width, out.height = ctx->height;
+    return true;
 }
 
 void Replayer::add_observer(ReplayObserver* o) {

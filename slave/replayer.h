@@ -26,6 +26,7 @@
 #include "glcast_commands.h"
 #include "glcast_gl_api.h"
 #include "glcast_slave_dispatch.h"
+#include "common/image.h"
 #include "slave/call_replay.h"
 #include "slave/replay_limits.h"
 #include "slave/slave_context.h"
@@ -107,6 +108,11 @@ public:
     ReplayStats& stats() { return stats_; }
     Backend& backend() { return *backend_; }
     const ReplayOptions& options() const { return options_; }
+    // Switches passes and parameters between two frames (slave/live_effects.h); needs a replay
+    // started with effects.live or some pass on.
+    void set_effects(const effects::EffectsSettings& settings);
+    // The current context's frame as it will be shown (rows top to bottom); false: nothing drawn.
+    bool read_shown(Image& out);
     // Moves the viewer (head pose, eye separation): the tile's eye follows from the next draw.
     // False, nothing changed, for an eye the tile cannot have (behind its screen, not finite).
     bool set_viewer(const Viewer& viewer);

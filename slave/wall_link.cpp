@@ -16,7 +16,7 @@
 namespace glcast::slave {
 
 namespace {
-constexpr size_t kMaxGoBytes = 256;
+constexpr size_t kMaxAnswerBytes = 4096;  // "GO n" with a head pose, "EFFECTS ..." with its parameters
 }  // namespace
 
 WallLink::WallLink(std::string endpoint, std::string tile, std::string machine)
@@ -25,7 +25,7 @@ WallLink::WallLink(std::string endpoint, std::string tile, std::string machine)
     socket_ = std::make_unique<zmq::socket_t>(*context_, zmq::socket_type::dealer);
     socket_->set(zmq::sockopt::linger, 0);
     socket_->set(zmq::sockopt::sndhwm, 16);
-    socket_->set(zmq::sockopt::maxmsgsize, int64_t(kMaxGoBytes));  // "GO n", and a head pose
+    socket_->set(zmq::sockopt::maxmsgsize, int64_t(kMaxAnswerBytes));
     // Nothing is queued while no run serves the wall: what this tile says between two runs (the
     // last program's frames, its READYs) would reach the next run as if about its program.
     socket_->set(zmq::sockopt::immediate, 1);
@@ -88,15 +88,44 @@ bool WallLink::barrier(uint64_t frame, int timeout_ms, HeadPose* next_head, bool
         if ((text.size() == go.size() || (text.size() > go.size() && text[go.size()] == ' ')) &&
             parse_go(text, go, next_head, has_head))
             return true;
+        heard(text);
     }
     return false;
 }
 
+void WallLink::heard(const std::string& text) {
+    LiveEffects e;
+    if (text.compare(0, 8, "EFFECTS ") == 0 && LiveEffects::parse(text, e) &&
+        (!has_effects_ || e.version >= effects_.version)) {
+        effects_ = e;
+        has_effects_ = true;
+    }
+}
+
+bool WallLink::take_effects(LiveEffects& out) {
+    for (int n = 0; n < 64; n++) {
+        zmq::message_t answer;
+        if (!socket_->recv(answer, zmq::recv_flags::dontwait)) break;
+        heard(answer.to_string());
+    }
+    if (!has_effects_) return false;
+    out = effects_;
+    has_effects_ = false;
+    return true;
+}
+
+void WallLink::thumbnail(uint64_t frame, const std::string& jpeg) {
+    if (jpeg.empty() || jpeg.size() > kMaxThumbnailBytes) return;
+    const std::string head = "THUMB " + tile_ + " " + std::to_string(frame);
+    if (socket_->send(zmq::buffer(head), zmq::send_flags::sndmore | zmq::send_flags::dontwait))
+        (void)socket_->send(zmq::buffer(jpeg), zmq::send_flags::dontwait);
+}
+
 void WallLink::report(const TileReport& r) {
     char text[256];
-    std::snprintf(text, sizeof text, "STATUS %s %s %llu %llu %.2f %.3f %lld %llu %s", tile_.c_str(), r.state.c_str(),
+    std::snprintf(text, sizeof text, "STATUS %s %s %llu %llu %.2f %.3f %lld %llu %s %llu", tile_.c_str(), r.state.c_str(),
                   (unsigned long long)r.frame, (unsigned long long)r.master_frame, r.fps, r.mbps, (long long)r.lag,
-                  (unsigned long long)r.recoveries, machine_.c_str());
+                  (unsigned long long)r.recoveries, machine_.c_str(), (unsigned long long)r.effects_version);
     (void)socket_->send(zmq::buffer(std::string(text)), zmq::send_flags::dontwait);
 }
 

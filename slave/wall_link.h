@@ -6,6 +6,7 @@
 #include <memory>
 #include <string>
 
+#include "slave/live_effects.h"
 #include "slave/viewer.h"
 
 namespace zmq {
@@ -20,6 +21,7 @@ struct TileReport {
     uint64_t frame = 0, master_frame = 0, recoveries = 0;
     double fps = 0, mbps = 0;
     int64_t lag = 0;
+    uint64_t effects_version = 0;  // of the live effects it holds (slave/live_effects.h)
 };
 
 class WallLink {
@@ -33,9 +35,18 @@ public:
     // quaternion is not taken.
     bool barrier(uint64_t frame, int timeout_ms, HeadPose* next_head = nullptr, bool* has_head = nullptr);
     void report(const TileReport& r);  // never waits; a report may be lost
+    // A small JPEG of what the tile shows, for the dashboard (about once a second); never waits.
+    void thumbnail(uint64_t frame, const std::string& jpeg);
+    // The newest live effects the wall's run sent (read without waiting, and while barrier()
+    // waits); false: none since the last call.
+    bool take_effects(LiveEffects& out);
+    static constexpr size_t kMaxThumbnailBytes = 64 * 1024;
 
 private:
+    void heard(const std::string& text);  // a message that is not the GO waited for
     std::string endpoint_, tile_, machine_;
+    bool has_effects_ = false;
+    LiveEffects effects_;
     std::unique_ptr<zmq::context_t> context_;
     std::unique_ptr<zmq::socket_t> socket_;
 };

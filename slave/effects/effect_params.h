@@ -45,11 +45,15 @@ const std::vector<std::string>& known_display_effects();
 // "effects", plus parameters.
 struct EffectsSettings {
     bool snow = false, rain = false, cover = false, icicles = false, shadows = false;
+    // Passes may be switched on while the program runs (slave/live_effects.h): the scene is
+    // followed and shaders patched from the start, as if every pass were on.
+    bool live = false;
     EffectParams params;
     bool any() const { return snow || rain || cover || icicles || shadows; }
+    bool followed() const { return any() || live; }  // the replay follows the scene for the passes
     // Passes that re-render the frame's draws (FrameView::redraw): shader programs' vertex
     // shaders are then patched so that a redraw can move their output (glcast_clip).
-    bool redraws() const { return cover || icicles || shadows; }
+    bool redraws() const { return live || cover || icicles || shadows; }
     // Adds "snow,cover,..." (names from known_display_effects()). False with `error` naming
     // the unknown effect.
     bool enable(const std::string& comma_separated, std::string& error);

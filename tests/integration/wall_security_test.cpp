@@ -431,3 +431,106 @@ TEST(WallControlChannel, WhatATileSaidBetweenRunsIsNotDeliveredToTheNext) {
         return second.status().at("a").frame == 7;
     }));
 }
+
+namespace {
+
+// What a tile's DEALER hears within `ms`: every message, in order.
+std::vector<std::string> heard(zmq::socket_t& s, int ms) {
+    std::vector<std::string> out;
+    const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(ms);
+    while (std::chrono::steady_clock::now() < end) {
+        zmq::message_t m;
+        if (s.recv(m, zmq::recv_flags::dontwait)) out.push_back(m.to_string());
+        else std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    return out;
+}
+
+std::string ask(zmq::socket_t& s, const std::string& request) {
+    s.send(zmq::buffer(request), zmq::send_flags::none);
+    zmq::message_t answer;
+    s.set(zmq::sockopt::rcvtimeo, 3000);
+    return s.recv(answer) ? answer.to_string() : "(no answer)";
+}
+
+}  // namespace
+
+// Live effects with the barrier: a change holds from the frame after the one every tile waits
+// for, and reaches each tile before that frame's GO; a tile that reports an older version (one
+// that joined later) gets it again.
+TEST(WallControlChannel, PassesSwitchAtTheFrameAfterTheOneEveryTileWaitsFor) {
+    unsetenv("GLCAST_KEYS");
+    const std::string endpoint = "ipc://" + temp_dir() + "/control";
+    WallControl wall(endpoint, {"a", "b"}, true);
+    zmq::context_t context(1);
+    std::map<std::string, zmq::socket_t> tiles;
+    for (const std::string& t : {"a", "b"}) {
+        zmq::socket_t s(context, zmq::socket_type::dealer);
+        s.set(zmq::sockopt::linger, 0);
+        s.connect(endpoint);
+        tiles.emplace(t, std::move(s));
+    }
+    for (const std::string t : {"a", "b"}) tiles.at(t).send(zmq::buffer("READY " + t + " 40"), zmq::send_flags::none);
+    for (const std::string t : {"a", "b"}) EXPECT_EQ(heard(tiles.at(t), 300), std::vector<std::string>{"GO 40"});
+    tiles.at("a").send(zmq::str_buffer("READY a 41"), zmq::send_flags::none);  // b still draws 41
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    zmq::socket_t operator_socket(context, zmq::socket_type::dealer);
+    operator_socket.set(zmq::sockopt::linger, 0);
+    operator_socket.connect(endpoint);
+    EXPECT_EQ(ask(operator_socket, "CTL effects +snow"), "OK effects snow from frame 42 (version 1)");
+    EXPECT_EQ(ask(operator_socket, "CTL effects +fog").rfind("ERROR unknown effect \"fog\"", 0), 0u);
+    tiles.at("b").send(zmq::str_buffer("READY b 41"), zmq::send_flags::none);
+    for (const std::string t : {"a", "b"})
+        EXPECT_EQ(heard(tiles.at(t), 300), (std::vector<std::string>{"EFFECTS 1 42 snow", "GO 41"})) << t;
+    EXPECT_EQ(wall.effects().version, 1u);
+    // b restarted: its report names version 0, so it hears the state again; a's names 1.
+    tiles.at("a").send(zmq::str_buffer("STATUS a live 41 41 60 1 0 0 m 1"), zmq::send_flags::none);
+    tiles.at("b").send(zmq::str_buffer("STATUS b joining 0 41 0 0 0 0 m 0"), zmq::send_flags::none);
+    EXPECT_TRUE(heard(tiles.at("a"), 300).empty());
+    EXPECT_EQ(heard(tiles.at("b"), 300), std::vector<std::string>{"EFFECTS 1 42 snow"});
+    // The dashboard's way in, from another thread.
+    std::string reply;
+    EXPECT_TRUE(wall.change_effects("param snow.fall_speed=2", reply)) << reply;
+    EXPECT_EQ(reply, "OK effects snow from frame 43 (version 2) snow.fall_speed=2");
+}
+
+// On a wall with keys only the operator may switch passes: the master's key or one of
+// operators/; a display machine's key (authorized/) may not.
+TEST(WallControlChannel, OnlyTheOperatorSwitchesPasses) {
+    const std::string master_dir = temp_dir(), display_dir = temp_dir(), operator_dir = temp_dir();
+    std::string error;
+    ASSERT_TRUE(net::write_key_pair(master_dir + "/master", error)) << error;
+    ASSERT_TRUE(net::write_key_pair(display_dir + "/slave", error)) << error;
+    ASSERT_TRUE(net::write_key_pair(operator_dir + "/operator", error)) << error;
+    mkdir((master_dir + "/authorized").c_str(), 0755);
+    mkdir((master_dir + "/operators").c_str(), 0755);
+    for (const std::string& d : {display_dir, operator_dir})
+        std::ofstream(d + "/master.pub") << std::ifstream(master_dir + "/master.pub").rdbuf();
+    std::ofstream(master_dir + "/authorized/display.pub") << std::ifstream(display_dir + "/slave.pub").rdbuf();
+    std::ofstream(master_dir + "/operators/ops.pub") << std::ifstream(operator_dir + "/operator.pub").rdbuf();
+    net::Security display, op;
+    ASSERT_TRUE(net::load_security(display_dir, false, display, error)) << error;
+    ASSERT_TRUE(net::load_security(operator_dir, false, op, error)) << error;
+    ASSERT_TRUE(op.has_operator_pair);
+    setenv("GLCAST_KEYS", master_dir.c_str(), 1);
+    net::use_process_keys(master_dir, false);
+    WallControl wall("tcp://127.0.0.1:47931", {"a"}, false);
+    zmq::context_t context(1);
+    auto peer = [&](net::Security s) {
+        if (s.has_operator_pair) s.client = s.operator_pair, s.has_client_pair = true;
+        auto socket = std::make_unique<zmq::socket_t>(context, zmq::socket_type::dealer);
+        socket->set(zmq::sockopt::linger, 0);
+        net::secure_client(*socket, "tcp://127.0.0.1:47931", s);
+        socket->connect("tcp://127.0.0.1:47931");
+        return socket;
+    };
+    auto display_socket = peer(display), operator_socket = peer(op);
+    EXPECT_EQ(ask(*display_socket, "CTL effects +snow").rfind("ERROR only the wall's operator", 0), 0u);
+    EXPECT_EQ(wall.effects().version, 0u);
+    EXPECT_EQ(ask(*operator_socket, "CTL effects +snow").rfind("OK effects snow", 0), 0u);
+    EXPECT_EQ(wall.effects().version, 1u);
+    display_socket.reset();
+    operator_socket.reset();
+    net::use_process_keys("", false);
+    unsetenv("GLCAST_KEYS");
+}
