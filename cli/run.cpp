@@ -13,6 +13,7 @@
 #include <cstring>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <thread>
 #include <atomic>
@@ -31,6 +32,8 @@
 #include "cli/pose_receiver.h"
 #include "cli/run_session.h"
 #include "cli/wall_control.h"
+#include "cli/wall_status.h"
+#include "cli/dashboard.h"
 #include "common/environment.h"
 #include "net/security.h"
 #include "net/wall_endpoints.h"
@@ -45,7 +48,7 @@ namespace {
 
 struct RunArgs {
     std::string config_path, backend = std::getenv("DISPLAY") ? "window" : "egl", out_dir, endpoint, keys, machine,
-                                     status_json, head_poses, tracker;
+                                     status_json, head_poses, tracker, dashboard;
     uint64_t frames = 0;  // 0: as long as the program runs
     bool lockstep = false, insecure = false;
     int wait_tiles = 10;  // seconds to wait for the tiles of other machines before the program starts
@@ -54,96 +57,12 @@ struct RunArgs {
     std::vector<std::string> effect_args;     // passed on to every slave
 };
 
-// The whole wall in one line, once a second: on a terminal, and as JSON lines to --status-json.
-class StatusView {
-public:
-    StatusView(const WallControl& control, const std::vector<std::pair<std::string, std::string>>& tiles,
-               const std::string& json_path)
-        : control_(control), tiles_(tiles), terminal_(isatty(2)) {
-        if (!json_path.empty()) {
-            json_ = std::fopen(json_path.c_str(), "w");
-            if (!json_) throw std::runtime_error("--status-json " + json_path + ": " + std::strerror(errno));
-        }
-        thread_ = std::thread([this] {
-            while (!stopping_) {
-                std::unique_lock lock(mutex_);
-                wake_.wait_for(lock, std::chrono::seconds(1), [this] { return bool(stopping_); });
-                show();
-            }
-        });
-    }
-    ~StatusView() {
-        stopping_ = true;
-        wake_.notify_all();
-        if (thread_.joinable()) thread_.join();
-        if (terminal_ && shown_) std::fputc('\n', stderr);
-        if (json_) std::fclose(json_);
-    }
-
-private:
-    void show() {
-        const auto status = control_.status();
-        const auto now = std::chrono::steady_clock::now();
-        uint64_t master_frame = 0;
-        double mbps = 0;
-        for (const auto& [name, s] : status) {
-            master_frame = std::max(master_frame, s.master_frame);
-            mbps = std::max(mbps, s.age_seconds >= 0 && s.age_seconds < 3 ? s.mbps : 0.0);
-        }
-        const double dt = std::chrono::duration<double>(now - last_).count();
-        const double fps = last_frame_ && master_frame >= last_frame_ && dt > 0 ? (master_frame - last_frame_) / dt : 0;
-        last_ = now, last_frame_ = master_frame;
-        char line[160];
-        std::snprintf(line, sizeof line, "wall: program frame %" PRIu64 ", %.1f fps, %.2f MB/s", master_frame, fps, mbps);
-        std::string text = line;
-        nlohmann::json tiles = nlohmann::json::array();
-        for (const auto& [name, machine] : tiles_) {
-            auto it = status.find(name);
-            const TileStatus& s = it->second;
-            const bool silent = s.age_seconds < 0 || s.age_seconds > 3;
-            const std::string state = s.dropped ? "dropped" : silent ? (s.age_seconds < 0 ? "absent" : "silent") : s.state;
-            if (state == "live" || state == "joining")
-                std::snprintf(line, sizeof line, " | %s@%s %s%" PRIu64 " %.0ffps lag %" PRId64 " rec %" PRIu64, name.c_str(),
-                              (s.machine.empty() ? machine : s.machine).c_str(), state == "joining" ? "joining " : "f",
-                              s.frame, s.fps, s.lag, s.recoveries);
-            else
-                std::snprintf(line, sizeof line, " | %s@%s %s", name.c_str(), machine.c_str(), state.c_str());
-            text += line;
-            tiles.push_back({{"tile", name}, {"machine", s.machine.empty() ? machine : s.machine}, {"state", state},
-                             {"frame", s.frame}, {"fps", s.fps}, {"mbps", s.mbps}, {"lag", s.lag},
-                             {"recoveries", s.recoveries}, {"age_seconds", s.age_seconds}});
-        }
-        if (terminal_) {
-            std::fprintf(stderr, "\r%s\033[K", text.c_str());
-            shown_ = true;
-        }
-        if (json_) {
-            const nlohmann::json j = {
-                {"time", std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count()},
-                {"program", {{"frame", master_frame}, {"fps", fps}, {"mbps", mbps}}},
-                {"tiles", tiles}};
-            std::fprintf(json_, "%s\n", j.dump().c_str());
-            std::fflush(json_);
-        }
-    }
-
-    const WallControl& control_;
-    std::vector<std::pair<std::string, std::string>> tiles_;  // name, machine
-    bool terminal_;
-    FILE* json_ = nullptr;
-    bool shown_ = false;
-    std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
-    uint64_t last_frame_ = 0;
-    std::atomic<bool> stopping_{false};
-    std::mutex mutex_;
-    std::condition_variable wake_;
-    std::thread thread_;
-};
-
 // The wall as this machine runs it: every tile with its machine, and which are shown here.
 struct WallPlan {
     std::vector<std::pair<std::string, std::string>> tiles;  // name, machine
     std::vector<std::string> local_tiles, remote_tiles;      // "" for the one window without a config
+    std::optional<slave::DisplayConfig> config;
+    slave::effects::EffectsSettings effects;  // what every tile starts with: the command line's and the config's
     bool swap_barrier = false;
     std::string keys, endpoint, tracker;
 };
@@ -151,6 +70,7 @@ struct WallPlan {
 bool plan_wall(const RunArgs& a, const std::string& here, WallPlan& plan) {
     plan.keys = a.keys;
     plan.endpoint = a.endpoint;
+    plan.effects = a.effects;
     if (a.config_path.empty()) {
         plan.tiles.push_back({"window", here});
         plan.local_tiles.push_back("");
@@ -176,6 +96,9 @@ bool plan_wall(const RunArgs& a, const std::string& here, WallPlan& plan) {
     }
     plan.swap_barrier = config.swap_barrier;
     plan.tracker = config.viewer.tracker;
+    for (const std::string& effect : config.effects)
+        if (!plan.effects.enable(effect, error)) return false;  // (checked when the config was loaded)
+    plan.config = config;
     if (plan.keys.empty() && !config.keys.empty()) plan.keys = relative_to(a.config_path, config.keys);
     if (plan.endpoint.empty() && config.master.given) plan.endpoint = "tcp://*:" + std::to_string(config.master.port);
     return true;
@@ -327,6 +250,14 @@ int run(RunArgs& a, const std::vector<std::string>& program) {
             head_for = [&tracker](uint64_t, slave::HeadPose& out) { return tracker->latest(out); };
         }
         WallControl wall(e.control, tile_names, plan.swap_barrier, head_for);
+        wall.set_started_effects(slave::LiveEffects::from(plan.effects));
+        WallStatus view(wall, plan.tiles, a.status_json);
+        std::unique_ptr<Dashboard> dashboard;
+        if (!a.dashboard.empty()) {
+            dashboard = std::make_unique<Dashboard>(a.dashboard, wall, view, wall_layout(plan.config ? &*plan.config : nullptr));
+            std::fprintf(stderr, "glcast run: dashboard on %s%s\n", dashboard->url().c_str(),
+                         dashboard->needs_token() ? " (not loopback: only with this token; keep it to the operators)" : "");
+        }
         // Slaves first: they join through the journal whenever the program starts publishing.
         start_slaves(session, a, plan, e, here);
         const int remote_here = wait_for_remote_tiles(wall, plan.remote_tiles, a.wait_tiles);
@@ -342,7 +273,6 @@ int run(RunArgs& a, const std::vector<std::string>& program) {
         }
         int status = 0, failed = 0;
         {
-            StatusView view(wall, plan.tiles, a.status_json);
             status = run_with_shim(program, env);
             session.end_keeping();  // the keeper ends with the stream now
             // A program that never ran (run_with_shim failed, or execvp exited 127) published nothing:
@@ -411,6 +341,11 @@ Command add_run(CLI::App& glcast) {
         ->type_name("ENDPOINT");
     app->add_option("--status-json", a->status_json, "write the wall's status once a second as JSON lines")
         ->type_name("FILE");
+    app->add_option("--dashboard", a->dashboard,
+                    "serve the wall's dashboard here: its tiles with thumbnails and status, plots, effects\n"
+                    "switched live (docs/wall.md). Loopback needs nothing; another address needs the token\n"
+                    "printed at start")
+        ->type_name("ADDRESS:PORT");
     add_int(*app, "--max-local-slaves", a->max_local_slaves, 1, 256,
             "the most tiles this machine may show, one slave process each (default 16)")
         ->type_name("N");

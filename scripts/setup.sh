@@ -19,6 +19,9 @@ packages=(
   python3-zmq                           # the tracker bridge of docs/immersive.md, played by a test
   iptables                              # scripts/chaos.sh: packet loss on a display machine's link
   help2man lintian man-db               # the package's manual pages, and Debian's checks of it
+  libturbojpeg0-dev                     # the dashboard's thumbnails (common/jpeg.h)
+  libcpp-httplib-dev                    # the dashboard's HTTP server (cli/dashboard.cpp)
+  chromium chromium-driver python3-selenium  # the dashboard's test in a real browser
   # benchmarks
   apitrace xscreensaver-gl-extra        # bench/stream_coding_bench.py: atlantis, sproingies
 )

@@ -1,0 +1,230 @@
+#include "cli/dashboard.h"
+
+#include <httplib.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <random>
+#include <stdexcept>
+
+#include "net/security.h"
+#include "slave/effects/effect_params.h"
+
+namespace glcast::cli {
+
+const std::map<std::string, std::string>& dashboard_files();  // generated: cmake/embed_files.cmake
+
+namespace {
+
+constexpr size_t kMaxRequestBodyBytes = 4096;
+
+double degrees(double radians) { return radians * 180.0 / M_PI; }
+
+// A screen's corners as the viewer sees them: yaw (right positive) and pitch (up positive).
+void screen_angles(const slave::TileView& v, const std::array<double, 3>& eye, double out[4]) {
+    const std::array<double, 3> top_right = {v.top_left[0] + v.bottom_right[0] - v.bottom_left[0],
+                                             v.top_left[1] + v.bottom_right[1] - v.bottom_left[1],
+                                             v.top_left[2] + v.bottom_right[2] - v.bottom_left[2]};
+    out[0] = out[2] = 1e9, out[1] = out[3] = -1e9;  // yaw min, max; pitch min, max
+    for (const auto& c : {v.bottom_left, v.bottom_right, v.top_left, top_right}) {
+        const double x = c[0] - eye[0], y = c[1] - eye[1], z = c[2] - eye[2];
+        const double yaw = degrees(std::atan2(x, -z)), pitch = degrees(std::atan2(y, std::hypot(x, z)));
+        out[0] = std::min(out[0], yaw), out[1] = std::max(out[1], yaw);
+        out[2] = std::min(out[2], pitch), out[3] = std::max(out[3], pitch);
+    }
+}
+
+std::string random_token() {
+    std::random_device device;
+    char hex[33];
+    for (int i = 0; i < 4; i++) std::snprintf(hex + 8 * i, 9, "%08x", unsigned(device()));
+    return hex;
+}
+
+// ADDRESS:PORT, :PORT or PORT.
+void split_address(const std::string& address_port, std::string& host, int& port) {
+    const size_t colon = address_port.rfind(':');
+    host = colon == std::string::npos || colon == 0 ? "127.0.0.1" : address_port.substr(0, colon);
+    if (host.size() > 2 && host.front() == '[' && host.back() == ']') host = host.substr(1, host.size() - 2);
+    const std::string digits = colon == std::string::npos ? address_port : address_port.substr(colon + 1);
+    char* end = nullptr;
+    const long p = std::strtol(digits.c_str(), &end, 10);
+    if (digits.empty() || *end || p < 1 || p > 65535)
+        throw std::runtime_error("--dashboard " + address_port + ": want ADDRESS:PORT (a port of 1 to 65535)");
+    port = int(p);
+}
+
+bool loopback(const std::string& host) {
+    return host == "localhost" || host == "::1" || host.rfind("127.", 0) == 0;
+}
+
+std::string content_type(const std::string& name) {
+    if (name.size() >= 5 && name.compare(name.size() - 5, 5, ".html") == 0) return "text/html; charset=utf-8";
+    if (name.size() >= 4 && name.compare(name.size() - 4, 4, ".css") == 0) return "text/css; charset=utf-8";
+    if (name.size() >= 3 && name.compare(name.size() - 3, 3, ".js") == 0) return "text/javascript; charset=utf-8";
+    return "application/octet-stream";
+}
+
+// The plots' series: one point a second.
+nlohmann::json history_series(const std::vector<nlohmann::json>& history) {
+    nlohmann::json out = {{"time", nlohmann::json::array()}, {"program_fps", nlohmann::json::array()},
+                          {"mbps", nlohmann::json::array()}, {"tiles", nlohmann::json::object()}};
+    for (const nlohmann::json& s : history) {
+        out["time"].push_back(s["time"]);
+        out["program_fps"].push_back(s["program"]["fps"]);
+        out["mbps"].push_back(s["program"]["mbps"]);
+        for (const auto& t : s["tiles"]) {
+            nlohmann::json& series = out["tiles"][t["tile"].get<std::string>()];
+            series["fps"].push_back(t["fps"]);
+            series["lag"].push_back(t["lag"]);
+        }
+    }
+    return out;
+}
+
+nlohmann::json effects_json(const slave::LiveEffects& e) {
+    nlohmann::json on = nlohmann::json::object();
+    const std::string list = "," + e.enabled_list() + ",";
+    for (const std::string& name : slave::effects::known_display_effects())
+        on[name] = list.find("," + name + ",") != std::string::npos;
+    return {{"version", e.version}, {"frame", e.frame}, {"on", on}, {"params", e.params}};
+}
+
+}  // namespace
+
+nlohmann::json wall_layout(const slave::DisplayConfig* config) {
+    nlohmann::json tiles = nlohmann::json::array();
+    if (!config) {
+        tiles.push_back({{"name", "window"}, {"machine", ""}, {"rect", {0, 0, 4, 3}}});
+        return {{"units", "window"}, {"width", 4}, {"height", 3}, {"tiles", tiles}};
+    }
+    const bool views = std::any_of(config->tiles.begin(), config->tiles.end(), [](const auto& t) { return t.view.enabled; });
+    if (!views) {
+        for (const slave::Tile& t : config->tiles)
+            tiles.push_back({{"name", t.name}, {"machine", t.machine}, {"rect", {t.x, t.y, t.width, t.height}}});
+        return {{"name", config->name}, {"units", "pixels"}, {"width", config->canvas_width},
+                {"height", config->canvas_height}, {"tiles", tiles}};
+    }
+    // Unrolled: x is the yaw a tile covers, y the pitch (up is up on the page).
+    double box[4] = {1e9, -1e9, 1e9, -1e9};
+    std::vector<std::array<double, 4>> spans;
+    for (const slave::Tile& t : config->tiles) {
+        double a[4];
+        if (t.view.screen) {
+            screen_angles(t.view, config->viewer.position, a);
+        } else {
+            a[0] = t.view.yaw_deg + t.view.left_deg, a[1] = t.view.yaw_deg + t.view.right_deg;
+            a[2] = t.view.pitch_deg + t.view.bottom_deg, a[3] = t.view.pitch_deg + t.view.top_deg;
+        }
+        spans.push_back({a[0], a[1], a[2], a[3]});
+        box[0] = std::min(box[0], a[0]), box[1] = std::max(box[1], a[1]);
+        box[2] = std::min(box[2], a[2]), box[3] = std::max(box[3], a[3]);
+    }
+    for (size_t i = 0; i < config->tiles.size(); i++) {
+        const slave::Tile& t = config->tiles[i];
+        const auto& a = spans[i];
+        tiles.push_back({{"name", t.name}, {"machine", t.machine},
+                         {"rect", {a[0] - box[0], box[3] - a[3], a[1] - a[0], a[3] - a[2]}},
+                         {"eye", t.eye == slave::TileEye::left ? "left" : t.eye == slave::TileEye::right ? "right" : ""}});
+    }
+    return {{"name", config->name}, {"units", "degrees"}, {"width", box[1] - box[0]}, {"height", box[3] - box[2]},
+            {"tiles", tiles}};
+}
+
+Dashboard::Dashboard(const std::string& address_port, WallControl& control, const WallStatus& status,
+                     nlohmann::json layout)
+    : control_(control), status_(status), layout_(std::move(layout)), server_(std::make_unique<httplib::Server>()) {
+    split_address(address_port, host_, port_);
+    if (!loopback(host_)) token_ = random_token();
+    layout_["effects"] = slave::effects::known_display_effects();
+    nlohmann::json params = nlohmann::json::array();
+    for (const auto& p : slave::effects::all_param_specs())
+        if (!p.text) params.push_back({{"name", p.name}, {"value", p.value}, {"min", p.min}, {"max", p.max}, {"help", p.help}});
+    layout_["params"] = params;
+
+    httplib::Server& s = *server_;
+    s.set_payload_max_length(kMaxRequestBodyBytes);
+    s.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
+        // The page, its style and script say nothing of the wall: served to anyone, so that the
+        // page can load them by plain links; everything under /api/ asks.
+        if (req.path.rfind("/api/", 0) != 0) return httplib::Server::HandlerResponse::Unhandled;
+        const std::string token = req.has_param("token") ? req.get_param_value("token") : "";
+        if (allowed(req.get_header_value("Host"), token)) return httplib::Server::HandlerResponse::Unhandled;
+        res.status = 403;
+        res.set_content(token_.empty() ? "this dashboard answers only to its own address (the Host header)\n"
+                                       : "this dashboard needs the token glcast run printed at its start (?token=...)\n",
+                        "text/plain");
+        return httplib::Server::HandlerResponse::Handled;
+    });
+    auto file = [](const std::string& name) {
+        return [name](const httplib::Request&, httplib::Response& res) {
+            res.set_content(dashboard_files().at(name), content_type(name).c_str());
+            res.set_header("Cache-Control", "no-cache");
+        };
+    };
+    s.Get("/", file("index.html"));
+    for (const auto& [name, text] : dashboard_files()) s.Get("/" + name, file(name));
+    s.Get("/api/wall", [this](const httplib::Request&, httplib::Response& res) {
+        res.set_content(layout_.dump(), "application/json");
+    });
+    s.Get("/api/status", [this](const httplib::Request&, httplib::Response& res) {
+        const nlohmann::json j = {{"latest", status_.latest()},
+                                  {"history", history_series(status_.history())},
+                                  {"effects", effects_json(control_.effects())}};
+        res.set_content(j.dump(), "application/json");
+        res.set_header("Cache-Control", "no-store");
+    });
+    s.Get(R"(/api/thumbnail/([A-Za-z0-9_.-]{1,64}))", [this](const httplib::Request& req, httplib::Response& res) {
+        std::string jpeg;
+        uint64_t frame = 0;
+        if (!control_.thumbnail(req.matches[1], jpeg, frame)) {
+            res.status = 404;
+            res.set_content("no thumbnail of that tile yet\n", "text/plain");
+            return;
+        }
+        res.set_content(jpeg, "image/jpeg");
+        res.set_header("X-Glcast-Frame", std::to_string(frame));
+        res.set_header("Cache-Control", "no-store");
+    });
+    s.Post("/api/ctl", [this](const httplib::Request& req, httplib::Response& res) {
+        if (!req.has_header("X-Glcast-Request")) {  // a form of another site cannot set it
+            res.status = 403;
+            res.set_content("a request that changes the wall needs the header X-Glcast-Request\n", "text/plain");
+            return;
+        }
+        std::string reply;
+        const bool ok = control_.change_effects(req.body, reply);
+        res.status = ok ? 200 : 400;
+        res.set_content(nlohmann::json{{"ok", ok}, {"reply", reply}}.dump(), "application/json");
+    });
+    if (!s.bind_to_port(host_, port_))
+        throw std::runtime_error("--dashboard " + address_port + ": cannot listen there (in use, or not an address of "
+                                 "this machine)");
+    const std::string shown = host_.find(':') != std::string::npos ? "[" + host_ + "]" : host_;
+    url_ = "http://" + shown + ":" + std::to_string(port_) + "/" + (token_.empty() ? "" : "?token=" + token_);
+    thread_ = std::thread([this] { server_->listen_after_bind(); });
+}
+
+Dashboard::~Dashboard() {
+    server_->stop();
+    if (thread_.joinable()) thread_.join();
+}
+
+bool Dashboard::allowed(const std::string& host_header, const std::string& token) const {
+    if (!token_.empty()) return token.size() == token_.size() && token == token_;
+    // Loopback: only requests that name this server (a page of another site resolved to
+    // 127.0.0.1 names its own host).
+    std::string host = host_header;
+    if (!host.empty() && host[0] == '[') {
+        const size_t end = host.find(']');
+        host = end == std::string::npos ? std::string() : host.substr(1, end - 1);
+    } else if (const size_t colon = host.find(':'); colon != std::string::npos) {
+        host = host.substr(0, colon);
+    }
+    return loopback(host);
+}
+
+}  // namespace glcast::cli
