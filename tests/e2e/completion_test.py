@@ -39,6 +39,9 @@ def main():
     check(complete(["run", "--effects", "s"]), ["snow", "shadows"], "effects")
     check(complete(["run", "--effects", "snow,co"]), ["snow,cover"], "the last of a list of effects")
     check(complete(["replay", "x.glcs", "--effect-param", "cover.dens"]), ["cover.density="], "effect parameters")
+    check(complete(["ctl", "ipc:///run/wall", ""]), ["effects", "param"], "ctl's requests")
+    check(complete(["ctl", "ipc:///run/wall", "effects", "+snow", "-s"]), ["-snow", "-shadows"], "ctl's effects")
+    check(complete(["ctl", "--keys", "k", "ipc:///run/wall", "param", "snow.fall"]), ["snow.fall_speed="], "ctl's parameters")
     program = complete(["run", "--", "glxgear"])  # after "--": commands (mesa-utils is installed by the setup)
     print(f"the program: {program}")
     if "glxgears" not in program:
