@@ -101,7 +101,7 @@ function plot(canvas, series, unit) {
   g.clearRect(0, 0, W, H);
   let top = 1, points = 0;
   for (const s of series) for (const v of s.values) top = Math.max(top, v);
-  top = Math.ceil(top * 1.1);
+  top = Math.max(4, Math.ceil(top * 1.1));  // whole numbers on the axis
   g.strokeStyle = '#2c333d';
   g.fillStyle = '#8b949e';
   g.font = '11px sans-serif';
