@@ -210,6 +210,9 @@ Command add_replay(CLI::App& glcast) {
     add_ints(*app, "--tile-rect", 4, 0, 65536, "X,Y,W,H", a->tile_rect,
              "show one rectangle of the canvas (pixels from the top left), as one tile of a wall does");
     add_effect_options(*app, a->opt.effects);
+    app->add_flag("--live-effects", a->opt.effects.live,
+                  "follow the scene as a wall's slave does, ready for passes switched while the program\n"
+                  "runs (glcast ctl): to measure what that costs (docs/performance.md)");
     app->add_option("--scene-report", a->opt.scene_report_dir,
                     "with --effects: write what the passes took each frame of --frames for into DIR\n"
                     "(its depth, its view, the program's pixels kept; slave/scene_report.h)")
