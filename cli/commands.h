@@ -34,5 +34,6 @@ Command add_keygen(CLI::App& glcast);   // cli/keygen.cpp
 Command add_doctor(CLI::App& glcast);   // cli/doctor.cpp
 Command add_config(CLI::App& glcast);   // cli/config.cpp
 Command add_ctl(CLI::App& glcast);      // cli/ctl.cpp
+Command add_calibrate(CLI::App& glcast);  // cli/calibrate.cpp
 
 }  // namespace glcast::cli

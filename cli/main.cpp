@@ -70,7 +70,7 @@ int main(int argc, char** argv) {
 
     const std::vector<Command> commands = {add_capture(app), add_dump(app),  add_replay(app), add_run(app),
                                            add_slave(app),   add_image(app), add_effects(app), add_trim(app), add_keeper(app), add_record(app),
-                                           add_keygen(app), add_doctor(app), add_config(app), add_ctl(app)};
+                                           add_keygen(app), add_doctor(app), add_config(app), add_ctl(app), add_calibrate(app)};
     CLI::App* help = app.add_subcommand("help", "this text, or a command's options");
     std::string topic;
     help->add_option("COMMAND", topic, "the command");

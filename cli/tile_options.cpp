@@ -2,7 +2,10 @@
 
 #include <cstdio>
 
+#include "cli/paths.h"
 #include "display_configs/display_config.h"
+#include "display_configs/mpcdi.h"
+#include "display_configs/projector_maps.h"
 #include "slave/stereo.h"
 
 namespace glcast::cli {
@@ -24,6 +27,23 @@ bool tile_options(const std::string& path, const std::string& name, ReplayOption
         if (!options.effects.enable(effect, error)) return false;
     for (const auto& [param, value] : config.effect_params)
         if (!options.effects.params.has(param) && !options.effects.params.set(param, value, error)) return false;
+    if (!tile->warp.empty() || !tile->blend.empty() || !tile->mpcdi.empty()) {
+        auto maps = std::make_shared<ProjectorMaps>();
+        const bool loaded = tile->mpcdi.empty()
+                                ? load_plain_maps(tile->warp.empty() ? "" : relative_to(path, tile->warp),
+                                                  tile->blend.empty() ? "" : relative_to(path, tile->blend), *maps, error)
+                                : load_mpcdi_region(relative_to(path, tile->mpcdi), tile->region,
+                                                    BufferRect{double(tile->x) / config.canvas_width,
+                                                               double(tile->y) / config.canvas_height,
+                                                               double(tile->width) / config.canvas_width,
+                                                               double(tile->height) / config.canvas_height},
+                                                    *maps, error);
+        if (!loaded) {
+            error = path + ": tile " + name + ": " + error;
+            return false;
+        }
+        options.projector = maps;
+    }
     TileMapping& m = options.tile;
     if (config.program_projection.given) {  // shader programs: for rotated tiles and for effects
         options.view.program_fov_y_deg = config.program_projection.fov_y_deg;

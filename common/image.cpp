@@ -149,13 +149,12 @@ bool write_png(const std::string& path, const Image& image, std::string& error) 
     return true;
 }
 
-bool read_png(const std::string& path, Image& image, std::string& error) {
+namespace {
+
+// read_png's work on an open file (a file, or bytes in memory); `path` names it in messages.
+bool read_png_from(std::FILE* f, const std::string& path, Image& image, std::string& error) {
     File file;
-    file.f = std::fopen(path.c_str(), "rb");
-    if (!file.f) {
-        error = "read_png " + path + ": " + std::strerror(errno);
-        return false;
-    }
+    file.f = f;
     unsigned char signature[8];
     if (std::fread(signature, 1, 8, file.f) != 8 || png_sig_cmp(signature, 0, 8) != 0) {
         error = "read_png " + path + ": not a PNG file";
@@ -188,6 +187,26 @@ bool read_png(const std::string& path, Image& image, std::string& error) {
     image.height = height;
     image.rgba = std::move(pixels);
     return true;
+}
+
+}  // namespace
+
+bool read_png(const std::string& path, Image& image, std::string& error) {
+    std::FILE* f = std::fopen(path.c_str(), "rb");
+    if (!f) {
+        error = "read_png " + path + ": " + std::strerror(errno);
+        return false;
+    }
+    return read_png_from(f, path, image, error);
+}
+
+bool read_png_bytes(const std::string& bytes, const std::string& name, Image& image, std::string& error) {
+    std::FILE* f = bytes.empty() ? nullptr : fmemopen(const_cast<char*>(bytes.data()), bytes.size(), "rb");
+    if (!f) {
+        error = "read_png " + name + ": " + (bytes.empty() ? "empty" : std::strerror(errno));
+        return false;
+    }
+    return read_png_from(f, name, image, error);
 }
 
 ImageDiff compare(const Image& a, const Image& b) {

@@ -21,6 +21,8 @@ bool write_png(const std::string& path, const Image& image, std::string& error);
 // (alpha 255 where the file has none, or from a tRNS chunk). Palette and 1/2/4/16-bit files are
 // refused with an error saying so; corrupt or truncated files give an error, never a crash.
 bool read_png(const std::string& path, Image& image, std::string& error);
+// The same from bytes in memory (an entry of an archive); `name` names them in messages.
+bool read_png_bytes(const std::string& bytes, const std::string& name, Image& image, std::string& error);
 
 struct ImageDiff {
     int64_t differing_pixels = 0;  // pixels where any channel differs

@@ -186,7 +186,8 @@ const char* const kRootKeys[] = {"name", "description", "canvas", "tiles", "swap
 const char* const kMasterKeys[] = {"address", "port"};
 const char* const kProjectionKeys[] = {"fov_y", "near", "far"};
 const char* const kCanvasKeys[] = {"width", "height"};
-const char* const kTileKeys[] = {"name", "x", "y", "width", "height", "view", "screen", "eye", "stereo", "machine"};
+const char* const kTileKeys[] = {"name", "x", "y", "width", "height", "view", "screen", "eye", "stereo", "machine",
+                                 "warp", "blend", "mpcdi", "region"};
 const char* const kViewKeys[] = {"yaw", "pitch", "roll", "left", "right", "bottom", "top"};
 
 
@@ -215,6 +216,26 @@ bool parse_view(Validator& check, const json& v, const std::string& path, TileVi
     return true;
 }
 
+// "warp" and "blend" (files), or "mpcdi" (a file) with "region" (an id in it).
+bool parse_projector_maps(Validator& check, const json& v, const std::string& path, Tile& tile) {
+    struct Field {
+        const char* key;
+        std::string* value;
+    } fields[] = {{"warp", &tile.warp}, {"blend", &tile.blend}, {"mpcdi", &tile.mpcdi}, {"region", &tile.region}};
+    for (const Field& f : fields) {
+        auto it = v.find(f.key);
+        if (it == v.end()) continue;
+        if (!it->is_string() || it->get<std::string>().empty() || it->get<std::string>().size() > 4096)
+            return check.fail(join_key(path, f.key), "must be a file name (a non-empty string), got " + describe(*it));
+        *f.value = it->get<std::string>();
+    }
+    if (!tile.mpcdi.empty() && (!tile.warp.empty() || !tile.blend.empty()))
+        return check.fail(path, "has \"mpcdi\" and \"warp\" or \"blend\": the MPCDI file holds both, give one");
+    if (tile.mpcdi.empty() != tile.region.empty())
+        return check.fail(path, "\"mpcdi\" and \"region\" come together (the region of the file this tile shows)");
+    return true;
+}
+
 // x and y of view tiles may be omitted: then the tile sits right of the previous one, at y 0.
 bool parse_tile(Validator& check, const json& v, const std::string& path, int next_x, Tile& tile) {
     if (!v.is_object()) return check.fail(path, "must be an object, got " + describe(v));
@@ -232,6 +253,7 @@ bool parse_tile(Validator& check, const json& v, const std::string& path, int ne
     if (view != v.end() && !parse_view(check, *view, join_key(path, "view"), tile.view)) return false;
     if (screen != v.end() && !parse_screen(check, *screen, join_key(path, "screen"), tile.view)) return false;
     if (!parse_tile_eyes(check, v, path, tile)) return false;
+    if (!parse_projector_maps(check, v, path, tile)) return false;
     bool planar = !tile.view.enabled, has_x = false, has_y = false;
     if (!check.int_field(v, path, "x", planar, 0, tile.x, &has_x) || !check.int_field(v, path, "y", planar, 0, tile.y, &has_y) ||
         !check.int_field(v, path, "width", true, 1, tile.width) || !check.int_field(v, path, "height", true, 1, tile.height))

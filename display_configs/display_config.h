@@ -43,6 +43,9 @@ struct Tile {
     TileView view;
     TileEye eye = TileEye::centre;
     Stereo stereo = Stereo::none;
+    // A projector's warp and blend (docs/projectors.md), paths as the config gives them (relative
+    // to its folder): the plain pair, or one region of an MPCDI file.
+    std::string warp, blend, mpcdi, region;
 };
 
 // Where the viewer's eyes are when no tracker says otherwise ("viewer", docs/immersive.md).

@@ -31,6 +31,10 @@ Replayer::Replayer(std::unique_ptr<Backend> backend, ReplayOptions options)
         effects_ = std::make_unique<EffectsRunner>(*this, *tile_);
         add_observer(effects_.get());
     }
+    if (options_.projector && options_.projector->any()) {  // after the passes: the last step
+        projector_ = std::make_unique<ProjectorWarp>(*this, options_.projector);
+        add_observer(projector_.get());
+    }
     if (options_.verify) {
         verifier_ = std::make_unique<Verifier>(*this);
         add_observer(verifier_.get());

@@ -36,6 +36,7 @@
 #include "slave/backend.h"
 #include "slave/effects/effect_params.h"
 #include "slave/name_map.h"
+#include "slave/projector_warp.h"
 #include "slave/replay_observer.h"
 #include "slave/scratch_memory.h"
 #include "slave/tile_mapping.h"
@@ -61,6 +62,7 @@ struct ReplayOptions {
     Viewer viewer;                  // an immersive wall's viewer: view.eye is its eye
     StereoMode stereo = StereoMode::none;  // both eyes in one output: replayed by a StereoPair
     effects::EffectsSettings effects;  // injected passes run before each present (docs/effects.md)
+    std::shared_ptr<const ProjectorMaps> projector;  // a projector's warp and blend, last before present
     ReplayLimits limits;
     std::string scene_report_dir;  // write what the passes took each frame for here (scene_report.h)
 };
@@ -216,6 +218,7 @@ private:
     std::unique_ptr<WindowSystem> window_system_;
     std::unique_ptr<TileAdapter> tile_;
     std::unique_ptr<EffectsRunner> effects_;
+    std::unique_ptr<ProjectorWarp> projector_;
     std::unique_ptr<Verifier> verifier_;
     std::vector<ReplayObserver*> observers_;
     std::vector<uint8_t> interest_;       // by opcode

@@ -35,7 +35,7 @@ OPTIONS = {
     ("keeper",): ["--connect", "--journal", "--bind", "--backend", "--wait", "--verbose"],
     ("record",): ["--connect", "--journal", "--keeper", "-o", "--output", "--start-frame", "--frames", "--wait"],
 }
-COMMANDS = ["capture", "dump", "replay", "run", "slave", "image", "effects", "trim", "keeper", "record", "doctor", "config", "ctl", "help"]
+COMMANDS = ["capture", "dump", "replay", "run", "slave", "image", "effects", "trim", "keeper", "record", "doctor", "config", "ctl", "calibrate", "help"]
 
 # (arguments, the option the one-line message must name); all exit 2
 BAD_VALUES = [

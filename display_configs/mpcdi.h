@@ -1,0 +1,41 @@
+// VESA MPCDI files (docs/projectors.md, "MPCDI"): a zip (libzip) of an XML description
+// (tinyxml2) with a PFM warp and PNG alpha and beta maps per region. glcast reads the 2D media
+// profile: a region's warp gives, per node, the position in the buffer (the wall's canvas,
+// normalized, (0,0) its top left) that the projector shows there; glcast shows a region as the
+// tile of the canvas rectangle the display config gives it. Every archive is untrusted: entry
+// count, names, sizes and compression ratios, XML depth, map sizes and values are checked first.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "slave/projector_warp.h"
+
+namespace glcast::slave {
+
+constexpr size_t kMaxMpcdiEntries = 256;
+constexpr uint64_t kMaxMpcdiEntryBytes = 512ull << 20;  // one entry, uncompressed
+constexpr uint64_t kMaxMpcdiRatio = 1000;               // uncompressed / compressed of one entry
+
+// Where a tile's rendered image lies in the buffer, normalized (the tile's canvas rectangle).
+struct BufferRect {
+    double x = 0, y = 0, width = 1, height = 1;
+};
+
+// The maps of region `region` of an MPCDI file, its warp moved from buffer to tile coordinates.
+// False with `error` naming the file, the entry or element, and what is wrong.
+bool load_mpcdi_region(const std::string& path, const std::string& region, const BufferRect& tile, ProjectorMaps& out,
+                       std::string& error);
+
+// What glcast calibrate writes: one buffer, a region per projector with its warp (buffer
+// coordinates) and alpha map. `files` are (entry name, bytes); the XML is made here.
+struct MpcdiRegionOut {
+    std::string id;
+    int width = 0, height = 0;  // the projector's resolution
+    BufferRect rect;            // where its tile lies in the buffer
+    std::string warp_entry, alpha_entry;
+};
+bool write_mpcdi(const std::string& path, int buffer_width, int buffer_height, const std::vector<MpcdiRegionOut>& regions,
+                 const std::vector<std::pair<std::string, std::string>>& files, std::string& error);
+
+}  // namespace glcast::slave

@@ -1,0 +1,268 @@
+#!/usr/bin/env python3
+"""Projector walls (docs/projectors.md): warp and blend from glcast calibrate, as the plain pair
+and as MPCDI, replayed and thrown back onto the surface; and crafted map files refused.
+
+    projectors_test.py CASE      with GLCAST in the environment
+
+cylinder: three overlapping projectors on a 120-degree cylinder section; ff_scene (fixed
+  function) and core_scene (GL 3.3 core) from the committed captures, each tile's warped and
+  blended output unrolled by `glcast calibrate --simulate` against one replay of the canvas.
+dome: four projectors on a dome, the canvas a dome master; ff_scene.
+mpcdi: the cylinder written as one MPCDI file, loaded by the slave: the same reconstruction, and
+  the same pictures as the plain pair (within a float's rounding). Then a file written by hand from the standard's description loads.
+crafted: bad files are refused with a message naming the file, the entry and what is wrong.
+
+Each unrolled pixel is the mean of 4x4 canvas points: the tiles render, and the projectors throw
+light, at four times the resolution the picture is compared at (docs/projectors.md: a warp
+resamples twice, the tile into the projector and the projector onto the surface, and each blurs
+an edge by about a pixel). Mean difference at most 2 levels, at most 1% of pixels more than 8
+levels off; the projectors' blend sums to 1 within 2% at all but 0.1% of the points.
+"""
+import json
+import os
+import re
+import shutil
+import struct
+import subprocess
+import sys
+import zipfile
+
+GLCAST = os.environ["GLCAST"]
+ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
+DATA = os.path.join(ROOT, "tests", "data")
+OUT = os.path.join(os.environ.get("OUT_DIR", "/tmp/glcast-e2e"), "projectors")
+FRAME = 2  # the committed captures hold frames 0..2
+SCALE = 4
+
+PROJECTOR = {"position": [0, 0.3, 1], "left": -24, "right": 24, "down": -17, "up": 17}
+CYLINDER = {"name": "cylinder-3", "canvas_width": 3840,
+            "surface": {"kind": "cylinder", "radius": 5, "azimuth": [-60, 60], "height": [-1.4, 1.4]},
+            "projectors": [dict(PROJECTOR, name=f"p{i + 1}", yaw=yaw) for i, yaw in enumerate([-40, 0, 40])]}
+DOME = {"name": "dome-4", "canvas_width": 2048, "surface": {"kind": "dome", "radius": 5},
+        "projectors": [{"name": f"d{i + 1}", "position": [0, 0, 0], "yaw": yaw, "pitch": 45,
+                        "left": -47, "right": 47, "down": -33, "up": 33} for i, yaw in enumerate([0, 90, 180, 270])]}
+
+
+def check(cond, msg):
+    if not cond:
+        raise AssertionError(msg)
+
+
+def run(cmd, timeout=600):
+    r = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
+    return r
+
+
+def must(cmd):
+    r = run(cmd)
+    check(r.returncode == 0, f"{' '.join(cmd)}: exit {r.returncode}\n{r.stdout}\n{r.stderr[-3000:]}")
+    return r.stdout + r.stderr
+
+
+def installation(spec, folder, fmt="plain"):
+    os.makedirs(folder, exist_ok=True)
+    path = os.path.join(folder, "spec.json")
+    json.dump(spec, open(path, "w"))
+    must([GLCAST, "calibrate", path, "--out", os.path.join(folder, "maps"), "--format", fmt])
+    return path, os.path.join(folder, "maps", "wall.json")
+
+
+def reconstruct(spec_path, wall, capture, folder):
+    """Each tile's frame through its warp and blend, thrown onto the surface and unrolled."""
+    config = json.load(open(wall))
+    outputs = os.path.join(folder, "outputs")
+    os.makedirs(outputs, exist_ok=True)
+    for tile in config["tiles"]:
+        out = os.path.join(folder, "tiles", tile["name"])
+        must([GLCAST, "replay", capture, "--backend", "egl", "--config", wall, "--tile", tile["name"],
+              "--frames", str(FRAME), "--out", out])
+        shutil.copy(os.path.join(out, "frame-%06d.png" % FRAME), os.path.join(outputs, tile["name"] + ".png"))
+    w, h = config["canvas"]["width"], config["canvas"]["height"]
+    canvas = os.path.join(folder, "canvas")
+    must([GLCAST, "replay", capture, "--backend", "egl", "--canvas", f"{w}x{h}", "--tile-rect", f"0,0,{w},{h}",
+          "--frames", str(FRAME), "--out", canvas])
+    text = must([GLCAST, "calibrate", spec_path, "--simulate", wall, "--outputs", outputs, "--image",
+                 os.path.join(folder, "unrolled.png"), "--reference", os.path.join(canvas, "frame-%06d.png" % FRAME),
+                 "--scale", str(SCALE)])
+    m = re.search(r"mean difference ([\d.]+) levels, ([\d.]+)% of pixels more than 8 levels off", text)
+    b = re.search(r"(\d+) pixels lit whole; of (\d+) canvas points lit, (\d+) by more than one projector; "
+                  r"blend sum: (\d+) points more than 2% off 1", text)
+    check(m and b, f"simulate said: {text}")
+    mean, far = float(m.group(1)), float(m.group(2))
+    whole, points, overlap, off = (int(b.group(i)) for i in range(1, 5))
+    print(f"{folder}: mean {mean}, {far}% > 8 levels, {overlap} of {points} points overlapped, {off} blend points off")
+    check(whole > 0.5 * (w // SCALE) * (h // SCALE) * (0.7 if "dome" in folder else 1),
+          f"only {whole} unrolled pixels lit whole")
+    check(overlap > 0.05 * points, f"the projectors hardly overlap ({overlap} of {points} points)")
+    check(mean <= 2.0, f"mean difference {mean} levels (at most 2)")
+    check(far <= 1.0, f"{far}% of pixels more than 8 levels off (at most 1%)")
+    check(off <= 0.001 * points, f"the blend sums more than 2% off 1 at {off} of {points} points")
+    return os.path.join(folder, "unrolled.png")
+
+
+def cylinder():
+    spec, wall = installation(CYLINDER, os.path.join(OUT, "cylinder"))
+    for program in ("ff_scene", "core_scene"):
+        reconstruct(spec, wall, os.path.join(DATA, program + ".glcs"), os.path.join(OUT, "cylinder", program))
+
+
+def dome():
+    spec, wall = installation(DOME, os.path.join(OUT, "dome"))
+    reconstruct(spec, wall, os.path.join(DATA, "ff_scene.glcs"), os.path.join(OUT, "dome", "ff_scene"))
+
+
+def same_png_pixels(a, b):
+    # MPCDI stores canvas positions, the plain pair tile positions: a float's rounding apart.
+    r = run([GLCAST, "image", "compare", a, b])
+    m = re.search(r"(\d+) pixels differ, max channel difference (\d+)", r.stdout)
+    return m and int(m.group(2)) <= 2
+
+
+def pfm(width, height, values):
+    return b"PF\n%d %d\n-1.0\n" % (width, height) + struct.pack("<%df" % len(values), *values)
+
+
+def png_grey(width, height, level):
+    import zlib
+    raw = b"".join(b"\x00" + bytes([level]) * width for _ in range(height))
+    chunk = lambda kind, body: struct.pack(">I", len(body)) + kind + body + struct.pack(">I", zlib.crc32(kind + body))
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 0, 0, 0, 0)) +
+            chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b""))
+
+
+HAND_XML = """<?xml version="1.0" encoding="utf-8"?>
+<MPCDI profile="2d" geometry="1" color="1" version="1.0">
+  <display>
+    <buffer id="main" Xresolution="64" Yresolution="32">
+      <region id="left" Xresolution="32" Yresolution="32" x="0" y="0" xsize="0.5" ysize="1"/>
+    </buffer>
+  </display>
+  <files>
+    <fileset region="left">
+      <geometryWarpFile>
+        <path>left.pfm</path>
+        <interpolation>linear</interpolation>
+        <componentDepth>3</componentDepth>
+        <bitDepth>32</bitDepth>
+        <xres>2</xres>
+        <yres>2</yres>
+      </geometryWarpFile>
+      <alphaMap>
+        <path>left_alpha.png</path>
+        <componentDepth>1</componentDepth>
+        <bitDepth>8</bitDepth>
+        <gammaEmbedded>2.2</gammaEmbedded>
+      </alphaMap>
+    </fileset>
+  </files>
+</MPCDI>
+"""
+# The identity over the left half of the buffer, rows bottom to top: (0,1) (0.5,1) then (0,0) (0.5,0).
+HAND_WARP = [0, 1, 0, 0.5, 1, 0, 0, 0, 0, 0.5, 0, 0]
+HAND_CONFIG = {"name": "hand", "canvas": {"width": 64, "height": 32},
+               "tiles": [{"name": "left", "x": 0, "y": 0, "width": 32, "height": 32, "mpcdi": "hand.mpcdi",
+                          "region": "left"}]}
+
+
+def write_zip(path, entries, compression=zipfile.ZIP_DEFLATED):
+    with zipfile.ZipFile(path, "w", compression) as z:
+        for name, data in entries.items():
+            z.writestr(name, data)
+
+
+def mpcdi():
+    folder = os.path.join(OUT, "mpcdi")
+    spec, wall = installation(CYLINDER, folder, "mpcdi")
+    check(json.load(open(wall))["tiles"][0]["mpcdi"] == "cylinder-3.mpcdi", "the config names the MPCDI file")
+    names = zipfile.ZipFile(os.path.join(folder, "maps", "cylinder-3.mpcdi")).namelist()
+    check("mpcdi.xml" in names and "p1_warp.pfm" in names and "p1_blend.png" in names, f"entries: {names}")
+    reconstruct(spec, wall, os.path.join(DATA, "ff_scene.glcs"), os.path.join(folder, "ff_scene"))
+    plain_spec, plain_wall = installation(CYLINDER, os.path.join(folder, "plain"))
+    reconstruct(plain_spec, plain_wall, os.path.join(DATA, "ff_scene.glcs"), os.path.join(folder, "plain", "ff_scene"))
+    plain = os.path.join(folder, "plain", "ff_scene", "outputs")
+    for p in ("p1", "p2", "p3"):
+        check(same_png_pixels(os.path.join(plain, p + ".png"), os.path.join(folder, "ff_scene", "outputs", p + ".png")),
+              f"{p}: MPCDI and the plain pair give different pictures")
+    # Written by hand from the standard's description (2D media profile, level 1).
+    hand = os.path.join(folder, "hand")
+    os.makedirs(hand, exist_ok=True)
+    write_zip(os.path.join(hand, "hand.mpcdi"), {"mpcdi.xml": HAND_XML, "left.pfm": pfm(2, 2, HAND_WARP),
+                                                 "left_alpha.png": png_grey(32, 32, 255)})
+    json.dump(HAND_CONFIG, open(os.path.join(hand, "wall.json"), "w"))
+    must([GLCAST, "replay", os.path.join(DATA, "ff_scene.glcs"), "--backend", "egl", "--config",
+          os.path.join(hand, "wall.json"), "--tile", "left", "--frames", str(FRAME), "--out", os.path.join(hand, "out")])
+    # An identity warp and a full alpha: the tile's own picture.
+    plain_config = dict(HAND_CONFIG, tiles=[{k: v for k, v in HAND_CONFIG["tiles"][0].items() if k not in ("mpcdi", "region")}])
+    json.dump(plain_config, open(os.path.join(hand, "plain.json"), "w"))
+    must([GLCAST, "replay", os.path.join(DATA, "ff_scene.glcs"), "--backend", "egl", "--config",
+          os.path.join(hand, "plain.json"), "--tile", "left", "--frames", str(FRAME), "--out", os.path.join(hand, "ref")])
+    r = run([GLCAST, "image", "compare", os.path.join(hand, "out", "frame-%06d.png" % FRAME),
+             os.path.join(hand, "ref", "frame-%06d.png" % FRAME)])
+    m = re.search(r"(\d+) pixels differ, max channel difference (\d+)", r.stdout)
+    check(m and int(m.group(2)) <= 2, f"the hand-written identity warp changed the picture: {r.stdout}")
+
+
+def crafted():
+    folder = os.path.join(OUT, "crafted")
+    shutil.rmtree(folder, ignore_errors=True)
+    os.makedirs(folder)
+    good = {"mpcdi.xml": HAND_XML, "left.pfm": pfm(2, 2, HAND_WARP), "left_alpha.png": png_grey(32, 32, 255)}
+    nan = float("nan")
+    cases = {
+        "bad XML": (dict(good, **{"mpcdi.xml": HAND_XML.replace("</files>", "</filez>")}), r"mpcdi\.xml: .*line"),
+        "no mpcdi.xml": ({k: v for k, v in good.items() if k != "mpcdi.xml"}, r"no mpcdi\.xml in the archive"),
+        "missing warp": ({k: v for k, v in good.items() if k != "left.pfm"}, r"no entry \"left\.pfm\""),
+        "missing alpha": ({k: v for k, v in good.items() if k != "left_alpha.png"}, r"no entry \"left_alpha\.png\""),
+        "map of the wrong size": (dict(good, **{"left_alpha.png": png_grey(64, 32, 255)}),
+                                  r"left_alpha\.png: a alphaMap of 64x32 for a region of 32x32"),
+        "warp of the wrong size": (dict(good, **{"left.pfm": pfm(3, 2, HAND_WARP + [0] * 6)}),
+                                   r"left\.pfm: the warp is 3x2 nodes, not the xres and yres"),
+        "dot-dot path": (dict(good, **{"mpcdi.xml": HAND_XML.replace("<path>left.pfm", "<path>../left.pfm")}),
+                         r"leaves the archive"),
+        "dot-dot entry": (dict(good, **{"../../evil.pfm": b"x"}), r"entry \"\.\./\.\./evil\.pfm\": a name that leaves"),
+        "NaN warp is allowed, 1e30 is not": (dict(good, **{"left.pfm": pfm(2, 2, [nan, nan, 0] + HAND_WARP[3:9] + [1e30, 0, 0])}),
+                                             r"left\.pfm: warp node \(1, 0\) has u = 1e\+30"),
+        "infinite warp": (dict(good, **{"left.pfm": pfm(2, 2, [float("inf")] + HAND_WARP[1:])}), r"warp node \(0, 1\) has u = inf"),
+        "huge PFM header": (dict(good, **{"left.pfm": b"PF\n100000 100000\n-1.0\n" + b"\0" * 48}),
+                            r"left\.pfm: a PFM of 100000x100000: each side must be 1 to 16384"),
+        "PFM shorter than its header": (dict(good, **{"left.pfm": b"PF\n2 2\n-1.0\n" + b"\0" * 20}),
+                                        r"the PFM header says 2x2x3 floats \(48 bytes\), the file holds 20"),
+        "zip bomb": (dict(good, **{"bomb.png": b"\0" * (100 << 20)}), r"bomb\.png: compressed \d+ to 1"),
+        "unknown region": (dict(good, **{"mpcdi.xml": HAND_XML.replace('region id="left"', 'region id="right"')}),
+                           r"no region \"left\" \(regions: right\)"),
+        "3D profile": (dict(good, **{"mpcdi.xml": HAND_XML.replace('profile="2d"', 'profile="3d"')}),
+                       r"profile \"3d\": glcast reads the 2D media profile"),
+        "deep XML": (dict(good, **{"mpcdi.xml": HAND_XML.replace("<files>", "<x>" * 200 + "</x>" * 200 + "<files>")}),
+                     r"mpcdi\.xml: .*nesting is too deep"),
+    }
+    for name, (entries, message) in cases.items():
+        case = os.path.join(folder, re.sub(r"\W+", "_", name))
+        os.makedirs(case)
+        write_zip(os.path.join(case, "hand.mpcdi"), entries)
+        json.dump(HAND_CONFIG, open(os.path.join(case, "wall.json"), "w"))
+        r = run([GLCAST, "replay", os.path.join(DATA, "ff_scene.glcs"), "--backend", "egl", "--config",
+                 os.path.join(case, "wall.json"), "--tile", "left", "--frames", "1", "--out", os.path.join(case, "out")])
+        check(r.returncode != 0 and r.returncode < 128, f"{name}: exit {r.returncode} (want a refusal)\n{r.stderr[-1500:]}")
+        check(re.search(message, r.stderr) and "hand.mpcdi" in r.stderr,
+              f"{name}: the message does not say /{message}/ and name the file:\n{r.stderr[-1500:]}")
+        print(f"crafted {name}: {r.stderr.strip().splitlines()[-1]}")
+    # Not a zip at all, and a plain pair that is not what it says.
+    case = os.path.join(folder, "not_a_zip")
+    os.makedirs(case)
+    open(os.path.join(case, "hand.mpcdi"), "w").write("<MPCDI/>")
+    json.dump(HAND_CONFIG, open(os.path.join(case, "wall.json"), "w"))
+    r = run([GLCAST, "replay", os.path.join(DATA, "ff_scene.glcs"), "--backend", "egl", "--config",
+             os.path.join(case, "wall.json"), "--tile", "left", "--frames", "1"])
+    check(r.returncode == 1 and "not a readable MPCDI archive" in r.stderr, f"not a zip: {r.stderr[-800:]}")
+    open(os.path.join(case, "w.pfm"), "wb").write(pfm(2, 2, HAND_WARP)[:-4])
+    json.dump({"name": "p", "canvas": {"width": 64, "height": 32},
+               "tiles": [{"name": "left", "x": 0, "y": 0, "width": 32, "height": 32, "warp": "w.pfm"}]},
+              open(os.path.join(case, "plain.json"), "w"))
+    r = run([GLCAST, "replay", os.path.join(DATA, "ff_scene.glcs"), "--backend", "egl", "--config",
+             os.path.join(case, "plain.json"), "--tile", "left", "--frames", "1"])
+    check(r.returncode == 1 and "w.pfm: the PFM header says 2x2x3 floats" in r.stderr, f"short plain PFM: {r.stderr[-800:]}")
+
+
+if __name__ == "__main__":
+    {"cylinder": cylinder, "dome": dome, "mpcdi": mpcdi, "crafted": crafted}[sys.argv[1]]()
+    print("projectors: ok")
