@@ -1,7 +1,9 @@
 // A projector tile's last step before present (docs/projectors.md): the frame, passes and all,
-// is copied from the window into a texture and drawn back warped and blended: each output pixel
-// samples the tile's rendered image where the warp says, with filtering, and is multiplied by the
-// blend (alpha) and lifted by the black level (beta). The maps come from the display config
+// is copied from the window into a texture and drawn back warped and blended: the warp's nodes
+// are the vertices of a mesh over the output (two triangles a cell, as warping engines draw
+// them: a texture lookup per pixel of float nodes costs llvmpipe four times the frame), each
+// carrying its source position; each output pixel samples the tile's rendered image there with
+// filtering, times the blend (alpha), lifted by the black level (beta). The maps come from the display config
 // (display_configs/projector_maps.h, display_configs/mpcdi.h).
 #pragma once
 
@@ -44,7 +46,8 @@ class ProjectorWarp : public ReplayObserver {
 public:
     ProjectorWarp(Replayer& core, std::shared_ptr<const ProjectorMaps> maps);
     ~ProjectorWarp() override;
-    bool wants(uint32_t, const CommandInfo*) const override { return false; }
+    bool wants(uint32_t opcode, const CommandInfo* info) const override;
+    void before_call(const Call& c, const uint8_t* tuple, size_t bytes) override;
     void end_frame(SlaveContext& ctx) override;
     void presented(SlaveContext& ctx) override;
     void reset() override;

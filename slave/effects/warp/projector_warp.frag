@@ -1,34 +1,23 @@
 // A projector's output (slave/projector_warp.h): the frame sampled where the warp says, times
 // the blend, lifted by the black level.
-in vec2 uv;  // 0..1 over the output, (0,0) its bottom left
+in vec2 source_pos;  // u right, v down, (0,0) the top left of the tile's image
+in vec2 out_pos;     // 0..1 over the output, (0,0) its top left, as the maps have it
 out vec4 colour;
 
 uniform sampler2D source;  // the frame as the window held it (GL's rows: bottom to top)
-uniform sampler2D warp;    // RG: source position per node (u right, v down), rows top to bottom
-uniform sampler2D alpha;   // RGB, rows top to bottom, stretched over the output
-uniform sampler2D beta;
-uniform vec2 warp_nodes;   // the warp grid's width and height in nodes
-uniform bool has_warp, has_alpha, has_beta;
+uniform sampler2D alpha;   // RGB, rows top to bottom, stretched over the output (HAS_ALPHA)
+uniform sampler2D beta;    // (HAS_BETA)
 
 void main() {
-    vec2 out_pos = vec2(uv.x, 1.0 - uv.y);  // (0,0) top left, as the maps have it
-    vec3 c;
-    if (has_warp) {
-        // Node i sits at i / (n - 1) across the output, and at the centre of texel i: the linear
-        // filter then interpolates bilinearly between nodes (a NaN node gives NaN around it).
-        vec2 s = texture(warp, (out_pos * (warp_nodes - 1.0) + 0.5) / warp_nodes).rg;
-        if (isnan(s.x) || isnan(s.y) || s.x < 0.0 || s.y < 0.0 || s.x > 1.0 || s.y > 1.0) {
-            colour = vec4(0.0, 0.0, 0.0, 1.0);
-            return;
-        }
-        c = texture(source, vec2(s.x, 1.0 - s.y)).rgb;
-    } else {
-        c = texture(source, uv).rgb;
-    }
-    if (has_alpha) c *= texture(alpha, out_pos).rgb;
-    if (has_beta) {
-        vec3 b = texture(beta, out_pos).rgb;
-        c = b + c * (1.0 - b);  // black lifted to the level, white kept
-    }
+    // Outside the tile's image: no light.
+    vec2 inside = step(vec2(0.0), source_pos) * step(source_pos, vec2(1.0));
+    vec3 c = texture(source, vec2(source_pos.x, 1.0 - source_pos.y)).rgb * (inside.x * inside.y);
+#ifdef HAS_ALPHA
+    c *= texture(alpha, out_pos).rgb;
+#endif
+#ifdef HAS_BETA
+    vec3 b = texture(beta, out_pos).rgb;
+    c = b + c * (1.0 - b);  // black lifted to the level, white kept
+#endif
     colour = vec4(c, 1.0);
 }
