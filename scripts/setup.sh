@@ -22,6 +22,7 @@ packages=(
   libturbojpeg0-dev                     # the dashboard's thumbnails (common/jpeg.h)
   libcpp-httplib-dev                    # the dashboard's HTTP server (cli/dashboard.cpp)
   chromium chromium-driver python3-selenium  # the dashboard's test in a real browser
+  libzip-dev libtinyxml2-dev            # MPCDI files: the zip and its XML (display_configs/mpcdi.h)
   # benchmarks
   apitrace xscreensaver-gl-extra        # bench/stream_coding_bench.py: atlantis, sproingies
 )

@@ -659,3 +659,19 @@ TEST(DisplayConfigMachines, MachineMasterAndKeys) {
               "wall.json: master.prot: unknown key (did you mea");
     EXPECT_EQ(error_of(planar(tile, R"(, "keys": 5)")), "wall.json: keys: must be the path of a folder of keys, got 5");
 }
+
+TEST(DisplayConfigErrors, ProjectorMapsComeAsThePlainPairOrOneMpcdiRegion) {
+    expect_contains(error_of(planar(R"({"name": "b", "x": 640, "y": 0, "width": 640, "height": 480, "warp": "w.pfm",
+                                         "mpcdi": "m.mpcdi", "region": "b"})")),
+                    "has \"mpcdi\" and \"warp\" or \"blend\": the MPCDI file holds both, give one");
+    expect_contains(error_of(planar(R"({"name": "b", "x": 640, "y": 0, "width": 640, "height": 480, "region": "b"})")),
+                    "\"mpcdi\" and \"region\" come together");
+    expect_contains(error_of(planar(R"({"name": "b", "x": 640, "y": 0, "width": 640, "height": 480, "blend": 3})")),
+                    "tiles[1].blend: must be a file name (a non-empty string), got 3");
+    DisplayConfig c;
+    std::string error;
+    ASSERT_TRUE(parse_display_config(planar(R"({"name": "b", "x": 640, "y": 0, "width": 640, "height": 480,
+                                                "warp": "b.pfm", "blend": "b.png"})"), "wall.json", c, error)) << error;
+    EXPECT_EQ(c.tiles[1].warp, "b.pfm");
+    EXPECT_EQ(c.tiles[1].blend, "b.png");
+}
