@@ -298,7 +298,7 @@ TEST(DisplayConfigErrors, TopLevelMustBeAnObject) {
 
 TEST(DisplayConfigErrors, UnknownKeysAreNamed) {
     EXPECT_EQ(error_of(planar(R"({"name": "b", "x": 640, "y": 0, "widht": 640, "height": 480})")),
-              "wall.json: tiles[1].widht: unknown key (did you mean \"width\"? known keys: name, x, y, width, height, view, screen, eye, stereo, machine)");
+              "wall.json: tiles[1].widht: unknown key (did you mean \"width\"? known keys: name, x, y, width, height, view, screen, eye, stereo, machine, warp, blend, mpcdi, region)");
     expect_contains(error_of(planar(R"({"name": "b", "x": 640, "y": 0, "width": 640, "height": 480})", R"(, "efects": [])")),
                     "wall.json: efects: unknown key (did you mean \"effects\"?");
     expect_contains(error_of(viewed(R"({"yaw": 1, "fov": 60})")), "wall.json: tiles[0].view.fov: unknown key (known keys: yaw,");
