@@ -263,6 +263,34 @@ def crafted():
     check(r.returncode == 1 and "w.pfm: the PFM header says 2x2x3 floats" in r.stderr, f"short plain PFM: {r.stderr[-800:]}")
 
 
+def trails():
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    from png import read_png
+    from xvfb import Xvfb
+    folder = os.path.join(OUT, "trails")
+    shutil.rmtree(folder, ignore_errors=True)
+    os.makedirs(folder)
+    capture = os.path.join(folder, "trails.glcs")
+    with Xvfb():
+        must([GLCAST, "capture", "-o", capture, "--", os.path.join(os.environ["APPS_DIR"], "trails"), "--frames", "30"])
+    # u' = 1 - u: the tile's picture mirrored left to right, output pixel x showing pixel W-1-x.
+    open(os.path.join(folder, "mirror.pfm"), "wb").write(pfm(2, 2, [1, 1, 0, 0, 1, 0, 1, 0, 0, 0, 0, 0]))
+    json.dump({"name": "mirror", "canvas": {"width": 320, "height": 240},
+               "tiles": [{"name": "m", "x": 0, "y": 0, "width": 320, "height": 240, "warp": "mirror.pfm"}]},
+              open(os.path.join(folder, "wall.json"), "w"))
+    must([GLCAST, "replay", capture, "--backend", "egl", "--config", os.path.join(folder, "wall.json"), "--tile", "m",
+          "--out", os.path.join(folder, "mirrored")])
+    must([GLCAST, "replay", capture, "--backend", "egl", "--out", os.path.join(folder, "plain")])
+    for n in range(30):
+        w1, h1, a = read_png(os.path.join(folder, "mirrored", "frame-%06d.png" % n))
+        w2, h2, b = read_png(os.path.join(folder, "plain", "frame-%06d.png" % n))
+        check((w1, h1) == (w2, h2) == (320, 240), f"frame {n}: sizes {w1}x{h1}, {w2}x{h2}")
+        wrong = sum(1 for y in range(h1) for x in range(w1)
+                    if any(abs(p - q) > 1 for p, q in zip(a[y][x], b[y][w1 - 1 - x])))
+        check(wrong == 0, f"frame {n}: {wrong} pixels are not the mirror of the program's own frame")
+    print("trails: 30 frames, each the mirror of the program's")
+
+
 if __name__ == "__main__":
-    {"cylinder": cylinder, "dome": dome, "mpcdi": mpcdi, "crafted": crafted}[sys.argv[1]]()
+    {"cylinder": cylinder, "dome": dome, "mpcdi": mpcdi, "crafted": crafted, "trails": trails}[sys.argv[1]]()
     print("projectors: ok")
