@@ -24,6 +24,15 @@ constexpr double kCatchUpMinBytesPerSecond = 1 << 20;
 // The master's journal answers from the program's memory at once: this long a silence means it
 // is gone (the program ended while a slave was catching up), however long --wait is.
 constexpr int kJournalSilenceSeconds = 10;
+// A keeper answers a plain SNAPSHOT at its live edge, from memory; one that says nothing for this
+// long is rebuilding its state (restarted) or gone: the journal instead.
+constexpr int kKeeperSilenceSeconds = 10;
+
+// A peer that said nothing for the time it was given.
+class PeerSilent : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
 
 }  // namespace
 
@@ -186,7 +195,7 @@ void NetworkSource::receive_parts(zmq::socket_t& dealer, const std::string& peer
         if (!(item.revents & ZMQ_POLLIN)) {
             check_refused();  // the stream's handshake fails with the same key as this one's
             if (now > silent_until)
-                throw std::runtime_error(peer + " did not answer within " + std::to_string(silence_seconds) + " s");
+                throw PeerSilent(peer + " did not answer within " + std::to_string(silence_seconds) + " s");
             continue;
         }
         zmq::message_t part;
@@ -270,7 +279,10 @@ NetworkSource::State NetworkSource::fetch_state(const std::string& endpoint) {
     bool header = false;
     early_.clear();
     early_bytes_ = 0;
-    receive_parts(dealer, "the keeper at " + endpoint, wait_seconds_, [&](zmq::message_t& part) {
+    // (asked for a later frame it waits for that frame: the whole --wait)
+    const int silence = keeper_frame_ || wait_seconds_ <= 0 ? wait_seconds_ : std::min(wait_seconds_, kKeeperSilenceSeconds);
+    try {
+    receive_parts(dealer, "the keeper at " + endpoint, silence, [&](zmq::message_t& part) {
         if (!header) {  // "STATE <sequence> <frame>", or "NONE <why>"
             const std::string text = part.size() <= 256 ? part.to_string() : std::string();
             if (text.rfind("NONE", 0) == 0) throw KeeperNotReady("the keeper at " + endpoint + ": " + text.substr(5));
@@ -290,6 +302,10 @@ NetworkSource::State NetworkSource::fetch_state(const std::string& endpoint) {
         state.messages.emplace_back(part.data<uint8_t>(), part.data<uint8_t>() + part.size());
         return true;
     }, /*keep_live=*/true);
+    } catch (const PeerSilent& e) {
+        if (keeper_frame_ || header) throw;  // (silent in the middle of its answer: a broken keeper)
+        throw KeeperNotReady(e.what());
+    }
     return state;
 }
 

@@ -251,3 +251,33 @@ TEST(HostilePeer, AJournalThatNeverAnswersIsGivenUpOnBeforeTheWait) {
     EXPECT_NE(error.find("did not answer within 10 s"), std::string::npos) << error;
     EXPECT_LT(seconds, 20.0);
 }
+
+// A keeper that takes the request and never answers (one restarted and still rebuilding the
+// state from the stream's start: the hour-long chaos run, docs/reliability.md): the slave waited
+// the whole --wait and gave up, so no restarted tile joined again. The keeper answers a plain
+// SNAPSHOT at its live edge, from memory: after 10 s of silence the slave catches up from the
+// journal instead, as it does when a keeper says it has nothing yet.
+TEST(HostilePeer, ASilentKeeperIsLeftForTheJournal) {
+    const std::string base = "ipc:///tmp/glcast-silent-keeper-" + std::to_string(getpid());
+    LyingJournalMaster master(base + "-stream", base + "-journal");
+    zmq::context_t context(1);
+    zmq::socket_t keeper(context, zmq::socket_type::router);  // takes requests, answers none
+    keeper.set(zmq::sockopt::linger, 0);
+    keeper.bind(base + "-keeper");
+    const auto start = std::chrono::steady_clock::now();
+    std::string error;
+    uint64_t first = UINT64_MAX;
+    try {
+        slave::NetworkSource source(base + "-stream", base + "-journal", 60, base + "-keeper");
+        Message m;
+        if (source.next(m)) first = m.header.sequence;
+    } catch (const std::exception& e) {
+        error = e.what();
+    }
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::printf("joined after %.1f s at message %llu%s%s\n", seconds, (unsigned long long)first, error.empty() ? "" : ": ",
+                error.c_str());
+    EXPECT_TRUE(error.empty()) << error;
+    EXPECT_EQ(first, 0u);  // the journal's whole stream, from its first message
+    EXPECT_LT(seconds, 20.0);
+}
