@@ -37,7 +37,7 @@ bool tile_options(const std::string& path, const std::string& name, ReplayOption
                                                                double(tile->y) / config.canvas_height,
                                                                double(tile->width) / config.canvas_width,
                                                                double(tile->height) / config.canvas_height},
-                                                    *maps, error);
+                                                    *maps, error, &tile->view);
         if (!loaded) {
             error = path + ": tile " + name + ": " + error;
             return false;

@@ -13,6 +13,7 @@
 #include <memory>
 
 #include "display_configs/projector_maps.h"
+#include "display_configs/projector_model.h"
 
 namespace glcast::slave {
 
@@ -148,10 +149,81 @@ bool positive_int(const char* text, int& out) {
     return true;
 }
 
+// 3D profile: the region's frustum, which the tile's view must be.
+bool frustum_is_view(const tinyxml2::XMLElement* region, const TileView* view, const std::string& where, std::string& error) {
+    const tinyxml2::XMLElement* f = region->FirstChildElement("frustum");
+    if (!f) {
+        error = where + "a region of the 3D profile needs its <frustum>";
+        return false;
+    }
+    struct Angle {
+        const char* element;
+        double view_value;
+    } angles[] = {{"yaw", view ? view->yaw_deg : 0},          {"pitch", view ? view->pitch_deg : 0},
+                  {"roll", view ? view->roll_deg : 0},        {"leftAngle", view ? view->left_deg : 0},
+                  {"rightAngle", view ? view->right_deg : 0}, {"downAngle", view ? view->bottom_deg : 0},
+                  {"upAngle", view ? view->top_deg : 0}};
+    std::string frustum;
+    bool same = view && view->enabled && !view->screen;
+    for (const Angle& a : angles) {
+        const char* text = text_of(f, a.element);
+        char* end = nullptr;
+        const double v = text ? std::strtod(text, &end) : NAN;
+        if (!text || *end || !std::isfinite(v)) {
+            error = where + "the frustum's <" + a.element + "> is not a number";
+            return false;
+        }
+        char part[64];
+        std::snprintf(part, sizeof part, "%s%s %g", frustum.empty() ? "" : ", ", a.element, v);
+        frustum += part;
+        same = same && std::fabs(v - a.view_value) < 1e-3;
+    }
+    if (!same) {
+        error = where + "a region of the 3D profile is rendered from its frustum (" + frustum +
+                "): give the tile a \"view\" of those angles (yaw, pitch, roll, left, right, bottom, top)";
+        return false;
+    }
+    if (const tinyxml2::XMLElement* c = region->FirstChildElement("coordinateFrame")) {
+        // The points' axes: glcast's (x right, y up, -z ahead) is yaw (0,-1,0), pitch (1,0,0), roll (0,0,-1).
+        const char* names[9] = {"yawx", "yawy", "yawz", "pitchx", "pitchy", "pitchz", "rollx", "rolly", "rollz"};
+        const double want[9] = {0, -1, 0, 1, 0, 0, 0, 0, -1};
+        for (int i = 0; i < 9; i++) {
+            const char* text = text_of(c, names[i]);
+            if (text && std::fabs(std::strtod(text, nullptr) - want[i]) > 1e-6) {
+                error = where + "a <coordinateFrame> other than x right, y up, z towards the viewer is not supported";
+                return false;
+            }
+        }
+    }
+    return true;
+}
+
+// 3D profile: each node's screen point (relative to the eye) projected through the view into
+// the tile's image, in place (u, v, 0); behind the eye or not finite: NaN (black).
+bool points_to_warp(FloatImage& pfm, const TileView& view, const std::string& name, std::string& error) {
+    if (pfm.channels != 3) {
+        error = name + ": a warp of the 3D profile holds 3D points (PF, 3 channels)";
+        return false;
+    }
+    const glm::dmat3 to_view = glm::transpose(view_rotation(view.yaw_deg, view.pitch_deg, view.roll_deg));
+    const double tl = std::tan(view.left_deg * M_PI / 180), tr = std::tan(view.right_deg * M_PI / 180),
+                 tb = std::tan(view.bottom_deg * M_PI / 180), tt = std::tan(view.top_deg * M_PI / 180);
+    for (size_t i = 0; i < pfm.values.size(); i += 3) {
+        float* p = &pfm.values[i];
+        const glm::dvec3 local = to_view * glm::dvec3(p[0], p[1], p[2]);
+        const bool seen = std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]) && local.z < 0;
+        const double x = seen ? local.x / -local.z : 0, y = seen ? local.y / -local.z : 0;
+        p[0] = seen ? float((x - tl) / (tr - tl)) : NAN;
+        p[1] = seen ? float((tt - y) / (tt - tb)) : NAN;
+        p[2] = 0;
+    }
+    return true;
+}
+
 }  // namespace
 
 bool load_mpcdi_region(const std::string& path, const std::string& region, const BufferRect& tile, ProjectorMaps& out,
-                       std::string& error) {
+                       std::string& error, const TileView* view) {
     Archive archive;
     if (!archive.open(path, error)) return false;
     std::string xml_name = archive.has("mpcdi.xml") ? "mpcdi.xml" : "";
@@ -176,11 +248,12 @@ bool load_mpcdi_region(const std::string& path, const std::string& region, const
     }
     const char* profile = root->Attribute("profile");
     const std::string where = path + ": mpcdi.xml: ";
-    if (!profile || std::string(profile) != "2d") {
-        error = where + "profile \"" + (profile ? profile : "") + "\": glcast reads the 2D media profile (\"2d\"); "
-                "the 3D simulation (\"3d\"), advanced 3D (\"a3\") and shader lamps (\"sl\") profiles are not supported";
+    if (!profile || (std::string(profile) != "2d" && std::string(profile) != "3d")) {
+        error = where + "profile \"" + (profile ? profile : "") + "\": glcast reads the 2D media (\"2d\") and 3D "
+                "simulation (\"3d\") profiles; advanced 3D (\"a3\") and shader lamps (\"sl\") are not supported";
         return false;
     }
+    const bool three_d = std::string(profile) == "3d";
     // The region: in display/buffer/region.
     const tinyxml2::XMLElement* found = nullptr;
     std::string known;
@@ -204,6 +277,7 @@ bool load_mpcdi_region(const std::string& path, const std::string& region, const
                 std::to_string(kMaxMapSide);
         return false;
     }
+    if (three_d && !frustum_is_view(found, view, where + "region " + region + ": ", error)) return false;
     // Its files: files/fileset region="ID" (some writers put the fileset inside the region).
     const tinyxml2::XMLElement* fileset = nullptr;
     const tinyxml2::XMLElement* files = root->FirstChildElement("files");
@@ -233,9 +307,10 @@ bool load_mpcdi_region(const std::string& path, const std::string& region, const
             error = where + "region " + region + ": the warp's path \"" + entry + "\" leaves the archive";
             return false;
         }
-        if (!archive.read(entry, bytes, error) || !read_pfm_bytes(bytes, path + ": " + entry, pfm, error) ||
-            !warp_from_pfm(pfm, path + ": " + entry, m.warp, error))
+        if (!archive.read(entry, bytes, error) || !read_pfm_bytes(bytes, path + ": " + entry, pfm, error))
             return false;
+        if (three_d && !points_to_warp(pfm, *view, path + ": " + entry, error)) return false;
+        if (!warp_from_pfm(pfm, path + ": " + entry, m.warp, error)) return false;
         int declared = 0;
         if ((text_of(g, "xres") && (!positive_int(text_of(g, "xres"), declared) || declared != pfm.width)) ||
             (text_of(g, "yres") && (!positive_int(text_of(g, "yres"), declared) || declared != pfm.height))) {
@@ -244,7 +319,7 @@ bool load_mpcdi_region(const std::string& path, const std::string& region, const
             return false;
         }
         // From buffer coordinates to the tile's rendered image.
-        for (size_t i = 0; i < m.warp.uv.size(); i += 2) {
+        for (size_t i = 0; !three_d && i < m.warp.uv.size(); i += 2) {
             m.warp.uv[i] = float((m.warp.uv[i] - tile.x) / tile.width);
             m.warp.uv[i + 1] = float((m.warp.uv[i + 1] - tile.y) / tile.height);
         }

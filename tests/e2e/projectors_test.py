@@ -10,6 +10,8 @@ cylinder: three overlapping projectors on a 120-degree cylinder section; ff_scen
 dome: four projectors on a dome, the canvas a dome master; ff_scene.
 mpcdi: the cylinder written as one MPCDI file, loaded by the slave: the same reconstruction, and
   the same pictures as the plain pair (within a float's rounding). Then a file written by hand from the standard's description loads.
+mpcdi3d: the 3D simulation profile: screen points through the region's frustum, on a view tile of
+  that frustum; a tile of another view is refused.
 crafted: bad files are refused with a message naming the file, the entry and what is wrong.
 
 Each unrolled pixel is the mean of 4x4 canvas points: the tiles render, and the projectors throw
@@ -19,6 +21,7 @@ an edge by about a pixel). Mean difference at most 2 levels, at most 1% of pixel
 levels off; the projectors' blend sums to 1 within 2% at all but 0.1% of the points.
 """
 import json
+import math
 import os
 import re
 import shutil
@@ -202,6 +205,45 @@ def mpcdi():
     check(m and int(m.group(2)) <= 2, f"the hand-written identity warp changed the picture: {r.stdout}")
 
 
+HAND_3D_XML = HAND_XML.replace('profile="2d"', 'profile="3d"').replace(
+    '<region id="left" Xresolution="32" Yresolution="32" x="0" y="0" xsize="0.5" ysize="1"/>',
+    '<region id="left" Xresolution="32" Yresolution="32" x="0" y="0" xsize="1" ysize="1">'
+    '<frustum><yaw>0</yaw><pitch>0</pitch><roll>0</roll><leftAngle>-30</leftAngle><rightAngle>30</rightAngle>'
+    '<downAngle>-20</downAngle><upAngle>20</upAngle></frustum></region>')
+VIEW = {"yaw": 0, "pitch": 0, "roll": 0, "left": -30, "right": 30, "bottom": -20, "top": 20}
+
+
+def three_d():
+    """The 3D simulation profile: the warp's nodes are screen points; the region's frustum corners
+    on a plane 2 m ahead are the identity on a view tile of that frustum."""
+    folder = os.path.join(OUT, "mpcdi3d")
+    shutil.rmtree(folder, ignore_errors=True)
+    os.makedirs(folder)
+    tx, ty = 2 * math.tan(math.radians(30)), 2 * math.tan(math.radians(20))
+    corners = [-tx, -ty, -2, tx, -ty, -2, -tx, ty, -2, tx, ty, -2]  # rows bottom to top, as PFM stores them
+    write_zip(os.path.join(folder, "screen.mpcdi"), {"mpcdi.xml": HAND_3D_XML, "left.pfm": pfm(2, 2, corners),
+                                                     "left_alpha.png": png_grey(32, 32, 255)})
+    tile = {"name": "left", "width": 320, "height": 240, "view": VIEW}
+    for name, extra in (("3d.json", {"mpcdi": "screen.mpcdi", "region": "left"}), ("view.json", {})):
+        json.dump({"name": "three-d", "tiles": [dict(tile, **extra)]}, open(os.path.join(folder, name), "w"))
+    for name in ("3d", "view"):
+        must([GLCAST, "replay", os.path.join(DATA, "ff_scene.glcs"), "--backend", "egl", "--config",
+              os.path.join(folder, name + ".json"), "--tile", "left", "--frames", str(FRAME), "--out",
+              os.path.join(folder, name)])
+    r = run([GLCAST, "image", "compare", os.path.join(folder, "3d", "frame-%06d.png" % FRAME),
+             os.path.join(folder, "view", "frame-%06d.png" % FRAME)])
+    m = re.search(r"(\d+) pixels differ, max channel difference (\d+)", r.stdout)
+    check(m and int(m.group(2)) <= 2, f"the 3D profile's identity warp changed the view: {r.stdout}")
+    # A tile whose view is not the region's frustum is refused, saying which angles it wants.
+    json.dump({"name": "three-d", "tiles": [dict(tile, view=dict(VIEW, yaw=10), mpcdi="screen.mpcdi", region="left")]},
+              open(os.path.join(folder, "other.json"), "w"))
+    r = run([GLCAST, "replay", os.path.join(DATA, "ff_scene.glcs"), "--backend", "egl", "--config",
+             os.path.join(folder, "other.json"), "--tile", "left", "--frames", "1"])
+    check(r.returncode == 1 and "is rendered from its frustum (yaw 0, pitch 0, roll 0, leftAngle -30" in r.stderr,
+          f"a view other than the frustum: {r.stderr[-800:]}")
+    print("mpcdi 3d: the frustum's corners are the identity on its view tile")
+
+
 def crafted():
     folder = os.path.join(OUT, "crafted")
     shutil.rmtree(folder, ignore_errors=True)
@@ -230,8 +272,10 @@ def crafted():
         "zip bomb": (dict(good, **{"bomb.png": b"\0" * (100 << 20)}), r"bomb\.png: compressed \d+ to 1"),
         "unknown region": (dict(good, **{"mpcdi.xml": HAND_XML.replace('region id="left"', 'region id="right"')}),
                            r"no region \"left\" \(regions: right\)"),
-        "3D profile": (dict(good, **{"mpcdi.xml": HAND_XML.replace('profile="2d"', 'profile="3d"')}),
-                       r"profile \"3d\": glcast reads the 2D media profile"),
+        "3D profile without a frustum": (dict(good, **{"mpcdi.xml": HAND_XML.replace('profile="2d"', 'profile="3d"')}),
+                                         r"region left: a region of the 3D profile needs its <frustum>"),
+        "advanced 3D profile": (dict(good, **{"mpcdi.xml": HAND_XML.replace('profile="2d"', 'profile="a3"')}),
+                                r"profile \"a3\": .*advanced 3D \(\"a3\"\) and shader lamps \(\"sl\"\) are not supported"),
         "deep XML": (dict(good, **{"mpcdi.xml": HAND_XML.replace("<files>", "<x>" * 200 + "</x>" * 200 + "<files>")}),
                      r"mpcdi\.xml: .*nesting is too deep"),
     }
@@ -292,5 +336,6 @@ def trails():
 
 
 if __name__ == "__main__":
-    {"cylinder": cylinder, "dome": dome, "mpcdi": mpcdi, "crafted": crafted, "trails": trails}[sys.argv[1]]()
+    {"cylinder": cylinder, "dome": dome, "mpcdi": mpcdi, "mpcdi3d": three_d, "crafted": crafted,
+     "trails": trails}[sys.argv[1]]()
     print("projectors: ok")
