@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <memory>
 
@@ -15,6 +16,7 @@
 #include "cli/options.h"
 #include "cli/paths.h"
 #include "common/image.h"
+#include "display_configs/config_check.h"
 #include "display_configs/display_config.h"
 #include "display_configs/mpcdi.h"
 #include "display_configs/projector_maps.h"
@@ -23,6 +25,9 @@
 namespace glcast::cli {
 
 using namespace glcast::slave;
+using slave::config_check::FileProblem;
+using slave::config_check::Validator;
+using slave::config_check::read_regular_file;
 using nlohmann::json;
 
 namespace {
@@ -55,11 +60,30 @@ void pair_of(const json& j, const char* key, double& a, double& b, const std::st
     a = j[key][0], b = j[key][1];
 }
 
+const char* const kSpecKeys[] = {"name", "canvas_width", "node_spacing", "surface", "projectors"};
+const char* const kSurfaceKeys[] = {"kind", "radius", "distance", "azimuth", "height", "x", "y"};
+const char* const kProjectorKeys[] = {"name", "position", "yaw", "pitch", "roll", "left", "right", "down", "up"};
+
+// Read as a display config is (at most 1 MiB, a regular file), every key known: a misspelt one
+// would otherwise leave its default in place unseen.
 Spec read_spec(const std::string& path) {
-    std::ifstream in(path);
-    if (!in) throw std::runtime_error(path + ": cannot be read");
-    json j = json::parse(in, nullptr, false);
+    std::string text, file_kind, error;
+    int error_number = 0;
+    if (read_regular_file(path, kMaxDisplayConfigBytes, text, error_number, file_kind) != FileProblem::none)
+        throw std::runtime_error(path + ": cannot be read as a file of at most 1 MiB" +
+                                 (error_number ? std::string(": ") + std::strerror(error_number) : std::string()));
+    json j = json::parse(text, nullptr, false);
     if (j.is_discarded() || !j.is_object()) throw std::runtime_error(path + ": not a JSON object");
+    Validator check(path, error);
+    const bool known = check.check_keys(j, "", kSpecKeys) &&
+                       (!j.contains("surface") || !j["surface"].is_object() ||
+                        check.check_keys(j["surface"], "surface", kSurfaceKeys));
+    if (!known) throw std::runtime_error(error);
+    if (j.contains("projectors") && j["projectors"].is_array())
+        for (size_t i = 0; i < j["projectors"].size() && i < 64; i++)
+            if (j["projectors"][i].is_object() &&
+                !check.check_keys(j["projectors"][i], "projectors[" + std::to_string(i) + "]", kProjectorKeys))
+                throw std::runtime_error(error);
     Spec s;
     if (j.contains("name") && j["name"].is_string()) s.name = j["name"];
     const json& surface = j.value("surface", json::object());
@@ -183,21 +207,6 @@ double sample_blend(const BlendMap& b, double x, double y) {  // x, y: 0..1 over
     const double fx = px - x0, fy = py - y0;
     auto at = [&](int i, int j) { return double(b.rgb[(size_t(j) * b.width + i) * 3]); };
     return (at(x0, y0) * (1 - fx) + at(x1, y0) * fx) * (1 - fy) + (at(x0, y1) * (1 - fx) + at(x1, y1) * fx) * fy;
-}
-
-Image scaled_down(const Image& in, int k) {  // each k x k block's mean
-    Image out;
-    out.width = in.width / k, out.height = in.height / k;
-    out.rgba.assign(size_t(out.width) * out.height * 4, 255);
-    for (int y = 0; y < out.height; y++)
-        for (int x = 0; x < out.width; x++)
-            for (int c = 0; c < 3; c++) {
-                int sum = 0;
-                for (int j = 0; j < k; j++)
-                    for (int i = 0; i < k; i++) sum += in.rgba[(size_t(y * k + j) * in.width + x * k + i) * 4 + c];
-                out.rgba[(size_t(y) * out.width + x) * 4 + c] = uint8_t((sum + k * k / 2) / (k * k));
-            }
-    return out;
 }
 
 int simulate(const CalibrateArgs& a) {

@@ -209,6 +209,25 @@ bool read_png_bytes(const std::string& bytes, const std::string& name, Image& im
     return read_png_from(f, name, image, error);
 }
 
+Image scaled_down(const Image& in, int factor) {
+    if (factor <= 1) return in;
+    Image out;
+    out.width = std::max(1, in.width / factor), out.height = std::max(1, in.height / factor);
+    out.rgba.resize(size_t(out.width) * out.height * 4);
+    for (int y = 0; y < out.height; y++)
+        for (int x = 0; x < out.width; x++) {
+            unsigned sum[4] = {0, 0, 0, 0}, n = 0;
+            for (int dy = 0; dy < factor && y * factor + dy < in.height; dy++)
+                for (int dx = 0; dx < factor && x * factor + dx < in.width; dx++, n++) {
+                    const uint8_t* p = &in.rgba[(size_t(y * factor + dy) * in.width + x * factor + dx) * 4];
+                    for (int c = 0; c < 4; c++) sum[c] += p[c];
+                }
+            uint8_t* q = &out.rgba[(size_t(y) * out.width + x) * 4];
+            for (int c = 0; c < 4; c++) q[c] = uint8_t((sum[c] + n / 2) / std::max(1u, n));
+        }
+    return out;
+}
+
 ImageDiff compare(const Image& a, const Image& b) {
     ImageDiff diff;
     if (a.width != b.width || a.height != b.height || a.rgba.size() != b.rgba.size() ||

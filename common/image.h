@@ -24,6 +24,10 @@ bool read_png(const std::string& path, Image& image, std::string& error);
 // The same from bytes in memory (an entry of an archive); `name` names them in messages.
 bool read_png_bytes(const std::string& bytes, const std::string& name, Image& image, std::string& error);
 
+// Each factor x factor block's mean, rounded (a partial block at the right or bottom edge is
+// dropped): a thumbnail, or a picture compared at a coarser resolution. factor 1: a copy.
+Image scaled_down(const Image& in, int factor);
+
 struct ImageDiff {
     int64_t differing_pixels = 0;  // pixels where any channel differs
     int max_channel_diff = 0;      // largest |a - b| over all channels of all pixels

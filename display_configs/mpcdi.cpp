@@ -339,7 +339,7 @@ bool load_mpcdi_region(const std::string& path, const std::string& region, const
             return false;
         }
         std::string bytes;
-        if (!archive.read(entry, bytes, error) || !blend_from_png(bytes, path + ": " + entry, 1.0, *me.map, error))
+        if (!archive.read(entry, bytes, error) || !blend_from_png(bytes, path + ": " + entry, *me.map, error))
             return false;
         if (me.map->width > width || me.map->height > height) {
             error = path + ": " + entry + ": a " + me.element + " of " + std::to_string(me.map->width) + "x" +

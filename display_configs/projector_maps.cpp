@@ -165,7 +165,7 @@ bool warp_from_pfm(const FloatImage& pfm, const std::string& name, WarpMap& out,
     return true;
 }
 
-bool blend_from_png(const std::string& bytes, const std::string& name, double gamma, BlendMap& out, std::string& error) {
+bool blend_from_png(const std::string& bytes, const std::string& name, BlendMap& out, std::string& error) {
     Image image;
     if (!read_png_bytes(bytes, name, image, error)) return false;
     if (image.width > kMaxMapSide || image.height > kMaxMapSide) {
@@ -173,15 +173,11 @@ bool blend_from_png(const std::string& bytes, const std::string& name, double ga
                 ": each side must be at most " + std::to_string(kMaxMapSide);
         return false;
     }
-    if (!(gamma > 0 && gamma < 10)) {
-        error = name + ": a gamma of " + std::to_string(gamma) + " (want 0 to 10)";
-        return false;
-    }
     BlendMap b;
     b.width = image.width, b.height = image.height;
     b.rgb.resize(size_t(b.width) * b.height * 3);
     for (size_t i = 0; i < size_t(b.width) * b.height; i++)
-        for (int c = 0; c < 3; c++) b.rgb[i * 3 + c] = float(std::pow(image.rgba[i * 4 + c] / 255.0, gamma));
+        for (int c = 0; c < 3; c++) b.rgb[i * 3 + c] = image.rgba[i * 4 + c] / 255.0f;
     out = std::move(b);
     return true;
 }
@@ -208,7 +204,7 @@ bool load_plain_maps(const std::string& warp_path, const std::string& blend_path
     }
     if (!blend_path.empty()) {
         std::string bytes;
-        if (!read_file(blend_path, 256u << 20, bytes, error) || !blend_from_png(bytes, blend_path, 1.0, m.alpha, error))
+        if (!read_file(blend_path, 256u << 20, bytes, error) || !blend_from_png(bytes, blend_path, m.alpha, error))
             return false;
         m.has_alpha = true;
         m.source += (m.source.empty() ? "" : ", ") + blend_path;

@@ -34,9 +34,8 @@ std::string pfm_bytes(const FloatImage& image);
 // False for a warp of fewer than 2x2 nodes, or a node that is infinite or beyond
 // kMaxWarpCoordinate (NaN is allowed: black there).
 bool warp_from_pfm(const FloatImage& pfm, const std::string& name, WarpMap& out, std::string& error);
-// A blend from PNG bytes (grey or RGB, 8 or 16 bit): values 0..1, gamma-decoded by `gamma`
-// (1: stored linear, as glcast calibrate writes them).
-bool blend_from_png(const std::string& bytes, const std::string& name, double gamma, BlendMap& out, std::string& error);
+// A blend from PNG bytes (grey or RGB, 8 bit): values 0..1, multiplying the output as stored.
+bool blend_from_png(const std::string& bytes, const std::string& name, BlendMap& out, std::string& error);
 bool write_blend_png(const std::string& path, const BlendMap& map, std::string& error);
 
 // The plain pair of a display config's tile: "warp" (a PFM) and/or "blend" (a PNG), paths as

@@ -305,6 +305,12 @@ def crafted():
     r = run([GLCAST, "replay", os.path.join(DATA, "ff_scene.glcs"), "--backend", "egl", "--config",
              os.path.join(case, "plain.json"), "--tile", "left", "--frames", "1"])
     check(r.returncode == 1 and "w.pfm: the PFM header says 2x2x3 floats" in r.stderr, f"short plain PFM: {r.stderr[-800:]}")
+    # An installation with a misspelt key: refused, not calibrated with the default in its place.
+    spec = dict(CYLINDER, surface={"kind": "cylinder", "radius": 5, "azimut": [-60, 60]})
+    json.dump(spec, open(os.path.join(case, "spec.json"), "w"))
+    r = run([GLCAST, "calibrate", os.path.join(case, "spec.json"), "--out", os.path.join(case, "maps")])
+    check(r.returncode == 1 and 'surface.azimut: unknown key (did you mean "azimuth"?' in r.stderr,
+          f"a misspelt key in the installation: {r.stderr[-800:]}")
 
 
 def trails():
