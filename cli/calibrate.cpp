@@ -184,7 +184,10 @@ int calibrate(const CalibrateArgs& a) {
                                              ", made by glcast calibrate from " + a.spec},
                          {"canvas", {{"width", s.canvas_width}, {"height", s.canvas_height}}},
                          {"tiles", tiles}};
-    std::ofstream(a.out_dir + "/wall.json") << config.dump(2) << "\n";
+    std::ofstream wall(a.out_dir + "/wall.json");
+    wall << config.dump(2) << "\n";
+    wall.close();
+    if (!wall) throw std::runtime_error(a.out_dir + "/wall.json: cannot be written");
     std::printf("canvas %dx%d; %s/wall.json\n", s.canvas_width, s.canvas_height, a.out_dir.c_str());
     return 0;
 }

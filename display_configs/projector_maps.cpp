@@ -125,10 +125,14 @@ std::string pfm_bytes(const FloatImage& image) {
 }
 
 bool write_pfm(const std::string& path, const FloatImage& image, std::string& error) {
-    std::ofstream out(path, std::ios::binary);
+    // Written beside and renamed into place, as write_png does: never half a map under its name.
+    const std::string part = path + ".part";
+    std::ofstream out(part, std::ios::binary);
     const std::string bytes = pfm_bytes(image);
     out.write(bytes.data(), std::streamsize(bytes.size()));
-    if (!out) {
+    out.close();  // (a full disk shows at the flush)
+    if (!out || std::rename(part.c_str(), path.c_str()) != 0) {
+        std::remove(part.c_str());
         error = path + ": cannot be written";
         return false;
     }
