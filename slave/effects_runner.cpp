@@ -202,6 +202,7 @@ void EffectsRunner::frame_view(SlaveContext& ctx, effects::FrameView& v) {
             v.modelview = mirror * v.modelview;
             v.light.eye_position.z = -v.light.eye_position.z;
         }
+        v.light = effects::light_from_the_sky(v.light, v.modelview);
         // The program's viewport as this slave applies it, in tile pixels.
         const int W = ctx.master_width, H = ctx.master_height;
         // A scene drawn at another size is shown stretched over the window.

@@ -57,10 +57,39 @@ bool is_rigid(const glm::dmat4& m) {
            std::abs(glm::dot(y, z)) <= kTolerance * s2;
 }
 
-const std::vector<ProgramCameras::Matrix>& ProgramCameras::matrices(uint32_t program) {
-    auto it = matrices_.find(program);
-    if (it != matrices_.end()) return it->second;
-    std::vector<Matrix>& out = matrices_[program];
+namespace {
+
+bool has(const std::string& name, const char* word) { return name.find(word) != std::string::npos; }
+
+// gl_LightSource[i]...: i, else -1
+int light_source_index(const char* name) {
+    constexpr char kPrefix[] = "gl_LightSource[";
+    if (std::strncmp(name, kPrefix, sizeof kPrefix - 1) != 0) return -1;
+    const char* digits = name + sizeof kPrefix - 1;
+    return std::isdigit(static_cast<unsigned char>(*digits)) && digits[1] == ']' ? *digits - '0' : -1;
+}
+
+}  // namespace
+
+LightUniform light_uniform(const std::string& original) {
+    std::string name = original;
+    std::transform(name.begin(), name.end(), name.begin(), [](unsigned char ch) { return std::tolower(ch); });
+    LightUniform u;
+    const bool direction = has(name, "dir"), position = has(name, "pos");
+    if (!has(name, "sun") && !(has(name, "light") && (direction || position))) return u;
+    for (const char* other : {"col", "intens", "ambient", "diffuse", "specular", "power", "strength", "energy",
+                              "scatter", "size", "radius", "angle", "atten", "matrix", "mvp", "count", "cone"})
+        if (has(name, other)) return u;
+    u.light = true;
+    u.position = position && !direction;
+    u.eye_space = has(name, "view") || has(name, "eye") || has(name, "camera") || has(name, "vc");  // (VTK: "VC")
+    return u;
+}
+
+const ProgramCameras::Uniforms& ProgramCameras::uniforms(uint32_t program) {
+    auto it = uniforms_.find(program);
+    if (it != uniforms_.end()) return it->second;
+    Uniforms& out = uniforms_[program];
     GLint count = 0;
     gl_.glGetProgramiv(program, GL_ACTIVE_UNIFORMS, &count);
     for (GLuint i = 0; i < GLuint(std::clamp(count, 0, 1024)); ++i) {
@@ -70,10 +99,21 @@ const std::vector<ProgramCameras::Matrix>& ProgramCameras::matrices(uint32_t pro
         gl_.glGetActiveUniform(program, i, sizeof name, nullptr, &size, &type, name);
         const bool builtin = std::strncmp(name, "gl_", 3) == 0;
         if (builtin && (std::strncmp(name, "gl_ModelView", 12) == 0 || std::strncmp(name, "gl_Projection", 13) == 0))
-            fixed_function_[program] = true;
-        if (type != GL_FLOAT_MAT4 || std::strncmp(name, "glcast_", 7) == 0 || builtin) continue;
-        Matrix m;
-        m.name = name;
+            out.fixed_function = true;
+        if (const int light = light_source_index(name); light >= 0 && out.fixed_function_light < 0)
+            out.fixed_function_light = light;
+        if (builtin || std::strncmp(name, "glcast_", 7) == 0) continue;
+        Uniform u;
+        u.name = name;
+        if (type == GL_FLOAT_MAT4) {
+            u.columns = 4, u.components = 4;
+        } else if (type == GL_FLOAT_VEC3 || type == GL_FLOAT_VEC4) {
+            u.meaning = light_uniform(u.name);
+            if (!u.meaning.light) continue;
+            u.columns = 1, u.components = type == GL_FLOAT_VEC3 ? 3 : 4;
+        } else {
+            continue;
+        }
         GLint block = -1, offset = 0, stride = 0, row_major = 0;
         if (gl_.has(OP_glGetActiveUniformsiv)) {
             gl_.glGetActiveUniformsiv(program, 1, &i, GL_UNIFORM_BLOCK_INDEX, &block);
@@ -82,56 +122,72 @@ const std::vector<ProgramCameras::Matrix>& ProgramCameras::matrices(uint32_t pro
             gl_.glGetActiveUniformsiv(program, 1, &i, GL_UNIFORM_IS_ROW_MAJOR, &row_major);
         }
         if (block >= 0) {
-            m.block = uint32_t(block), m.offset = uint32_t(std::max(offset, 0)), m.stride = uint32_t(std::max(stride, 16));
-            m.row_major = row_major != 0;
+            u.block = uint32_t(block), u.offset = uint32_t(std::max(offset, 0)), u.stride = uint32_t(std::max(stride, 16));
+            u.row_major = row_major != 0 && u.columns == 4;
         } else {
-            m.location = gl_.glGetUniformLocation(program, name);
-            if (m.location < 0) continue;
+            u.location = gl_.glGetUniformLocation(program, name);
+            if (u.location < 0) continue;
         }
-        out.push_back(std::move(m));
+        (u.columns == 4 ? out.matrices : out.lights).push_back(std::move(u));
     }
     return out;
 }
 
-bool ProgramCameras::value(uint32_t program, const Matrix& m, glm::dmat4& out) {
-    float f[16] = {};
-    if (m.location >= 0) {
-        gl_.glGetUniformfv(program, m.location, f);
+// out: column-major, `u.columns` columns of 4 (a vector's missing components 0)
+bool ProgramCameras::value(uint32_t program, const Uniform& u, float f[16]) {
+    std::fill(f, f + 16, 0.0f);
+    if (u.location >= 0) {
+        gl_.glGetUniformfv(program, u.location, f);
     } else {
         if (!gl_.has(OP_glGetNamedBufferSubData) || !gl_.has(OP_glGetIntegeri_v)) return false;
         GLint binding = 0, buffer = 0;
         GLint64 start = 0, bound_size = 0;
-        gl_.glGetActiveUniformBlockiv(program, m.block, GL_UNIFORM_BLOCK_BINDING, &binding);
+        gl_.glGetActiveUniformBlockiv(program, u.block, GL_UNIFORM_BLOCK_BINDING, &binding);
         gl_.glGetIntegeri_v(GL_UNIFORM_BUFFER_BINDING, GLuint(binding), &buffer);
         if (!buffer) return false;
         gl_.glGetInteger64i_v(GL_UNIFORM_BUFFER_START, GLuint(binding), &start);
         gl_.glGetInteger64i_v(GL_UNIFORM_BUFFER_SIZE, GLuint(binding), &bound_size);
         GLint64 buffer_size = 0;
         gl_.glGetNamedBufferParameteri64v(GLuint(buffer), GL_BUFFER_SIZE, &buffer_size);
-        const GLint64 at = start + m.offset, bytes = GLint64(m.stride) * 3 + 16;
-        if (at < 0 || at + bytes > buffer_size || (bound_size > 0 && m.offset + bytes > bound_size)) return false;
+        const GLint64 at = start + u.offset, bytes = GLint64(u.stride) * (u.columns - 1) + 4 * u.components;
+        if (at < 0 || at + bytes > buffer_size || (bound_size > 0 && u.offset + bytes > bound_size)) return false;
         std::vector<uint8_t> raw(static_cast<size_t>(bytes));
         gl_.glGetNamedBufferSubData(GLuint(buffer), at, bytes, raw.data());
-        for (int v = 0; v < 4; ++v) std::memcpy(f + 4 * v, raw.data() + size_t(v) * m.stride, 16);
-        if (m.row_major) {
+        for (int v = 0; v < u.columns; ++v) std::memcpy(f + 4 * v, raw.data() + size_t(v) * u.stride, 4 * size_t(u.components));
+        if (u.row_major) {
             float t[16];
             for (int r = 0; r < 4; ++r)
                 for (int c = 0; c < 4; ++c) t[4 * c + r] = f[4 * r + c];
-            std::memcpy(f, t, sizeof f);
+            std::memcpy(f, t, sizeof t);
         }
     }
-    for (int i = 0; i < 16; ++i) {
+    for (int i = 0; i < 4 * u.columns; ++i)
         if (!std::isfinite(f[i])) return false;
-        out[i / 4][i % 4] = f[i];
-    }
     return true;
 }
 
-bool ProgramCameras::reads_fixed_function(uint32_t program) {
+bool ProgramCameras::reads_fixed_function(uint32_t program) { return program && uniforms(program).fixed_function; }
+
+bool ProgramCameras::light(uint32_t program, const ProgramCamera& camera, effects::SceneLight& out) {
     if (!program) return false;
-    matrices(program);
-    const auto it = fixed_function_.find(program);
-    return it != fixed_function_.end() && it->second;
+    const Uniforms& all = uniforms(program);
+    if (all.fixed_function_light >= 0) {  // GL keeps it in eye space, as the program's modelview then was
+        GLfloat position[4] = {0, 0, 1, 0};
+        gl_.glGetLightfv(GLenum(GL_LIGHT0 + all.fixed_function_light), GL_POSITION, position);
+        out = effects::SceneLight{true, glm::dvec4(position[0], position[1], position[2], position[3])};
+        return true;
+    }
+    for (const Uniform& u : all.lights) {
+        float f[16];
+        if (!value(program, u, f)) continue;
+        glm::dvec4 v(f[0], f[1], f[2], u.components == 4 ? f[3] : (u.meaning.position ? 1.0 : 0.0));
+        if (glm::length(glm::dvec3(v)) < 1e-12 && v.w == 0) continue;
+        if (!u.meaning.eye_space) v = camera.modelview * v;  // (the identity when no view was found)
+        out = effects::SceneLight{true, v};
+        out.sign_from_up = v.w == 0;
+        return true;
+    }
+    return false;
 }
 
 // (w = s z, with no constant: up to the rounding of a projection recovered from a corrected one,
@@ -153,10 +209,14 @@ bool mirrored(const glm::dmat4& modelview) { return glm::determinant(glm::dmat3(
 
 bool ProgramCameras::find(uint32_t program, ProgramCamera& out) {
     if (!program) return false;
-    const std::vector<Matrix>& all = matrices(program);
+    const std::vector<Uniform>& all = uniforms(program).matrices;
     std::vector<glm::dmat4> values(all.size());
     std::vector<bool> read(all.size());
-    for (size_t i = 0; i < all.size(); ++i) read[i] = value(program, all[i], values[i]);
+    for (size_t i = 0; i < all.size(); ++i) {
+        float f[16];
+        read[i] = value(program, all[i], f);
+        for (int k = 0; k < 16; ++k) values[i][k / 4][k % 4] = f[k];
+    }
     for (size_t i = 0; i < all.size(); ++i) {
         glm::dmat4 p, v;
         if (!read[i] || !split_perspective(values[i], p, v)) continue;

@@ -13,6 +13,7 @@
 #include <glm/glm.hpp>
 
 #include "glcast_gl_api.h"
+#include "slave/effects/frame_view.h"
 
 namespace glcast::slave {
 
@@ -39,6 +40,18 @@ struct ProgramCamera {
     bool modelview_known = false;  // false: the program's view transform is not among its matrices
 };
 
+// What a vec3 or vec4 uniform's name says it holds: an engine's sun or light, as a direction or a
+// position, in the world's space or the eye's (docs/effects.md, "The light of shader programs").
+// A name with "sun", or "light" with "dir" or "pos", and none of the words of its other
+// properties (colour, intensity, ...); "view", "eye", "camera" or "vc" (VTK's view coordinates)
+// in it: the eye's space.
+struct LightUniform {
+    bool light = false;
+    bool position = false;   // a vec3 whose name says "pos"; a vec4 says it by its w
+    bool eye_space = false;
+};
+LightUniform light_uniform(const std::string& name);
+
 // Reads the 4x4 matrices of a linked program as they are now (default-block uniforms, and
 // members of uniform blocks from the buffers bound to them) and finds its camera: the first
 // matrix that splits as a perspective product; when that one is a projection alone, the
@@ -51,21 +64,33 @@ public:
     // Its shaders read the fixed-function matrices through GLSL's built-ins
     // (gl_ModelViewProjectionMatrix, gl_ProjectionMatrix, ...): its camera is GL_PROJECTION's.
     bool reads_fixed_function(uint32_t program);
-    void forget() { matrices_.clear(), fixed_function_.clear(); }
+    // The program's sun as the passes take a light (an eye-space GL_POSITION): the fixed-function
+    // light its shaders read through gl_LightSource[i], else the first light uniform
+    // (light_uniform) that holds a finite, non-zero vector, brought from the world's space by
+    // `camera`'s view. False: none. A direction from a uniform may point either way (towards the
+    // sun or the way its light travels): SceneLight::sign_from_up says so.
+    bool light(uint32_t program, const ProgramCamera& camera, effects::SceneLight& out);
+    void forget() { uniforms_.clear(); }
 
 private:
-    struct Matrix {
+    struct Uniform {
         std::string name;
         int32_t location = -1;  // default block; -1: in a uniform block
         uint32_t block = 0, offset = 0, stride = 16;
+        int columns = 4, components = 4;  // a mat4: 4 x 4; a vec3: 1 x 3
         bool row_major = false;
+        LightUniform meaning;  // vectors only
     };
-    const std::vector<Matrix>& matrices(uint32_t program);
-    bool value(uint32_t program, const Matrix& m, glm::dmat4& out);
+    struct Uniforms {
+        std::vector<Uniform> matrices, lights;
+        bool fixed_function = false;     // gl_ModelView..., gl_Projection...
+        int fixed_function_light = -1;   // gl_LightSource[i]: the first i read
+    };
+    const Uniforms& uniforms(uint32_t program);
+    bool value(uint32_t program, const Uniform& u, float out[16]);
 
     const GlApi& gl_;
-    std::map<uint32_t, std::vector<Matrix>> matrices_;
-    std::map<uint32_t, bool> fixed_function_;  // by program, filled with matrices_
+    std::map<uint32_t, Uniforms> uniforms_;  // by program, read once
 };
 
 }  // namespace glcast::slave

@@ -59,6 +59,8 @@ public:
     // follows it): no driver query at each draw.
     GLuint program_in_use();
     bool shader_camera(uint32_t program, ProgramCamera& out);
+    // The light of a shader program whose camera is `camera` (ProgramCameras::light).
+    bool shader_light(uint32_t program, const ProgramCamera& camera, effects::SceneLight& out);
     // The view whose screen an orthographic draw to the window lies on (a HUD): the window's own
     // perspective view this frame, or the scene target's once the window's first flat draw,
     // which shows that scene, went by. Null: the draw is shown as drawn (a backdrop, the quad that

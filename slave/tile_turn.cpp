@@ -251,6 +251,10 @@ bool TileAdapter::shader_camera(uint32_t program, ProgramCamera& out) {
     return true;
 }
 
+bool TileAdapter::shader_light(uint32_t program, const ProgramCamera& camera, effects::SceneLight& out) {
+    return shared().cameras.light(program, camera, out);
+}
+
 bool TileAdapter::patches_vertex_shader(uint64_t shader) {
     if (!patching()) return false;
     const auto& types = shared().shader_types;

@@ -25,9 +25,40 @@
 namespace glcast::slave::effects {
 
 struct SceneLight {
-    bool known = false;        // false: the program has no enabled fixed-function light
+    bool known = false;        // false: the program has no light glcast recognises (docs/effects.md)
     glm::dvec4 eye_position{0, 0, 1, 0};  // GL's GL_POSITION in eye space (w = 0: directional)
+    // A direction from a shader program's uniform, which engines keep either way (towards the
+    // sun, or the way its light travels): the sign that points to the sky is taken.
+    bool sign_from_up = false;
 };
+
+// The world's +Y, -Y, +Z or -Z, whichever `modelview` turns most towards the eye's up: for a
+// camera without roll and within 45 degrees of level, the world's up, Y-up (OpenGL's habit) and
+// Z-up (Quake, CAD and modelling tools) alike. (A view 60 degrees up and one 30 degrees down,
+// turned by a quarter, are the same rotation: the nearer to level wins.) +Y on a tie. The
+// cover's up (cover.up_space=auto) and the side of the sky a program's sun is on.
+inline glm::dvec3 world_up_seen(const glm::dmat4& modelview) {
+    const glm::dvec3 axes[] = {{0, 1, 0}, {0, 0, 1}, {0, -1, 0}, {0, 0, -1}};
+    glm::dvec3 best = axes[0];
+    double best_score = -1e300;
+    for (const glm::dvec3& axis : axes) {
+        const glm::dvec3 seen = glm::dmat3(modelview) * axis;
+        if (glm::length(seen) < 1e-12) continue;
+        const double score = glm::normalize(seen).y;
+        if (score > best_score + 1e-6) best = axis, best_score = score;
+    }
+    return best;
+}
+
+// A light whose direction's sign is not known (SceneLight::sign_from_up) turned to the side of the
+// sky the main view's `modelview` shows (world_up_seen): a sun lights a scene from above.
+inline SceneLight light_from_the_sky(SceneLight light, const glm::dmat4& modelview) {
+    if (!light.known || !light.sign_from_up || light.eye_position.w != 0) return light;
+    const glm::dvec3 up = glm::dmat3(modelview) * world_up_seen(modelview);
+    if (glm::dot(glm::dvec3(light.eye_position), up) < 0) light.eye_position = -light.eye_position;
+    light.sign_from_up = false;
+    return light;
+}
 
 struct FrameView {
     uint64_t frame = 0;           // the master's frame number (swap count of this context)

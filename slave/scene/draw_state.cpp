@@ -107,6 +107,12 @@ void DriverDrawState::viewport(int32_t out[4]) { tile_.program_viewport(out); }
 
 bool DriverDrawState::camera(GLuint program, ProgramCamera& out) { return tile_.shader_camera(program, out); }
 
+effects::SceneLight DriverDrawState::program_light(GLuint program, const ProgramCamera& camera) {
+    effects::SceneLight light;
+    tile_.shader_light(program, camera, light);
+    return light;
+}
+
 GLenum DriverDrawState::color_attachment_type() {
     GLint type = GL_NONE;
     gl_.glGetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0,

@@ -53,6 +53,7 @@ bool shader_draw_is_main(SceneFacts& f, DrawState& s, GLuint program, GLuint fra
     if (!f.main_known && mirrored(camera.modelview)) return false;  // a reflection's camera
     if (!f.main_known) {
         found_view(f, s, framebuffer, camera.projection, camera.modelview);
+        f.light = s.program_light(program, camera);
         found = true;
     }
     return !f.overlay && same_projection(camera.projection, f.projection) && s.writes_depth() &&

@@ -72,9 +72,20 @@
  * view is not drawn at all (not by fixed function, --shader or --builtins). --fov DEG sets that
  * field of view (default 60; the picture is then wider, the pillars smaller).
  *
+ * With --turn DEG the camera turns DEG degrees to the left (glRotated(DEG, 0, 1, 0) on the view: not
+ * for --shader, whose only matrix is the projection), so that the world's space and the eye's differ.
+ *
+ * With --sun X,Y,Z (--builtins or --mvp) the shader program lights the scene itself from a sun
+ * given in the world's space: `uniform vec3 sun_direction` (X,Y,Z as given: towards the sun or, with
+ * its sign flipped, the way the light travels, as engines differ), each face lit by
+ * 0.55 + 0.45 |N . sun|, as engines keep their sun. With --gl-light X,Y,Z (--builtins) the sun is
+ * fixed-function light 0 instead (glLightfv(GL_POSITION) under the view, w = 0, GL_LIGHTING off),
+ * which the shader reads through gl_LightSource[0]. The fixed-function program is unlit: the passes
+ * then use their configured light.
+ *
  *   pillars [--shader | --builtins | --mvp] [--grow] [--fbo [--half] [--mrt | --msaa]] [--reversed] [--hud]
  *           [--hand] [--left-handed] [--mixed] [--foliage] [--post] [--markers] [--cull] [--fov DEG]
- *           [--frames N] [--size WxH]
+ *           [--turn DEG] [--sun X,Y,Z | --gl-light X,Y,Z] [--frames N] [--size WxH]
  */
 #define GL_GLEXT_PROTOTYPES 1
 #include <GL/gl.h>
@@ -106,17 +117,36 @@ static void upload(GLint location, const double *m)
     glUniformMatrix4fv(location, 1, GL_FALSE, f);
 }
 
+/* An option with a value, when it comes next: its value (and both taken off argv), else NULL. */
+static const char *take_value(int *argc, char ***argv, const char *option)
+{
+    if (*argc < 3 || strcmp((*argv)[1], option) != 0) return NULL;
+    const char *value = (*argv)[2];
+    (*argv)[2] = (*argv)[0];
+    *argv += 2;
+    *argc -= 2;
+    return value;
+}
+
+static int parse_vector(const char *text, double v[3])
+{
+    return text && sscanf(text, "%lf,%lf,%lf", &v[0], &v[1], &v[2]) == 3 && v[0] * v[0] + v[1] * v[1] + v[2] * v[2] > 0;
+}
+
 /* --mvp: the floor and each pillar under projection * view * model, one uniform per draw. The
  * view turns the world by 0 degrees (the pictures match the other modes) and is a rigid matrix
  * the stream never shows alone. */
-static void draw_mvp(GLint location, const double *proj)
+static void draw_mvp(GLint location, const double *proj, double turn_deg)
 {
-    const double view[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+    /* glRotated(turn, 0, 1, 0) */
+    const double t = turn_deg * M_PI / 180.0, ct = cos(t), st = sin(t);
+    const double view[16] = {ct, 0, -st, 0, 0, 1, 0, 0, st, 0, ct, 0, 0, 0, 0, 1};
     double pv[16], m[16], model[16];
     mul(pv, proj, view);
     upload(location, pv);
     glBegin(GL_QUADS);  /* the floor, modelled in place */
     glColor3ub(90, 90, 90);
+    glNormal3f(0, 1, 0);
     glVertex3f(-50, -2, -50); glVertex3f(50, -2, -50); glVertex3f(50, -2, 50); glVertex3f(-50, -2, 50);
     glEnd();
     for (int k = 0; k < 12; k++) {
@@ -127,6 +157,7 @@ static void draw_mvp(GLint location, const double *proj)
         mul(m, pv, model);
         upload(location, m);
         glColor3ub((GLubyte)(40 + 16 * k), (GLubyte)(200 - 12 * k), (GLubyte)(255 - 20 * k));
+        glNormal3d(-s, 0, c);  /* (the world's: --sun lights in the world's space) */
         glBegin(GL_QUADS);  /* the pillar at the origin, facing +z */
         glVertex3d(-0.6, -2, 0); glVertex3d(0.6, -2, 0); glVertex3d(0.6, 6, 0); glVertex3d(-0.6, 6, 0);
         glEnd();
@@ -177,7 +208,7 @@ int main(int argc, char **argv)
     const int markers = app_take_flag(&argc, &argv, "--markers");
     const int cull = app_take_flag(&argc, &argv, "--cull");
     double fov = 60;
-    if (argc > 2 && strcmp(argv[1], "--fov") == 0) {
+    if (argc > 2 && strcmp(argv[1], "--fov") == 0) {  /* (before --turn, as the usage lists them) */
         fov = atof(argv[2]);
         if (!(fov > 1 && fov < 179)) {
             fprintf(stderr, "pillars: --fov takes 1..179 degrees\n");
@@ -186,6 +217,19 @@ int main(int argc, char **argv)
         argv[2] = argv[0];
         argv += 2;
         argc -= 2;
+    }
+    const char *turn_text = take_value(&argc, &argv, "--turn");
+    const double turn = turn_text ? atof(turn_text) : 0;
+    const char *sun_text = take_value(&argc, &argv, "--sun");
+    const char *gl_light_text = sun_text ? NULL : take_value(&argc, &argv, "--gl-light");
+    double sun[3] = {0, 1, 0};
+    if ((sun_text && !parse_vector(sun_text, sun)) || (gl_light_text && !parse_vector(gl_light_text, sun))) {
+        fprintf(stderr, "pillars: --sun and --gl-light take X,Y,Z, not all 0\n");
+        return 2;
+    }
+    if ((sun_text && !builtins && !mvp) || (gl_light_text && !builtins) || (turn_text && shader && !builtins && !mvp)) {
+        fprintf(stderr, "pillars: --sun is for --builtins or --mvp, --gl-light for --builtins, --turn not for --shader\n");
+        return 2;
     }
     const double zs = left_handed ? -1 : 1;  /* the world's z as the program keeps it */
     if (left_handed && (mvp || reversed)) {
@@ -220,7 +264,20 @@ int main(int argc, char **argv)
     GLuint program = 0;
     GLint proj_location = -1;
     if (shader) {
-        const char *vs = foliage ? "#version 120\nvoid main() { gl_FrontColor = gl_Color; gl_TexCoord[0] = gl_MultiTexCoord0;"
+        const char *vs = sun_text && mvp
+                             ? "#version 120\nuniform mat4 mvp;\nuniform vec3 sun_direction;\n"
+                               "void main() { float lit = 0.55 + 0.45 * abs(dot(gl_Normal, normalize(sun_direction)));"
+                               " gl_FrontColor = vec4(gl_Color.rgb * lit, 1.0); gl_Position = mvp * gl_Vertex; }\n"
+                         : sun_text ? "#version 120\nuniform vec3 sun_direction;\n"
+                               "void main() { float lit = 0.55 + 0.45 * abs(dot(gl_Normal, normalize(sun_direction)));"
+                               " gl_FrontColor = vec4(gl_Color.rgb * lit, 1.0);"
+                               " gl_Position = gl_ModelViewProjectionMatrix * gl_Vertex; }\n"
+                         : gl_light_text ? "#version 120\n"
+                               "void main() { float lit = 0.55 + 0.45 * abs(dot(gl_NormalMatrix * gl_Normal,"
+                               " normalize(gl_LightSource[0].position.xyz)));"
+                               " gl_FrontColor = vec4(gl_Color.rgb * lit, 1.0);"
+                               " gl_Position = gl_ModelViewProjectionMatrix * gl_Vertex; }\n"
+                         : foliage ? "#version 120\nvoid main() { gl_FrontColor = gl_Color; gl_TexCoord[0] = gl_MultiTexCoord0;"
                                    " gl_Position = gl_ModelViewProjectionMatrix * gl_Vertex; }\n"
                          : builtins ? "#version 120\n"
                                     "void main() { gl_FrontColor = gl_Color; gl_Position = gl_ModelViewProjectionMatrix * gl_Vertex; }\n"
@@ -247,6 +304,11 @@ int main(int argc, char **argv)
             return 1;
         }
         proj_location = glGetUniformLocation(program, mvp ? "mvp" : "proj");
+        if (sun_text) {
+            glUseProgram(program);
+            glUniform3f(glGetUniformLocation(program, "sun_direction"), (GLfloat)sun[0], (GLfloat)sun[1], (GLfloat)sun[2]);
+            glUseProgram(0);
+        }
     }
     GLuint leaves = 0;
     if (foliage) {  /* opaque white, then transparent */
@@ -359,8 +421,13 @@ int main(int argc, char **argv)
         }
         glMatrixMode(GL_MODELVIEW);
         glLoadIdentity();
+        if (turn_text && !mvp) glRotated(turn, 0, 1, 0);
+        if (gl_light_text) {  /* in the world's space: GL keeps it in the eye's, through the view */
+            const GLfloat position[4] = {(GLfloat)sun[0], (GLfloat)sun[1], (GLfloat)sun[2], 0};
+            glLightfv(GL_LIGHT0, GL_POSITION, position);
+        }
         if (mvp) {
-            draw_mvp(proj_location, proj);
+            draw_mvp(proj_location, proj, turn);
         } else {
             if (foliage) {
                 glBindTexture(GL_TEXTURE_2D, leaves);
@@ -369,6 +436,7 @@ int main(int argc, char **argv)
             }
             glBegin(GL_QUADS);  /* the floor */
             glColor3ub(90, 90, 90);
+            glNormal3f(0, 1, 0);
             glTexCoord2f(0.25f, 0.5f);  /* (--foliage: the opaque texel) */
             glVertex3d(-50, -2, -50 * zs); glVertex3d(50, -2, -50 * zs); glVertex3d(50, -2, 50 * zs);
             glVertex3d(-50, -2, 50 * zs);
@@ -381,6 +449,7 @@ int main(int argc, char **argv)
                 if (cull && off > atan(0.6 / 6) * 180 / M_PI) continue;
                 const double tx = cos(yaw) * w, tz = sin(yaw) * w;  /* across the line of sight */
                 glColor3ub((GLubyte)(40 + 16 * k), (GLubyte)(200 - 12 * k), (GLubyte)(255 - 20 * k));
+                glNormal3d(-sin(yaw), 0, cos(yaw) * zs);  /* towards the viewer */
                 glBegin(GL_QUADS);
                 glTexCoord2f(0, 0.5f); glVertex3d(x - tx, -2, (z - tz) * zs);
                 glTexCoord2f(1, 0.5f); glVertex3d(x + tx, -2, (z + tz) * zs);

@@ -64,3 +64,42 @@ TEST(ProgramCamera, VtksModelToClipMatrixSplits) {
     glm::dmat4 p, v;
     EXPECT_TRUE(glcast::slave::split_perspective(m, p, v));
 }
+
+// Engines' names for their sun (SuperTuxKart, minetest, VTK and common tutorials), and names of
+// the sun's other properties, which are no light vector.
+TEST(ProgramCamera, LightUniformsAreKnownByTheirNames) {
+    using glcast::slave::light_uniform;
+    for (const char* name : {"sun_direction", "sundirection", "v_LightDirection", "u_sunDir", "lightDir", "LightPosition",
+                             "sunPos", "u_light_dir_world", "shadowLightDir"}) {
+        EXPECT_TRUE(light_uniform(name).light) << name;
+        EXPECT_FALSE(light_uniform(name).eye_space) << name;
+    }
+    EXPECT_TRUE(light_uniform("LightPosition").position);
+    EXPECT_FALSE(light_uniform("sun_direction").position);
+    EXPECT_TRUE(light_uniform("u_lightDirView").eye_space);
+    EXPECT_TRUE(light_uniform("eyeSunDir").eye_space);
+    EXPECT_TRUE(light_uniform("lightDirectionVC0").eye_space);  // VTK 9
+    for (const char* name : {"sun_col", "sun_color", "sunColour", "lightDirectionalIntensity", "sun_angle", "sun_scatter",
+                             "LightMVP", "light", "u_time", "position", "direction"})
+        EXPECT_FALSE(light_uniform(name).light) << name;
+}
+
+// A direction that could point either way is taken towards the sky the view shows: a Y-up world
+// seen level and a Z-up world seen from above (its up is the eye's +y and +z mixed).
+TEST(ProgramCamera, ASunOfUnknownSignLightsFromTheSky) {
+    using glcast::slave::effects::SceneLight;
+    using glcast::slave::effects::light_from_the_sky;
+    SceneLight down{true, glm::dvec4(0.3, -1, 0.2, 0)};
+    down.sign_from_up = true;
+    EXPECT_EQ(light_from_the_sky(down, glm::dmat4(1.0)).eye_position, glm::dvec4(-0.3, 1, -0.2, 0));
+    SceneLight up = down;
+    up.eye_position = glm::dvec4(0.3, 1, 0.2, 0);
+    EXPECT_EQ(light_from_the_sky(up, glm::dmat4(1.0)).eye_position, up.eye_position);
+    const glm::dmat4 z_up = glm::lookAt(glm::dvec3(0, -8, 5), glm::dvec3(0), glm::dvec3(0, 0, 1));
+    SceneLight z_sun{true, z_up * glm::dvec4(0.1, 0.2, -1, 0)};  // the way its light travels, in the world
+    z_sun.sign_from_up = true;
+    const glm::dvec4 seen = light_from_the_sky(z_sun, z_up).eye_position;
+    EXPECT_GT(glm::dot(glm::dvec3(seen), glm::dmat3(z_up) * glm::dvec3(0, 0, 1)), 0.9);
+    SceneLight known{true, glm::dvec4(0.3, -1, 0.2, 0)};  // a fixed-function light says its own sign
+    EXPECT_EQ(light_from_the_sky(known, glm::dmat4(1.0)).eye_position, known.eye_position);
+}

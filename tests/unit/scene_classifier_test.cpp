@@ -21,6 +21,7 @@ struct Given final : DrawState {
     glm::dmat4 mv = glm::translate(glm::dmat4(1.0), glm::dvec3(0, -1, -5));
     GLenum mode = GL_MODELVIEW;
     effects::SceneLight lit;
+    effects::SceneLight sun;  // a shader program's
     CullState culling{true, GL_BACK, GL_CCW};
     AlphaTest alpha;
     bool always = false;
@@ -49,6 +50,7 @@ struct Given final : DrawState {
         if (has_camera) out = cam;
         return has_camera;
     }
+    effects::SceneLight program_light(GLuint, const ProgramCamera&) override { return asked++, sun; }
     GLenum color_attachment_type() override { return asked++, color; }
     GLenum depth_attachment_type() override { return asked++, depth; }
 };
@@ -482,4 +484,19 @@ TEST(SceneClassifier, ADrawsProjectionSplitFromAnotherProductIsStillTheViews) {
     EXPECT_TRUE(classify_draw(facts, s, 0, kPasses).main);
     s.cam.projection[0][0] *= 1.01;  // another lens
     EXPECT_FALSE(classify_draw(facts, s, 0, kPasses).main);
+}
+
+// The shader program that gives the main view gives its light (its sun, ProgramCameras::light).
+TEST(SceneClassifier, TheMainViewsShaderProgramGivesItsSun) {
+    SceneFacts facts;
+    Given s;
+    s.current_program = 4;
+    s.has_camera = true;
+    s.cam.projection = s.proj;
+    s.cam.modelview = s.mv;
+    s.sun = effects::SceneLight{true, glm::dvec4(0.2, 1, 0.1, 0)};
+    s.lit = effects::SceneLight{true, glm::dvec4(9, 9, 9, 0)};  // a fixed-function light: not this draw's
+    ASSERT_TRUE(classify_draw(facts, s, 0, kPasses).found_view);
+    EXPECT_TRUE(facts.light.known);
+    EXPECT_EQ(facts.light.eye_position, glm::dvec4(0.2, 1, 0.1, 0));
 }

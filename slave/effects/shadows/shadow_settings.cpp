@@ -58,7 +58,7 @@ std::vector<ParamSpec> shadow_param_specs() {
     return {
         method,
         {"shadows.strength", 0.6, 0, 1, "darkening of a fully shadowed pixel facing the light: color *= 1 - strength * facing * (1 - visibility)"},
-        {"shadows.use_program_light", 1, 0, 1, "1: the program's first enabled fixed-function light when it has one; 0: always shadows.light_*"},
+        {"shadows.use_program_light", 1, 0, 1, "1: the program's light when it has one (its first enabled fixed-function light, or a shader program's sun: docs/shadows.md); 0: always shadows.light_*"},
         {"shadows.light_x", 0.4, -1e6, 1e6, "light position or direction in the main view's eye space, x (used without a program light)"},
         {"shadows.light_y", 1.0, -1e6, 1e6, "light, eye-space y"},
         {"shadows.light_z", 0.5, -1e6, 1e6, "light, eye-space z"},

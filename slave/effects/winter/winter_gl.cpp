@@ -10,20 +10,6 @@
 
 namespace glcast::slave::effects {
 
-glm::dvec3 world_up_seen(const glm::dmat4& modelview) {
-    const glm::dvec3 axes[] = {{0, 1, 0}, {0, 0, 1}, {0, -1, 0}, {0, 0, -1}};
-    glm::dvec3 best = axes[0];
-    double best_score = -1e300;
-    for (const glm::dvec3& axis : axes) {
-        const glm::dvec3 seen = glm::dmat3(modelview) * axis;
-        if (glm::length(seen) < 1e-12) continue;
-        const glm::dvec3 e = glm::normalize(seen);
-        const double score = e.y;
-        if (score > best_score + 1e-6) best = axis, best_score = score;
-    }
-    return best;
-}
-
 WinterFrame winter_frame(const FrameView& view, const WinterSettings& settings, bool icicles, const glm::dvec3& up) {
     WinterFrame f;
     f.canvas_width = view.canvas_width > 0 ? view.canvas_width : view.width;

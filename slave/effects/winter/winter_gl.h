@@ -35,11 +35,6 @@ struct WinterFrame {
 // `up` replaces settings.cover.up (cover.up_space=auto: world_up_seen's).
 WinterFrame winter_frame(const FrameView& view, const WinterSettings& settings, bool icicles, const glm::dvec3& up);
 
-// The world's +Y, -Y, +Z or -Z, whichever `modelview` turns most towards the eye's up: for a
-// camera without roll and within 45 degrees of level, the world's up, Y-up (OpenGL's habit) and
-// Z-up (Quake, CAD and modelling tools) alike. (A view 60 degrees up and one 30 degrees down,
-// turned by a quarter, are the same rotation: the nearer to level wins.) +Y on a tie.
-glm::dvec3 world_up_seen(const glm::dmat4& modelview);
 
 // build_program with winter_noise.glsl and the GLSL files `libraries` prepended to both shaders.
 GLuint build_winter_program(const GlApi& gl, const std::string& vertex_file, const std::string& fragment_file,
