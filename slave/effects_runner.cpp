@@ -60,6 +60,10 @@ EffectsRunner::EffectsRunner(Replayer& core, TileAdapter& tile) : core_(core), t
         copies.copy(ctx, copies.scene_image_fb, false);
         if (scenes_.scene(ctx).facts.depth_cleared) copies.keep_depth(ctx);
     };
+    // The scene's own target before the program's HUD is drawn into it.
+    scenes_.on_target_overlays_start = [this](SlaveContext& ctx) {
+        passes(ctx).copies.keep_scene_target(ctx, scenes_.scene(ctx), /*final=*/false);
+    };
 }
 
 EffectsRunner::~EffectsRunner() = default;
@@ -137,6 +141,10 @@ void EffectsRunner::run_effects(SlaveContext& ctx) {
         const bool sized = copies.sized(ctx);
         const bool overlays = scene.facts.overlay && sized;
         if (overlays) copies.copy(ctx, copies.scene_image_fb, false, /*back=*/true);  // the scene alone
+        // (a borrowed scene's target is another context's)
+        const bool target_overlays = scene.facts.target_overlay && scene.facts.scene_framebuffer &&
+                                     !scene.loan.borrowed_from && copies.scene_target_before;
+        if (target_overlays) copies.keep_scene_target(ctx, scene, /*final=*/true);
         const bool view_model = scene.facts.view_model_far > 0 && sized;
         // A borrowed scene covers part of the window: the rest is the program's.
         const bool placed = scene.loan.borrowed_from != 0 && sized;
@@ -145,10 +153,11 @@ void EffectsRunner::run_effects(SlaveContext& ctx) {
         if (!st.depth.standard) set_depth_state(gl, ProgramDepthState{});
         st.pipeline->run(view);
         if (!st.depth.standard) set_depth_state(gl, st.depth.program);
-        if (overlays || view_model || placed) put_overlays_back(ctx, overlays);
+        const bool kept = overlays || view_model || placed || target_overlays;
+        if (kept) put_overlays_back(ctx, overlays, target_overlays);
         const ReplayOptions& opt = core_.options();
         if (!opt.scene_report_dir.empty() && view.frame >= opt.first_frame && view.frame <= opt.last_frame)
-            report_scene(ctx, view, overlays, overlays || view_model || placed);
+            report_scene(ctx, view, overlays, target_overlays, kept);
         if (core_.after_effects) core_.after_effects(view);
         if (scene.loan.borrowed_from && !said_borrowed_) {
             said_borrowed_ = true;
@@ -371,7 +380,7 @@ void EffectsRunner::redraw_main_view(SlaveContext& ctx, const glm::dmat4& correc
     gl.glActiveTexture(GLenum(active_texture));
 }
 
-void EffectsRunner::put_overlays_back(SlaveContext& ctx, bool overlays, GLuint target) {
+void EffectsRunner::put_overlays_back(SlaveContext& ctx, bool overlays, bool target_overlays, GLuint target) {
     ContextPasses& st = passes(ctx);
     const ContextScene& scene = scenes_.scene(ctx);
     const GlApi& gl = core_.api();
@@ -392,6 +401,17 @@ void EffectsRunner::put_overlays_back(SlaveContext& ctx, bool overlays, GLuint t
     gl.glBindTexture(GL_TEXTURE_2D, st.copies.scene_image);
     gl.glActiveTexture(GL_TEXTURE2);
     gl.glBindTexture(GL_TEXTURE_2D, scene.facts.view_model_far > 0 ? st.view_model_depth : 0);
+    gl.glActiveTexture(GL_TEXTURE3);
+    gl.glBindTexture(GL_TEXTURE_2D, target_overlays ? st.copies.scene_target_before : 0);
+    gl.glActiveTexture(GL_TEXTURE4);
+    gl.glBindTexture(GL_TEXTURE_2D, target_overlays ? st.copies.scene_target_final : 0);
+    gl.glUniform1i(effects::uniform(gl, st.overlay_program, "target_before"), 3);
+    gl.glUniform1i(effects::uniform(gl, st.overlay_program, "target_final"), 4);
+    gl.glUniform1i(effects::uniform(gl, st.overlay_program, "target_overlays"), target_overlays);
+    const glm::vec4 target_rect(target_overlays ? st.copies.scene_target_rect(ctx, scene) : glm::dvec4(0.0));
+    gl.glUniform4f(effects::uniform(gl, st.overlay_program, "target_rect"), target_rect.x, target_rect.y, target_rect.z,
+                   target_rect.w);
+    gl.glUniform2f(effects::uniform(gl, st.overlay_program, "tile_size"), GLfloat(ctx.width), GLfloat(ctx.height));
     gl.glUniform1i(effects::uniform(gl, st.overlay_program, "final_image"), 0);
     gl.glUniform1i(effects::uniform(gl, st.overlay_program, "scene_image"), 1);
     gl.glUniform1i(effects::uniform(gl, st.overlay_program, "scene_depth"), 2);
@@ -405,7 +425,8 @@ void EffectsRunner::put_overlays_back(SlaveContext& ctx, bool overlays, GLuint t
 }
 
 // The same pixels put back into a mask, then the frame's depth and view, for measurements.
-void EffectsRunner::report_scene(SlaveContext& ctx, const effects::FrameView& view, bool overlays, bool kept) {
+void EffectsRunner::report_scene(SlaveContext& ctx, const effects::FrameView& view, bool overlays,
+                                 bool target_overlays, bool kept) {
     ContextPasses& st = passes(ctx);
     const GlApi& gl = core_.api();
     if (st.report_size[0] != ctx.width || st.report_size[1] != ctx.height) {
@@ -426,7 +447,7 @@ void EffectsRunner::report_scene(SlaveContext& ctx, const effects::FrameView& vi
         gl.glClearColor(0, 0, 0, 0);
         gl.glClear(GL_COLOR_BUFFER_BIT);
     }
-    if (kept) put_overlays_back(ctx, overlays, st.report_mask_fb);
+    if (kept) put_overlays_back(ctx, overlays, target_overlays, st.report_mask_fb);
     std::string error;
     if (!write_scene_report(gl, core_.options().scene_report_dir, view, st.report_mask_fb, error))
         throw EffectsError("effects: --scene-report: " + error);

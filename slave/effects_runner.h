@@ -72,8 +72,8 @@ private:
     void convert_depth(SlaveContext& ctx, effects::FrameView& v, const glm::dmat4& planar);
     void redraw_main_view(SlaveContext& ctx, const glm::dmat4& correction);
     // Draws the program's own pixels back over the passes' into `target` (0: the window).
-    void put_overlays_back(SlaveContext& ctx, bool overlays, GLuint target = 0);
-    void report_scene(SlaveContext& ctx, const effects::FrameView& view, bool overlays, bool kept);
+    void put_overlays_back(SlaveContext& ctx, bool overlays, bool target_overlays, GLuint target = 0);
+    void report_scene(SlaveContext& ctx, const effects::FrameView& view, bool overlays, bool target_overlays, bool kept);
     void scene_rect(SlaveContext& ctx, int32_t out[4]);  // where the scene is, tile pixels
 
     Replayer& core_;

@@ -61,11 +61,12 @@ public:
     bool shader_camera(uint32_t program, ProgramCamera& out);
     // The light of a shader program whose camera is `camera` (ProgramCameras::light).
     bool shader_light(uint32_t program, const ProgramCamera& camera, effects::SceneLight& out);
-    // The view whose screen an orthographic draw to the window lies on (a HUD): the window's own
+    // The view whose screen an orthographic draw lies on (a HUD): to the window, the window's own
     // perspective view this frame, or the scene target's once the window's first flat draw,
-    // which shows that scene, went by. Null: the draw is shown as drawn (a backdrop, the quad that
-    // shows the scene). Called once for each orthographic draw to the window.
-    const glm::dmat4* screen_of_flat_draw();
+    // which shows that scene, went by; into the scene target, after its view this frame and
+    // before the window is drawn (VTK's text actors), that view. Null: the draw is shown as drawn
+    // (a backdrop, the quad that shows the scene). Called once for each orthographic draw.
+    const glm::dmat4* screen_of_flat_draw(const SlaveContext& ctx);
     // Whether the vertex shader of master name `shader` gets the clip-space correction.
     bool patches_vertex_shader(uint64_t shader);
 

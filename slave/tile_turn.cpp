@@ -147,7 +147,7 @@ void TileAdapter::correct_projection() {
     std::memcpy(&p[0][0], current, sizeof current);
     const glm::dmat4 app = top.corrected ? glm::inverse(top.m) * p : p;
     if (is_perspective(app)) saw_view(ctx, app);
-    const glm::dmat4* screen = !is_perspective(app) && ctx.drawing_to_window ? screen_of_flat_draw() : nullptr;
+    const glm::dmat4* screen = !is_perspective(app) ? screen_of_flat_draw(ctx) : nullptr;
     if (screen) {
         // Drawn over the scene a view showed (a HUD, a game's menu over it): on the program's
         // screen, which lies in the direction that view looks; every tile shows it where it
@@ -208,7 +208,7 @@ bool TileAdapter::correct_shader_program(uint32_t program) {
         } else if (shader_camera(program, camera)) {
             m = glm::mat4(view.correction(camera.projection));
             saw_view(ctx, camera.projection);
-        } else if (const glm::dmat4* screen = ctx.drawing_to_window ? screen_of_flat_draw() : nullptr) {
+        } else if (const glm::dmat4* screen = screen_of_flat_draw(ctx)) {
             m = glm::mat4(view.correction(*screen));  // over a view: on the program's screen
         } else if (ctx.drawing_to_window && (s.scene_view || s.window_view)) {
             // the quad that shows the scene: as drawn
@@ -226,8 +226,11 @@ bool TileAdapter::correct_shader_program(uint32_t program) {
     return true;
 }
 
-const glm::dmat4* TileAdapter::screen_of_flat_draw() {
+const glm::dmat4* TileAdapter::screen_of_flat_draw(const SlaveContext& ctx) {
     State& s = state();
+    if (!ctx.drawing_to_window)
+        return s.scene_view && !s.window_drawn && s.draw_framebuffer == s.frame_scene_target ? &s.scene_projection
+                                                                                               : nullptr;
     if (s.window_view) return &s.window_projection;
     if (!s.scene_view) return nullptr;
     if (!s.scene_shown) {  // this draw shows the scene

@@ -101,6 +101,7 @@ bool later_scene_target(SceneFacts& f, DrawState& s, int W, int H) {
         return false;
     f.main_known = false;
     f.scene_framebuffer = 0;
+    f.target_overlay = false;
     f.light = effects::SceneLight{};
     return true;
 }
@@ -143,12 +144,20 @@ WindowDrawMeaning window_draw(SceneFacts& f, DrawState& s, RedrawKind kind) {
         // A 3D draw to the window: what was drawn offscreen was not the scene.
         f.main_known = false;
         f.scene_framebuffer = 0;
+        f.target_overlay = false;
         f.light = effects::SceneLight{};
         return WindowDrawMeaning::NotTheScene;
     }
     if (!f.scene_framebuffer && !starts_overlays(f, s, kind)) return WindowDrawMeaning::Scene;
     f.overlay = true;
     return WindowDrawMeaning::StartsOverlays;
+}
+
+bool scene_target_overlays_start(SceneFacts& f, DrawState& s, RedrawKind kind) {
+    if (!f.main_known || !f.scene_framebuffer || f.presented || f.overlay || f.target_overlay) return false;
+    if (kind != RedrawKind::Draw && kind != RedrawKind::Begin) return false;
+    f.target_overlay = starts_overlays(f, s, kind);
+    return f.target_overlay;
 }
 
 bool depth_clear_starts_overlays(SceneFacts& f, GLbitfield mask) {

@@ -43,6 +43,10 @@ struct SceneFacts {
     // are overlays. If that first draw writes depth instead, the object was not the scene.
     GLuint scene_framebuffer = 0;
     bool presented = false;
+    // Overlays drawn into that framebuffer object after the main view, before it is shown (VTK's
+    // text actors): from the first flat draw there (starts_overlays' rule) on, what the target
+    // gets is the program's, as the window's overlays are.
+    bool target_overlay = false;
     glm::dmat4 projection{1.0}, modelview{1.0};
     int32_t viewport[4] = {0, 0, 0, 0};  // the program's, master window coordinates
     effects::SceneLight light;
@@ -108,6 +112,11 @@ bool later_scene_target(SceneFacts& facts, DrawState& state, int master_width, i
 // whose depth function is GL_ALWAYS: a copy of the scene's depth); a 3D draw instead means the
 // offscreen draws were not the scene.
 WindowDrawMeaning window_draw(SceneFacts& facts, DrawState& state, RedrawKind kind);
+
+// A draw of `kind` into the scene's framebuffer object (`facts.scene_framebuffer`) while its main
+// view is known and it has not been shown: true when it is the first flat one (starts_overlays),
+// which starts the overlays drawn into that target.
+bool scene_target_overlays_start(SceneFacts& facts, DrawState& state, RedrawKind kind);
 
 // glClear(mask) of the window while its main view is known and overlays have not started: a
 // clear of the depth alone (the colour kept) ends the scene, and what follows (a view model with

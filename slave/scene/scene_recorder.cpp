@@ -67,6 +67,9 @@ void SceneRecorder::record(SlaveContext& ctx, const Call& c, const uint8_t* tupl
                                   !sc.presents && lending_.shares_with_another(ctx), framebuffer)
                : kind != RedrawKind::State && kind != RedrawKind::ProgramState))
         return;
+    if (opens && !to_window && framebuffer && framebuffer == facts.scene_framebuffer &&
+        scene_target_overlays_start(facts, state, kind) && on_target_overlays_start)
+        on_target_overlays_start(ctx);
     if (kind == RedrawKind::Copy) {  // a blit to the window shows an offscreen scene there
         if (facts.scene_framebuffer && !facts.overlay) facts.presented = true;
         return;

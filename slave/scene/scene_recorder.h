@@ -48,6 +48,8 @@ public:
     // runs: the window then holds the scene alone (the effects runner copies it, and its depth
     // when it is about to be cleared).
     std::function<void(SlaveContext&)> on_overlays_start;
+    // Called before the first overlay drawn into the scene's framebuffer object (SceneFacts::target_overlay).
+    std::function<void(SlaveContext&)> on_target_overlays_start;
 
     // Before each call the replay runs on the current context `ctx`.
     void record(SlaveContext& ctx, const Call& c, const uint8_t* tuple, size_t bytes);

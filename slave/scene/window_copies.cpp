@@ -29,6 +29,14 @@ void begin_depth_draw(const GlApi& gl, GLuint fb, int width, int height, GLuint 
     gl.glBindTexture(GL_TEXTURE_2D, source);
 }
 
+// The size of the target a scene is drawn into offscreen: the program's window, or its viewport
+// when the scene is drawn at another size and shown stretched.
+void scene_target_size(const SlaveContext& ctx, const ContextScene& scene, int& SW, int& SH) {
+    const int W = std::max(1, ctx.master_width), H = std::max(1, ctx.master_height);
+    const bool stretched = scene.loan.borrowed_from == 0 && stretched_scene(scene.facts, W, H);
+    SW = stretched ? scene.facts.viewport[2] : W, SH = stretched ? scene.facts.viewport[3] : H;
+}
+
 }  // namespace
 
 GLenum depth_format(const GlApi& gl, GLenum target) {
@@ -128,8 +136,8 @@ GLuint WindowCopies::scene_depth_copy(SlaveContext& ctx, ContextScene& scene, co
     // A scene drawn at another size than the window's and shown stretched over it is copied at
     // its own size, and stretched by the interpolating draw below (a nearest blit would make
     // steps of its depth, and surfaces of steps have no normal).
-    const bool stretched = !placed && stretched_scene(scene.facts, W, H);
-    const int SW = stretched ? scene.facts.viewport[2] : W, SH = stretched ? scene.facts.viewport[3] : H;
+    int SW = W, SH = H;
+    scene_target_size(ctx, scene, SW, SH);
     const int sizes[4] = {SW, SH, ctx.width, ctx.height};
     const int from[4] = {0, 0, placed ? shown.loan.scene_size[0] : SW, placed ? shown.loan.scene_size[1] : SH};
     const int target[4] = {placed ? p[0] : 0, placed ? p[1] : 0, placed ? p[2] : SW, placed ? p[3] : SH};
@@ -160,11 +168,7 @@ GLuint WindowCopies::scene_depth_copy(SlaveContext& ctx, ContextScene& scene, co
     }
     gl.glBlitFramebuffer(from[0], from[1], from[2], from[3], target[0], target[1], target[2], target[3],
                          GL_DEPTH_BUFFER_BIT, GL_NEAREST);
-    const TileMapping& t = core_.options().tile;
-    glm::dvec4 source(0, 0, W, H);
-    if (t.enabled && !core_.options().view.enabled)
-        source = {t.x / t.sx(W), t.y / t.sy(H), (t.x + t.width) / t.sx(W), (t.y + t.height) / t.sy(H)};
-    source *= glm::dvec4(double(SW) / W, double(SH) / H, double(SW) / W, double(SH) / H);  // in the copy's texels
+    const glm::dvec4 source = tile_source(ctx, SW, SH);
     if (!scene_depth_program_) {
         scene_depth_program_ = effects::build_program(gl, "fullscreen.vert", "scene_depth.frag");
         gl.glGenVertexArrays(1, &scene_depth_vao_);
@@ -175,6 +179,44 @@ GLuint WindowCopies::scene_depth_copy(SlaveContext& ctx, ContextScene& scene, co
                    GLfloat(source.z), GLfloat(source.w));
     effects::draw_fullscreen(gl, scene_depth_vao_);
     return scene_depth_;
+}
+
+glm::dvec4 WindowCopies::tile_source(const SlaveContext& ctx, int SW, int SH) const {
+    const int W = std::max(1, ctx.master_width), H = std::max(1, ctx.master_height);
+    const TileMapping& t = core_.options().tile;
+    glm::dvec4 source(0, 0, W, H);
+    if (t.enabled && !core_.options().view.enabled)
+        source = {t.x / t.sx(W), t.y / t.sy(H), (t.x + t.width) / t.sx(W), (t.y + t.height) / t.sy(H)};
+    return source * glm::dvec4(double(SW) / W, double(SH) / H, double(SW) / W, double(SH) / H);  // in the copy's texels
+}
+
+void WindowCopies::keep_scene_target(const SlaveContext& ctx, const ContextScene& scene, bool final) {
+    const GlApi& gl = core_.api();
+    effects::StateGuard guard(gl);
+    int SW = 1, SH = 1;
+    scene_target_size(ctx, scene, SW, SH);
+    if (SW != scene_target_size_[0] || SH != scene_target_size_[1]) {
+        if (scene_target_before) {
+            const GLuint textures[] = {scene_target_before, scene_target_final};
+            gl.glDeleteTextures(2, textures);
+            gl.glDeleteFramebuffers(2, scene_target_fb_);
+        }
+        scene_target_before = effects::make_texture(gl, GL_RGBA8, SW, SH);
+        scene_target_final = effects::make_texture(gl, GL_RGBA8, SW, SH);
+        scene_target_fb_[0] = effects::make_framebuffer(gl, scene_target_before, 0);
+        scene_target_fb_[1] = effects::make_framebuffer(gl, scene_target_final, 0);
+        scene_target_size_[0] = SW, scene_target_size_[1] = SH;
+    }
+    // (a multisampled target is resolved by the blit, which keeps the size)
+    gl.glBindFramebuffer(GL_READ_FRAMEBUFFER, scene.facts.scene_framebuffer);
+    gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, scene_target_fb_[final ? 1 : 0]);
+    gl.glBlitFramebuffer(0, 0, SW, SH, 0, 0, SW, SH, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+}
+
+glm::dvec4 WindowCopies::scene_target_rect(const SlaveContext& ctx, const ContextScene& scene) const {
+    int SW = 1, SH = 1;
+    scene_target_size(ctx, scene, SW, SH);
+    return tile_source(ctx, SW, SH);
 }
 
 GLuint WindowCopies::pass_depth(SlaveContext& ctx, GLuint program_depth, const DepthConvention& c,

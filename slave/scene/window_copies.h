@@ -43,6 +43,13 @@ public:
     // The window's depth now, before the program clears it for a view model: window_copy's
     // depth until end_frame.
     void keep_depth(SlaveContext& ctx);
+    // A scene drawn offscreen may get the program's HUD in its own target (VTK's text actors): that
+    // target's colour (its read buffer) before the first such draw (`final` false) and at the
+    // frame's end, each copied at the target's size into scene_target_before / _final.
+    void keep_scene_target(const SlaveContext& ctx, const ContextScene& scene, bool final);
+    // The rectangle of those copies' texels (x0, y0, x1, y1) that this tile shows over its size.
+    glm::dvec4 scene_target_rect(const SlaveContext& ctx, const ContextScene& scene) const;
+    GLuint scene_target_before = 0, scene_target_final = 0;
     void new_frame() { color_copied_ = depth_copied_ = pass_depth_done_ = false; }
     void end_frame() { depth_kept_ = false; }
 
@@ -52,6 +59,9 @@ public:
 
 private:
     GLuint scene_depth_copy(SlaveContext& ctx, ContextScene& scene, const ContextScene& shown);
+    // The part of a program-window-sized image of SW x SH texels this tile shows: all of it on a
+    // rotated tile, this tile's rectangle of the canvas on a planar one.
+    glm::dvec4 tile_source(const SlaveContext& ctx, int SW, int SH) const;
 
     Replayer& core_;
     GLuint color_texture_ = 0, depth_texture_ = 0, color_fb_ = 0, depth_fb_ = 0;
@@ -65,6 +75,8 @@ private:
     GLuint pass_depth_ = 0, pass_depth_fb_ = 0, pass_depth_program_ = 0;
     int pass_depth_size_[2] = {0, 0};
     bool pass_depth_done_ = false;
+    GLuint scene_target_fb_[2] = {0, 0};
+    int scene_target_size_[2] = {0, 0};
 };
 
 }  // namespace glcast::slave

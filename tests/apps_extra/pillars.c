@@ -38,6 +38,10 @@
  * an orthographic projection: by fixed function, or by the shader program with the orthographic
  * matrix in its uniform (--shader, --mvp) or in GL_PROJECTION (--builtins).
  *
+ * With --fbo --hud --in-scene the HUD is drawn into the scene's framebuffer object, after the
+ * pillars and before the scene is shown (as VTK draws its text actors), and lower: window pixels
+ * x 20..120, y 40..100 of 400x300, over the floor, where every pass decorates.
+ *
  * With --fbo --mrt the scene's framebuffer object has a second colour attachment, written too (as
  * deferred renderers write several targets at once); with --fbo --msaa the scene is drawn into a
  * multisampled framebuffer object (4 samples) and resolved with glBlitFramebuffer into the
@@ -83,7 +87,7 @@
  * which the shader reads through gl_LightSource[0]. The fixed-function program is unlit: the passes
  * then use their configured light.
  *
- *   pillars [--shader | --builtins | --mvp] [--grow] [--fbo [--half] [--mrt | --msaa]] [--reversed] [--hud]
+ *   pillars [--shader | --builtins | --mvp] [--grow] [--fbo [--half] [--mrt | --msaa]] [--reversed] [--hud [--in-scene]]
  *           [--hand] [--left-handed] [--mixed] [--foliage] [--post] [--markers] [--cull] [--fov DEG]
  *           [--turn DEG] [--sun X,Y,Z | --gl-light X,Y,Z] [--frames N] [--size WxH]
  */
@@ -126,6 +130,28 @@ static const char *take_value(int *argc, char ***argv, const char *option)
     *argv += 2;
     *argc -= 2;
     return value;
+}
+
+/* --hud: a panel at window pixels 20..120 x y0..y0 + 60 of 400x300 (scaled to width x height), the
+ * depth test off, under an orthographic projection: fixed function, or the shader program with the
+ * matrix in its uniform or (builtins) in GL_PROJECTION */
+static void draw_hud(GLuint program, GLint proj_location, int builtins, int width, int height, double y0)
+{
+    const double ortho[16] = {2.0 / width, 0, 0, 0, 0, 2.0 / height, 0, 0, 0, 0, -1, 0, -1, -1, 0, 1};
+    const double sx = width / 400.0, sy = height / 300.0;
+    glDisable(GL_DEPTH_TEST);
+    if (program) glUseProgram(program);
+    if (program && !builtins) upload(proj_location, ortho);
+    glMatrixMode(GL_PROJECTION);
+    glLoadMatrixd(ortho);
+    glMatrixMode(GL_MODELVIEW);
+    glLoadIdentity();
+    glColor3ub(230, 50, 40);
+    glBegin(GL_QUADS);
+    glVertex2d(20 * sx, y0 * sy); glVertex2d(120 * sx, y0 * sy);
+    glVertex2d(120 * sx, (y0 + 60) * sy); glVertex2d(20 * sx, (y0 + 60) * sy);
+    glEnd();
+    if (program) glUseProgram(0);
 }
 
 static int parse_vector(const char *text, double v[3])
@@ -200,6 +226,7 @@ int main(int argc, char **argv)
     const int msaa = fbo_mode && app_take_flag(&argc, &argv, "--msaa");
     const int reversed = app_take_flag(&argc, &argv, "--reversed");
     const int hud = app_take_flag(&argc, &argv, "--hud");
+    const int hud_in_scene = hud && fbo_mode && app_take_flag(&argc, &argv, "--in-scene");
     const int hand = app_take_flag(&argc, &argv, "--hand");
     const int left_handed = app_take_flag(&argc, &argv, "--left-handed");
     const int mixed = builtins && app_take_flag(&argc, &argv, "--mixed");
@@ -464,6 +491,7 @@ int main(int argc, char **argv)
             else if (shader && mixed) glUseProgram(program);
             draw_markers(zs);
         }
+        if (hud_in_scene) draw_hud(shader ? program : 0, proj_location, builtins, fw, fh, 40);
         if (fbo_mode) {  /* the scene shown in the window, as a last post-processing pass does */
             if (msaa) {
                 glBindFramebuffer(GL_READ_FRAMEBUFFER, msaa_fbo);
@@ -517,23 +545,7 @@ int main(int argc, char **argv)
             glVertex3d(x0, y0, -1); glVertex3d(x1, y0, -1); glVertex3d(x1, y1, -1); glVertex3d(x0, y1, -1);
             glEnd();
         }
-        if (hud) {
-            const double ortho[16] = {2.0 / a.width, 0, 0, 0, 0, 2.0 / a.height, 0, 0, 0, 0, -1, 0, -1, -1, 0, 1};
-            const double sx = a.width / 400.0, sy = a.height / 300.0;
-            glDisable(GL_DEPTH_TEST);
-            if (shader) glUseProgram(program);
-            if (shader && !builtins) upload(proj_location, ortho);
-            glMatrixMode(GL_PROJECTION);
-            glLoadMatrixd(ortho);
-            glMatrixMode(GL_MODELVIEW);
-            glLoadIdentity();
-            glColor3ub(230, 50, 40);
-            glBegin(GL_QUADS);
-            glVertex2d(20 * sx, 220 * sy); glVertex2d(120 * sx, 220 * sy);
-            glVertex2d(120 * sx, 280 * sy); glVertex2d(20 * sx, 280 * sy);
-            glEnd();
-            if (shader) glUseProgram(0);
-        }
+        if (hud && !hud_in_scene) draw_hud(shader ? program : 0, proj_location, builtins, a.width, a.height, 220);
         glXSwapBuffers(dpy, win);
         if (glGetError() != GL_NO_ERROR) {
             fprintf(stderr, "pillars: GL error\n");

@@ -23,6 +23,9 @@ plants) cast half the shadow: redraws test alpha as each draw did.
 A view model drawn after a depth-only clear of the window (pillars --hand, as a voxel game draws
 its player's hand) leaves the scene covered and shadowed as without it, and keeps every pixel of
 the hand under every pass (before: the cleared depth hid the whole scene from the passes).
+A HUD drawn into the scene's framebuffer object after the scene, before it is shown (pillars --fbo
+--hud --in-scene, as VTK draws its text actors) keeps every pixel under every pass, the scene
+decorated as without it (before: snow fell over it, the cover and shadows changed it).
 
     modern_camera_test.py     with GLCAST, GLCAST_SHIM, APPS_DIR, OUT_DIR in the environment
 """
@@ -42,6 +45,7 @@ APPS = os.environ.get("APPS_DIR", "")
 OUT = os.path.join(os.environ.get("OUT_DIR", "/tmp/glcast-e2e"), "modern_camera")
 FLOOR = (90, 90, 90)  # pillars.c
 HAND = (200, 180, 150)  # pillars.c --hand
+HUD = (230, 50, 40)  # pillars.c --hud
 
 
 def check(cond, msg):
@@ -84,7 +88,9 @@ def main():
              "fbo_msaa": ["--fbo", "--msaa"], "fbo_mrt": ["--fbo", "--mrt"],
              "hand": ["--hand"], "hand_builtins": ["--builtins", "--hand"],
              "left_handed": ["--left-handed"], "left_handed_mixed": ["--builtins", "--left-handed", "--mixed"],
-             "foliage": ["--builtins", "--foliage"], "fbo_post": ["--builtins", "--fbo", "--post"]}
+             "foliage": ["--builtins", "--foliage"], "fbo_post": ["--builtins", "--fbo", "--post"],
+             "fbo_hud": ["--fbo", "--hud", "--in-scene"], "fbo_hud_builtins": ["--builtins", "--fbo", "--hud", "--in-scene"],
+             "fbo_hud_msaa": ["--fbo", "--msaa", "--hud", "--in-scene"]}
     for mode, flags in modes.items():
         capture = os.path.join(OUT, f"{mode}.glcs")
         with Xvfb():
@@ -118,7 +124,7 @@ def main():
     floor, covered, shadowed = results["fixed"]
     check(covered > floor // 2 and shadowed > 100, f"the fixed-function program itself is not decorated: {results}")
     for mode in modes:
-        if mode == "foliage":
+        if mode == "foliage" or mode.startswith("fbo_hud"):
             continue  # another picture: below
         f, c, s = results[mode]
         # (at half size the floor's edge moves by up to a pixel, multisampled edges are blended:
@@ -156,17 +162,18 @@ def main():
     solid, cut = results["builtins"][2], results["foliage"][2]
     print(f"foliage: {cut} floor pixels shadowed, the solid pillars {solid} ({100 * cut / max(1, solid):.0f}%)")
     check(0.3 * solid <= cut <= 0.7 * solid, f"alpha-tested pillars shadow {cut} floor pixels, solid ones {solid}")
-    # The view model keeps its pixels under every pass.
+    # The view model and a HUD drawn into the scene's target keep their pixels under every pass.
     frame = "frame-000001.png"
-    for mode in ("hand", "hand_builtins"):
+    for mode, colour in (("hand", HAND), ("hand_builtins", HAND), ("fbo_hud", HUD), ("fbo_hud_builtins", HUD),
+                         ("fbo_hud_msaa", HUD)):
         w, h, plain = read_png(os.path.join(OUT, f"{mode}-plain", frame))
-        hand = [(x, y) for y in range(h) for x in range(w) if tuple(plain[y][x][:3]) == HAND]
-        check(len(hand) > 0.04 * w * h, f"{mode}: the hand covers {len(hand)} pixels of the program's picture")
+        kept = [(x, y) for y in range(h) for x in range(w) if tuple(plain[y][x][:3]) == colour]
+        check(len(kept) > 0.04 * w * h, f"{mode}: the kept object covers {len(kept)} pixels of the program's picture")
         for name in ("cover", "shadows", "screen", "snow"):
             _, _, b = read_png(os.path.join(OUT, f"{mode}-{name}", frame))
-            changed = sum(1 for x, y in hand if b[y][x][:3] != plain[y][x][:3])
-            print(f"{mode} {name}: {changed} of the hand's {len(hand)} pixels changed")
-            check(changed == 0, f"{mode}: {name} changed {changed} of the hand's {len(hand)} pixels")
+            changed = sum(1 for x, y in kept if b[y][x][:3] != plain[y][x][:3])
+            print(f"{mode} {name}: {changed} of the kept object's {len(kept)} pixels changed")
+            check(changed == 0, f"{mode}: {name} changed {changed} of the kept object's {len(kept)} pixels")
     # Falling snow passes behind the pillars by the depth: the same flakes whatever the depth convention.
     frame = "frame-000001.png"
     for mode in ("reversed", "reversed_builtins"):

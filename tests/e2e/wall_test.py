@@ -329,17 +329,27 @@ def case_cylinder_hud_fbo_shader():
     cylinder_hud("cylinder_hud_fbo_shader", ["--shader", "--fbo"])
 
 
+def case_cylinder_hud_in_scene():
+    # ... drawn into the scene's framebuffer object after the pillars, before it is shown (VTK's
+    # text actors), over the floor.
+    cylinder_hud("cylinder_hud_in_scene", ["--fbo"], after=["--in-scene"], panel=(20, 40, 120, 100))
+
+
+def case_cylinder_hud_in_scene_shader():
+    cylinder_hud("cylinder_hud_in_scene_shader", ["--shader", "--fbo"], after=["--in-scene"], panel=(20, 40, 120, 100))
+
+
 HUD_COLOUR = (230, 50, 40)  # pillars --hud
 
 
-def cylinder_hud(name, flags):
+def cylinder_hud(name, flags, after=(), panel=(20, 220, 120, 280)):
     out = os.path.join(OUT, name)
     shutil.rmtree(out, ignore_errors=True)
     r = run([GLCAST, "run", "--config", os.path.join(CONFIGS, "cylinder-360.json"), "--backend", "egl", "--out", out,
-             "--frames", "1", "--", os.path.join(APPS, "pillars")] + flags + ["--hud", "--size", "400x300",
-                                                                               "--frames", "5"])
+             "--frames", "1", "--", os.path.join(APPS, "pillars")] + flags + ["--hud"] + list(after) +
+            ["--size", "400x300", "--frames", "5"])
     check(r.returncode == 0, f"glcast run failed: {r.stderr[-3000:]}")
-    # Where the program's window pixels (20..120, 220..280 of 400x300, GL y up) lie on yaw000
+    # Where the program's window pixels (`panel`: 20..120, 220..280 of 400x300, GL y up) lie on yaw000
     # (1600x1200, -30..30 across, -20..30 up and down): through their directions from the eye.
     half = math.tan(math.radians(30))
     top = half * 300 / 400
@@ -349,8 +359,8 @@ def cylinder_hud(name, flags):
         lo, hi = math.tan(math.radians(-20)), math.tan(math.radians(30))
         return (dx / half + 1) / 2 * 1600, 1200 - (dy - lo) / (hi - lo) * 1200  # from the top left
 
-    x0, y1 = on_front_tile(20, 220)
-    x1, y0 = on_front_tile(120, 280)
+    x0, y1 = on_front_tile(panel[0], panel[1])
+    x1, y0 = on_front_tile(panel[2], panel[3])
     seen = {}
     for i in range(6):
         tile = f"yaw{60 * i:03d}"

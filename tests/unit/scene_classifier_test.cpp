@@ -438,6 +438,26 @@ TEST(SceneClassifier, ADepthCopyToTheWindowShowsTheOffscreenScene) {
     EXPECT_TRUE(facts.presented && facts.main_known);
 }
 
+TEST(SceneClassifier, AFlatDrawIntoTheSceneTargetBeforeItIsShownStartsItsOverlays) {
+    // VTK draws its text actors into the scene's framebuffer object, after the 3D view.
+    SceneFacts facts;
+    Given s;
+    EXPECT_FALSE(scene_target_overlays_start(facts, s, RedrawKind::Draw));  // no view yet
+    classify_draw(facts, s, 3, kPasses);
+    EXPECT_FALSE(scene_target_overlays_start(facts, s, RedrawKind::Draw));  // another 3D draw of the view
+    s.proj = kOrtho;
+    EXPECT_FALSE(scene_target_overlays_start(facts, s, RedrawKind::State));
+    EXPECT_TRUE(scene_target_overlays_start(facts, s, RedrawKind::Draw));
+    EXPECT_TRUE(facts.target_overlay);
+    EXPECT_FALSE(scene_target_overlays_start(facts, s, RedrawKind::Draw));  // started once
+    SceneFacts shown;
+    s.proj = glm::frustum(-1.0, 1.0, -0.75, 0.75, 1.0, 100.0);
+    classify_draw(shown, s, 3, kPasses);
+    shown.presented = true;  // after the scene is shown, its target is no longer the picture's
+    s.proj = kOrtho;
+    EXPECT_FALSE(scene_target_overlays_start(shown, s, RedrawKind::Draw));
+}
+
 TEST(FrameRecord, AppendKeepsTuplesInOrderAndClearStartsOverWithTheMemoryKept) {
     FrameRecord rec;
     const uint8_t a[3] = {1, 2, 3}, b[2] = {4, 5};
