@@ -166,6 +166,18 @@ bool ProgramCameras::value(uint32_t program, const Uniform& u, float f[16]) {
     return true;
 }
 
+bool ProgramCameras::orthographic(uint32_t program) {
+    if (!program) return false;
+    for (const Uniform& u : uniforms(program).matrices) {
+        float f[16];
+        if (!value(program, u, f)) continue;
+        glm::dmat4 m;
+        for (int k = 0; k < 16; ++k) m[k / 4][k % 4] = f[k];
+        if (is_orthographic(m)) return true;
+    }
+    return false;
+}
+
 bool ProgramCameras::reads_fixed_function(uint32_t program) { return program && uniforms(program).fixed_function; }
 
 bool ProgramCameras::light(uint32_t program, const ProgramCamera& camera, effects::SceneLight& out) {
@@ -193,6 +205,12 @@ bool ProgramCameras::light(uint32_t program, const ProgramCamera& camera, effect
 // (w = s z, with no constant: up to the rounding of a projection recovered from a corrected one,
 // inverse(M) * M * P, whose M moves the eye; GL keeps M * P in floats: 1e-8 of s and more)
 bool is_perspective(const glm::dmat4& p) { return p[2][3] != 0 && std::abs(p[3][3]) <= 1e-6 * std::abs(p[2][3]); }
+
+bool is_orthographic(const glm::dmat4& m) {
+    if (m[0][3] != 0 || m[1][3] != 0 || m[2][3] != 0 || m[3][3] != 1) return false;
+    if (m[1][0] != 0 || m[2][0] != 0 || m[0][1] != 0 || m[2][1] != 0) return false;
+    return m[0][0] != 0 && m[1][1] != 0 && (std::abs(m[0][0] - 1) > 1e-6 || std::abs(m[1][1] - 1) > 1e-6);
+}
 
 bool same_projection(const glm::dmat4& a, const glm::dmat4& b) {
     double scale = 0;

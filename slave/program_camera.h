@@ -27,6 +27,10 @@ bool split_perspective(const glm::dmat4& m, glm::dmat4& projection, glm::dmat4& 
 bool is_rigid(const glm::dmat4& m);
 
 bool is_perspective(const glm::dmat4& p);
+// A projection onto the screen without perspective: (0, 0, 0, 1) as its last row, x and y each
+// scaled alone and not by 1 (a HUD's glOrtho over pixels; an identity or a translation draws in
+// clip space as a full-screen pass does).
+bool is_orthographic(const glm::dmat4& m);
 // Two projections split from different matrices of one camera: the same to float precision (a
 // projection split from projection * view * model comes out of each draw's product rounded
 // differently).
@@ -70,6 +74,9 @@ public:
     // `camera`'s view. False: none. A direction from a uniform may point either way (towards the
     // sun or the way its light travels): SceneLight::sign_from_up says so.
     bool light(uint32_t program, const ProgramCamera& camera, effects::SceneLight& out);
+    // One of its matrices is orthographic (is_orthographic) as they are now: it draws flat (a
+    // HUD's text, VTK's 2D actors).
+    bool orthographic(uint32_t program);
     void forget() { uniforms_.clear(); }
 
 private:

@@ -59,6 +59,9 @@ public:
     // follows it): no driver query at each draw.
     GLuint program_in_use();
     bool shader_camera(uint32_t program, ProgramCamera& out);
+    // A shader program that draws flat now: an orthographic matrix among its own, or in
+    // GL_PROJECTION when its shaders read the built-ins.
+    bool shader_flat(uint32_t program);
     // The light of a shader program whose camera is `camera` (ProgramCameras::light).
     bool shader_light(uint32_t program, const ProgramCamera& camera, effects::SceneLight& out);
     // The view whose screen an orthographic draw lies on (a HUD): to the window, the window's own

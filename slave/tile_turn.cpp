@@ -254,6 +254,12 @@ bool TileAdapter::shader_camera(uint32_t program, ProgramCamera& out) {
     return true;
 }
 
+bool TileAdapter::shader_flat(uint32_t program) {
+    ProgramCameras& cameras = shared().cameras;
+    if (cameras.orthographic(program)) return true;
+    return cameras.reads_fixed_function(program) && is_orthographic(program_projection_now());
+}
+
 bool TileAdapter::shader_light(uint32_t program, const ProgramCamera& camera, effects::SceneLight& out) {
     return shared().cameras.light(program, camera, out);
 }

@@ -107,6 +107,8 @@ void DriverDrawState::viewport(int32_t out[4]) { tile_.program_viewport(out); }
 
 bool DriverDrawState::camera(GLuint program, ProgramCamera& out) { return tile_.shader_camera(program, out); }
 
+bool DriverDrawState::flat_program(GLuint program) { return tile_.shader_flat(program); }
+
 effects::SceneLight DriverDrawState::program_light(GLuint program, const ProgramCamera& camera) {
     effects::SceneLight light;
     tile_.shader_light(program, camera, light);

@@ -56,6 +56,8 @@ public:
     virtual void viewport(int32_t out[4]) = 0;  // the program's viewport 0, master window coordinates
     // The camera of a shader program's draw (TileAdapter::shader_camera); false: none.
     virtual bool camera(GLuint program, ProgramCamera& out) = 0;
+    // It draws flat now (TileAdapter::shader_flat).
+    virtual bool flat_program(GLuint program) = 0;
     // Its sun (ProgramCameras::light): unknown when it has none.
     virtual effects::SceneLight program_light(GLuint program, const ProgramCamera& camera) = 0;
     // The attachments of the bound draw framebuffer object: GL_NONE, GL_TEXTURE or GL_RENDERBUFFER.
@@ -83,6 +85,7 @@ public:
     AlphaTest alpha_test() override;
     void viewport(int32_t out[4]) override;
     bool camera(GLuint program, ProgramCamera& out) override;
+    bool flat_program(GLuint program) override;
     effects::SceneLight program_light(GLuint program, const ProgramCamera& camera) override;
     GLenum color_attachment_type() override;
     GLenum depth_attachment_type() override;

@@ -172,11 +172,15 @@ bool depth_clear_starts_overlays(SceneFacts& f, GLbitfield mask) {
 bool starts_overlays(const SceneFacts& f, DrawState& s, RedrawKind kind) {
     const GLuint program = kind != RedrawKind::Pixels ? s.program() : 0;
     bool flat = kind == RedrawKind::Pixels || !s.depth_test();
-    if (!flat) flat = !program && !is_perspective(s.projection());
+    if (!flat && !program) flat = !is_perspective(s.projection());
+    ProgramCamera camera;
+    const bool camera_found = program && s.camera(program, camera);
     // A shader program that paints its 3D scene in order with the depth test off draws it with
     // the main view's camera: scene, not overlay.
-    ProgramCamera camera;
-    if (flat && program && s.camera(program, camera) && same_projection(camera.projection, f.projection)) flat = false;
+    if (flat && camera_found && same_projection(camera.projection, f.projection)) flat = false;
+    // One without a camera but with an orthographic matrix draws flat with the depth test on too
+    // (VTK's text actors).
+    if (!flat && program && !camera_found) flat = s.flat_program(program);
     return flat;
 }
 

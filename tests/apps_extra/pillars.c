@@ -40,7 +40,9 @@
  *
  * With --fbo --hud --in-scene the HUD is drawn into the scene's framebuffer object, after the
  * pillars and before the scene is shown (as VTK draws its text actors), and lower: window pixels
- * x 20..120, y 40..100 of 400x300, over the floor, where every pass decorates.
+ * x 20..120, y 40..100 of 400x300, over the floor, where every pass decorates. With --depth-on after
+ * it, the HUD is drawn with the depth test left on, as VTK leaves it for its 2D actors (the panel's
+ * depth, 0.5, lies in front of the floor's there).
  *
  * With --fbo --mrt the scene's framebuffer object has a second colour attachment, written too (as
  * deferred renderers write several targets at once); with --fbo --msaa the scene is drawn into a
@@ -87,7 +89,7 @@
  * which the shader reads through gl_LightSource[0]. The fixed-function program is unlit: the passes
  * then use their configured light.
  *
- *   pillars [--shader | --builtins | --mvp] [--grow] [--fbo [--half] [--mrt | --msaa]] [--reversed] [--hud [--in-scene]]
+ *   pillars [--shader | --builtins | --mvp] [--grow] [--fbo [--half] [--mrt | --msaa]] [--reversed] [--hud [--in-scene [--depth-on]]]
  *           [--hand] [--left-handed] [--mixed] [--foliage] [--post] [--markers] [--cull] [--fov DEG]
  *           [--turn DEG] [--sun X,Y,Z | --gl-light X,Y,Z] [--frames N] [--size WxH]
  */
@@ -135,11 +137,11 @@ static const char *take_value(int *argc, char ***argv, const char *option)
 /* --hud: a panel at window pixels 20..120 x y0..y0 + 60 of 400x300 (scaled to width x height), the
  * depth test off, under an orthographic projection: fixed function, or the shader program with the
  * matrix in its uniform or (builtins) in GL_PROJECTION */
-static void draw_hud(GLuint program, GLint proj_location, int builtins, int width, int height, double y0)
+static void draw_hud(GLuint program, GLint proj_location, int builtins, int width, int height, double y0, int depth)
 {
     const double ortho[16] = {2.0 / width, 0, 0, 0, 0, 2.0 / height, 0, 0, 0, 0, -1, 0, -1, -1, 0, 1};
     const double sx = width / 400.0, sy = height / 300.0;
-    glDisable(GL_DEPTH_TEST);
+    if (!depth) glDisable(GL_DEPTH_TEST);
     if (program) glUseProgram(program);
     if (program && !builtins) upload(proj_location, ortho);
     glMatrixMode(GL_PROJECTION);
@@ -227,6 +229,7 @@ int main(int argc, char **argv)
     const int reversed = app_take_flag(&argc, &argv, "--reversed");
     const int hud = app_take_flag(&argc, &argv, "--hud");
     const int hud_in_scene = hud && fbo_mode && app_take_flag(&argc, &argv, "--in-scene");
+    const int hud_depth = hud_in_scene && app_take_flag(&argc, &argv, "--depth-on");
     const int hand = app_take_flag(&argc, &argv, "--hand");
     const int left_handed = app_take_flag(&argc, &argv, "--left-handed");
     const int mixed = builtins && app_take_flag(&argc, &argv, "--mixed");
@@ -491,7 +494,7 @@ int main(int argc, char **argv)
             else if (shader && mixed) glUseProgram(program);
             draw_markers(zs);
         }
-        if (hud_in_scene) draw_hud(shader ? program : 0, proj_location, builtins, fw, fh, 40);
+        if (hud_in_scene) draw_hud(shader ? program : 0, proj_location, builtins, fw, fh, 40, hud_depth);
         if (fbo_mode) {  /* the scene shown in the window, as a last post-processing pass does */
             if (msaa) {
                 glBindFramebuffer(GL_READ_FRAMEBUFFER, msaa_fbo);
@@ -545,7 +548,7 @@ int main(int argc, char **argv)
             glVertex3d(x0, y0, -1); glVertex3d(x1, y0, -1); glVertex3d(x1, y1, -1); glVertex3d(x0, y1, -1);
             glEnd();
         }
-        if (hud && !hud_in_scene) draw_hud(shader ? program : 0, proj_location, builtins, a.width, a.height, 220);
+        if (hud && !hud_in_scene) draw_hud(shader ? program : 0, proj_location, builtins, a.width, a.height, 220, 0);
         glXSwapBuffers(dpy, win);
         if (glGetError() != GL_NO_ERROR) {
             fprintf(stderr, "pillars: GL error\n");

@@ -24,8 +24,9 @@ A view model drawn after a depth-only clear of the window (pillars --hand, as a 
 its player's hand) leaves the scene covered and shadowed as without it, and keeps every pixel of
 the hand under every pass (before: the cleared depth hid the whole scene from the passes).
 A HUD drawn into the scene's framebuffer object after the scene, before it is shown (pillars --fbo
---hud --in-scene, as VTK draws its text actors) keeps every pixel under every pass, the scene
-decorated as without it (before: snow fell over it, the cover and shadows changed it).
+--hud --in-scene, as VTK draws its text actors), also by a shader program with the depth test left
+on (--depth-on, as VTK leaves it), keeps every pixel under every pass, the scene decorated as
+without it (before: snow fell over it, the cover and shadows changed it).
 
     modern_camera_test.py     with GLCAST, GLCAST_SHIM, APPS_DIR, OUT_DIR in the environment
 """
@@ -90,7 +91,9 @@ def main():
              "left_handed": ["--left-handed"], "left_handed_mixed": ["--builtins", "--left-handed", "--mixed"],
              "foliage": ["--builtins", "--foliage"], "fbo_post": ["--builtins", "--fbo", "--post"],
              "fbo_hud": ["--fbo", "--hud", "--in-scene"], "fbo_hud_builtins": ["--builtins", "--fbo", "--hud", "--in-scene"],
-             "fbo_hud_msaa": ["--fbo", "--msaa", "--hud", "--in-scene"]}
+             "fbo_hud_msaa": ["--fbo", "--msaa", "--hud", "--in-scene"],
+             "fbo_hud_depth_shader": ["--shader", "--fbo", "--hud", "--in-scene", "--depth-on"],
+             "fbo_hud_depth_builtins": ["--builtins", "--fbo", "--hud", "--in-scene", "--depth-on"]}
     for mode, flags in modes.items():
         capture = os.path.join(OUT, f"{mode}.glcs")
         with Xvfb():
@@ -165,7 +168,7 @@ def main():
     # The view model and a HUD drawn into the scene's target keep their pixels under every pass.
     frame = "frame-000001.png"
     for mode, colour in (("hand", HAND), ("hand_builtins", HAND), ("fbo_hud", HUD), ("fbo_hud_builtins", HUD),
-                         ("fbo_hud_msaa", HUD)):
+                         ("fbo_hud_msaa", HUD), ("fbo_hud_depth_shader", HUD), ("fbo_hud_depth_builtins", HUD)):
         w, h, plain = read_png(os.path.join(OUT, f"{mode}-plain", frame))
         kept = [(x, y) for y in range(h) for x in range(w) if tuple(plain[y][x][:3]) == colour]
         check(len(kept) > 0.04 * w * h, f"{mode}: the kept object covers {len(kept)} pixels of the program's picture")

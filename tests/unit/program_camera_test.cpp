@@ -103,3 +103,12 @@ TEST(ProgramCamera, ASunOfUnknownSignLightsFromTheSky) {
     SceneLight known{true, glm::dvec4(0.3, -1, 0.2, 0)};  // a fixed-function light says its own sign
     EXPECT_EQ(light_from_the_sky(known, glm::dmat4(1.0)).eye_position, known.eye_position);
 }
+
+TEST(ProgramCamera, AnOrthographicMatrixOverPixelsDrawsFlat) {
+    using glcast::slave::is_orthographic;
+    EXPECT_TRUE(is_orthographic(glm::ortho(0.0, 640.0, 0.0, 480.0, -1.0, 1.0)));  // VTK's 2D actors, a HUD
+    EXPECT_FALSE(is_orthographic(glm::dmat4(1.0)));                                // a full-screen pass
+    EXPECT_FALSE(is_orthographic(glm::translate(glm::dmat4(1.0), glm::dvec3(0.5, 0, 0))));
+    EXPECT_FALSE(is_orthographic(glm::perspective(1.0, 1.3, 0.1, 100.0)));
+    EXPECT_FALSE(is_orthographic(glm::rotate(glm::ortho(0.0, 640.0, 0.0, 480.0, -1.0, 1.0), 0.3, glm::dvec3(0, 0, 1))));
+}

@@ -22,6 +22,7 @@ struct Given final : DrawState {
     GLenum mode = GL_MODELVIEW;
     effects::SceneLight lit;
     effects::SceneLight sun;  // a shader program's
+    bool flat = false;        // ... an orthographic matrix among its own
     CullState culling{true, GL_BACK, GL_CCW};
     AlphaTest alpha;
     bool always = false;
@@ -51,6 +52,7 @@ struct Given final : DrawState {
         return has_camera;
     }
     effects::SceneLight program_light(GLuint, const ProgramCamera&) override { return asked++, sun; }
+    bool flat_program(GLuint) override { return asked++, flat; }
     GLenum color_attachment_type() override { return asked++, color; }
     GLenum depth_attachment_type() override { return asked++, depth; }
 };
@@ -456,6 +458,19 @@ TEST(SceneClassifier, AFlatDrawIntoTheSceneTargetBeforeItIsShownStartsItsOverlay
     shown.presented = true;  // after the scene is shown, its target is no longer the picture's
     s.proj = kOrtho;
     EXPECT_FALSE(scene_target_overlays_start(shown, s, RedrawKind::Draw));
+}
+
+TEST(SceneClassifier, AShaderDrawWithAnOrthographicMatrixIsFlatWithTheDepthTestOn) {
+    SceneFacts facts;
+    Given s;
+    classify_draw(facts, s, 0, kPasses);  // the view, fixed function
+    s.current_program = 6;               // VTK's text actor: depth test on, no camera, an ortho matrix
+    EXPECT_FALSE(starts_overlays(facts, s, RedrawKind::Draw));
+    s.flat = true;
+    EXPECT_TRUE(starts_overlays(facts, s, RedrawKind::Draw));
+    s.has_camera = true;  // a camera among its matrices: a 3D draw, whatever else it holds
+    s.cam.projection = s.proj;
+    EXPECT_FALSE(starts_overlays(facts, s, RedrawKind::Draw));
 }
 
 TEST(FrameRecord, AppendKeepsTuplesInOrderAndClearStartsOverWithTheMemoryKept) {
