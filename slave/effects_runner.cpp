@@ -193,11 +193,18 @@ void EffectsRunner::frame_view(SlaveContext& ctx, effects::FrameView& v) {
         facts.viewport[0] = facts.viewport[1] = 0;
         facts.viewport[2] = ctx.master_width, facts.viewport[3] = ctx.master_height;
     }
-    if (!v.view_known && facts.shader_draws && !warned_no_camera_) {
+    // Said once for all passes, which leave such frames as they are (snow.without_view aside).
+    if (!v.view_known && !warned_no_camera_) {
         warned_no_camera_ = true;
-        std::fprintf(stderr, "glcast: effects: no draw with a perspective projection among the shader programs' "
-                             "matrices in frame %" PRIu64 ": passes that need the scene's view skip such frames "
-                             "(program_projection in the display config states it)\n", core_.frame());
+        if (facts.shader_draws)
+            std::fprintf(stderr, "glcast: effects: no draw with a perspective projection among the shader programs' "
+                                 "matrices in frame %" PRIu64 ": the passes leave such frames as the program drew them "
+                                 "(a projection computed in a shader is not linear and cannot be found; "
+                                 "program_projection in the display config states a linear one)\n", core_.frame());
+        else
+            std::fprintf(stderr, "glcast: effects: no draw with a perspective projection in frame %" PRIu64 ": the "
+                                 "passes leave such frames as the program drew them (a 2D program, a menu)\n",
+                         core_.frame());
     }
     if (v.view_known) {
         v.projection = facts.projection;

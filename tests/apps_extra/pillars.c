@@ -78,6 +78,15 @@
  * view is not drawn at all (not by fixed function, --shader or --builtins). --fov DEG sets that
  * field of view (default 60; the picture is then wider, the pillars smaller).
  *
+ * With --scale S (fixed function or --builtins) the program works at S times the scale: its frustum's
+ * near and far planes S times as far, its view scaling the world by S (glScaled), the picture the
+ * same; its eye-space distances are S times the others'.
+ *
+ * With --shader --fisheye the shader program projects the ring itself, not linearly (an equidistant
+ * fisheye of 120 degrees across, as a planetarium projects its sky): no matrix of the program holds
+ * a perspective projection, so no camera can be found; with --hud the panel is drawn by fixed
+ * function over it.
+ *
  * With --turn DEG the camera turns DEG degrees to the left (glRotated(DEG, 0, 1, 0) on the view: not
  * for --shader, whose only matrix is the projection), so that the world's space and the eye's differ.
  *
@@ -91,7 +100,7 @@
  *
  *   pillars [--shader | --builtins | --mvp] [--grow] [--fbo [--half] [--mrt | --msaa]] [--reversed] [--hud [--in-scene [--depth-on]]]
  *           [--hand] [--left-handed] [--mixed] [--foliage] [--post] [--markers] [--cull] [--fov DEG]
- *           [--turn DEG] [--sun X,Y,Z | --gl-light X,Y,Z] [--frames N] [--size WxH]
+ *           [--fisheye] [--scale S] [--turn DEG] [--sun X,Y,Z | --gl-light X,Y,Z] [--frames N] [--size WxH]
  */
 #define GL_GLEXT_PROTOTYPES 1
 #include <GL/gl.h>
@@ -237,6 +246,7 @@ int main(int argc, char **argv)
     const int post = fbo_mode && app_take_flag(&argc, &argv, "--post");
     const int markers = app_take_flag(&argc, &argv, "--markers");
     const int cull = app_take_flag(&argc, &argv, "--cull");
+    const int fisheye = shader && !builtins && !mvp && app_take_flag(&argc, &argv, "--fisheye");
     double fov = 60;
     if (argc > 2 && strcmp(argv[1], "--fov") == 0) {  /* (before --turn, as the usage lists them) */
         fov = atof(argv[2]);
@@ -247,6 +257,12 @@ int main(int argc, char **argv)
         argv[2] = argv[0];
         argv += 2;
         argc -= 2;
+    }
+    const char *scale_text = take_value(&argc, &argv, "--scale");
+    const double scale = scale_text ? atof(scale_text) : 1;
+    if (!(scale > 0) || (scale_text && shader && !builtins)) {
+        fprintf(stderr, "pillars: --scale takes a positive factor, for fixed function or --builtins\n");
+        return 2;
     }
     const char *turn_text = take_value(&argc, &argv, "--turn");
     const double turn = turn_text ? atof(turn_text) : 0;
@@ -307,6 +323,12 @@ int main(int argc, char **argv)
                                " normalize(gl_LightSource[0].position.xyz)));"
                                " gl_FrontColor = vec4(gl_Color.rgb * lit, 1.0);"
                                " gl_Position = gl_ModelViewProjectionMatrix * gl_Vertex; }\n"
+                         : fisheye ? "#version 120\nuniform float aspect;\n"
+                               "void main() { gl_FrontColor = gl_Color; vec3 e = gl_Vertex.xyz; float r = length(e);"
+                               " float theta = acos(clamp(-e.z / r, -1.0, 1.0)), phi = atan(e.y, e.x);"
+                               " float rho = theta / radians(60.0);"
+                               " gl_Position = vec4(rho * cos(phi), rho * sin(phi) * aspect,"
+                               " (r - 0.5) / 99.5 * 2.0 - 1.0, 1.0); }\n"
                          : foliage ? "#version 120\nvoid main() { gl_FrontColor = gl_Color; gl_TexCoord[0] = gl_MultiTexCoord0;"
                                    " gl_Position = gl_ModelViewProjectionMatrix * gl_Vertex; }\n"
                          : builtins ? "#version 120\n"
@@ -334,6 +356,11 @@ int main(int argc, char **argv)
             return 1;
         }
         proj_location = glGetUniformLocation(program, mvp ? "mvp" : "proj");
+        if (fisheye) {
+            glUseProgram(program);
+            glUniform1f(glGetUniformLocation(program, "aspect"), (GLfloat)a.width / (GLfloat)a.height);
+            glUseProgram(0);
+        }
         if (sun_text) {
             glUseProgram(program);
             glUniform3f(glGetUniformLocation(program, "sun_direction"), (GLfloat)sun[0], (GLfloat)sun[1], (GLfloat)sun[2]);
@@ -442,7 +469,7 @@ int main(int argc, char **argv)
         for (int i = 0; i < 16; i++) left[i] = i >= 8 && i < 12 ? -standard[i] : standard[i];
         const double *proj = reversed ? reverse_infinite : left_handed ? left : standard;
         if (reversed || left_handed) glLoadMatrixd(proj);
-        else glFrustum(-half, half, -top, top, n, fa);
+        else glFrustum(-half * scale, half * scale, -top * scale, top * scale, n * scale, fa * scale);
         if (shader && !mixed) glUseProgram(program);
         if (shader && !builtins && !mvp) {
             GLfloat m[16];
@@ -451,6 +478,7 @@ int main(int argc, char **argv)
         }
         glMatrixMode(GL_MODELVIEW);
         glLoadIdentity();
+        if (scale_text) glScaled(scale, scale, scale);
         if (turn_text && !mvp) glRotated(turn, 0, 1, 0);
         if (gl_light_text) {  /* in the world's space: GL keeps it in the eye's, through the view */
             const GLfloat position[4] = {(GLfloat)sun[0], (GLfloat)sun[1], (GLfloat)sun[2], 0};
@@ -548,7 +576,8 @@ int main(int argc, char **argv)
             glVertex3d(x0, y0, -1); glVertex3d(x1, y0, -1); glVertex3d(x1, y1, -1); glVertex3d(x0, y1, -1);
             glEnd();
         }
-        if (hud && !hud_in_scene) draw_hud(shader ? program : 0, proj_location, builtins, a.width, a.height, 220, 0);
+        if (fisheye) glUseProgram(0);  /* (its HUD by fixed function) */
+        if (hud && !hud_in_scene) draw_hud(shader && !fisheye ? program : 0, proj_location, builtins, a.width, a.height, 220, 0);
         glXSwapBuffers(dpy, win);
         if (glGetError() != GL_NO_ERROR) {
             fprintf(stderr, "pillars: GL error\n");

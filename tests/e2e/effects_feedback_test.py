@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Effects never feed back: a program that never clears (tests/apps_extra/live_state.c
-render_once: each frame draws over the last) replayed with falling snow. The passes decorate
+render_once: each frame draws over the last, flat) replayed with falling snow (snow.without_view=1:
+a flat picture gets none by default). The passes decorate
 what is presented; the program's next frame must draw over its own picture, so the pixels the
 snow changes stay as many as one frame of snow changes, instead of piling up frame after frame.
 
@@ -44,7 +45,7 @@ def main():
                            timeout=300)
     check(r.returncode == 0, f"capture failed: {r.stderr[-2000:]}")
     headless = {k: v for k, v in os.environ.items() if k != "DISPLAY"}
-    for name, extra in (("plain", []), ("snow", ["--effects", "snow"])):
+    for name, extra in (("plain", []), ("snow", ["--effects", "snow", "--effect-param", "snow.without_view=1"])):
         r = subprocess.run([GLCAST, "replay", capture, "--backend", "egl", "--out", os.path.join(OUT, name)] + extra,
                            capture_output=True, text=True, timeout=300, env=headless)
         check(r.returncode == 0, f"replay {name} failed: {r.stderr[-2000:]}")

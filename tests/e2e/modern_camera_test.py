@@ -27,6 +27,10 @@ A HUD drawn into the scene's framebuffer object after the scene, before it is sh
 --hud --in-scene, as VTK draws its text actors), also by a shader program with the depth test left
 on (--depth-on, as VTK leaves it), keeps every pixel under every pass, the scene decorated as
 without it (before: snow fell over it, the cover and shadows changed it).
+A program of another scale (pillars --scale 10: near plane, far plane and world ten times as far)
+is shadowed as the same picture at its own scale: the shadow map reaches as far into the view,
+measured in the program's near-plane distances (before: 60 eye units, the first 6 of its world's:
+4,796 floor pixels darkened where the program's own scale has 3,214).
 
     modern_camera_test.py     with GLCAST, GLCAST_SHIM, APPS_DIR, OUT_DIR in the environment
 """
@@ -93,7 +97,8 @@ def main():
              "fbo_hud": ["--fbo", "--hud", "--in-scene"], "fbo_hud_builtins": ["--builtins", "--fbo", "--hud", "--in-scene"],
              "fbo_hud_msaa": ["--fbo", "--msaa", "--hud", "--in-scene"],
              "fbo_hud_depth_shader": ["--shader", "--fbo", "--hud", "--in-scene", "--depth-on"],
-             "fbo_hud_depth_builtins": ["--builtins", "--fbo", "--hud", "--in-scene", "--depth-on"]}
+             "fbo_hud_depth_builtins": ["--builtins", "--fbo", "--hud", "--in-scene", "--depth-on"],
+             "scaled": ["--scale", "10"], "scaled_builtins": ["--builtins", "--scale", "10"]}
     for mode, flags in modes.items():
         capture = os.path.join(OUT, f"{mode}.glcs")
         with Xvfb():

@@ -50,6 +50,16 @@ ShadowLight choose_light(const FrameView& view, const ShadowSettings& settings) 
     return light;
 }
 
+double shadow_reach(const ShadowSettings& settings, const glm::dmat4& p) {
+    if (settings.max_distance > 0) return settings.max_distance;
+    // GL's perspective: p[2][2] = -(f + n) / (f - n), p[3][2] = -2 f n / (f - n); an infinite
+    // far plane has p[2][2] = -1
+    const double near = p[3][2] / (p[2][2] - 1), far = p[3][2] / (p[2][2] + 1);
+    if (!(near > 0) || !std::isfinite(near)) return 60;
+    const double reach = kShadowReachInNearPlanes * near;
+    return far > near && std::isfinite(far) ? std::min(far, reach) : reach;
+}
+
 std::array<glm::dvec3, 8> view_frustum_corners(const glm::dmat4& projection, double max_distance) {
     const glm::dmat4 inv = glm::inverse(projection);
     std::array<glm::dvec3, 8> c;

@@ -31,6 +31,12 @@ bool is_headlight(const glm::dvec4& eye_gl_position);
 // else the settings' light (FrameView::light and the fallback are both eye-space GL_POSITIONs).
 ShadowLight choose_light(const FrameView& view, const ShadowSettings& settings);
 
+// How far into the main view the shadows reach, eye-space units: shadows.max_distance, or when
+// it is 0 (the default) 120 near-plane distances of `projection`, but not past its far plane:
+// the same share of the view at every scale (60 for a near plane at 0.5).
+constexpr double kShadowReachInNearPlanes = 120;
+double shadow_reach(const ShadowSettings& settings, const glm::dmat4& projection);
+
 // The 8 corners (near then far, each (-1,-1), (1,-1), (-1,1), (1,1) in NDC) of the frustum
 // of `projection` in eye space, the far ones pulled in to eye distance `max_distance` when
 // they lie further.

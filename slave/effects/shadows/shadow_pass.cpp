@@ -19,6 +19,7 @@ public:
     const char* name() const override { return "shadows"; }
 
     void run(const GlApi&, const FrameView& view) override {
+        if (!view.view_known) return;  // (the effects runner says so once)
         std::string why;
         if (!renderer_.render(view, why)) {
             // Once per reason: a program without a perspective frame now and then is normal.

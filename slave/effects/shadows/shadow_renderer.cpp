@@ -201,7 +201,8 @@ bool ShadowRenderer::render(const FrameView& view, std::string& why) {
     const double fy = std::abs(view.tile_clip_from_eye[1][1]) * 0.5 * view.height;
     focal_px_ = std::sqrt(fx * fy);
     light_ = choose_light(view, settings_);
-    corners_ = view_frustum_corners(view.projection, settings_.max_distance);
+    reach_ = shadow_reach(settings_, view.projection);
+    corners_ = view_frustum_corners(view.projection, reach_);
     frame_ = fit_light_frame(light_, corners_, settings_.max_light_fov_deg);
 
     times_ = ShadowStepTimes{};

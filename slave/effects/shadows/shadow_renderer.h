@@ -127,6 +127,7 @@ private:
     int block_level_ = 0, block_reach_ = 0;  // culled steps: blocks of 2^block_level_ pixels
     glm::ivec2 blocks_{0};
     std::array<glm::dvec3, 8> corners_{};  // the main view's frustum, eye space
+    double reach_ = 60;                     // how far into it the shadows reach (shadow_reach)
     GLint target_framebuffer_ = 0;         // bound for drawing when render() was called
     glm::dmat4 eye_from_work_clip_{1.0};
     double focal_px_ = 1;

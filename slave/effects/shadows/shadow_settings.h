@@ -39,7 +39,7 @@ struct ShadowSettings {
     double light_angle_deg = 2.0; // angular diameter of a directional light, degrees
 
     int map_size = 2048;          // shadow map texels per side
-    double max_distance = 60;     // the shadow map covers the main view up to this eye distance
+    double max_distance = 0;      // the shadows reach this eye distance into the main view (0: shadow_reach's)
     double max_light_fov_deg = 150;  // widest perspective shadow map of a positional light
     double bias_texels = 1.0;     // depth bias of the comparisons, in shadow-map texels of world size
     double offset_factor = 1.5, offset_units = 2.0;  // glPolygonOffset while rendering the map

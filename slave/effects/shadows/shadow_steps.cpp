@@ -202,7 +202,7 @@ void ShadowRenderer::march_screen_space(const Programs& p) {
     if (at >= 0) gl_.glUniform4f(at, float(light.x), float(light.y), float(light.z), float(light.w));
     set_int(gl_, p.screen_space, "u_steps", settings_.screen_steps);
     set_float(gl_, p.screen_space, "u_reach_px", settings_.screen_reach * tile_size_.y);
-    set_float(gl_, p.screen_space, "u_max_reach", settings_.max_distance);
+    set_float(gl_, p.screen_space, "u_max_reach", reach_);
     set_float(gl_, p.screen_space, "u_thickness", settings_.screen_thickness);
     draw_into(hard_, p.screen_space);
 }

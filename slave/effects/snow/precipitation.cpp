@@ -57,6 +57,7 @@ std::vector<ParamSpec> kind_specs(const Kind& k) {
         {p + "camera_velocity_z", 0, -1e4, 1e4, "see camera_velocity_x (negative: forward)"},
         {p + "seed", 1, 0, 4294967295.0, "seed of every random choice"},
         {p + "frame_time", 1.0 / 60, 1e-3, 1, "seconds per frame of the stream (time = frame number x this)"},
+        {p + "without_view", 0, 0, 1, "1: also on frames without a perspective view (2D programs, menus, a camera glcast cannot find), over their interfaces too; 0: such frames are left as they are"},
     };
 }
 
@@ -84,6 +85,7 @@ public:
         camera_velocity_ = glm::dvec3(number("camera_velocity_x"), number("camera_velocity_y"), number("camera_velocity_z"));
         seed_ = uint32_t(number("seed"));
         frame_time_ = number("frame_time");
+        without_view_ = number("without_view") != 0;
         regions_ = int(number("regions"));
         const int size = int(number("size"));
         if (size % 2) throw std::runtime_error(std::string(kind_.prefix) + ".size must be even");
@@ -126,6 +128,12 @@ public:
     const char* name() const override { return kind_.prefix; }
 
     void run(const GlApi& gl, const FrameView& view) override {
+        if (!view.view_known && !without_view_) {
+            // Its interface cannot be told from its scene, nor its depth from a view (docs/snow.md;
+            // the effects runner says so once).
+            has_previous_ = false;
+            return;
+        }
         const glm::dmat4 world_to_eye = view.view_known ? view.modelview : glm::dmat4(1.0);
         const double unit = near_distance(view);
         // Eye-space velocities: the particles' (world wind and fall) and the camera's.
@@ -267,6 +275,7 @@ private:
     const Kind& kind_;
     int particles_ = 0, regions_ = 1;
     bool spectral_ = true, camera_motion_ = true, submitted_ = false, has_previous_ = false;
+    bool without_view_ = false;
     // Every region had the same C and theta in every frame submitted so far.
     bool alike_so_far_ = true;
     double fall_speed_, box_, flake_size_, sway_, streak_, particle_opacity_, spectral_opacity_, brightness_, sharpness_;

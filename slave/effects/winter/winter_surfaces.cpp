@@ -34,17 +34,9 @@ public:
     }
 
     void run(const GlApi& gl, const FrameView& view) override {
-        if (!view.view_known) {
-            // No perspective view this frame (a 2D program, a loading screen): nothing to
-            // tell "up" by, so nothing holds snow.
-            static bool warned = false;
-            if (!warned) {
-                std::fprintf(stderr, "[glcast] cover/icicles: a frame without a perspective view is left as it is "
-                                     "(docs/winter.md)\n");
-                warned = true;
-            }
-            return;
-        }
+        // No perspective view this frame (a 2D program, a loading screen): nothing to tell "up" by,
+        // so nothing holds snow (the effects runner says so once).
+        if (!view.view_known) return;
         // The lazy window copies bind framebuffers of their own: take them before ours.
         const GLuint window_depth = view.depth_texture();
         if (settings_.cover.up_auto && !auto_up_) {
