@@ -311,13 +311,15 @@ KNOWN = """## What the table does not show
   plants cast the shadows of their quads. Now it turns (its terrain reaches into yaw300 and
   yaw060, the crosshair lies on yaw000; its hotbar lies below the tiles' 20 degrees down), the
   cover lies on the ground and on the hill's steps, icicles hang from the steps, the hand and the
-  hotbar keep every pixel, and plants cast leafy shadows. Shadows cover little: the shadow map
-  reaches `shadows.max_distance` (60) eye units, six of minetest's nodes (10 units each).
+  hotbar keep every pixel, and plants cast leafy shadows. The shadows reach 120 of its near-plane
+  distances (about 12 nodes; a fixed 60 eye units, six nodes, before), so its hill's face, turned
+  away from the configured light, is shadowed as far; the wheat shadows the ground in front.
+  Its shaders keep no sun glcast recognises (`v_LightDirection` only with its dynamic shadows on).
 - **stellarium** draws the sky with its own projection in its shaders (not a linear one a tile
   can turn) and its interface with the same pipeline: no camera is found, the slave says so,
-  and every tile shows the program's picture unturned. Cover and shadows leave it as it is; snow
-  falls over the whole window, its buttons and status bar included (without a view, nothing
-  tells the interface from the sky).
+  and every tile shows the program's picture unturned. Every pass, snow included, leaves it as it
+  is (without a view nothing tells the interface from the sky; before, snow fell over its buttons
+  and status bar; `snow.without_view=1` brings that back).
 - **pymol** draws its molecule beside an interface panel of its own (OpenGL, the same context):
   the panel is kept as drawn under every pass (the kept pixels), the molecule turned onto yaw000
   with the panel beside it on the program's screen (pymol's 20-degree field of view makes both
@@ -327,9 +329,10 @@ KNOWN = """## What the table does not show
   multisampled scene target resolved into a second one, its depth copied into the window by a
   draw with `GL_ALWAYS`). Until this stop the second target was taken for the scene (nothing
   turned after the first frame) and the depth copy for a 3D draw (no cover, no shadows). Now
-  turned, covered, with icicles and shadows. Its text actor is drawn into the scene target after
-  the view: not an overlay there, so snow falls over it and it shows on every tile of the
-  cylinder.
+  turned, covered, with icicles and shadows. Its text actor, drawn into the scene target after
+  the view with the depth test on, is an overlay there (its 1,242 pixels kept under every pass)
+  and lies on the program's screen: on the cylinder's front tile only (before, snow fell over it
+  and it showed on every tile).
 - **supertuxkart** (a GL 3 renderer in framebuffer objects) is not in the table: under llvmpipe
   on this machine its capture reached 25 frames in 8 min 20 s (loading, and compressing its
   textures into a cache), too slow to measure here.
