@@ -77,6 +77,9 @@ PROGRAMS = [
     ("pymol", "pymol", ["env", "PATH=/usr/bin:/bin", "pymol", "-q", "-W", "640", "-H", "480", "{out}/peptide.pml"], 60),
     # A scientific visualizer on VTK 9 (OpenGL 3.2 core, its own framebuffer blitted to the window).
     ("vtk", "python3-vtk9", ["/usr/bin/python3", "{out}/vtk_scene.py"], 60),
+    # A 3D content suite (OpenGL 3.3 core, its viewport drawn offscreen among its own interface), its
+    # default scene.
+    ("blender", "blender", ["blender", "--factory-startup", "--no-window-focus", "-p", "0", "0", "640", "480"], 60),
 ]
 # Files the new programs start from, written to --out.
 MINETEST_CONF = """screen_w = 640

@@ -44,6 +44,9 @@
  * it, the HUD is drawn with the depth test left on, as VTK leaves it for its 2D actors (the panel's
  * depth, 0.5, lies in front of the floor's there).
  *
+ * With --fbo --depth-texture the scene's depth is a 32-bit float depth texture, as deferred
+ * renderers keep it to sample it later, instead of a renderbuffer.
+ *
  * With --fbo --mrt the scene's framebuffer object has a second colour attachment, written too (as
  * deferred renderers write several targets at once); with --fbo --msaa the scene is drawn into a
  * multisampled framebuffer object (4 samples) and resolved with glBlitFramebuffer into the
@@ -98,7 +101,7 @@
  * which the shader reads through gl_LightSource[0]. The fixed-function program is unlit: the passes
  * then use their configured light.
  *
- *   pillars [--shader | --builtins | --mvp] [--grow] [--fbo [--half] [--mrt | --msaa]] [--reversed] [--hud [--in-scene [--depth-on]]]
+ *   pillars [--shader | --builtins | --mvp] [--grow] [--fbo [--half] [--mrt | --msaa] [--depth-texture]] [--reversed] [--hud [--in-scene [--depth-on]]]
  *           [--hand] [--left-handed] [--mixed] [--foliage] [--post] [--markers] [--cull] [--fov DEG]
  *           [--fisheye] [--scale S] [--turn DEG] [--sun X,Y,Z | --gl-light X,Y,Z] [--frames N] [--size WxH]
  */
@@ -235,6 +238,7 @@ int main(int argc, char **argv)
     const int half = fbo_mode && app_take_flag(&argc, &argv, "--half");
     const int mrt = fbo_mode && app_take_flag(&argc, &argv, "--mrt");
     const int msaa = fbo_mode && app_take_flag(&argc, &argv, "--msaa");
+    const int depth_texture = fbo_mode && app_take_flag(&argc, &argv, "--depth-texture");
     const int reversed = app_take_flag(&argc, &argv, "--reversed");
     const int hud = app_take_flag(&argc, &argv, "--hud");
     const int hud_in_scene = hud && fbo_mode && app_take_flag(&argc, &argv, "--in-scene");
@@ -385,13 +389,22 @@ int main(int argc, char **argv)
         glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, fw, fh, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-        glGenRenderbuffers(1, &depth);
-        glBindRenderbuffer(GL_RENDERBUFFER, depth);
-        glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, fw, fh);
+        if (depth_texture) {
+            glGenTextures(1, &depth);
+            glBindTexture(GL_TEXTURE_2D, depth);
+            glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT32F, fw, fh, 0, GL_DEPTH_COMPONENT, GL_FLOAT, NULL);
+            glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+            glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        } else {
+            glGenRenderbuffers(1, &depth);
+            glBindRenderbuffer(GL_RENDERBUFFER, depth);
+            glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, fw, fh);
+        }
         glGenFramebuffers(1, &fbo);
         glBindFramebuffer(GL_FRAMEBUFFER, fbo);
         glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, color, 0);
-        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
+        if (depth_texture) glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, depth, 0);
+        else glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
         if (mrt) {  /* a second target the scene writes too */
             GLuint second = 0;
             glGenTextures(1, &second);

@@ -14,6 +14,8 @@ shadows.method=screen-space) darken at least 70% of the floor the shadow map sha
 else, for every program (the rest: shadows of the pillars' tops, which lie above the picture).
 Reversed depth (pillars --reversed: glClipControl GL_ZERO_TO_ONE, near at 1, no far plane) is
 covered, shadowed and snowed on as the standard depth is (before: nothing at all).
+A scene whose depth is a float texture (pillars --builtins --fbo --depth-texture, as deferred
+renderers keep it) is decorated as one with a depth renderbuffer.
 A scene post-processed into a second target and shown by a draw that copies depth with GL_ALWAYS
 (pillars --builtins --fbo --post, VTK's way) is decorated as any other.
 A left-handed program (pillars --left-handed: w = +z, as Irrlicht's minetest) is decorated as the
@@ -91,6 +93,7 @@ def main():
              "fbo_half": ["--builtins", "--fbo", "--half"], "fbo_mvp": ["--mvp", "--fbo"],
              "reversed": ["--reversed"], "reversed_builtins": ["--builtins", "--reversed"],
              "fbo_msaa": ["--fbo", "--msaa"], "fbo_mrt": ["--fbo", "--mrt"],
+             "fbo_depth_texture": ["--builtins", "--fbo", "--depth-texture"],
              "hand": ["--hand"], "hand_builtins": ["--builtins", "--hand"],
              "left_handed": ["--left-handed"], "left_handed_mixed": ["--builtins", "--left-handed", "--mixed"],
              "foliage": ["--builtins", "--foliage"], "fbo_post": ["--builtins", "--fbo", "--post"],
