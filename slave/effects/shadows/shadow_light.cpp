@@ -52,11 +52,16 @@ ShadowLight choose_light(const FrameView& view, const ShadowSettings& settings) 
 
 double shadow_reach(const ShadowSettings& settings, const glm::dmat4& p) {
     if (settings.max_distance > 0) return settings.max_distance;
-    // GL's perspective: p[2][2] = -(f + n) / (f - n), p[3][2] = -2 f n / (f - n); an infinite
-    // far plane has p[2][2] = -1
-    const double near = p[3][2] / (p[2][2] - 1), far = p[3][2] / (p[2][2] + 1);
-    if (!(near > 0) || !std::isfinite(near)) return 60;
-    const double reach = kShadowReachInNearPlanes * near;
+    // GL's perspective, w = -z: p[2][2] = -(f + n) / (f - n), p[3][2] = -2 f n / (f - n); an
+    // infinite far plane has p[2][2] = -1. (w = -k z: the same divided by k.)
+    const double k = -p[2][3];
+    if (!(k > 0)) return kShadowReachAtLeast;  // no perspective
+    const double a = p[2][2] / k, b = p[3][2] / k;
+    const double near = b / (a - 1), far = b / (a + 1);
+    if (!(near > 0) || !std::isfinite(near)) return kShadowReachAtLeast;
+    // (a near plane pulled in for depth precision, VTK's a thousandth of its far plane, says
+    // nothing of the scene's size: at least the old fixed reach)
+    const double reach = std::max(kShadowReachInNearPlanes * near, kShadowReachAtLeast);
     return far > near && std::isfinite(far) ? std::min(far, reach) : reach;
 }
 

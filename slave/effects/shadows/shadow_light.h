@@ -32,9 +32,10 @@ bool is_headlight(const glm::dvec4& eye_gl_position);
 ShadowLight choose_light(const FrameView& view, const ShadowSettings& settings);
 
 // How far into the main view the shadows reach, eye-space units: shadows.max_distance, or when
-// it is 0 (the default) 120 near-plane distances of `projection`, but not past its far plane:
-// the same share of the view at every scale (60 for a near plane at 0.5).
-constexpr double kShadowReachInNearPlanes = 120;
+// it is 0 (the default) 120 near-plane distances of `projection` but at least 60, and not past
+// its far plane: the same share of the view for programs of a larger scale (60 for a near
+// plane at 0.5, 480 for Quake's 4).
+constexpr double kShadowReachInNearPlanes = 120, kShadowReachAtLeast = 60;
 double shadow_reach(const ShadowSettings& settings, const glm::dmat4& projection);
 
 // The 8 corners (near then far, each (-1,-1), (1,-1), (-1,1), (1,1) in NDC) of the frustum

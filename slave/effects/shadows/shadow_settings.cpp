@@ -66,7 +66,7 @@ std::vector<ParamSpec> shadow_param_specs() {
         {"shadows.light_size", 0.5, 0, 1e4, "diameter of a positional light's disk, in eye-space units (the program's world units unless its modelview scales)"},
         {"shadows.light_angle", 2.0, 0, 30, "angular diameter of a directional light's disk, degrees (the sun: 0.53)"},
         {"shadows.map_size", 2048, 256, 8192, "shadow map size, texels per side"},
-        {"shadows.max_distance", 0, 0, 1e7, "the shadows reach this far into the main view, eye-space units; 0: 120 of its near-plane distances, at most to its far plane (60 for a near plane at 0.5)"},
+        {"shadows.max_distance", 0, 0, 1e7, "the shadows reach this far into the main view, eye-space units; 0: 120 of its near-plane distances but at least 60, at most to its far plane"},
         {"shadows.max_light_fov", 150, 10, 170, "widest field of view of a positional light's perspective shadow map, degrees"},
         {"shadows.bias", 1.0, 0, 100, "depth bias of shadow comparisons, in shadow-map texel widths (world size at the receiver)"},
         {"shadows.offset_factor", 1.5, 0, 100, "glPolygonOffset factor while the shadow map is rendered"},

@@ -64,6 +64,23 @@ TEST(ShadowLight, FrustumCornersOfAnInfiniteFarPlaneAreAtTheMaximumDistance) {
     expect_covers(fit_light_frame(light, corners, 150), corners);
 }
 
+// The shadows reach as far into a view at every scale: 120 near-plane distances, not past the far
+// plane, unless shadows.max_distance says otherwise.
+TEST(ShadowLight, TheShadowsReachFollowsTheProgramsScale) {
+    ShadowSettings s;  // max_distance 0: from the projection
+    EXPECT_NEAR(shadow_reach(s, glm::frustum(-0.3, 0.3, -0.2, 0.2, 0.5, 100.0)), 60, 1e-6);
+    EXPECT_NEAR(shadow_reach(s, glm::frustum(-3.0, 3.0, -2.0, 2.0, 5.0, 1000.0)), 600, 1e-4);   // ten times the scale
+    EXPECT_NEAR(shadow_reach(s, glm::frustum(-0.3, 0.3, -0.2, 0.2, 0.5, 20.0)), 20, 1e-6);     // the far plane first
+    EXPECT_NEAR(shadow_reach(s, glm::infinitePerspective(1.0, 1.5, 4.0)), 480, 1e-4);           // Quake's near plane
+    // VTK's near plane, a thousandth of its far plane, says nothing of the scene's size
+    EXPECT_NEAR(shadow_reach(s, glm::frustum(-0.01, 0.01, -0.008, 0.008, 0.0286, 28.6)), 28.6, 1e-6);
+    EXPECT_NEAR(shadow_reach(s, glm::infinitePerspective(1.0, 1.5, 0.01)), 60, 1e-6);
+    s.max_distance = 35;
+    EXPECT_EQ(shadow_reach(s, glm::frustum(-0.3, 0.3, -0.2, 0.2, 0.5, 100.0)), 35);
+    s.max_distance = 0;
+    EXPECT_EQ(shadow_reach(s, glm::ortho(-1.0, 1.0, -1.0, 1.0, 0.0, 10.0)), 60);  // no perspective: the old default
+}
+
 TEST(ShadowLight, DirectionalFrameIsOrthographicAlongTheLightAndCoversTheView) {
     ShadowLight light;
     light.directional = true;
