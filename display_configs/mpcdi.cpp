@@ -13,7 +13,7 @@
 #include <memory>
 
 #include "display_configs/projector_maps.h"
-#include "display_configs/projector_model.h"
+#include "slave/view_correction.h"
 
 namespace glcast::slave {
 
@@ -205,16 +205,18 @@ bool points_to_warp(FloatImage& pfm, const TileView& view, const std::string& na
         error = name + ": a warp of the 3D profile holds 3D points (PF, 3 channels)";
         return false;
     }
-    const glm::dmat3 to_view = glm::transpose(view_rotation(view.yaw_deg, view.pitch_deg, view.roll_deg));
-    const double tl = std::tan(view.left_deg * M_PI / 180), tr = std::tan(view.right_deg * M_PI / 180),
-                 tb = std::tan(view.bottom_deg * M_PI / 180), tt = std::tan(view.top_deg * M_PI / 180);
+    ViewCorrection camera;  // the tile's own, as the slave renders it
+    camera.enabled = true;
+    camera.yaw_deg = view.yaw_deg, camera.pitch_deg = view.pitch_deg, camera.roll_deg = view.roll_deg;
+    camera.left_deg = view.left_deg, camera.right_deg = view.right_deg;
+    camera.bottom_deg = view.bottom_deg, camera.top_deg = view.top_deg;
     for (size_t i = 0; i < pfm.values.size(); i += 3) {
         float* p = &pfm.values[i];
-        const glm::dvec3 local = to_view * glm::dvec3(p[0], p[1], p[2]);
-        const bool seen = std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]) && local.z < 0;
-        const double x = seen ? local.x / -local.z : 0, y = seen ? local.y / -local.z : 0;
-        p[0] = seen ? float((x - tl) / (tr - tl)) : NAN;
-        p[1] = seen ? float((tt - y) / (tt - tb)) : NAN;
+        glm::dvec2 uv(NAN);
+        const bool seen = std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]) &&
+                          camera.image_position(glm::dvec3(p[0], p[1], p[2]), uv);
+        p[0] = seen ? float(uv.x) : NAN;
+        p[1] = seen ? float(uv.y) : NAN;
         p[2] = 0;
     }
     return true;

@@ -20,12 +20,6 @@ glm::dmat3 rotation(double yaw, double pitch, double roll) {
     return glm::dmat3(m);
 }
 
-}  // namespace
-
-glm::dmat3 view_rotation(double yaw, double pitch, double roll) { return rotation(yaw, pitch, roll); }
-
-namespace {
-
 double share(double x, double y) {  // distance to the image edge, 0 at it
     return std::max(0.0, std::min(std::min(x, 1 - x), std::min(y, 1 - y)));
 }

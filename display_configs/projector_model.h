@@ -46,10 +46,6 @@ struct Projector {
     std::optional<glm::dvec2> project(const glm::dvec3& p) const;
 };
 
-// A view's rotation: yaw (positive turns right), then pitch (up), then roll, each about the axes
-// as turned so far (degrees), as a view tile's.
-glm::dmat3 view_rotation(double yaw, double pitch, double roll);
-
 struct CanvasRect {
     int x = 0, y = 0, width = 0, height = 0;  // canvas pixels, top left origin
 };

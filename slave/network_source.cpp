@@ -282,26 +282,26 @@ NetworkSource::State NetworkSource::fetch_state(const std::string& endpoint) {
     // (asked for a later frame it waits for that frame: the whole --wait)
     const int silence = keeper_frame_ || wait_seconds_ <= 0 ? wait_seconds_ : std::min(wait_seconds_, kKeeperSilenceSeconds);
     try {
-    receive_parts(dealer, "the keeper at " + endpoint, silence, [&](zmq::message_t& part) {
-        if (!header) {  // "STATE <sequence> <frame>", or "NONE <why>"
-            const std::string text = part.size() <= 256 ? part.to_string() : std::string();
-            if (text.rfind("NONE", 0) == 0) throw KeeperNotReady("the keeper at " + endpoint + ": " + text.substr(5));
-            uint64_t sequence = 0, frame = 0;
-            if (!parse_keeper_state(text, sequence, frame))
-                throw std::runtime_error("the keeper at " + endpoint + " cannot give a snapshot: " +
-                                         (text.empty() ? std::string("an answer glcast does not know")
-                                                       : "\"" + text.substr(0, 64) + "\" is no STATE <sequence> <frame> "
-                                                         "of at most " + std::to_string(kMaxKeeperCount)));
-            state.sequence = sequence;
-            state.frame = frame;
-            header = true;
+        receive_parts(dealer, "the keeper at " + endpoint, silence, [&](zmq::message_t& part) {
+            if (!header) {  // "STATE <sequence> <frame>", or "NONE <why>"
+                const std::string text = part.size() <= 256 ? part.to_string() : std::string();
+                if (text.rfind("NONE", 0) == 0) throw KeeperNotReady("the keeper at " + endpoint + ": " + text.substr(5));
+                uint64_t sequence = 0, frame = 0;
+                if (!parse_keeper_state(text, sequence, frame))
+                    throw std::runtime_error("the keeper at " + endpoint + " cannot give a snapshot: " +
+                                             (text.empty() ? std::string("an answer glcast does not know")
+                                                           : "\"" + text.substr(0, 64) + "\" is no STATE <sequence> <frame> "
+                                                             "of at most " + std::to_string(kMaxKeeperCount)));
+                state.sequence = sequence;
+                state.frame = frame;
+                header = true;
+                return true;
+            }
+            if (part.size() == 3 && part.to_string() == "END") return false;
+            refuse_no_message(part, "the keeper at " + endpoint);
+            state.messages.emplace_back(part.data<uint8_t>(), part.data<uint8_t>() + part.size());
             return true;
-        }
-        if (part.size() == 3 && part.to_string() == "END") return false;
-        refuse_no_message(part, "the keeper at " + endpoint);
-        state.messages.emplace_back(part.data<uint8_t>(), part.data<uint8_t>() + part.size());
-        return true;
-    }, /*keep_live=*/true);
+        }, /*keep_live=*/true);
     } catch (const PeerSilent& e) {
         if (keeper_frame_ || header) throw;  // (silent in the middle of its answer: a broken keeper)
         throw KeeperNotReady(e.what());

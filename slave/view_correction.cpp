@@ -49,6 +49,15 @@ ViewCorrection::Camera ViewCorrection::camera() const {
     return c;
 }
 
+bool ViewCorrection::image_position(const glm::dvec3& point, glm::dvec2& uv) const {
+    const Camera c = camera();
+    const glm::dvec4 v = c.view * glm::dvec4(point, 1.0);
+    if (!(v.z < 0)) return false;
+    const double x = v.x / -v.z, y = v.y / -v.z;
+    uv = glm::dvec2((x - c.left) / (c.right - c.left), (c.top - y) / (c.top - c.bottom));
+    return std::isfinite(uv.x) && std::isfinite(uv.y);
+}
+
 bool ViewCorrection::set_eye(const glm::dvec3& position) {
     if (!std::isfinite(position.x) || !std::isfinite(position.y) || !std::isfinite(position.z)) return false;
     if (screen) {

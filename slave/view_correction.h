@@ -37,6 +37,10 @@ struct ViewCorrection {
     // Moves the eye; false (the eye kept) for a position that is not finite or, on a screen
     // tile, not at least a millimetre in front of the screen.
     bool set_eye(const glm::dvec3& position);
+    // Where a point of the program's eye space lands in this tile's image: u to the right, v
+    // down, 0..1 across the tile (an MPCDI 3D region's screen points); false behind the tile's
+    // camera.
+    bool image_position(const glm::dvec3& point, glm::dvec2& uv) const;
 
 private:
     // The tile camera: its frustum as tangents of the edges' angles from its axis, and V_tile.

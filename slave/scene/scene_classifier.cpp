@@ -171,17 +171,16 @@ bool depth_clear_starts_overlays(SceneFacts& f, GLbitfield mask) {
 
 bool starts_overlays(const SceneFacts& f, DrawState& s, RedrawKind kind) {
     const GLuint program = kind != RedrawKind::Pixels ? s.program() : 0;
-    bool flat = kind == RedrawKind::Pixels || !s.depth_test();
-    if (!flat && !program) flat = !is_perspective(s.projection());
+    const bool flat = kind == RedrawKind::Pixels || !s.depth_test();
+    if (!program) return flat || !is_perspective(s.projection());
+    // (its matrices are read only where they decide: a 3D scene's draws pay one look at them)
     ProgramCamera camera;
-    const bool camera_found = program && s.camera(program, camera);
     // A shader program that paints its 3D scene in order with the depth test off draws it with
     // the main view's camera: scene, not overlay.
-    if (flat && camera_found && same_projection(camera.projection, f.projection)) flat = false;
-    // One without a camera but with an orthographic matrix draws flat with the depth test on too
-    // (VTK's text actors).
-    if (!flat && program && !camera_found) flat = s.flat_program(program);
-    return flat;
+    if (flat) return !(s.camera(program, camera) && same_projection(camera.projection, f.projection));
+    // One with an orthographic matrix and no camera draws flat with the depth test on too (VTK's
+    // text actors).
+    return s.flat_program(program) && !s.camera(program, camera);
 }
 
 void note_push(SceneFacts& f, DrawState& s) {
