@@ -81,7 +81,8 @@ DrawVerdict classify_draw(SceneFacts& f, DrawState& s, GLuint framebuffer, const
 }
 
 bool window_shaped(const double v[4], int W, int H) {
-    if (v[0] != 0 || v[1] != 0 || W <= 0 || H <= 0 || v[3] <= 0 || v[2] * 4 < W) return false;
+    // (at most four times the window: the slave copies such a target at its size every frame)
+    if (v[0] != 0 || v[1] != 0 || W <= 0 || H <= 0 || v[3] <= 0 || v[2] * 4 < W || v[2] > 4.0 * W) return false;
     return std::abs(v[2] / v[3] - double(W) / H) <= 0.01 * double(W) / H;
 }
 

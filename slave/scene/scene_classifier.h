@@ -82,8 +82,9 @@ enum class WindowDrawMeaning {
 
 DrawVerdict classify_draw(SceneFacts& facts, DrawState& state, GLuint framebuffer, const ClassifierSettings& settings);
 
-// A viewport from the origin of a target at the window's shape (within 1%), at least a quarter of
-// its width: where engines draw the scene they show stretched over the window (a render scale).
+// A viewport from the origin of a target at the window's shape (within 1%), from a quarter to four
+// times its width: where engines draw the scene they show stretched over the window (a render
+// scale; a larger viewport from a stream is refused, since the passes copy that target).
 // The tile adapter turns what is drawn into such a target on rotated tiles (tile_adapter.h).
 bool window_shaped(const double viewport[4], int master_width, int master_height);
 // The scene is in a framebuffer object of the window's shape at another size, shown stretched

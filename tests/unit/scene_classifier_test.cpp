@@ -344,6 +344,11 @@ TEST(SceneClassifier, ATargetOfTheWindowsShapeAtAnotherSizeHoldsTheScene) {
     EXPECT_FALSE(offscreen_scene(facts, s, 640, 480, false, bound));
     const double shaped[4] = {0, 0, 322, 241.5};  // within 1% of the window's shape
     EXPECT_TRUE(window_shaped(shaped, 640, 480));
+    // A stream's viewport is no render scale past four times the window (supersampling): the
+    // slave would copy that target, at that size, every frame.
+    const double supersampled[4] = {0, 0, 2560, 1920}, huge[4] = {0, 0, 16000, 12000};
+    EXPECT_TRUE(window_shaped(supersampled, 640, 480));
+    EXPECT_FALSE(window_shaped(huge, 640, 480));
     s.vp[2] = 320, s.vp[3] = 240;
     classify_draw(facts, s, 3, kPasses);
     EXPECT_TRUE(stretched_scene(facts, 640, 480));
