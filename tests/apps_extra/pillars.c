@@ -73,6 +73,16 @@
  * (as VTK's and many engines' are), and that one is shown in the window with the depth test on,
  * GL_ALWAYS and depth writes (VTK copies its scene's depth into the window so).
  *
+ * With --fbo --region the window is a content suite's: a toolbar down its left fifth (60, 62, 70), a
+ * header across its top 40 of 300 rows (45, 48, 55), and between them a 3D viewport, window pixels
+ * x 80..400, y 0..260 of 400x300 (GL: y up), whose scene is drawn into a framebuffer object of that
+ * region's size (its own aspect) and shown there by a fixed-function textured quad placed in window
+ * pixels under an orthographic projection, drawn after the toolbar and before the header, as
+ * Blender composites its regions. With --hud a gizmo square (230, 50, 40) is drawn over the
+ * viewport after it, at x 330..380, y 190..240. With --post the scene's colour is first copied by a
+ * full-target draw into a second framebuffer object of the region's size that shares the scene's
+ * depth renderbuffer (Blender's viewport resolves its engines' colour so), and that one is shown.
+ *
  * With --markers the scene gets marker points (GL_POINTS of size 4, depth-tested, unlit) at known
  * positions of its eye space, one colour each, for the immersive-wall tests (units are metres there,
  * the camera at a room's origin): MARKERS below, the first straight ahead behind a CAVE's front wall.
@@ -101,7 +111,7 @@
  * which the shader reads through gl_LightSource[0]. The fixed-function program is unlit: the passes
  * then use their configured light.
  *
- *   pillars [--shader | --builtins | --mvp] [--grow] [--fbo [--half] [--mrt | --msaa] [--depth-texture]] [--reversed] [--hud [--in-scene [--depth-on]]]
+ *   pillars [--shader | --builtins | --mvp] [--grow] [--fbo [--half | --region] [--mrt | --msaa] [--depth-texture]] [--reversed] [--hud [--in-scene [--depth-on]]]
  *           [--hand] [--left-handed] [--mixed] [--foliage] [--post] [--markers] [--cull] [--fov DEG]
  *           [--fisheye] [--scale S] [--turn DEG] [--sun X,Y,Z | --gl-light X,Y,Z] [--frames N] [--size WxH]
  */
@@ -227,6 +237,65 @@ static void draw_markers(double zs)
     glEnd();
 }
 
+/* A flat rectangle in window pixels x0..x1, y0..y1 under the orthographic projection of the window */
+static void flat_rect(double x0, double y0, double x1, double y1, GLubyte r, GLubyte g, GLubyte b)
+{
+    glColor3ub(r, g, b);
+    glBegin(GL_QUADS);
+    glVertex2d(x0, y0); glVertex2d(x1, y0); glVertex2d(x1, y1); glVertex2d(x0, y1);
+    glEnd();
+}
+
+/* --region: the scene (fw x fh, in fbo's texture `color`, resolved from msaa_fbo first if that is
+ * not 0, copied into post_fbo's `post_color` first if that is not 0) shown at x rx..width, y 0..rh
+ * of the window between a toolbar and a header, as a content suite composites its regions */
+static void show_region(GLuint msaa_fbo, GLuint fbo, GLuint color, GLuint post_fbo, GLuint post_color, int shader,
+                        int fw, int fh, int width, int height, int rx, int rh, int gizmo)
+{
+    if (msaa_fbo) {
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, msaa_fbo);
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo);
+        glBlitFramebuffer(0, 0, fw, fh, 0, 0, fw, fh, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    }
+    if (shader) glUseProgram(0);
+    glDisable(GL_DEPTH_TEST);
+    glMatrixMode(GL_MODELVIEW);
+    glLoadIdentity();
+    glMatrixMode(GL_PROJECTION);
+    glLoadIdentity();
+    if (post_fbo) {  /* a full-target copy, depth untouched */
+        glBindFramebuffer(GL_FRAMEBUFFER, post_fbo);
+        glViewport(0, 0, fw, fh);
+        glEnable(GL_TEXTURE_2D);
+        glBindTexture(GL_TEXTURE_2D, color);
+        glColor3ub(255, 255, 255);
+        glBegin(GL_QUADS);
+        glTexCoord2f(0, 0); glVertex2f(-1, -1);
+        glTexCoord2f(1, 0); glVertex2f(1, -1);
+        glTexCoord2f(1, 1); glVertex2f(1, 1);
+        glTexCoord2f(0, 1); glVertex2f(-1, 1);
+        glEnd();
+        glDisable(GL_TEXTURE_2D);
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glViewport(0, 0, width, height);
+    glOrtho(0, width, 0, height, -1, 1);
+    flat_rect(0, 0, rx, height, 60, 62, 70);  /* the toolbar */
+    glEnable(GL_TEXTURE_2D);
+    glBindTexture(GL_TEXTURE_2D, post_fbo ? post_color : color);
+    glColor3ub(255, 255, 255);
+    glBegin(GL_QUADS);
+    glTexCoord2f(0, 0); glVertex2d(rx, 0);
+    glTexCoord2f(1, 0); glVertex2d(width, 0);
+    glTexCoord2f(1, 1); glVertex2d(width, rh);
+    glTexCoord2f(0, 1); glVertex2d(rx, rh);
+    glEnd();
+    glDisable(GL_TEXTURE_2D);
+    flat_rect(rx, rh, width, height, 45, 48, 55);  /* the header */
+    const double sx = width / 400.0, sy = height / 300.0;
+    if (gizmo) flat_rect(330 * sx, 190 * sy, 380 * sx, 240 * sy, 230, 50, 40);
+}
+
 int main(int argc, char **argv)
 {
     struct app_args a;
@@ -236,6 +305,7 @@ int main(int argc, char **argv)
     const int shader = app_take_flag(&argc, &argv, "--shader") || builtins || mvp;
     const int fbo_mode = app_take_flag(&argc, &argv, "--fbo");
     const int half = fbo_mode && app_take_flag(&argc, &argv, "--half");
+    const int region = fbo_mode && !half && app_take_flag(&argc, &argv, "--region");
     const int mrt = fbo_mode && app_take_flag(&argc, &argv, "--mrt");
     const int msaa = fbo_mode && app_take_flag(&argc, &argv, "--msaa");
     const int depth_texture = fbo_mode && app_take_flag(&argc, &argv, "--depth-texture");
@@ -284,6 +354,10 @@ int main(int argc, char **argv)
     const double zs = left_handed ? -1 : 1;  /* the world's z as the program keeps it */
     if (left_handed && (mvp || reversed)) {
         fprintf(stderr, "pillars: --left-handed is not for --mvp or --reversed\n");
+        return 2;
+    }
+    if (region && (hud_in_scene || hand)) {
+        fprintf(stderr, "pillars: --region has no --in-scene HUD or --hand\n");
         return 2;
     }
     if (hand && fbo_mode) {
@@ -381,7 +455,9 @@ int main(int argc, char **argv)
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     }
     GLuint fbo = 0, color = 0, msaa_fbo = 0;
-    const int fw = half ? a.width / 2 : a.width, fh = half ? a.height / 2 : a.height;
+    /* --region: the viewport's rectangle in the window */
+    const int rx = a.width / 5, rw = a.width - rx, rh = a.height * 13 / 15;
+    const int fw = half ? a.width / 2 : region ? rw : a.width, fh = half ? a.height / 2 : region ? rh : a.height;
     if (fbo_mode) {
         GLuint depth = 0;
         glGenTextures(1, &color);
@@ -438,7 +514,23 @@ int main(int argc, char **argv)
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
     }
     GLuint post_fbo = 0, post_color = 0;
-    if (post) {
+    if (post && region) {  /* the region's size, the scene's depth */
+        GLint scene_depth = 0;
+        glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+        glGetFramebufferAttachmentParameteriv(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_NAME,
+                                              &scene_depth);
+        glGenTextures(1, &post_color);
+        glBindTexture(GL_TEXTURE_2D, post_color);
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, fw, fh, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        glGenFramebuffers(1, &post_fbo);
+        glBindFramebuffer(GL_FRAMEBUFFER, post_fbo);
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, post_color, 0);
+        if (depth_texture) glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, (GLuint)scene_depth, 0);
+        else glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, (GLuint)scene_depth);
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    } else if (post) {
         GLuint post_depth = 0;
         glGenTextures(1, &post_color);
         glBindTexture(GL_TEXTURE_2D, post_color);
@@ -472,7 +564,7 @@ int main(int argc, char **argv)
         glMatrixMode(GL_PROJECTION);
         glLoadIdentity();
         const double n = 0.5, half = n * tan(fov / 2 * M_PI / 180.0);
-        const double top = half * a.height / a.width;
+        const double top = region ? half * fh / fw : half * a.height / a.width;
         /* the matrix, column-major, for GL_PROJECTION and the uniforms */
         const double fa = 100.0;
         const double standard[16] = {n / half, 0, 0, 0, 0, n / top, 0, 0, 0, 0, -(fa + n) / (fa - n), -1,
@@ -536,7 +628,10 @@ int main(int argc, char **argv)
             draw_markers(zs);
         }
         if (hud_in_scene) draw_hud(shader ? program : 0, proj_location, builtins, fw, fh, 40, hud_depth);
-        if (fbo_mode) {  /* the scene shown in the window, as a last post-processing pass does */
+        if (region) {
+            show_region(msaa ? msaa_fbo : 0, fbo, color, post_fbo, post_color, shader, fw, fh, a.width, a.height, rx,
+                        rh, hud);
+        } else if (fbo_mode) {  /* the scene shown in the window, as a last post-processing pass does */
             if (msaa) {
                 glBindFramebuffer(GL_READ_FRAMEBUFFER, msaa_fbo);
                 glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo);
@@ -590,7 +685,7 @@ int main(int argc, char **argv)
             glEnd();
         }
         if (fisheye) glUseProgram(0);  /* (its HUD by fixed function) */
-        if (hud && !hud_in_scene) draw_hud(shader && !fisheye ? program : 0, proj_location, builtins, a.width, a.height, 220, 0);
+        if (hud && !hud_in_scene && !region) draw_hud(shader && !fisheye ? program : 0, proj_location, builtins, a.width, a.height, 220, 0);
         glXSwapBuffers(dpy, win);
         if (glGetError() != GL_NO_ERROR) {
             fprintf(stderr, "pillars: GL error\n");
