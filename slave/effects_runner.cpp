@@ -161,9 +161,16 @@ void EffectsRunner::run_effects(SlaveContext& ctx) {
         if (core_.after_effects) core_.after_effects(view);
         if (scene.loan.borrowed_from && !said_borrowed_) {
             said_borrowed_ = true;
-            std::fprintf(stderr, "glcast: effects: from frame %" PRIu64 " on, context %u shows the scene context %u draws "
-                                 "into a texture (docs/effects.md, \"A scene another context draws\")\n",
-                         core_.frame(), ctx.id, scene.loan.borrowed_from);
+            const int32_t* p = scene.loan.placement;
+            if (scene.loan.borrowed_from == ctx.id)
+                std::fprintf(stderr, "glcast: effects: from frame %" PRIu64 " on, context %u shows its scene in part of "
+                                     "the window, x %d..%d, y %d..%d of the program's (docs/effects.md, \"A scene shown "
+                                     "in part of the window\")\n",
+                             core_.frame(), ctx.id, p[0], p[2], p[1], p[3]);
+            else
+                std::fprintf(stderr, "glcast: effects: from frame %" PRIu64 " on, context %u shows the scene context %u "
+                                     "draws into a texture (docs/effects.md, \"A scene shown in part of the window\")\n",
+                             core_.frame(), ctx.id, scene.loan.borrowed_from);
         }
     } catch (const std::runtime_error& e) {
         throw EffectsError(std::string("effects: ") + e.what());
@@ -260,7 +267,8 @@ void EffectsRunner::frame_view(SlaveContext& ctx, effects::FrameView& v) {
         const GLuint program = st->copies.window_copy(*c, true, *sc, scenes_.scene_shown(*c));
         return st->depth.standard ? program : st->copies.pass_depth(*c, program, st->depth, st->pass_clip_from_program_clip);
     };
-    v.window_depth_matches = st->depth.standard;
+    // (a scene drawn into a framebuffer object has its depth there; the window's is another's)
+    v.window_depth_matches = st->depth.standard && !facts.scene_framebuffer;
     // A borrowed scene's shader draws name the lender's vertex-array objects, which this context
     // does not share: only fixed-function scenes are re-rendered from another context.
     const ContextScene& shown = scenes_.scene_shown(ctx);

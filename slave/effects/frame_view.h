@@ -83,8 +83,9 @@ struct FrameView {
     std::function<GLuint()> color_texture;
     std::function<GLuint()> depth_texture;
     // False when the program's depth is not in the passes' convention (reversed, clip depth
-    // 0..1, its own depth range: slave/scene/depth_convention.h): depth_texture() is then the
-    // window's depth converted, and the window's depth buffer must not be tested against.
+    // 0..1, its own depth range: slave/scene/depth_convention.h), or the scene was drawn into a
+    // framebuffer object: depth_texture() is then the scene's depth (converted), and the window's
+    // depth buffer must not be tested against.
     bool window_depth_matches = true;
 
     // Re-renders the frame's draws of the main view (those made to the window with the main

@@ -129,4 +129,28 @@ GLenum DriverDrawState::depth_attachment_type() {
     return GLenum(type);
 }
 
+GLuint DriverDrawState::color_texture() {
+    if (color_attachment_type() != GL_TEXTURE) return 0;
+    GLint name = 0;
+    gl_.glGetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0,
+                                              GL_FRAMEBUFFER_ATTACHMENT_OBJECT_NAME, &name);
+    return GLuint(name);
+}
+
+// (fixed function samples a unit's texture only where GL_TEXTURE_2D is enabled on it: a texture
+// stays bound after texturing is switched off)
+bool DriverDrawState::samples_texture(GLuint texture) {
+    GLint active = GL_TEXTURE0, bound = 0;
+    bool found = false;
+    const bool fixed_function = program() == 0;
+    gl_.glGetIntegerv(GL_ACTIVE_TEXTURE, &active);
+    for (int unit = 0; unit < 8 && !found; ++unit) {
+        gl_.glActiveTexture(GLenum(GL_TEXTURE0 + unit));
+        gl_.glGetIntegerv(GL_TEXTURE_BINDING_2D, &bound);
+        found = GLuint(bound) == texture && (!fixed_function || gl_.glIsEnabled(GL_TEXTURE_2D));
+    }
+    gl_.glActiveTexture(GLenum(active));
+    return found;
+}
+
 }  // namespace glcast::slave

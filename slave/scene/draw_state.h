@@ -63,6 +63,11 @@ public:
     // The attachments of the bound draw framebuffer object: GL_NONE, GL_TEXTURE or GL_RENDERBUFFER.
     virtual GLenum color_attachment_type() = 0;
     virtual GLenum depth_attachment_type() = 0;
+    // Its first colour attachment's texture (the slave's name); 0 when it is none or a renderbuffer.
+    virtual GLuint color_texture() = 0;
+    // The draw about to run samples `texture`: it is bound as GL_TEXTURE_2D on one of units 0-7
+    // (and, for fixed function, GL_TEXTURE_2D is enabled there).
+    virtual bool samples_texture(GLuint texture) = 0;
 };
 
 // The followed state, the tile adapter's tracking and the slave's driver, asked lazily. Lives for
@@ -89,6 +94,8 @@ public:
     effects::SceneLight program_light(GLuint program, const ProgramCamera& camera) override;
     GLenum color_attachment_type() override;
     GLenum depth_attachment_type() override;
+    GLuint color_texture() override;
+    bool samples_texture(GLuint texture) override;
 
 private:
     const GlApi& gl_;

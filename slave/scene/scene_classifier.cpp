@@ -8,12 +8,26 @@ namespace glcast::slave {
 namespace {
 
 void found_view(SceneFacts& f, DrawState& s, GLuint framebuffer, const glm::dmat4& projection,
-                const glm::dmat4& modelview) {
+                const glm::dmat4& modelview, const ClassifierSettings& settings) {
     f.main_known = true;
     f.scene_framebuffer = framebuffer;
     f.projection = projection;
     f.modelview = modelview;
     s.viewport(f.viewport);
+    const int W = settings.window_width, H = settings.window_height;
+    const double v[4] = {double(f.viewport[0]), double(f.viewport[1]), double(f.viewport[2]), double(f.viewport[3])};
+    f.in_part = framebuffer && W > 0 && H > 0 && !(f.viewport[2] == W && f.viewport[3] == H) && !window_shaped(v, W, H);
+    f.scene_texture = f.in_part ? s.color_texture() : 0;
+}
+
+// What was taken for the main view was not it: the facts know no view again.
+void forget_view(SceneFacts& f) {
+    f.main_known = false;
+    f.scene_framebuffer = 0;
+    f.target_overlay = false;
+    f.in_part = false;
+    f.scene_texture = 0;
+    f.light = effects::SceneLight{};
 }
 
 // A fixed-function draw: the first with a perspective projection that writes depth, unless
@@ -21,14 +35,15 @@ void found_view(SceneFacts& f, DrawState& s, GLuint framebuffer, const glm::dmat
 // same target belong to it. A backdrop drawn first without depth writes (a star field) is
 // neither the main view nor, after it, the start of the overlays; the window's depth does
 // not have it, and the redraw leaves it out.
-bool fixed_function_draw_is_main(SceneFacts& f, DrawState& s, GLuint framebuffer, bool& found) {
+bool fixed_function_draw_is_main(SceneFacts& f, DrawState& s, GLuint framebuffer, const ClassifierSettings& settings,
+                                  bool& found) {
     const glm::dmat4 app = s.projection();
     const bool depth = s.writes_depth();
     if (!f.main_known && is_perspective(app) && depth) {
         const glm::dmat4 modelview = s.modelview();
         if (!mirrored(modelview)) {
             // (a push made inside a reflection is not the view)
-            found_view(f, s, framebuffer, app, f.pushed && !mirrored(f.last_push) ? f.last_push : modelview);
+            found_view(f, s, framebuffer, app, f.pushed && !mirrored(f.last_push) ? f.last_push : modelview, settings);
             f.light = s.light();
             found = true;
         }
@@ -52,7 +67,7 @@ bool shader_draw_is_main(SceneFacts& f, DrawState& s, GLuint program, GLuint fra
     if (!s.camera(program, camera)) return false;
     if (!f.main_known && mirrored(camera.modelview)) return false;  // a reflection's camera
     if (!f.main_known) {
-        found_view(f, s, framebuffer, camera.projection, camera.modelview);
+        found_view(f, s, framebuffer, camera.projection, camera.modelview, settings);
         f.light = s.program_light(program, camera);
         found = true;
     }
@@ -74,7 +89,7 @@ DrawVerdict classify_draw(SceneFacts& f, DrawState& s, GLuint framebuffer, const
         f.shader_draws = true;
         v.main = shader_draw_is_main(f, s, program, framebuffer, settings, v.found_view);
     } else {
-        v.main = fixed_function_draw_is_main(f, s, framebuffer, v.found_view);
+        v.main = fixed_function_draw_is_main(f, s, framebuffer, settings, v.found_view);
     }
     if (v.main) v.cull = s.cull(), v.alpha = s.alpha_test();
     return v;
@@ -92,7 +107,8 @@ bool stretched_scene(const SceneFacts& f, int W, int H) {
 }
 
 bool later_scene_target(SceneFacts& f, DrawState& s, int W, int H) {
-    if (!stretched_scene(f, W, H) || f.presented || f.overlay) return false;
+    if (!f.main_known || !f.scene_framebuffer || (f.viewport[2] == W && f.viewport[3] == H) || f.presented || f.overlay)
+        return false;
     const GLuint framebuffer = s.draw_framebuffer();
     if (!framebuffer || framebuffer == f.scene_framebuffer) return false;
     int32_t viewport[4];
@@ -100,32 +116,40 @@ bool later_scene_target(SceneFacts& f, DrawState& s, int W, int H) {
     const double v[4] = {double(viewport[0]), double(viewport[1]), double(viewport[2]), double(viewport[3])};
     if (!window_shaped(v, W, H) || s.color_attachment_type() == GL_NONE || s.depth_attachment_type() == GL_NONE)
         return false;
-    f.main_known = false;
-    f.scene_framebuffer = 0;
-    f.target_overlay = false;
-    f.light = effects::SceneLight{};
+    forget_view(f);
     return true;
 }
 
-bool offscreen_scene(const SceneFacts& f, DrawState& s, int master_width, int master_height, bool may_lend,
-                     GLuint& framebuffer) {
+void follow_scene_texture(SceneFacts& f, DrawState& s, RedrawKind kind) {
+    if (!f.in_part || f.presented || !f.scene_framebuffer) return;
+    const GLuint framebuffer = s.draw_framebuffer();
+    if (!framebuffer || framebuffer == f.scene_framebuffer) return;
+    if (kind == RedrawKind::Copy) {
+        if (s.read_framebuffer() != f.scene_framebuffer) return;
+    } else {
+        int32_t viewport[4];
+        s.viewport(viewport);
+        if (viewport[2] != f.viewport[2] || viewport[3] != f.viewport[3] || !f.scene_texture ||
+            !s.samples_texture(f.scene_texture))
+            return;
+    }
+    if (const GLuint texture = s.color_texture()) f.scene_texture = texture;
+}
+
+bool offscreen_scene(const SceneFacts& f, DrawState& s, int master_width, int master_height, GLuint& framebuffer) {
     framebuffer = s.draw_framebuffer();
     if (f.main_known) return f.scene_framebuffer != 0 && framebuffer == f.scene_framebuffer;
     if (f.overlay || f.presented || !framebuffer) return false;
     int32_t viewport[4];
     s.viewport(viewport);
     if (viewport[0] != 0 || viewport[1] != 0) return false;
-    if (viewport[2] != master_width || viewport[3] != master_height) {
-        // A target of the window's shape at another size holds the scene the window shows
-        // stretched (a render scale). A context that has never presented, beside another of its
-        // share group, draws for it (a toolkit's GL widget): its scene target has the widget's
-        // size, and a colour texture (or multisampled renderbuffers resolved into one) the other
-        // can show. (A program's only context has not presented in its first frame either: its
-        // other smaller targets are not scenes.)
-        const double v[4] = {double(viewport[0]), double(viewport[1]), double(viewport[2]), double(viewport[3])};
-        if (!(may_lend || window_shaped(v, master_width, master_height)) || s.color_attachment_type() == GL_NONE)
-            return false;
-    }
+    // At another size than the window's, a target holds a scene the window shows stretched (a
+    // render scale, at the window's shape) or in part of the window (a toolkit's GL widget, a
+    // content suite's viewport): one with a colour attachment the window can show. (Another view
+    // drawn there first, a reflection's or a monitor's, is forgotten when the window's draws do
+    // not show it: window_draw, later_scene_target.)
+    if ((viewport[2] != master_width || viewport[3] != master_height) && s.color_attachment_type() == GL_NONE)
+        return false;
     return s.depth_attachment_type() != GL_NONE;
 }
 
@@ -139,14 +163,17 @@ WindowDrawMeaning window_draw(SceneFacts& f, DrawState& s, RedrawKind kind) {
     if (f.scene_framebuffer && !f.presented) {
         // (a draw whose depth test passes everything copies depth: VTK copies the scene's that way)
         if (kind == RedrawKind::Pixels || !s.writes_depth() || s.depth_always()) {
+            if (f.in_part) {  // the interface around it, until the draw that samples it
+                if (kind == RedrawKind::Pixels || !f.scene_texture || !s.samples_texture(f.scene_texture))
+                    return WindowDrawMeaning::Scene;
+                f.presented = true;
+                return WindowDrawMeaning::ShowsInPart;
+            }
             f.presented = true;  // the scene's image drawn over the window
             return WindowDrawMeaning::Scene;
         }
         // A 3D draw to the window: what was drawn offscreen was not the scene.
-        f.main_known = false;
-        f.scene_framebuffer = 0;
-        f.target_overlay = false;
-        f.light = effects::SceneLight{};
+        forget_view(f);
         return WindowDrawMeaning::NotTheScene;
     }
     if (!f.scene_framebuffer && !starts_overlays(f, s, kind)) return WindowDrawMeaning::Scene;
@@ -155,7 +182,9 @@ WindowDrawMeaning window_draw(SceneFacts& f, DrawState& s, RedrawKind kind) {
 }
 
 bool scene_target_overlays_start(SceneFacts& f, DrawState& s, RedrawKind kind) {
-    if (!f.main_known || !f.scene_framebuffer || f.presented || f.overlay || f.target_overlay) return false;
+    // (what is drawn into the target of a scene shown in part of the window is decorated with it)
+    if (!f.main_known || !f.scene_framebuffer || f.presented || f.overlay || f.target_overlay || f.in_part)
+        return false;
     if (kind != RedrawKind::Draw && kind != RedrawKind::Begin) return false;
     f.target_overlay = starts_overlays(f, s, kind);
     return f.target_overlay;

@@ -43,6 +43,13 @@ struct SceneFacts {
     // are overlays. If that first draw writes depth instead, the object was not the scene.
     GLuint scene_framebuffer = 0;
     bool presented = false;
+    // That target has neither the window's size nor its shape: the scene is shown in part of the
+    // window (a content suite's 3D viewport), by the first flat draw to the window that samples
+    // `scene_texture` (its colour texture, or the one a resolve or a post-processing draw of its
+    // size copied it into; the slave's name), and placed where that draw put it (scene_lending.h).
+    // Flat draws to the window before it are the interface around it.
+    bool in_part = false;
+    GLuint scene_texture = 0;
     // Overlays drawn into that framebuffer object after the main view, before it is shown (VTK's
     // text actors): from the first flat draw there (starts_overlays' rule) on, what the target
     // gets is the program's, as the window's overlays are.
@@ -63,6 +70,7 @@ struct ClassifierSettings {
     // shader draw to the window before the overlays is the main view's.
     bool configured_projection = false;
     bool redraws = false;  // some pass re-renders the main view
+    int window_width = 0, window_height = 0;  // the master's window; 0: unknown
 };
 
 // A draw (or glBegin) about to run.
@@ -78,6 +86,7 @@ enum class WindowDrawMeaning {
     Scene,           // nothing changes
     StartsOverlays,  // the window as the scene left it is the passes' to decorate
     NotTheScene,     // the offscreen scene was not one: the window's draws find the main view again
+    ShowsInPart,     // it shows a scene drawn in part of the window (SceneFacts::in_part): place it
 };
 
 DrawVerdict classify_draw(SceneFacts& facts, DrawState& state, GLuint framebuffer, const ClassifierSettings& settings);
@@ -93,24 +102,29 @@ bool stretched_scene(const SceneFacts& facts, int master_width, int master_heigh
 
 // A draw into the bound framebuffer object that may hold the scene: the one the main view was
 // found in, or, before it is known, one the program draws into whole at the window's size
-// (master_width x master_height) with a depth buffer, or at the window's shape with colour and
-// depth (window_shaped). `may_lend`: the context never presented and shares objects with
-// another, so a scene target of any size with a colour attachment counts (a toolkit's GL
-// widget). `framebuffer` is set to the bound one.
-bool offscreen_scene(const SceneFacts& facts, DrawState& state, int master_width, int master_height, bool may_lend,
+// (master_width x master_height) with a depth buffer, or at any other size with colour and depth:
+// at the window's shape (window_shaped) shown stretched, else shown in part of the window (a
+// toolkit's GL widget, a content suite's viewport). `framebuffer` is set to the bound one.
+bool offscreen_scene(const SceneFacts& facts, DrawState& state, int master_width, int master_height,
                      GLuint& framebuffer);
 
 // Engines draw their other views (a monitor's, a reflection's) before the scene that samples
-// them, and those may have the window's shape too: a main view found in a target of the
-// window's shape at another size (stretched_scene) is forgotten when a later draw, before the
-// window shows anything, goes into another target that could hold the scene. True: it was
-// forgotten (the facts know no view again), and the draws kept for it are no longer the main
-// view's (the caller unmarks the record's offscreen entries).
+// them: a main view found in a target at another size than the window's is forgotten when a
+// later draw, before the window shows anything, goes into another target of the window's shape
+// that could hold the scene. True: it was forgotten (the facts know no view again), and the draws
+// kept for it are no longer the main view's (the caller unmarks the record's offscreen entries).
 bool later_scene_target(SceneFacts& facts, DrawState& state, int master_width, int master_height);
+
+// A scene shown in part of the window whose colour is copied on before it is shown: a draw into
+// another framebuffer object at the scene's size that samples `facts.scene_texture` (a
+// post-processing step), or a resolve (glBlitFramebuffer from the scene's target, kind Copy),
+// makes the bound target's colour texture the one that shows it.
+void follow_scene_texture(SceneFacts& facts, DrawState& state, RedrawKind kind);
 
 // A draw of `kind` to the window while the main view is known and overlays have not started. The
 // first after a scene drawn offscreen shows it (pixels, a draw without depth writes, or one
-// whose depth function is GL_ALWAYS: a copy of the scene's depth); a 3D draw instead means the
+// whose depth function is GL_ALWAYS: a copy of the scene's depth), for a scene shown in part of
+// the window the first such draw that samples its texture; a 3D draw instead means the
 // offscreen draws were not the scene.
 WindowDrawMeaning window_draw(SceneFacts& facts, DrawState& state, RedrawKind kind);
 

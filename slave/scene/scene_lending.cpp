@@ -33,17 +33,13 @@ void drop_borrowed(ContextScene& scene) {
     scene.loan.placement_pending = false;
     scene.facts.main_known = scene.facts.presented = false;
     scene.facts.scene_framebuffer = 0;
+    scene.facts.in_part = false;
+    scene.facts.scene_texture = 0;
     scene.facts.light = effects::SceneLight{};
 }
 
-bool SceneLending::shares_with_another(const SlaveContext& ctx) const {
-    for (const auto& [id, other] : core_.contexts())
-        if (id != ctx.id && other->names.shared == ctx.names.shared) return true;
-    return false;
-}
-
 void SceneLending::note_lendable_scene(SlaveContext&, ContextScene& scene) {
-    if (!scene.facts.scene_framebuffer || scene.presents) return;
+    if (!scene.facts.scene_framebuffer || (scene.presents && !scene.facts.in_part)) return;
     const GlApi& gl = core_.api();
     SceneLoan& loan = scene.loan;
     GLint type = GL_NONE, name = 0;
@@ -122,6 +118,12 @@ void SceneLending::borrow_scene(SlaveContext& ctx, ContextScene& scene) {
         scene.loan.placement_from = scene.record.entries.size();
         return;
     }
+}
+
+void SceneLending::show_own_scene(SlaveContext& ctx, ContextScene& scene) {
+    scene.loan.borrowed_from = ctx.id;
+    scene.loan.placement_pending = true;
+    scene.loan.placement_from = scene.record.entries.size();
 }
 
 // The draw that showed a borrowed scene, drawn again in the master's window coordinates (the
@@ -249,16 +251,17 @@ void SceneLending::place_borrowed_scene(SlaveContext& ctx, ContextScene& scene) 
         return;
     }
     const SceneLoan& lent = lender->second->loan;
-    const SceneFacts& lent_facts = lender->second->facts;
+    int32_t lent_viewport[4];  // (the scene's own when it is this context's: copied before it is placed)
+    std::copy(lender->second->facts.viewport, lender->second->facts.viewport + 4, lent_viewport);
     std::copy(rect, rect + 4, loan.placement);
     // The lender's viewport, in its target's pixels, placed and scaled as the window shows them.
     const double sx = double(rect[2] - rect[0]) / std::max(1, lent.scene_size[0]);
     const double sy = double(rect[3] - rect[1]) / std::max(1, lent.scene_size[1]);
     int32_t* v = scene.facts.viewport;
-    v[0] = int32_t(std::lround(rect[0] + lent_facts.viewport[0] * sx));
-    v[1] = int32_t(std::lround(rect[1] + lent_facts.viewport[1] * sy));
-    v[2] = int32_t(std::lround(lent_facts.viewport[2] * sx));
-    v[3] = int32_t(std::lround(lent_facts.viewport[3] * sy));
+    v[0] = int32_t(std::lround(rect[0] + lent_viewport[0] * sx));
+    v[1] = int32_t(std::lround(rect[1] + lent_viewport[1] * sy));
+    v[2] = int32_t(std::lround(lent_viewport[2] * sx));
+    v[3] = int32_t(std::lround(lent_viewport[3] * sy));
 }
 
 }  // namespace glcast::slave

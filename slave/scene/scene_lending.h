@@ -1,11 +1,12 @@
-// A scene another context draws (docs/effects.md "A scene another context draws"): a
-// toolkit's GL widget (Qt's QOpenGLWidget) draws its view with a context of its own, which
+// A scene shown in part of the window (docs/effects.md "A scene shown in part of the window"):
+// a toolkit's GL widget (Qt's QOpenGLWidget) draws its view with a context of its own, which
 // never presents, into a framebuffer object of the widget's size, and only when the view
 // changes; the window's context draws that object's colour texture into the window every
 // frame. The lending context's record keeps its scene (texture, depth attachment, size) until
 // it draws the next; the presenting context borrows it when a draw to the window samples the
 // texture, and finds where that draw put it by drawing it again in the master's window
-// coordinates into a depth-only target.
+// coordinates into a depth-only target. A content suite's viewport is the same with one
+// context: it lends its scene to itself (SceneFacts::in_part).
 #pragma once
 
 #include <cstdint>
@@ -30,8 +31,9 @@ struct SceneLoan {
     GLenum scene_depth_type = GL_NONE, scene_depth_format = 0;
     int32_t scene_size[2] = {0, 0};
     bool complete = false;  // a frame was presented since it drew its scene
-    // Borrower: the lender's context id, and where the draw that shows the scene put it
-    // (x0, y0, x1, y1 in the master's window pixels) once measured.
+    // Borrower: the lender's context id (its own for a scene of its own shown in part of the
+    // window), and where the draw that shows the scene put it (x0, y0, x1, y1 in the master's
+    // window pixels) once measured.
     uint32_t borrowed_from = 0;
     bool placement_pending = false;  // from entry placement_from on, the draw that shows it
     size_t placement_from = 0;
@@ -58,8 +60,8 @@ class SceneLending {
 public:
     SceneLending(Replayer& core, TileAdapter& tile, ContextScenes& scenes) : core_(core), tile_(tile), scenes_(scenes) {}
 
-    // The main view was just found in a framebuffer object of a context that never presented:
-    // what it lends, read from that framebuffer's attachments.
+    // The main view was just found in a framebuffer object of a context that never presented, or
+    // in one shown in part of the window: what it lends, read from that framebuffer's attachments.
     void note_lendable_scene(SlaveContext& ctx, ContextScene& scene);
     // A lender's multisampled scene resolved (glBlitFramebuffer) into a framebuffer object whose
     // colour is a texture: that texture shows the scene.
@@ -67,11 +69,13 @@ public:
     // Another context's scene, shown by the draw about to run (a draw to the window sampling the
     // lender's colour texture): taken as this frame's main view.
     void borrow_scene(SlaveContext& ctx, ContextScene& scene);
+    // The draw about to run shows the context's own scene in part of the window (window_draw's
+    // ShowsInPart): placed as a borrowed one.
+    void show_own_scene(SlaveContext& ctx, ContextScene& scene);
     // After that draw ran: where it put the scene, and the scene's viewport in the window.
     void place_borrowed_scene(SlaveContext& ctx, ContextScene& scene);
     // The scene whose draws and camera are this context's frame's: the lender's when borrowed.
     const ContextScene& scene_of(const ContextScene& scene) const;
-    bool shares_with_another(const SlaveContext& ctx) const;  // objects with another live context
 
 private:
     bool measure_placement(SlaveContext& ctx, ContextScene& scene, size_t end, int32_t out[4]);
@@ -81,7 +85,7 @@ private:
     ContextScenes& scenes_;
 };
 
-// The frame shows no other context's scene after all.
+// The frame shows no scene placed in part of the window after all.
 void drop_borrowed(ContextScene& scene);
 
 }  // namespace glcast::slave

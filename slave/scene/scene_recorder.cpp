@@ -19,8 +19,9 @@ ContextScene& SceneRecorder::scene(const SlaveContext& ctx) {
 
 void SceneRecorder::follow(SlaveContext& ctx, const Call& c) { scene(ctx).followed.follow(c, ctx.names); }
 
-ClassifierSettings SceneRecorder::settings() const {
-    return ClassifierSettings{core_.options().view.program_fov_y_deg != 0, core_.options().effects.redraws()};
+ClassifierSettings SceneRecorder::settings(const SlaveContext& ctx) const {
+    return ClassifierSettings{core_.options().view.program_fov_y_deg != 0, core_.options().effects.redraws(),
+                              ctx.master_width, ctx.master_height};
 }
 
 void SceneRecorder::record(SlaveContext& ctx, const Call& c, const uint8_t* tuple, size_t tuple_size) {
@@ -56,6 +57,9 @@ void SceneRecorder::record(SlaveContext& ctx, const Call& c, const uint8_t* tupl
     if (kind == RedrawKind::Copy && !to_window && facts.main_known && facts.scene_framebuffer &&
         !sc.loan.scene_texture && !sc.presents)
         lending_.note_resolved_scene(sc, state);
+    if ((kind == RedrawKind::Copy || ((kind == RedrawKind::Draw || kind == RedrawKind::Begin) && !rec.in_begin_end)) &&
+        !to_window)
+        follow_scene_texture(facts, state, kind);  // a scene shown in part of the window, copied on
     // Into a framebuffer object: shader-program and vertex state are kept (the scene may be drawn
     // there), draws only into the one that can hold the scene.
     GLuint framebuffer = 0;
@@ -63,15 +67,14 @@ void SceneRecorder::record(SlaveContext& ctx, const Call& c, const uint8_t* tupl
     if (opens && !to_window && later_scene_target(facts, state, ctx.master_width, ctx.master_height))
         for (RecordEntry& e : rec.entries) e.main = e.main && !e.offscreen;
     if (!to_window && !rec.in_begin_end &&
-        (opens ? !offscreen_scene(facts, state, ctx.master_width, ctx.master_height,
-                                  !sc.presents && lending_.shares_with_another(ctx), framebuffer)
+        (opens ? !offscreen_scene(facts, state, ctx.master_width, ctx.master_height, framebuffer)
                : kind != RedrawKind::State && kind != RedrawKind::ProgramState))
         return;
     if (opens && !to_window && framebuffer && framebuffer == facts.scene_framebuffer &&
         scene_target_overlays_start(facts, state, kind) && on_target_overlays_start)
         on_target_overlays_start(ctx);
     if (kind == RedrawKind::Copy) {  // a blit to the window shows an offscreen scene there
-        if (facts.scene_framebuffer && !facts.overlay) facts.presented = true;
+        if (facts.scene_framebuffer && !facts.overlay && !facts.in_part) facts.presented = true;
         return;
     }
     if (sc.loan.borrowed_from && to_window && opens && state.writes_depth()) {
@@ -89,6 +92,7 @@ void SceneRecorder::record(SlaveContext& ctx, const Call& c, const uint8_t* tupl
         case WindowDrawMeaning::NotTheScene:
             for (RecordEntry& e : rec.entries) e.main = e.main && !e.offscreen;
             break;
+        case WindowDrawMeaning::ShowsInPart: lending_.show_own_scene(ctx, sc); break;
         }
     }
     if (rec.overflow || kind == RedrawKind::Pixels) return;
@@ -105,7 +109,7 @@ void SceneRecorder::record(SlaveContext& ctx, const Call& c, const uint8_t* tupl
     if (opens) {
         if (to_window && !facts.main_known && !facts.overlay) lending_.borrow_scene(ctx, sc);
         e.draw = e.opens = true;
-        const DrawVerdict verdict = classify_draw(facts, state, framebuffer, settings());
+        const DrawVerdict verdict = classify_draw(facts, state, framebuffer, settings(ctx));
         if (verdict.found_view) lending_.note_lendable_scene(ctx, sc);
         e.main = verdict.main;
         if (e.main) {
@@ -131,6 +135,7 @@ void SceneRecorder::frame_drawn(SlaveContext& ctx) {
     ContextScene& sc = scene(ctx);
     sc.presents = true;
     if (sc.loan.placement_pending) lending_.place_borrowed_scene(ctx, sc);
+    if (sc.facts.in_part && !sc.loan.borrowed_from) drop_borrowed(sc);  // drawn, never shown
 }
 
 void SceneRecorder::frame_decorated(SlaveContext& ctx) {

@@ -69,7 +69,7 @@ public:
     void reset() { scenes_.clear(); }
 
 private:
-    ClassifierSettings settings() const;
+    ClassifierSettings settings(const SlaveContext& ctx) const;
 
     Replayer& core_;
     TileAdapter& tile_;

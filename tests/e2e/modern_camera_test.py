@@ -185,9 +185,12 @@ def main():
             changed = sum(1 for x, y in kept if b[y][x][:3] != plain[y][x][:3])
             print(f"{mode} {name}: {changed} of the kept object's {len(kept)} pixels changed")
             check(changed == 0, f"{mode}: {name} changed {changed} of the kept object's {len(kept)} pixels")
-    # Falling snow passes behind the pillars by the depth: the same flakes whatever the depth convention.
+    # Falling snow passes behind the pillars by the depth: the same flakes whatever the depth
+    # convention, and wherever the scene was drawn (a framebuffer object's depth, not the window's:
+    # before, the flakes were tested against the window's depth, which a scene drawn offscreen
+    # leaves as it was, and none was drawn).
     frame = "frame-000001.png"
-    for mode in ("reversed", "reversed_builtins"):
+    for mode in ("reversed", "reversed_builtins", "fbo", "fbo_mvp"):
         w, h, a = read_png(os.path.join(OUT, f"fixed-snow", frame))
         _, _, b = read_png(os.path.join(OUT, f"{mode}-snow", frame))
         _, _, plain = read_png(os.path.join(OUT, "fixed-plain", frame))

@@ -30,6 +30,8 @@ struct Given final : DrawState {
     bool has_camera = false;
     ProgramCamera cam;
     GLenum color = GL_TEXTURE, depth = GL_RENDERBUFFER;
+    GLuint texture = 0;  // the bound target's colour texture
+    GLuint sampled = 0;  // the texture the draw samples
     int asked = 0;
 
     GLuint draw_framebuffer() override { return asked++, framebuffer; }
@@ -55,6 +57,8 @@ struct Given final : DrawState {
     bool flat_program(GLuint) override { return asked++, flat; }
     GLenum color_attachment_type() override { return asked++, color; }
     GLenum depth_attachment_type() override { return asked++, depth; }
+    GLuint color_texture() override { return asked++, texture; }
+    bool samples_texture(GLuint t) override { return asked++, t != 0 && t == sampled; }
 };
 
 const ClassifierSettings kPasses{false, true};  // a pass redraws the scene
@@ -310,18 +314,20 @@ TEST(SceneClassifier, AWindowSizedTargetWithDepthMayHoldTheScene) {
     Given s;
     s.framebuffer = 3;
     GLuint bound = 0;
-    EXPECT_TRUE(offscreen_scene(facts, s, 640, 480, false, bound));
+    EXPECT_TRUE(offscreen_scene(facts, s, 640, 480, bound));
     EXPECT_EQ(bound, 3u);
     s.depth = GL_NONE;
-    EXPECT_FALSE(offscreen_scene(facts, s, 640, 480, false, bound));  // no depth: a post-process target
+    EXPECT_FALSE(offscreen_scene(facts, s, 640, 480, bound));  // no depth: a post-process target
     s.depth = GL_TEXTURE;
-    s.vp[2] = 256, s.vp[3] = 256;  // a shadow map or a reflection texture
-    EXPECT_FALSE(offscreen_scene(facts, s, 640, 480, false, bound));
+    s.vp[2] = 256, s.vp[3] = 256;  // a shadow map: depth alone
+    s.color = GL_NONE;
+    EXPECT_FALSE(offscreen_scene(facts, s, 640, 480, bound));
+    s.color = GL_TEXTURE;
     s.vp[0] = 8, s.vp[2] = 640, s.vp[3] = 480;
-    EXPECT_FALSE(offscreen_scene(facts, s, 640, 480, false, bound));  // not drawn whole
+    EXPECT_FALSE(offscreen_scene(facts, s, 640, 480, bound));  // not drawn whole
     s.framebuffer = 0;
     s.vp[0] = 0;
-    EXPECT_FALSE(offscreen_scene(facts, s, 640, 480, false, bound));  // the window is no offscreen target
+    EXPECT_FALSE(offscreen_scene(facts, s, 640, 480, bound));  // the window is no offscreen target
 }
 
 TEST(SceneClassifier, ATargetOfTheWindowsShapeAtAnotherSizeHoldsTheScene) {
@@ -332,16 +338,15 @@ TEST(SceneClassifier, ATargetOfTheWindowsShapeAtAnotherSizeHoldsTheScene) {
     GLuint bound = 0;
     for (const int scale2 : {1, 4}) {
         s.vp[2] = 320 * scale2, s.vp[3] = 240 * scale2;
-        EXPECT_TRUE(offscreen_scene(facts, s, 640, 480, false, bound)) << s.vp[2];
+        EXPECT_TRUE(offscreen_scene(facts, s, 640, 480, bound)) << s.vp[2];
     }
     s.vp[2] = 320, s.vp[3] = 240;
     s.color = GL_NONE;  // depth alone: a shadow map of the window's shape
-    EXPECT_FALSE(offscreen_scene(facts, s, 640, 480, false, bound));
+    EXPECT_FALSE(offscreen_scene(facts, s, 640, 480, bound));
     s.color = GL_TEXTURE;
-    s.vp[2] = 320, s.vp[3] = 200;  // another shape
-    EXPECT_FALSE(offscreen_scene(facts, s, 640, 480, false, bound));
     s.vp[2] = 128, s.vp[3] = 96;  // a thumbnail: under a quarter of the window's width
-    EXPECT_FALSE(offscreen_scene(facts, s, 640, 480, false, bound));
+    const double thumbnail[4] = {0, 0, 128, 96};
+    EXPECT_FALSE(window_shaped(thumbnail, 640, 480));  // (in part of the window, if the window shows it)
     const double shaped[4] = {0, 0, 322, 241.5};  // within 1% of the window's shape
     EXPECT_TRUE(window_shaped(shaped, 640, 480));
     // A stream's viewport is no render scale past four times the window (supersampling): the
@@ -364,13 +369,13 @@ TEST(SceneClassifier, ALaterTargetReplacesAScaledScene) {
     s.framebuffer = 3;
     s.vp[2] = 256, s.vp[3] = 192;
     GLuint bound = 0;
-    ASSERT_TRUE(offscreen_scene(facts, s, 640, 480, false, bound));
+    ASSERT_TRUE(offscreen_scene(facts, s, 640, 480, bound));
     ASSERT_TRUE(classify_draw(facts, s, bound, kPasses).found_view);
     s.framebuffer = 5;
     s.vp[2] = 640, s.vp[3] = 480;
     EXPECT_TRUE(later_scene_target(facts, s, 640, 480));
     EXPECT_FALSE(facts.main_known);
-    ASSERT_TRUE(offscreen_scene(facts, s, 640, 480, false, bound));
+    ASSERT_TRUE(offscreen_scene(facts, s, 640, 480, bound));
     EXPECT_TRUE(classify_draw(facts, s, bound, kPasses).found_view);
     EXPECT_EQ(facts.scene_framebuffer, 5u);
     // A scene found at the window's size is not replaced; nor one the window already shows.
@@ -384,16 +389,88 @@ TEST(SceneClassifier, ALaterTargetReplacesAScaledScene) {
     EXPECT_FALSE(later_scene_target(shown, s, 640, 480));
 }
 
-TEST(SceneClassifier, AWidgetsSmallerTargetHoldsTheSceneOnlyForAContextThatMayLend) {
+TEST(SceneClassifier, ASmallerTargetWithColourAndDepthMayHoldASceneShownInPartOfTheWindow) {
+    // A toolkit's GL widget, a content suite's viewport: another shape, colour and depth.
     SceneFacts facts;
     Given s;
     s.framebuffer = 3;
     s.vp[2] = 200, s.vp[3] = 250;
     GLuint bound = 0;
-    EXPECT_FALSE(offscreen_scene(facts, s, 640, 480, false, bound));
-    EXPECT_TRUE(offscreen_scene(facts, s, 640, 480, true, bound));
-    s.color = GL_NONE;
-    EXPECT_FALSE(offscreen_scene(facts, s, 640, 480, true, bound));
+    EXPECT_TRUE(offscreen_scene(facts, s, 640, 480, bound));
+    s.color = GL_NONE;  // a shadow map
+    EXPECT_FALSE(offscreen_scene(facts, s, 640, 480, bound));
+    s.color = GL_TEXTURE;
+    s.texture = 11;
+    const ClassifierSettings window{false, true, 640, 480};
+    ASSERT_TRUE(classify_draw(facts, s, 3, window).found_view);
+    EXPECT_TRUE(facts.in_part);
+    EXPECT_EQ(facts.scene_texture, 11u);
+    EXPECT_FALSE(stretched_scene(facts, 640, 480));
+    SceneFacts stretched;  // the window's shape: shown stretched, not in part
+    s.vp[2] = 320, s.vp[3] = 240;
+    classify_draw(stretched, s, 3, window);
+    EXPECT_FALSE(stretched.in_part);
+    EXPECT_EQ(stretched.scene_texture, 0u);
+}
+
+TEST(SceneClassifier, TheDrawThatSamplesASceneShownInPartShowsItAndTheInterfaceBeforeItIsNotTheScene) {
+    SceneFacts facts;
+    Given s;
+    s.framebuffer = 3, s.texture = 11;
+    s.vp[2] = 320, s.vp[3] = 260;
+    ASSERT_TRUE(classify_draw(facts, s, 3, ClassifierSettings{false, true, 400, 300}).found_view);
+    ASSERT_TRUE(facts.in_part);
+    s.framebuffer = 0, s.depth_on = false, s.proj = kOrtho;
+    EXPECT_EQ(window_draw(facts, s, RedrawKind::Draw), WindowDrawMeaning::Scene);  // a toolbar
+    EXPECT_EQ(window_draw(facts, s, RedrawKind::Pixels), WindowDrawMeaning::Scene);
+    EXPECT_FALSE(facts.presented);
+    s.sampled = 11;  // the viewport's quad
+    EXPECT_EQ(window_draw(facts, s, RedrawKind::Draw), WindowDrawMeaning::ShowsInPart);
+    EXPECT_TRUE(facts.presented);
+    s.sampled = 0;  // the header after it
+    EXPECT_EQ(window_draw(facts, s, RedrawKind::Draw), WindowDrawMeaning::StartsOverlays);
+    // A 3D draw to the window that samples it (a monitor in the program's own scene) is no showing.
+    SceneFacts monitor;
+    s.framebuffer = 3, s.depth_on = true, s.proj = glm::frustum(-1.0, 1.0, -0.75, 0.75, 1.0, 100.0);
+    classify_draw(monitor, s, 3, ClassifierSettings{false, true, 400, 300});
+    s.framebuffer = 0, s.sampled = 11;
+    EXPECT_EQ(window_draw(monitor, s, RedrawKind::Draw), WindowDrawMeaning::NotTheScene);
+    EXPECT_FALSE(monitor.main_known || monitor.in_part || monitor.scene_texture);
+}
+
+TEST(SceneClassifier, ASceneShownInPartFollowsItsColourThroughAResolveAndAPostProcessingCopy) {
+    SceneFacts facts;
+    Given s;
+    s.framebuffer = 3, s.texture = 0, s.color = GL_RENDERBUFFER;  // multisampled renderbuffers
+    s.vp[2] = 320, s.vp[3] = 260;
+    ASSERT_TRUE(classify_draw(facts, s, 3, ClassifierSettings{false, true, 400, 300}).found_view);
+    ASSERT_TRUE(facts.in_part);
+    EXPECT_EQ(facts.scene_texture, 0u);
+    s.framebuffer = 4, s.read = 3, s.texture = 12;  // resolved into a texture
+    follow_scene_texture(facts, s, RedrawKind::Copy);
+    EXPECT_EQ(facts.scene_texture, 12u);
+    s.framebuffer = 5, s.texture = 13;
+    s.vp[2] = 160, s.vp[3] = 130, s.sampled = 12;  // a bloom's smaller target: not the picture
+    follow_scene_texture(facts, s, RedrawKind::Draw);
+    EXPECT_EQ(facts.scene_texture, 12u);
+    s.vp[2] = 320, s.vp[3] = 260, s.sampled = 0;  // the scene's size, another texture
+    follow_scene_texture(facts, s, RedrawKind::Draw);
+    EXPECT_EQ(facts.scene_texture, 12u);
+    s.sampled = 12;  // a post-processing copy
+    follow_scene_texture(facts, s, RedrawKind::Draw);
+    EXPECT_EQ(facts.scene_texture, 13u);
+}
+
+TEST(SceneClassifier, ALaterTargetOfTheWindowsShapeReplacesASceneFoundInPart) {
+    // A reflection of another shape drawn first, the scene's window-sized target after it.
+    SceneFacts facts;
+    Given s;
+    s.framebuffer = 3, s.texture = 11;
+    s.vp[2] = 256, s.vp[3] = 256;
+    ASSERT_TRUE(classify_draw(facts, s, 3, ClassifierSettings{false, true, 640, 480}).found_view);
+    s.framebuffer = 5, s.vp[2] = 640, s.vp[3] = 480;
+    EXPECT_TRUE(later_scene_target(facts, s, 640, 480));
+    EXPECT_FALSE(facts.main_known || facts.in_part || facts.scene_texture);
 }
 
 TEST(SceneClassifier, OnceTheSceneIsFoundOffscreenOnlyItsTargetCounts) {
@@ -401,13 +478,13 @@ TEST(SceneClassifier, OnceTheSceneIsFoundOffscreenOnlyItsTargetCounts) {
     Given s;
     s.framebuffer = 3;
     GLuint bound = 0;
-    ASSERT_TRUE(offscreen_scene(facts, s, 640, 480, false, bound));
+    ASSERT_TRUE(offscreen_scene(facts, s, 640, 480, bound));
     EXPECT_TRUE(classify_draw(facts, s, bound, kPasses).found_view);
     EXPECT_EQ(facts.scene_framebuffer, 3u);
     s.framebuffer = 5;
-    EXPECT_FALSE(offscreen_scene(facts, s, 640, 480, false, bound));
+    EXPECT_FALSE(offscreen_scene(facts, s, 640, 480, bound));
     s.framebuffer = 3;
-    EXPECT_TRUE(offscreen_scene(facts, s, 640, 480, false, bound));
+    EXPECT_TRUE(offscreen_scene(facts, s, 640, 480, bound));
 }
 
 TEST(SceneClassifier, AFlatDrawToTheWindowShowsTheOffscreenSceneAndWhatFollowsIsOverlay) {
