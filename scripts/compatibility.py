@@ -284,7 +284,7 @@ KNOWN = """## What the table does not show
   Until this stop the frames shown had no scene: cover and shadows did nothing and snow fell
   over the whole window. Now the window's context borrows the other context's scene when a draw
   samples its texture, finds where that draw put it, and keeps it until the next is drawn
-  (docs/effects.md, "A scene another context draws"): snow falls inside the 3D view only, the
+  (docs/effects.md, "A scene shown in part of the window"): snow falls inside the 3D view only, the
   model's plate holds cover, the sphere and cubes cast shadows on it, icicles hang from its
   edges, and the editor, console and toolbars keep every pixel.
 - **openarena** (a recorded match): its renderer draws the scene into a framebuffer object of
