@@ -39,7 +39,7 @@ void drop_borrowed(ContextScene& scene) {
 }
 
 void SceneLending::note_lendable_scene(SlaveContext&, ContextScene& scene) {
-    if (!scene.facts.scene_framebuffer || (scene.presents && !scene.facts.in_part)) return;
+    if (!scene.facts.scene_framebuffer || (scene.presents(core_.frame()) && !scene.facts.in_part)) return;
     const GlApi& gl = core_.api();
     SceneLoan& loan = scene.loan;
     GLint type = GL_NONE, name = 0;
@@ -89,7 +89,7 @@ void SceneLending::borrow_scene(SlaveContext& ctx, ContextScene& scene) {
     for (auto& [id, other] : scenes_) {
         const SceneLoan& lent = other->loan;
         const SceneFacts& lent_facts = other->facts;
-        if (id == ctx.id || other->presents || !lent_facts.main_known || !lent.scene_texture || other->record.overflow)
+        if (id == ctx.id || other->presents(core_.frame()) || !lent_facts.main_known || !lent.scene_texture || other->record.overflow)
             continue;
         const SlaveContext* lender = core_.context(id);
         if (!lender || lender->names.shared != ctx.names.shared) continue;  // the same name, another texture

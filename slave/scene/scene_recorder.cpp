@@ -55,7 +55,7 @@ void SceneRecorder::record(SlaveContext& ctx, const Call& c, const uint8_t* tupl
         return;
     }
     if (kind == RedrawKind::Copy && !to_window && facts.main_known && facts.scene_framebuffer &&
-        !sc.loan.scene_texture && !sc.presents)
+        !sc.loan.scene_texture && !sc.presents(core_.frame()))
         lending_.note_resolved_scene(sc, state);
     if ((kind == RedrawKind::Copy || ((kind == RedrawKind::Draw || kind == RedrawKind::Begin) && !rec.in_begin_end)) &&
         !to_window)
@@ -133,14 +133,14 @@ void SceneRecorder::record(SlaveContext& ctx, const Call& c, const uint8_t* tupl
 
 void SceneRecorder::frame_drawn(SlaveContext& ctx) {
     ContextScene& sc = scene(ctx);
-    sc.presents = true;
+    sc.last_present = core_.frame();
     if (sc.loan.placement_pending) lending_.place_borrowed_scene(ctx, sc);
     if (sc.facts.in_part && !sc.loan.borrowed_from) drop_borrowed(sc);  // drawn, never shown
 }
 
 void SceneRecorder::frame_decorated(SlaveContext& ctx) {
     for (auto& [id, other] : scenes_) {
-        if (id == ctx.id || other->presents || other->record.in_begin_end || other->record.compiling_list) continue;
+        if (id == ctx.id || other->presents(core_.frame()) || other->record.in_begin_end || other->record.compiling_list) continue;
         if (other->facts.main_known && other->loan.scene_texture) other->loan.complete = true;
         else other->next_frame();
     }

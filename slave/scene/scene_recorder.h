@@ -26,11 +26,18 @@ class TileAdapter;
 struct SlaveContext;
 
 // One context's scene in the frame being replayed.
+constexpr uint64_t kNeverPresented = UINT64_MAX;
+constexpr uint64_t kLendsAfterFrames = 2;
+
 struct ContextScene {
     FrameRecord record;
     SceneFacts facts;
     SceneLoan loan;
-    bool presents = false;     // this context has presented a frame: it may not lend its scene
+    // The frame this context presented last: one that presents may not lend its scene. A toolkit's
+    // offscreen context may present once when it is made (Blender's draw manager's hidden window):
+    // it lends from kLendsAfterFrames frames later.
+    uint64_t last_present = kNeverPresented;
+    bool presents(uint64_t frame) const { return last_present != kNeverPresented && frame <= last_present + kLendsAfterFrames; }
     BorrowerObjects borrower;  // GL objects, kept across frames
     FollowedState followed;    // the draw state the program's calls set, across frames
     void next_frame() {  // the record, the facts and the loan start over

@@ -52,6 +52,8 @@
  * of the window and a label inside the widget's lower left corner (docs/effects.md: a scene
  * drawn by another context). --widget-samples N (implies --widget): the scene is drawn with N
  * samples into renderbuffers and its colour resolved into the texture with glBlitFramebuffer.
+ * --widget-swaps (implies --widget): the widget's context swaps its pbuffer once when it is made, as
+ * Blender's draw manager's hidden window does; it never presents again.
  * --preview (implies --widget): the window's context draws that texture small in the top left
  * corner of its sky, then its own scene over the window without clearing the colour: a picture
  * in the program's own scene, not the scene (docs/effects.md).
@@ -812,7 +814,8 @@ int main(int argc, char **argv)
     culled = app_take_flag(&argc, &argv, "--culled");
     widget = app_take_flag(&argc, &argv, "--widget");
     preview = app_take_flag(&argc, &argv, "--preview");
-    widget = widget || preview;
+    const int widget_swaps = app_take_flag(&argc, &argv, "--widget-swaps");
+    widget = widget || preview || widget_swaps;
     target.samples = 0;
     for (int i = 1; i + 1 < argc; i++)
         if (strcmp(argv[i], "--widget-samples") == 0) {
@@ -868,6 +871,8 @@ int main(int argc, char **argv)
     /* --widget: the scene's objects and state are made in the scene's context */
     if (widget && widget_create(dpy, vi, ctx, args.width, args.height, &target) != 0)
         return 1;
+    if (widget_swaps)
+        glXSwapBuffers(dpy, target.pbuffer);
 
     build_unit_box();
     build_client_boxes();

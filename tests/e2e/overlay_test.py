@@ -137,6 +137,40 @@ def view_model(headless):
     check(unlike == 0, f"with the weapon, {unlike} scene pixels differ from the scene without it")
 
 
+def widget_that_swapped_once(headless):
+    """ff_scene --widget-swaps: the widget's context swaps its pbuffer once when it is made (the
+    slave's frame 0), as Blender's draw manager's hidden window does, and never presents again. It
+    lends its scene from two frames after that swap on: from frame 3 on, more than half of the
+    widget's pixels change under cover and snow, and none outside it. Before, a context that had
+    presented once never lent: no frame was decorated (Blender's viewport, docs/compatibility.md)."""
+    x0, y0, x1, y1 = 80, 30, 280, 210
+    label = {(x, H - 1 - y) for y in range(y0 + 4, y0 + 20) for x in range(x0 + 4, x0 + 64)}
+    widget_px = [(x, H - 1 - y) for y in range(y0, y1) for x in range(x0, x1) if (x, H - 1 - y) not in label]
+    rect = set(widget_px) | label
+    outside = [(x, y) for y in range(H) for x in range(W) if (x, y) not in rect] + sorted(label)
+    capture = os.path.join(OUT, "ff_scene_widget_swaps.glcs")
+    with Xvfb():
+        r = subprocess.run([GLCAST, "capture", "-o", capture, "--", os.path.join(APPS, "ff_scene"), "--widget-swaps",
+                            "--size", f"{W}x{H}", "--frames", "6"], capture_output=True, text=True, timeout=300)
+    check(r.returncode == 0, f"capture --widget-swaps failed: {r.stderr[-2000:]}")
+    outs = {}
+    for effects in ("", "cover,snow"):
+        outs[effects] = os.path.join(OUT, f"widget_swaps-{effects.replace(',', '-') or 'plain'}")
+        r = subprocess.run([GLCAST, "replay", capture, "--backend", "egl", "--out", outs[effects]] +
+                           (["--effects", effects] if effects else []),
+                           capture_output=True, text=True, timeout=300, env=headless)
+        check(r.returncode == 0, f"replay --widget-swaps failed: {r.stderr[-2000:]}")
+    for k in range(3, 7):
+        plain = read_png(os.path.join(outs[""], f"frame-{k:06d}.png"))[2]
+        decorated = read_png(os.path.join(outs["cover,snow"], f"frame-{k:06d}.png"))[2]
+        changed = sum(1 for x, y in widget_px if plain[y][x] != decorated[y][x])
+        touched = sum(1 for x, y in outside if plain[y][x] != decorated[y][x])
+        print(f"widget that swapped once, frame {k}: {changed} of the widget's {len(widget_px)} pixels changed, "
+              f"{touched} outside it")
+        check(touched == 0 and changed > len(widget_px) // 2,
+              f"frame {k}: the widget that swapped once is not decorated as a widget ({changed} in, {touched} out)")
+
+
 def widget(headless, samples=0):
     """ff_scene --widget (320x240): a second context draws the scene into a framebuffer object of
     200x180 in frames 0 and 4 only; every frame the window's context draws a grey background,
@@ -274,6 +308,7 @@ def main():
     view_model(headless)
     widget(headless)
     widget(headless, samples=4)
+    widget_that_swapped_once(headless)
     preview(headless)
 
 
