@@ -125,7 +125,10 @@ void TileAdapter::correct_projection() {
             gl.glLoadMatrixd(&app[0][0]);
             top = State::Projection{};
         }
-        redraw_refused_ = !correct_shader_program(GLuint(program)) && redrawing_;
+        // (a redraw with no correction, the placing of a scene shown in part of the window, draws
+        // as the program drew: an unpatched program needs none)
+        redraw_refused_ = !correct_shader_program(GLuint(program)) && redrawing_ &&
+                          redraw_correction_ != glm::dmat4(1.0);
         return;
     }
     if (redrawing_) {  // an injected pass re-renders the main view: its correction, always

@@ -78,7 +78,8 @@
  * x 80..400, y 0..260 of 400x300 (GL: y up), whose scene is drawn into a framebuffer object of that
  * region's size (its own aspect) and shown there by a fixed-function textured quad placed in window
  * pixels under an orthographic projection, drawn after the toolbar and before the header, as
- * Blender composites its regions. With --hud a gizmo square (230, 50, 40) is drawn over the
+ * Blender composites its regions (with a shader program of the scene's --shader, --builtins or --mvp:
+ * a GLSL texture blit, as Blender's and Qt's are). With --hud a gizmo square (230, 50, 40) is drawn over the
  * viewport after it, at x 330..380, y 190..240. With --post the scene's colour is first copied by a
  * full-target draw into a second framebuffer object of the region's size that shares the scene's
  * depth renderbuffer (Blender's viewport resolves its engines' colour so), and that one is shown.
@@ -249,7 +250,7 @@ static void flat_rect(double x0, double y0, double x1, double y1, GLubyte r, GLu
 /* --region: the scene (fw x fh, in fbo's texture `color`, resolved from msaa_fbo first if that is
  * not 0, copied into post_fbo's `post_color` first if that is not 0) shown at x rx..width, y 0..rh
  * of the window between a toolbar and a header, as a content suite composites its regions */
-static void show_region(GLuint msaa_fbo, GLuint fbo, GLuint color, GLuint post_fbo, GLuint post_color, int shader,
+static void show_region(GLuint msaa_fbo, GLuint fbo, GLuint color, GLuint post_fbo, GLuint post_color, GLuint blit,
                         int fw, int fh, int width, int height, int rx, int rh, int gizmo)
 {
     if (msaa_fbo) {
@@ -257,7 +258,7 @@ static void show_region(GLuint msaa_fbo, GLuint fbo, GLuint color, GLuint post_f
         glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo);
         glBlitFramebuffer(0, 0, fw, fh, 0, 0, fw, fh, GL_COLOR_BUFFER_BIT, GL_NEAREST);
     }
-    if (shader) glUseProgram(0);
+    glUseProgram(0);
     glDisable(GL_DEPTH_TEST);
     glMatrixMode(GL_MODELVIEW);
     glLoadIdentity();
@@ -281,7 +282,8 @@ static void show_region(GLuint msaa_fbo, GLuint fbo, GLuint color, GLuint post_f
     glViewport(0, 0, width, height);
     glOrtho(0, width, 0, height, -1, 1);
     flat_rect(0, 0, rx, height, 60, 62, 70);  /* the toolbar */
-    glEnable(GL_TEXTURE_2D);
+    if (blit) glUseProgram(blit);
+    else glEnable(GL_TEXTURE_2D);
     glBindTexture(GL_TEXTURE_2D, post_fbo ? post_color : color);
     glColor3ub(255, 255, 255);
     glBegin(GL_QUADS);
@@ -290,6 +292,7 @@ static void show_region(GLuint msaa_fbo, GLuint fbo, GLuint color, GLuint post_f
     glTexCoord2f(1, 1); glVertex2d(width, rh);
     glTexCoord2f(0, 1); glVertex2d(rx, rh);
     glEnd();
+    glUseProgram(0);
     glDisable(GL_TEXTURE_2D);
     flat_rect(rx, rh, width, height, 45, 48, 55);  /* the header */
     const double sx = width / 400.0, sy = height / 300.0;
@@ -443,6 +446,28 @@ int main(int argc, char **argv)
             glUseProgram(program);
             glUniform3f(glGetUniformLocation(program, "sun_direction"), (GLfloat)sun[0], (GLfloat)sun[1], (GLfloat)sun[2]);
             glUseProgram(0);
+        }
+    }
+    GLuint blit = 0;  /* --region with a shader program: the viewport shown by a GLSL texture blit */
+    if (region && shader) {
+        const char *bvs = "#version 120\nvoid main() { gl_TexCoord[0] = gl_MultiTexCoord0;"
+                          " gl_Position = gl_ModelViewProjectionMatrix * gl_Vertex; }\n";
+        const char *bfs = "#version 120\nuniform sampler2D picture;\n"
+                          "void main() { gl_FragColor = texture2D(picture, gl_TexCoord[0].st); }\n";
+        GLuint v = glCreateShader(GL_VERTEX_SHADER), fr = glCreateShader(GL_FRAGMENT_SHADER);
+        glShaderSource(v, 1, &bvs, NULL);
+        glShaderSource(fr, 1, &bfs, NULL);
+        glCompileShader(v);
+        glCompileShader(fr);
+        blit = glCreateProgram();
+        glAttachShader(blit, v);
+        glAttachShader(blit, fr);
+        glLinkProgram(blit);
+        GLint linked = 0;
+        glGetProgramiv(blit, GL_LINK_STATUS, &linked);
+        if (!linked) {
+            fprintf(stderr, "pillars: the blit program does not link\n");
+            return 1;
         }
     }
     GLuint leaves = 0;
@@ -629,7 +654,7 @@ int main(int argc, char **argv)
         }
         if (hud_in_scene) draw_hud(shader ? program : 0, proj_location, builtins, fw, fh, 40, hud_depth);
         if (region) {
-            show_region(msaa ? msaa_fbo : 0, fbo, color, post_fbo, post_color, shader, fw, fh, a.width, a.height, rx,
+            show_region(msaa ? msaa_fbo : 0, fbo, color, post_fbo, post_color, blit, fw, fh, a.width, a.height, rx,
                         rh, hud);
         } else if (fbo_mode) {  /* the scene shown in the window, as a last post-processing pass does */
             if (msaa) {

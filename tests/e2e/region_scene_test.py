@@ -7,7 +7,8 @@ textured quad between a toolbar and a header, then a gizmo over it. Blender draw
 With every pass the viewport is decorated as the same scene drawn directly into a 320x260 window
 is (pillars --size 320x260): its floor covered and shadowed as much, within 2%; snow falls in the
 viewport; and not one pixel of the toolbar, the header or the gizmo changes under any pass. So for a
-fixed-function scene, one by GLSL built-ins, one resolved from a multisampled target, and one whose
+fixed-function scene, one by GLSL built-ins (shown by a GLSL texture blit), one resolved from a
+multisampled target, and one whose
 colour is copied by a post-processing draw into a second target that shares its depth (Blender's
 viewport resolves its engines' colour so) before it is shown. On a 640x480 canvas as a 2x2 wall
 the four tiles stitched equal the canvas within rounding. Before, the passes found no view in
@@ -32,6 +33,8 @@ FLOOR = (90, 90, 90)  # pillars.c
 REGION = (80, 0, 400, 260)  # pillars.c --region at 400x300: x0, y0 (GL, from the bottom), x1, y1
 PASSES = {"cover": ["--effects", "cover"], "shadows": ["--effects", "shadows"],
           "screen": ["--effects", "shadows", "--effect-param", "shadows.method=screen-space"],
+          # (snow alone re-renders nothing: the slave then patches no shader, and the viewport's
+          # place is found by drawing the program's own blit again unpatched)
           "snow": ["--effects", "snow", "--effect-param", "snow.spectral=0"]}
 
 
