@@ -286,7 +286,9 @@ KNOWN = """## What the table does not show
   samples its texture, finds where that draw put it, and keeps it until the next is drawn
   (docs/effects.md, "A scene shown in part of the window"): snow falls inside the 3D view only, the
   model's plate holds cover, the sphere and cubes cast shadows on it, icicles hang from its
-  edges, and the editor, console and toolbars keep every pixel.
+  edges, and the editor, console and toolbars keep every pixel. (Until this stop a replay with
+  snow alone found no view: with no pass re-rendering, Qt's GLSL blit was not drawn again to
+  find where the scene is.)
 - **openarena** (a recorded match): its renderer draws the scene into a framebuffer object of
   the window's size, copies it to the window with a full-window draw, then draws the HUD (3D
   head icons in small viewports among it). Until this stop the passes took a HUD icon for the
@@ -351,13 +353,21 @@ KNOWN = """## What the table does not show
   and lies on the program's screen: on the cylinder's front tile only (before, snow fell over it
   and it showed on every tile).
 - **blender** (its default scene, the cube turning on the timeline; OpenGL 3.3 core). Blender
-  draws each region of its interface into a framebuffer object of the region's size and
-  composites them into the window, the 3D viewport among them. A scene in a target of a region's
-  size, shown in part of the window by the same context, is not recognised (only a target of the
-  window's shape, or another context's as a toolkit widget's): no view is found, every pass
-  leaves it as drawn and every tile shows it unturned. Its replay differs from the program's own
-  frames by 1 level of green in 24 pixels of one row of its timeline (the rest equal), in 57 of
-  60 frames: not found.
+  draws each region of its interface into a framebuffer object of the region's size and blits
+  them into the window; its draw manager draws the 3D viewport with a context of its own (current
+  on a hidden window it swapped once when it was made) into the viewport's framebuffer objects,
+  and the window's context composites its colour and overlay textures with a GLSL draw. Until this
+  stop no view was found (a context that had presented once never lent its scene) and every pass
+  left it as drawn; now the window's context borrows the viewport's scene two frames after that
+  swap (docs/effects.md, "A scene shown in part of the window"): the cube's top holds cover, snow
+  falls in the viewport only, the toolbars, headers, timeline and properties keep every pixel.
+  What the draw manager draws into the viewport's own textures is decorated with the scene: the
+  grid, the camera's and the light's wire frames (cover speckles their lines), the navigation
+  gizmo and the viewport's text. The default scene has no ground: shadows fall on the cube only.
+  Tiles show it unturned (the viewport's target is not of the window's shape). Its replay differs
+  from the program's own frames by 1 level of green or blue in 24 pixels of one row (window row
+  458, from the timeline's playhead to its right, drawn by a blended fan over the window after the
+  regions are blitted), the rest equal, in 57 of 60 frames: not found.
 - **supertuxkart** (a GL 3 renderer in framebuffer objects) is not in the table: under llvmpipe
   on this machine its capture reached 25 frames in 8 min 20 s (loading, and compressing its
   textures into a cache), too slow to measure here; tried again with its cache in place, it was
