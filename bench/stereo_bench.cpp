@@ -1,13 +1,15 @@
 // Stereo's cost per frame (docs/performance.md): a capture replayed as one eye of a screen tile
 // and as both eyes of a stereo tile (slave/stereo.h), each frame read back as a wall tile does
 // when it writes or composes it. Per frame: from the 20th frame shown to the last (the contexts'
-// creation and first shader compiles left out). Runs alternate, R rounds; prints the medians,
-// their ratio, and how many messages each run read (one read per message, whatever the eyes).
+// creation and first shader compiles left out), in wall time and in the process's CPU time (the
+// eyes replay on two threads). Runs alternate, R rounds; prints the medians, their ratios, and
+// how many messages each run read (one read per message, whatever the eyes).
 //
 //   stereo_bench CAPTURE [WIDTHxHEIGHT] [ROUNDS]
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <ctime>
 #include <cstdlib>
 #include <string>
 #include <vector>
@@ -51,9 +53,15 @@ ReplayOptions screen_tile(int width, int height, StereoMode stereo) {
 }
 
 struct Run {
-    double seconds;
+    double seconds, cpu_seconds;
     uint64_t frames, messages;
 };
+
+double cpu_now() {
+    timespec t{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
 
 Run run(const std::string& path, const ReplayOptions& options) {
     std::string error;
@@ -61,9 +69,10 @@ Run run(const std::string& path, const ReplayOptions& options) {
     Counted source(reader);
     uint64_t frames = 0, checksum = 0;
     std::chrono::steady_clock::time_point t0, t1;
+    double cpu0 = 0, cpu1 = 0;
     auto shown = [&] {
-        if (++frames == 20) t0 = std::chrono::steady_clock::now();
-        t1 = std::chrono::steady_clock::now();
+        if (++frames == 20) t0 = std::chrono::steady_clock::now(), cpu0 = cpu_now();
+        t1 = std::chrono::steady_clock::now(), cpu1 = cpu_now();
     };
     if (options.stereo == StereoMode::none) {
         std::unique_ptr<Backend> backend = make_backend("egl", error);
@@ -82,7 +91,7 @@ Run run(const std::string& path, const ReplayOptions& options) {
     if (frames <= 21) throw std::runtime_error("the capture has too few frames (at least 22)");
     const double seconds = std::chrono::duration<double>(t1 - t0).count();
     if (checksum == 1) std::fputc(' ', stderr);  // (the images are used)
-    return {seconds, frames - 20, source.messages};
+    return {seconds, cpu1 - cpu0, frames - 20, source.messages};
 }
 
 double median(std::vector<double> v) {
@@ -106,7 +115,7 @@ int main(int argc, char** argv) {
     const char* names[] = {"one eye, tile size", "anaglyph (two eyes, tile size)", "one eye, half width",
                            "side-by-side (two eyes, half width)"};
     constexpr int kModes = 4;
-    std::vector<double> ms[kModes];
+    std::vector<double> ms[kModes], cpu[kModes];
     uint64_t messages[kModes] = {}, frames[kModes] = {};
     for (int r = 0; r < rounds; ++r)
         for (int m = 0; m < kModes; ++m) {
@@ -115,13 +124,15 @@ int main(int argc, char** argv) {
             o.tile.canvas_width = o.tile.width, o.tile.canvas_height = o.tile.height;
             const Run x = run(argv[1], o);
             ms[m].push_back(1000 * x.seconds / std::max<uint64_t>(1, x.frames));
+            cpu[m].push_back(1000 * x.cpu_seconds / std::max<uint64_t>(1, x.frames));
             messages[m] = x.messages, frames[m] = x.frames;
         }
-    std::printf("| replay of %s, %dx%d per tile | ms per frame (median of %d) | x one eye of its size | frames timed | "
-                "messages read |\n", argv[1], width, height, rounds);
-    std::printf("|---|---|---|---|---|\n");
+    std::printf("| replay of %s, %dx%d per tile | ms per frame (median of %d) | x one eye of its size | CPU ms per "
+                "frame | x one eye's CPU | frames timed | messages read |\n", argv[1], width, height, rounds);
+    std::printf("|---|---|---|---|---|---|---|\n");
     for (int m = 0; m < kModes; ++m)
-        std::printf("| %s | %.2f | %.2f | %llu | %llu |\n", names[m], median(ms[m]), median(ms[m]) / median(ms[m & ~1]),
+        std::printf("| %s | %.2f | %.2f | %.2f | %.2f | %llu | %llu |\n", names[m], median(ms[m]),
+                    median(ms[m]) / median(ms[m & ~1]), median(cpu[m]), median(cpu[m]) / median(cpu[m & ~1]),
                     (unsigned long long)frames[m], (unsigned long long)messages[m]);
     return 0;
 }

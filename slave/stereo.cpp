@@ -3,10 +3,81 @@
 #include "common/window_readback.h"
 
 #include <algorithm>
+#include <condition_variable>
 #include <cstdio>
 #include <cstring>
+#include <exception>
+#include <mutex>
+#include <thread>
+#include <utility>
 
 namespace glcast::slave {
+
+// One job at a time on a thread of its own: the right eye's replays (GL contexts are current on
+// one thread, so every call on the right eye's runs here).
+class StereoPair::EyeThread {
+public:
+    EyeThread() : thread_([this] { loop(); }) {}
+    ~EyeThread() {
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            stop_ = true;
+        }
+        wake_.notify_all();
+        thread_.join();
+    }
+    void start(std::function<void()> job) {
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            job_ = std::move(job);
+            done_ = false;
+            error_ = nullptr;
+        }
+        wake_.notify_all();
+    }
+    void wait() {  // rethrows what the job threw
+        std::unique_lock<std::mutex> lock(mutex_);
+        finished_.wait(lock, [this] { return done_; });
+        if (std::exception_ptr e = std::exchange(error_, nullptr)) std::rethrow_exception(e);
+    }
+    void run(std::function<void()> job) {
+        start(std::move(job));
+        wait();
+    }
+
+private:
+    void loop() {
+        for (;;) {
+            std::function<void()> job;
+            {
+                std::unique_lock<std::mutex> lock(mutex_);
+                wake_.wait(lock, [this] { return stop_ || job_; });
+                if (!job_) return;
+                job = std::move(job_);
+                job_ = nullptr;
+            }
+            std::exception_ptr error;
+            try {
+                job();
+            } catch (...) {
+                error = std::current_exception();
+            }
+            {
+                std::lock_guard<std::mutex> lock(mutex_);
+                error_ = error;
+                done_ = true;
+            }
+            finished_.notify_all();
+        }
+    }
+
+    std::mutex mutex_;
+    std::condition_variable wake_, finished_;
+    std::function<void()> job_;
+    bool done_ = true, stop_ = false;
+    std::exception_ptr error_;
+    std::thread thread_;  // (last: it starts once the rest is made)
+};
 
 void eye_size(StereoMode mode, int width, int height, int& eye_width, int& eye_height) {
     eye_width = mode == StereoMode::side_by_side ? std::max(1, width / 2) : width;
@@ -14,7 +85,8 @@ void eye_size(StereoMode mode, int width, int height, int& eye_width, int& eye_h
 }
 
 StereoPair::StereoPair(const std::function<std::unique_ptr<Backend>(std::string& error)>& make_backend,
-                       const ReplayOptions& options) {
+                       const ReplayOptions& options)
+    : mode_(options.stereo) {
     for (Eye eye : {Eye::left, Eye::right}) {
         ReplayOptions o = options;
         o.viewer.eye = eye;
@@ -23,94 +95,57 @@ StereoPair::StereoPair(const std::function<std::unique_ptr<Backend>(std::string&
         if (!backend) return;
         (eye == Eye::left ? left_ : right_) = std::make_unique<Replayer>(std::move(backend), o);
     }
+    right_thread_ = std::make_unique<EyeThread>();
     for (Replayer* eye : {left_.get(), right_.get()})
         eye->before_frame = [this, eye](uint64_t frame) {
             HeadPose head;
             if (!head_for || !head_for(frame, head)) return;
-            if (!eye->move_head(head) && !said_refused_) {
-                said_refused_ = true;
+            if (!eye->move_head(head) && !said_refused_.exchange(true))
                 std::fprintf(stderr, "glcast: frame %llu: the head pose puts an eye behind this tile's screen or on "
                                      "it; that eye keeps its last place (said once)\n", (unsigned long long)frame);
-            }
         };
-    // The left eye's frame waits for the right's; the right eye's frame shows both.
-    const StereoMode mode = options.stereo;
-    if (mode == StereoMode::side_by_side || mode == StereoMode::top_bottom) {
-        // Each eye reads its frame straight into its half of the tile's image (rows bottom to
-        // top, as GL gives them); the right eye's frame then flips the whole once.
-        auto read_half = [this, mode](Replayer& eye, bool left, int w, int h, GLenum buffer) {
-            const bool wide = mode == StereoMode::side_by_side;
-            const int tile_w = wide ? 2 * w : w, tile_h = wide ? h : 2 * h;
-            halves_.resize(size_t(tile_w) * tile_h * 4);
-            // side by side: the left eye at x 0; top and bottom: the left eye on top, which is
-            // the upper rows, stored last when rows go bottom to top
-            const size_t offset = wide ? (left ? 0 : size_t(w) * 4) : (left ? size_t(w) * h * 4 : 0);
-            read_window_rows(eye.api(), buffer, w, h, halves_.data() + offset, tile_w);
-            return std::pair<int, int>(tile_w, tile_h);
-        };
-        left_->on_frame_drawn = [this, read_half](uint64_t frame, int w, int h, GLenum buffer) {
-            read_half(*left_, true, w, h, buffer);
-            left_frame_ = frame;
-            left_image_.width = w, left_image_.height = h;
-        };
-        right_->on_frame_drawn = [this, read_half](uint64_t frame, int w, int h, GLenum buffer) {
-            if (left_frame_ != frame || left_image_.width != w || left_image_.height != h) return;  // an eye alone
-            const auto [tile_w, tile_h] = read_half(*right_, false, w, h, buffer);
-            if (before_present) before_present(frame);
-            composed_.width = tile_w, composed_.height = tile_h;
-            composed_.rgba.resize(halves_.size());
-            const size_t row = size_t(tile_w) * 4;
-            for (int y = 0; y < tile_h; ++y)
-                std::memcpy(&composed_.rgba[size_t(y) * row], &halves_[size_t(tile_h - 1 - y) * row], row);
-            for (size_t i = 3; i < composed_.rgba.size(); i += 4) composed_.rgba[i] = 255;  // a window shows no alpha
-            if (on_frame) on_frame(frame, composed_, Image{}, Image{});
-        };
-        return;
+    for (int e = 0; e < 2; ++e) {
+        Replayer& eye = e == 0 ? *left_ : *right_;
+        if (mode_ == StereoMode::quad_buffer) {
+            // Both eyes' images as they are (the buffers are swapped with the replayers', not copied).
+            eye.on_frame = [this, e](uint64_t frame, int w, int h, std::vector<uint8_t>& rgba) {
+                next_slot(e, frame, w, h).pixels.swap(rgba);
+            };
+        } else {
+            // Rows bottom to top, as GL gives them: the composition flips them once.
+            eye.on_frame_drawn = [this, e, &eye](uint64_t frame, int w, int h, GLenum buffer) {
+                EyeFrame& f = next_slot(e, frame, w, h);
+                f.pixels.resize(size_t(w) * h * 4);
+                read_window_rows(eye.api(), buffer, w, h, f.pixels.data(), w);
+            };
+        }
     }
-    if (mode == StereoMode::anaglyph) {
-        // Each eye's rows as GL gives them; one pass then flips them and takes the left eye's red
-        // and the right eye's green and blue.
-        left_->on_frame_drawn = [this](uint64_t frame, int w, int h, GLenum buffer) {
-            halves_.resize(size_t(w) * h * 4);
-            read_window_rows(left_->api(), buffer, w, h, halves_.data(), w);
-            left_frame_ = frame;
-            left_image_.width = w, left_image_.height = h;
-        };
-        right_->on_frame_drawn = [this](uint64_t frame, int w, int h, GLenum buffer) {
-            if (left_frame_ != frame || left_image_.width != w || left_image_.height != h) return;  // an eye alone
-            right_rows_.resize(size_t(w) * h * 4);
-            read_window_rows(right_->api(), buffer, w, h, right_rows_.data(), w);
-            if (before_present) before_present(frame);
-            composed_.width = w, composed_.height = h;
-            composed_.rgba.resize(right_rows_.size());
-            const size_t row = size_t(w) * 4;
-            for (int y = 0; y < h; ++y) {
-                uint8_t* o = &composed_.rgba[size_t(y) * row];
-                const uint8_t* l = &halves_[size_t(h - 1 - y) * row];
-                const uint8_t* r = &right_rows_[size_t(h - 1 - y) * row];
-                for (size_t i = 0; i < row; i += 4) o[i] = l[i], o[i + 1] = r[i + 1], o[i + 2] = r[i + 2], o[i + 3] = 255;
-            }
-            if (on_frame) on_frame(frame, composed_, Image{}, Image{});
-        };
-        return;
-    }
-    // Quad-buffer: both eyes' images as they are (the buffers are swapped with the replayers',
-    // not copied).
-    left_->on_frame = [this](uint64_t frame, int w, int h, std::vector<uint8_t>& rgba) {
-        left_image_.width = w, left_image_.height = h;
-        left_image_.rgba.swap(rgba);
-        left_frame_ = frame;
-    };
-    right_->on_frame = [this](uint64_t frame, int w, int h, std::vector<uint8_t>& rgba) {
-        if (left_frame_ != frame || left_image_.width != w || left_image_.height != h) return;  // an eye alone
-        right_image_.width = w, right_image_.height = h;
-        right_image_.rgba.swap(rgba);
-        if (before_present) before_present(frame);
-        if (on_frame) on_frame(frame, left_image_, left_image_, right_image_);
-    };
 }
 
-StereoPair::~StereoPair() = default;
+StereoPair::~StereoPair() {
+    if (!right_thread_) return;
+    try {  // the right eye's contexts are released and destroyed on the thread they are current on
+        right_thread_->run([this] { right_->reset(); });
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "glcast: stereo: the right eye's contexts: %s\n", e.what());
+    }
+}
+
+// (each eye's thread writes its own queue only; both are read once both eyes are idle)
+StereoPair::EyeFrame& StereoPair::next_slot(int eye, uint64_t frame, int width, int height) {
+    EyeFrame& f = drawn_[eye].emplace_back();
+    f.frame = frame, f.width = width, f.height = height;
+    if (!spare_[eye].empty()) {  // (a tile's frames are megabytes: no fresh buffer each frame)
+        f.pixels.swap(spare_[eye].back());
+        spare_[eye].pop_back();
+    }
+    return f;
+}
+
+void StereoPair::retire(int eye) {
+    spare_[eye].push_back(std::move(drawn_[eye].front().pixels));
+    drawn_[eye].pop_front();
+}
 
 void StereoPair::replay(MessageSource& source) {
     Message m;
@@ -119,22 +154,94 @@ void StereoPair::replay(MessageSource& source) {
 }
 
 bool StereoPair::replay_message(const Message& m) {
-    left_->resume();
-    const bool left_more = left_->replay_message(m);
-    right_->resume();
-    const bool right_more = right_->replay_message(m);
+    bool right_more = false, left_more = false;
+    right_thread_->start([this, &m, &right_more] {
+        right_->resume();
+        right_more = right_->replay_message(m);
+    });
+    std::exception_ptr left_error;
+    try {
+        left_->resume();
+        left_more = left_->replay_message(m);
+    } catch (...) {
+        left_error = std::current_exception();
+    }
+    right_thread_->wait();
+    if (left_error) std::rethrow_exception(left_error);
+    compose_ready();
     return left_more || right_more;
+}
+
+// An eye may draw a frame the other does not (the frame's size changed for one): such a frame is
+// dropped, as is the other eye's older one.
+void StereoPair::compose_ready() {
+    std::deque<EyeFrame>& left = drawn_[0];
+    std::deque<EyeFrame>& right = drawn_[1];
+    while (!left.empty() && !right.empty()) {
+        EyeFrame& l = left.front();
+        EyeFrame& r = right.front();
+        if (l.frame == r.frame && l.width == r.width && l.height == r.height) {
+            if (before_present) before_present(l.frame);
+            compose(l, r);
+            retire(0), retire(1);
+        } else {
+            retire(l.frame <= r.frame ? 0 : 1);  // an eye alone
+        }
+    }
+}
+
+void StereoPair::compose(EyeFrame& l, EyeFrame& r) {
+    const int w = l.width, h = l.height;
+    if (mode_ == StereoMode::quad_buffer) {
+        left_image_.width = right_image_.width = w;
+        left_image_.height = right_image_.height = h;
+        left_image_.rgba.swap(l.pixels);
+        right_image_.rgba.swap(r.pixels);
+        if (on_frame) on_frame(l.frame, left_image_, left_image_, right_image_);
+        return;
+    }
+    const size_t eye_row = size_t(w) * 4;
+    if (mode_ == StereoMode::anaglyph) {
+        // The left eye's red and the right eye's green and blue.
+        composed_.width = w, composed_.height = h;
+        composed_.rgba.resize(eye_row * h);
+        for (int y = 0; y < h; ++y) {
+            uint8_t* o = &composed_.rgba[size_t(y) * eye_row];
+            const uint8_t* a = &l.pixels[size_t(h - 1 - y) * eye_row];
+            const uint8_t* b = &r.pixels[size_t(h - 1 - y) * eye_row];
+            for (size_t i = 0; i < eye_row; i += 4) o[i] = a[i], o[i + 1] = b[i + 1], o[i + 2] = b[i + 2], o[i + 3] = 255;
+        }
+    } else {
+        // Side by side: the left eye in the left half; top and bottom: the left eye on top.
+        const bool wide = mode_ == StereoMode::side_by_side;
+        composed_.width = wide ? 2 * w : w, composed_.height = wide ? h : 2 * h;
+        const size_t row = size_t(composed_.width) * 4;
+        composed_.rgba.resize(row * composed_.height);
+        for (int y = 0; y < h; ++y) {
+            const uint8_t* a = &l.pixels[size_t(h - 1 - y) * eye_row];
+            const uint8_t* b = &r.pixels[size_t(h - 1 - y) * eye_row];
+            if (wide) {
+                std::memcpy(&composed_.rgba[size_t(y) * row], a, eye_row);
+                std::memcpy(&composed_.rgba[size_t(y) * row + eye_row], b, eye_row);
+            } else {
+                std::memcpy(&composed_.rgba[size_t(y) * row], a, eye_row);
+                std::memcpy(&composed_.rgba[size_t(y + h) * row], b, eye_row);
+            }
+        }
+        for (size_t i = 3; i < composed_.rgba.size(); i += 4) composed_.rgba[i] = 255;  // a window shows no alpha
+    }
+    if (on_frame) on_frame(l.frame, composed_, Image{}, Image{});
 }
 
 void StereoPair::reset() {
     left_->reset();
-    right_->reset();
-    left_frame_ = UINT64_MAX;
+    right_thread_->run([this] { right_->reset(); });
+    drawn_[0].clear(), drawn_[1].clear();
 }
 
 void StereoPair::set_frame(uint64_t frame) {
     left_->set_frame(frame);
-    right_->set_frame(frame);
+    right_thread_->run([this, frame] { right_->set_frame(frame); });
 }
 
 }  // namespace glcast::slave

@@ -1,16 +1,20 @@
 // A stereo tile (docs/immersive.md): both of the viewer's eyes in one output. Two replayers, one
-// per eye, each with its own contexts and its eye's camera, take turns on one thread: every
-// message is read (and unpacked) once and replayed by the left eye, then by the right. When both
-// eyes have finished a frame, the two images are composed into the tile's one: side by side,
-// top and bottom, or as a red-cyan anaglyph, each eye read straight into its place; for
-// quad-buffer stereo both go on, as they are, to a window with GL_BACK_LEFT and GL_BACK_RIGHT
+// per eye, each with its own contexts and its eye's camera: every message is read (and unpacked)
+// once and replayed by both eyes at once, the left on the caller's thread, the right on a thread
+// of its own where its contexts stay current. Each eye reads the frames it draws into frames of
+// its own; once both have replayed the message, the frames both drew are composed into the
+// tile's one: side by side, top and bottom, or as a red-cyan anaglyph; for quad-buffer stereo
+// both go on, as they are, to a window with GL_BACK_LEFT and GL_BACK_RIGHT
 // (slave/backends/stereo_window.h).
 #pragma once
 
+#include <atomic>
 #include <cstdint>
+#include <deque>
 #include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "common/image.h"
 #include "slave/replayer.h"
@@ -38,25 +42,40 @@ public:
     // Before each frame is shown, once per frame (the swap barrier waits here).
     std::function<void(uint64_t frame)> before_present;
     // The head pose that holds at a frame (a recorded track, the barrier's GO); false: none. Each
-    // eye asks it at the start of its own frame: the eyes take turns over a message, so the left
-    // eye may start frame N while the right eye still has frame N - 1 to replay.
+    // eye asks it at the start of its own frame, from its own thread (both may ask at once; it is
+    // not changed while a message is replayed).
     std::function<bool(uint64_t frame, HeadPose& out)> head_for;
 
     void replay(MessageSource& source);  // throws DecodeError on a bad stream
     bool replay_message(const Message& m);
     Replayer& left() { return *left_; }
-    Replayer& right() { return *right_; }
+    Replayer& right() { return *right_; }  // (its contexts are current on the right eye's thread)
     void reset();
     void set_frame(uint64_t frame);
 
+    class EyeThread;  // (stereo.cpp)
+
 private:
+    // A frame one eye drew: rows bottom to top as GL reads them, or (quad-buffer) the replayer's
+    // image, top to bottom.
+    struct EyeFrame {
+        uint64_t frame = 0;
+        int width = 0, height = 0;
+        std::vector<uint8_t> pixels;
+    };
+    EyeFrame& next_slot(int eye, uint64_t frame, int width, int height);
+    void compose_ready();  // the frames both eyes drew, in order
+    void compose(EyeFrame& left, EyeFrame& right);
+    void retire(int eye);  // its oldest frame: composed or dropped, its buffer kept
+
+    StereoMode mode_ = StereoMode::none;
     std::unique_ptr<Replayer> left_, right_;
+    std::unique_ptr<EyeThread> right_thread_;
     std::string error_;
-    Image left_image_, right_image_, composed_;  // kept from frame to frame
-    std::vector<uint8_t> halves_;      // side by side, top and bottom: both eyes, rows bottom to top
-    std::vector<uint8_t> right_rows_;  // an anaglyph's right eye, rows bottom to top (its left: halves_)
-    uint64_t left_frame_ = UINT64_MAX;
-    bool said_refused_ = false;
+    std::deque<EyeFrame> drawn_[2];         // per eye, not yet composed
+    std::vector<std::vector<uint8_t>> spare_[2];  // per eye, buffers of retired frames, reused
+    Image composed_, left_image_, right_image_;  // kept from frame to frame
+    std::atomic<bool> said_refused_{false};
 };
 
 }  // namespace glcast::slave

@@ -1,7 +1,7 @@
 // A stereo tile's two eyes (slave/stereo.h) on the recording driver: each eye's draws get its own
 // eye's correction, and a head pose that holds from frame N reaches each eye at its frame N, not
 // before: the eyes take turns over a message, so the left eye starts frame N while the right eye
-// still has frame N - 1 of the same message to replay.
+// still has frame N - 1 of the same message to replay (each eye on its own thread).
 #include "tests/unit/replay_harness.h"
 
 #include <cstring>

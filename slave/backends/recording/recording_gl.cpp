@@ -9,7 +9,7 @@
 namespace glcast::slave {
 namespace {
 
-RecordingGl* g_current = nullptr;
+thread_local RecordingGl* g_current = nullptr;  // as a driver keeps it: per thread
 
 class RecordingBackend final : public Backend {
 public:
