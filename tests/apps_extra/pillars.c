@@ -238,6 +238,23 @@ static void draw_markers(double zs)
     glEnd();
 }
 
+/* A GLSL program of a vertex and a fragment shader; 0 when it does not link */
+static GLuint link_program(const char *vs, const char *fs)
+{
+    GLuint v = glCreateShader(GL_VERTEX_SHADER), fr = glCreateShader(GL_FRAGMENT_SHADER);
+    glShaderSource(v, 1, &vs, NULL);
+    glShaderSource(fr, 1, &fs, NULL);
+    glCompileShader(v);
+    glCompileShader(fr);
+    GLuint program = glCreateProgram();
+    glAttachShader(program, v);
+    glAttachShader(program, fr);
+    glLinkProgram(program);
+    GLint linked = 0;
+    glGetProgramiv(program, GL_LINK_STATUS, &linked);
+    return linked ? program : 0;
+}
+
 /* A flat rectangle in window pixels x0..x1, y0..y1 under the orthographic projection of the window */
 static void flat_rect(double x0, double y0, double x1, double y1, GLubyte r, GLubyte g, GLubyte b)
 {
@@ -421,18 +438,8 @@ int main(int argc, char **argv)
         const char *fs = foliage ? "#version 120\nuniform sampler2D leaves;\n"
                                    "void main() { gl_FragColor = gl_Color * texture2D(leaves, gl_TexCoord[0].st); }\n"
                                  : "#version 120\nvoid main() { gl_FragColor = gl_Color; }\n";
-        GLuint v = glCreateShader(GL_VERTEX_SHADER), fr = glCreateShader(GL_FRAGMENT_SHADER);
-        glShaderSource(v, 1, &vs, NULL);
-        glShaderSource(fr, 1, &fs, NULL);
-        glCompileShader(v);
-        glCompileShader(fr);
-        program = glCreateProgram();
-        glAttachShader(program, v);
-        glAttachShader(program, fr);
-        glLinkProgram(program);
-        GLint linked = 0;
-        glGetProgramiv(program, GL_LINK_STATUS, &linked);
-        if (!linked) {
+        program = link_program(vs, fs);
+        if (!program) {
             fprintf(stderr, "pillars: shader program does not link\n");
             return 1;
         }
@@ -454,18 +461,8 @@ int main(int argc, char **argv)
                           " gl_Position = gl_ModelViewProjectionMatrix * gl_Vertex; }\n";
         const char *bfs = "#version 120\nuniform sampler2D picture;\n"
                           "void main() { gl_FragColor = texture2D(picture, gl_TexCoord[0].st); }\n";
-        GLuint v = glCreateShader(GL_VERTEX_SHADER), fr = glCreateShader(GL_FRAGMENT_SHADER);
-        glShaderSource(v, 1, &bvs, NULL);
-        glShaderSource(fr, 1, &bfs, NULL);
-        glCompileShader(v);
-        glCompileShader(fr);
-        blit = glCreateProgram();
-        glAttachShader(blit, v);
-        glAttachShader(blit, fr);
-        glLinkProgram(blit);
-        GLint linked = 0;
-        glGetProgramiv(blit, GL_LINK_STATUS, &linked);
-        if (!linked) {
+        blit = link_program(bvs, bfs);
+        if (!blit) {
             fprintf(stderr, "pillars: the blit program does not link\n");
             return 1;
         }
