@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <utility>
 #include <thread>
@@ -35,6 +36,7 @@ using namespace glcast::slave;
 namespace {
 
 constexpr int kBarrierWaitMs = 10000;  // longer than the wall's own drop (cli/wall_control.h): the wall decides
+constexpr int kFirstHeadWaitMs = 1000;  // the run answers at once; a run without a tracker says so with no pose
 
 struct SlaveArgs {
     std::string endpoint, journal, keeper, backend_kind = "egl", out_dir, config_path, tile_name, control, keys, machine;
@@ -207,9 +209,17 @@ private:
         };
         source.on_idle = [this] { say_status(false); };
         // A tracked viewer: the pose the wall's run handed on with the last GO, from its frame on
-        // (each eye of a stereo tile asks at its own frame's start).
+        // (each eye of a stereo tile asks at its own frame's start, on its own thread); the first
+        // frame's, which no GO carried, is asked for once.
         next_head_.reset();
-        auto head_at = [this](uint64_t frame, HeadPose& out) {
+        asked_first_head_ = false;
+        auto head_at = [this, &source](uint64_t frame, HeadPose& out) {
+            std::lock_guard<std::mutex> lock(head_mutex_);
+            if (!next_head_ && !asked_first_head_ && link_ && a_.swap_barrier && source.live()) {
+                asked_first_head_ = true;
+                HeadPose first;
+                if (link_->first_head(frame, kFirstHeadWaitMs, first)) next_head_ = {frame, first};
+            }
             if (!next_head_ || frame < next_head_->first) return false;
             out = next_head_->second;
             return true;
@@ -292,7 +302,10 @@ private:
             HeadPose head;
             bool has_head = false;
             held = barrier_answered_ = link_->barrier(frame, wait_ms, &head, &has_head);
-            if (has_head) next_head_ = {frame + 1, head};
+            if (has_head) {
+                std::lock_guard<std::mutex> lock(head_mutex_);
+                next_head_ = {frame + 1, head};
+            }
             if (!barrier_answered_ && wait_ms == kBarrierWaitMs)
                 std::fprintf(stderr, "\nglcast slave %s: swap barrier: frame %" PRIu64 " went alone after %d s\n",
                              label_.c_str(), frame, kBarrierWaitMs / 1000);
@@ -349,6 +362,8 @@ private:
     std::chrono::steady_clock::time_point last_report_ = std::chrono::steady_clock::now() - std::chrono::seconds(10);
     bool barrier_answered_ = true;
     std::optional<std::pair<uint64_t, HeadPose>> next_head_;  // a pose from the barrier, and its frame
+    bool asked_first_head_ = false;
+    std::mutex head_mutex_;  // (a stereo tile's eyes ask from two threads)
     std::optional<slave::LiveEffects> pending_effects_;          // from the run, for a later frame
     std::chrono::steady_clock::time_point last_thumbnail_;
 };

@@ -219,15 +219,21 @@ void WallControl::send_effects(const std::string& identity) {
         (void)router.send(zmq::buffer(words), zmq::send_flags::dontwait);
 }
 
-// The pose words of frame n's GO: the same for every tile released at n (the tracker's pose may
-// change between two of them).
+// The pose words of frame n's GO (the pose of frame n + 1): the same for every tile released at n
+// (the tracker's pose may change between two of them).
 std::string WallControl::pose_words(uint64_t frame) {
     if (!head_for_) return "";
     auto known = pose_words_.find(frame);
     if (known != pose_words_.end()) return known->second;
+    while (pose_words_.size() >= 64) pose_words_.erase(pose_words_.begin());  // frames long gone
+    return pose_words_[frame] = pose_text(frame + 1);
+}
+
+// " POSE px py pz qw qx qy qz [SEP s]" for the pose that holds at `frame`; "" for none.
+std::string WallControl::pose_text(uint64_t frame) {
     slave::HeadPose h;
     std::string words;
-    if (head_for_(frame + 1, h)) {
+    if (head_for_ && head_for_(frame, h)) {
         char text[256];
         std::snprintf(text, sizeof text, " POSE %.17g %.17g %.17g %.17g %.17g %.17g %.17g", h.position.x, h.position.y,
                       h.position.z, h.orientation.w, h.orientation.x, h.orientation.y, h.orientation.z);
@@ -237,8 +243,7 @@ std::string WallControl::pose_words(uint64_t frame) {
             words += text;
         }
     }
-    while (pose_words_.size() >= 64) pose_words_.erase(pose_words_.begin());  // frames long gone
-    return pose_words_[frame] = words;
+    return words;
 }
 
 void WallControl::serve() {
@@ -296,7 +301,13 @@ void WallControl::serve() {
                 said_refused = true;
                 continue;
             }
-            if (verb == "READY" && barrier_) {
+            if (verb == "HEAD") {  // a tile's first frame, which no GO before it carried a pose for
+                uint64_t frame = 0;
+                if (!(words >> frame)) continue;
+                const std::string reply = "HEAD " + std::to_string(frame) + pose_text(frame);
+                router.send(zmq::buffer(identity.data(), identity.size()), zmq::send_flags::sndmore | zmq::send_flags::dontwait);
+                router.send(zmq::buffer(reply), zmq::send_flags::dontwait);
+            } else if (verb == "READY" && barrier_) {
                 uint64_t frame = 0;
                 if (!(words >> frame)) continue;
                 identity_of_[tile] = identity.to_string();

@@ -9,7 +9,8 @@
 // holds the others only until the wall's first frame: one that joins later (a restarted slave
 // catching up from the keeper) draws none of the frames they wait for.
 //
-// A tracked viewer (docs/immersive.md): "GO n" carries the head pose for frame n + 1.
+// A tracked viewer (docs/immersive.md): "GO n" carries the head pose for frame n + 1, and
+// "HEAD TILE n" asks for frame n's (a tile's first frame).
 //
 // Clock: "TIME" is answered "TIME SECONDS" (this machine's clock, since the epoch), for glcast
 // doctor's offset.
@@ -118,7 +119,8 @@ public:
     static constexpr double kTakeoverSeconds = 5;  // TileOwners
     // Binds `endpoint` (secured as net/security.h says); throws std::runtime_error. With
     // `head_for`, each "GO n" carries the pose for frame n + 1 as " POSE px py pz qw qx qy qz",
-    // asked once per frame, so that every tile of a frame gets the same one.
+    // asked once per frame, so that every tile of a frame gets the same one; "HEAD TILE n" (a
+    // tile's first frame, which no GO precedes) is answered "HEAD n" with the pose of frame n.
     WallControl(std::string endpoint, std::vector<std::string> tiles, bool barrier, HeadPoseFor head_for = nullptr);
     ~WallControl();
     std::map<std::string, TileStatus> status() const;
@@ -140,6 +142,7 @@ private:
     uint64_t switch_frame() const;
     void send_effects(const std::string& identity);
     std::string pose_words(uint64_t frame);
+    std::string pose_text(uint64_t frame);
     std::map<uint64_t, std::string> pose_words_;  // by frame, the last 64
     std::string endpoint_;
     std::vector<std::string> tiles_;

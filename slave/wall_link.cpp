@@ -93,6 +93,28 @@ bool WallLink::barrier(uint64_t frame, int timeout_ms, HeadPose* next_head, bool
     return false;
 }
 
+bool WallLink::first_head(uint64_t frame, int timeout_ms, HeadPose& head) {
+    const std::string ask = "HEAD " + tile_ + " " + std::to_string(frame), prefix = "HEAD " + std::to_string(frame);
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
+    while (!socket_->send(zmq::buffer(ask), zmq::send_flags::dontwait)) {
+        if (std::chrono::steady_clock::now() >= deadline) return false;
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    while (std::chrono::steady_clock::now() < deadline) {
+        zmq::pollitem_t item{socket_->handle(), 0, ZMQ_POLLIN, 0};
+        zmq::poll(&item, 1, std::chrono::milliseconds(50));
+        if (!(item.revents & ZMQ_POLLIN)) continue;
+        zmq::message_t answer;
+        const std::string text = socket_->recv(answer) ? answer.to_string() : std::string();
+        if (text.size() == prefix.size() || (text.size() > prefix.size() && text[prefix.size()] == ' ')) {
+            bool has_head = false;
+            if (parse_go(text, prefix, &head, &has_head)) return has_head;
+        }
+        heard(text);
+    }
+    return false;
+}
+
 void WallLink::heard(const std::string& text) {
     LiveEffects e;
     if (text.compare(0, 8, "EFFECTS ") == 0 && LiveEffects::parse(text, e) &&

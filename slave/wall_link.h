@@ -34,6 +34,10 @@ public:
     // and `has_head` is true; a pose that is not finite, not within 10 km or not a unit
     // quaternion is not taken.
     bool barrier(uint64_t frame, int timeout_ms, HeadPose* next_head = nullptr, bool* has_head = nullptr);
+    // The head pose of the first frame a tile draws, which no GO before it carried: "HEAD TILE n",
+    // then at most timeout_ms for "HEAD n" with the pose as a GO carries it. False: no pose (none
+    // known, refused as a GO's would be, or no answer in time).
+    bool first_head(uint64_t frame, int timeout_ms, HeadPose& head);
     void report(const TileReport& r);  // never waits; a report may be lost
     // A small JPEG of what the tile shows, for the dashboard (about once a second); never waits.
     void thumbnail(uint64_t frame, const std::string& jpeg);

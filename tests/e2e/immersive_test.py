@@ -225,11 +225,14 @@ def case_head_poses_run():
     with open(config_path, "w") as f:
         json.dump(config, f)
     poses = os.path.join(out, "poses.jsonl")
-    write_poses(poses, [(2, [0.3, 0.4, 0.0]), (4, [-0.2, 0.1, 0.3])])
+    # (frame 0's pose reaches the slaves before their first frame, which no GO precedes: before,
+    # it held from frame 1 on)
+    write_poses(poses, [(0, [0.2, -0.1, 0.1]), (2, [0.3, 0.4, 0.0]), (4, [-0.2, 0.1, 0.3])])
     r = run([GLCAST, "run", "--config", config_path, "--backend", "egl", "--out", out, "--head-poses", poses,
              "--frames", "6", "--", os.path.join(APPS, "pillars"), "--markers", "--size", "400x300", "--frames", "8"])
     check(r.returncode == 0, f"glcast run failed: {r.stderr[-3000:]}")
-    for frame, eye in [(1, (0, 0, 0)), (2, (0.3, 0.4, 0.0)), (3, (0.3, 0.4, 0.0)), (4, (-0.2, 0.1, 0.3)), (5, (-0.2, 0.1, 0.3))]:
+    for frame, eye in [(0, (0.2, -0.1, 0.1)), (1, (0.2, -0.1, 0.1)), (2, (0.3, 0.4, 0.0)), (3, (0.3, 0.4, 0.0)),
+                       (4, (-0.2, 0.1, 0.3)), (5, (-0.2, 0.1, 0.3))]:
         images = {w: os.path.join(out, w, f"frame-{frame:06d}.png") for w in ("front", "left")}
         markers_where_predicted(f"head_poses_run frame {frame}", config_path, images, eye, least=2)
 

@@ -464,7 +464,7 @@ TEST(WallControlChannel, PassesSwitchAtTheFrameAfterTheOneEveryTileWaitsFor) {
     WallControl wall(endpoint, {"a", "b"}, true);
     zmq::context_t context(1);
     std::map<std::string, zmq::socket_t> tiles;
-    for (const std::string& t : {"a", "b"}) {
+    for (const std::string t : {"a", "b"}) {
         zmq::socket_t s(context, zmq::socket_type::dealer);
         s.set(zmq::sockopt::linger, 0);
         s.connect(endpoint);
