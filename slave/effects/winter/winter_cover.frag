@@ -24,7 +24,9 @@ uniform sampler2D mask;          // canvas-stretched, row 0 at the bottom
 uniform vec2 canvas_origin;      // canvas pixel of guard-buffer pixel (0, 0)
 uniform vec2 canvas_size;
 
-// r: snow amount 0..1; g: eye distance (-z); b: 0; a: 1 surface, 0 background, -1 unknown.
+// r: snow amount 0..1; g: the eye's distance (its range, not -z: a turned tile of a CAVE or a
+// cylinder sees points beside and behind the program's camera, whose -z is 0 or negative); b: 0;
+// a: 1 surface, 0 background, -1 unknown.
 out vec4 out_color;
 
 vec3 eye_at(ivec2 t, float depth) {
@@ -32,7 +34,6 @@ vec3 eye_at(ivec2 t, float depth) {
     vec4 eye = eye_from_tile_clip * clip;
     return eye.xyz / eye.w;
 }
-float eye_distance_at(ivec2 t, float depth) { return -eye_at(t, depth).z; }
 float eye_range_at(ivec2 t, float depth) { return length(eye_at(t, depth)); }
 
 void main() {
@@ -44,7 +45,7 @@ void main() {
         return;
     }
     vec4 position = texelFetch(positions, q, 0);
-    float distance = -position.z;
+    float distance = length(position.xyz);
     ivec2 t = q - guard;
     if (check_visibility && all(greaterThanEqual(t, ivec2(0))) && all(lessThan(t, ivec2(tile_size)))) {
         // Something the re-render does not draw (another view, a HUD) is in front: no snow.
@@ -53,7 +54,7 @@ void main() {
         // beside and behind the program's camera, whose -z is 0 or negative)
         float seen = window < 1.0 ? eye_range_at(t, window) : 1e30;
         if (seen < length(position.xyz) * (1.0 - 2e-3) - 1e-4) {
-            out_color = vec4(0.0, window < 1.0 ? eye_distance_at(t, window) : 1e30, 0.0, 1.0);
+            out_color = vec4(0.0, seen, 0.0, 1.0);
             return;
         }
     }

@@ -29,19 +29,26 @@ void main() {
     if (coverage <= 0.0) discard;
     ivec2 p = ivec2(gl_FragCoord.xy);
     float depth = texelFetch(window_depth, p, 0).r;
-    // The icicle hangs at its root's distance; a surface well in front of it hides it.
-    if (depth < 1.0 && -eye_at(gl_FragCoord.xy, depth).z < v_root.w * 0.95) discard;
+    // The icicle hangs at its root's distance (from the eye, as the cover keeps it); a surface well
+    // in front of it hides it.
+    if (depth < 1.0 && length(eye_at(gl_FragCoord.xy, depth)) < v_root.w * 0.95) discard;
 
     float across = clamp(dx / max(radius, 0.5), -1.0, 1.0);
     float facing = sqrt(1.0 - across * across);
-    vec3 n = normalize(vec3(across, 0.2, facing));
+    // Its normal in the tile's screen axes, brought into the program's eye space, where the light
+    // is: the tile may be turned from the program's camera (a cylinder's or a CAVE's side). Points
+    // of one depth on the screen lie in a plane square to the tile's view.
+    vec3 at = eye_at(gl_FragCoord.xy, 0.5);
+    vec3 right = normalize(eye_at(gl_FragCoord.xy + vec2(1.0, 0.0), 0.5) - at);
+    vec3 up = normalize(eye_at(gl_FragCoord.xy + vec2(0.0, 1.0), 0.5) - at);
+    vec3 n = normalize(across * right + 0.2 * up + facing * cross(right, up));
     ivec2 behind = clamp(ivec2(gl_FragCoord.xy + vec2(-across * refraction * radius, 0.0)), ivec2(0),
                          ivec2(tile_size) - 1);
     vec3 background = texelFetch(scene, behind, 0).rgb;
     vec3 ice = background * vec3(0.72, 0.86, 0.98) * (0.55 + 0.45 * facing) + (1.0 - facing) * vec3(0.30, 0.34, 0.38);
 
     vec3 direction = normalize(eye_at(gl_FragCoord.xy, 0.5));
-    vec3 position = direction * (v_root.w / max(-direction.z, 1e-3));
+    vec3 position = direction * v_root.w;
     vec3 l = normalize(light_eye.xyz - position * light_eye.w);
     vec3 h = normalize(l - direction);
     ice += vec3(1.0, 0.99, 0.97) * (0.9 * pow(max(dot(n, h), 0.0), 40.0));

@@ -209,6 +209,13 @@ FrameView Harness::frame_view(const Scene& scene, const Camera& camera, Tile til
     v.projection = projection_of(camera, canvas_width_, canvas_height_);
     v.modelview = view_of(camera);
     v.tile_clip_from_app_clip = tile_stretch(tile, canvas_width_, canvas_height_);
+    if (options.program_turn_deg != 0) {
+        // program eye = turn * this tile's eye: the program's view is turn * the camera's, and the
+        // tile's correction takes the program's clip space back through the turn
+        const glm::dmat4 turn = glm::rotate(glm::dmat4(1.0), glm::radians(options.program_turn_deg), glm::dvec3(0, 1, 0));
+        v.modelview = turn * v.modelview;
+        v.tile_clip_from_app_clip = v.tile_clip_from_app_clip * v.projection * glm::inverse(turn) * glm::inverse(v.projection);
+    }
     v.tile_clip_from_eye = v.tile_clip_from_app_clip * v.projection;
     v.eye_from_tile_clip = glm::inverse(v.tile_clip_from_eye);
     v.light.known = scene.light;

@@ -81,6 +81,10 @@ struct RenderOptions {
     bool redraw = true;                        // false: FrameView::redraw empty (as for shader programs)
     bool redraw_ground = true;                 // false: the redraw leaves the visible ground out
     bool view_known = true;                    // false: FrameView says the frame has no perspective view
+    // The program's camera looked this many degrees to the left of `camera` (about its up axis), and
+    // this tile is turned to show `camera`'s view, as a cylinder's or a CAVE's side tile shows what
+    // lies beside or behind the program's camera: the passes get the program's eye space.
+    double program_turn_deg = 0;
 };
 
 class Harness {

@@ -70,6 +70,43 @@ TEST(Icicles, HangOnlyBelowLowerEdgesOfCoveredSurfaces) {
     EXPECT_LE(double(stray), 0.01 * double(hanging + stray));
 }
 
+TEST(Icicles, HangAlikeOnATileTurnedBesideOrBehindTheProgramsCamera) {
+    // A cylinder's or a CAVE's side tile shows what lies beside or behind the program's camera:
+    // there the program's eye-space -z is 0 or negative, and the icicles (their lower edges and
+    // distance bands, and their highlight, whose normal is built in the tile's screen axes) must
+    // come out as on a tile that looks where the program does.
+    Harness& h = harness();
+    ASSERT_TRUE(h.ok()) << h.error();
+    const Scene scene = standard_scene();
+    const Camera camera = high_camera();
+    const Image ahead_image = h.render(scene, camera, {"cover,icicles", {}});
+    const std::vector<uint8_t> ahead = changed(h.render(scene, camera, {"cover", {}}), ahead_image);
+    const long icicles = count(ahead);
+    EXPECT_GE(icicles, 150) << "too few icicles to tell anything";
+    for (const double turn : {90.0, 180.0, -120.0}) {
+        RenderOptions cover{"cover", {}}, both{"cover,icicles", {}};
+        cover.program_turn_deg = both.program_turn_deg = turn;
+        const Image image = h.render(scene, camera, both);
+        const std::vector<uint8_t> turned = changed(h.render(scene, camera, cover), image);
+        long elsewhere = 0, shaded = 0;
+        for (size_t i = 0; i < ahead.size(); ++i) {
+            elsewhere += ahead[i] != turned[i];
+            if (ahead[i] && turned[i])
+                for (int c = 0; c < 3; ++c)
+                    if (std::abs(int(image.rgba[4 * i + c]) - int(ahead_image.rgba[4 * i + c])) > 2) {
+                        ++shaded;
+                        break;
+                    }
+        }
+        std::printf("[ icicles ] a tile turned %.0f degrees from the program's camera: %ld icicle pixels, %ld of them "
+                    "not where the tile looking where the program does has its %ld, %ld shaded more than 2 levels "
+                    "otherwise\n",
+                    turn, count(turned), elsewhere, icicles, shaded);
+        EXPECT_LE(elsewhere, icicles / 50) << "turned " << turn;
+        EXPECT_LE(shaded, icicles / 50) << "turned " << turn;
+    }
+}
+
 TEST(Icicles, StayPutWhileTheCameraDoes) {
     Harness& h = harness();
     ASSERT_TRUE(h.ok()) << h.error();
