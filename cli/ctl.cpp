@@ -112,9 +112,14 @@ int ctl(CtlArgs& a, const std::vector<std::string>& words) {
 Command add_ctl(CLI::App& glcast) {
     auto a = std::make_shared<CtlArgs>();
     CLI::App* app = glcast.add_subcommand("ctl", "switch a running wall's passes: effects +snow -shadows, param NAME=VALUE");
-    app->footer("Every tile switches at the same frame of the program (docs/wall.md, \"Live control\"). On a wall\n"
+    app->footer("The request follows WALL:\n"
+                "  effects +NAME -NAME ...   switch passes on (+NAME, or NAME) and off (-NAME): snow, rain,\n"
+                "                            cover, icicles, shadows\n"
+                "  param NAME=VALUE ...      set passes' parameters (`glcast effects` lists them)\n"
+                "e.g. glcast ctl tcp://wall:5557 effects +snow -shadows\n\n"
+                "Every tile switches at the same frame of the program (docs/wall.md, \"Live control\"). On a wall\n"
                 "with keys only the operator may: the master's key, or one of the master's operators/NAME.pub\n"
-                "(this machine's operator.key). `glcast effects` lists the parameters.");
+                "(this machine's operator.key).");
     app->add_option("WALL", a->wall,
                     "the control endpoint glcast run printed (ipc://PATH, tcp://HOST:PORT), the HOST:PORT\n"
                     "of the config's \"master\", or the display config itself")

@@ -34,6 +34,8 @@ OPTIONS = {
     ("trim",): ["IN", "--frames", "-o", "--output", "--backend"],
     ("keeper",): ["--connect", "--journal", "--bind", "--backend", "--wait", "--verbose"],
     ("record",): ["--connect", "--journal", "--keeper", "-o", "--output", "--start-frame", "--frames", "--wait"],
+    # (its request's words come after WALL: the help names them)
+    ("ctl",): ["WALL", "--keys", "--wait", "effects +NAME -NAME", "param NAME=VALUE"],
 }
 COMMANDS = ["capture", "dump", "replay", "run", "slave", "image", "effects", "trim", "keeper", "record", "doctor", "config", "ctl", "calibrate", "help"]
 
