@@ -68,13 +68,16 @@ bool parse_go(const std::string& answer, const std::string& go, HeadPose* head, 
 
 }  // namespace
 
-bool WallLink::barrier(uint64_t frame, int timeout_ms, HeadPose* next_head, bool* has_head) {
+// Sends `request` and waits at most timeout_ms for the answer that starts with `answer` (ending at
+// a space or the end: "GO 1" is not "GO 12"), with the pose it may carry; whatever else comes in
+// the meantime is heard (older GOs are skipped).
+bool WallLink::ask(const std::string& request, const std::string& answer, int timeout_ms, HeadPose* head,
+                   bool* has_head) {
     if (has_head) *has_head = false;
-    const std::string ready = "READY " + tile_ + " " + std::to_string(frame), go = "GO " + std::to_string(frame);
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
     // Nothing is queued before the run's channel is connected (CURVE's handshake takes a while
-    // across machines): the READY is offered again until it is taken, within the same wait.
-    while (!socket_->send(zmq::buffer(ready), zmq::send_flags::dontwait)) {
+    // across machines): the request is offered again until it is taken, within the same wait.
+    while (!socket_->send(zmq::buffer(request), zmq::send_flags::dontwait)) {
         if (std::chrono::steady_clock::now() >= deadline) return false;
         std::this_thread::sleep_for(std::chrono::milliseconds(5));
     }
@@ -82,37 +85,26 @@ bool WallLink::barrier(uint64_t frame, int timeout_ms, HeadPose* next_head, bool
         zmq::pollitem_t item{socket_->handle(), 0, ZMQ_POLLIN, 0};
         zmq::poll(&item, 1, std::chrono::milliseconds(50));
         if (!(item.revents & ZMQ_POLLIN)) continue;
-        zmq::message_t answer;
-        // (older GOs are skipped; "GO 1" is not "GO 12": the frame ends at a space or the end)
-        const std::string text = socket_->recv(answer) ? answer.to_string() : std::string();
-        if ((text.size() == go.size() || (text.size() > go.size() && text[go.size()] == ' ')) &&
-            parse_go(text, go, next_head, has_head))
+        zmq::message_t message;
+        const std::string text = socket_->recv(message) ? message.to_string() : std::string();
+        if ((text.size() == answer.size() || (text.size() > answer.size() && text[answer.size()] == ' ')) &&
+            parse_go(text, answer, head, has_head))
             return true;
         heard(text);
     }
     return false;
 }
 
+bool WallLink::barrier(uint64_t frame, int timeout_ms, HeadPose* next_head, bool* has_head) {
+    return ask("READY " + tile_ + " " + std::to_string(frame), "GO " + std::to_string(frame), timeout_ms, next_head,
+               has_head);
+}
+
 bool WallLink::first_head(uint64_t frame, int timeout_ms, HeadPose& head) {
-    const std::string ask = "HEAD " + tile_ + " " + std::to_string(frame), prefix = "HEAD " + std::to_string(frame);
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
-    while (!socket_->send(zmq::buffer(ask), zmq::send_flags::dontwait)) {
-        if (std::chrono::steady_clock::now() >= deadline) return false;
-        std::this_thread::sleep_for(std::chrono::milliseconds(5));
-    }
-    while (std::chrono::steady_clock::now() < deadline) {
-        zmq::pollitem_t item{socket_->handle(), 0, ZMQ_POLLIN, 0};
-        zmq::poll(&item, 1, std::chrono::milliseconds(50));
-        if (!(item.revents & ZMQ_POLLIN)) continue;
-        zmq::message_t answer;
-        const std::string text = socket_->recv(answer) ? answer.to_string() : std::string();
-        if (text.size() == prefix.size() || (text.size() > prefix.size() && text[prefix.size()] == ' ')) {
-            bool has_head = false;
-            if (parse_go(text, prefix, &head, &has_head)) return has_head;
-        }
-        heard(text);
-    }
-    return false;
+    bool has_head = false;
+    return ask("HEAD " + tile_ + " " + std::to_string(frame), "HEAD " + std::to_string(frame), timeout_ms, &head,
+               &has_head) &&
+           has_head;
 }
 
 void WallLink::heard(const std::string& text) {

@@ -47,7 +47,8 @@ public:
     static constexpr size_t kMaxThumbnailBytes = 64 * 1024;
 
 private:
-    void heard(const std::string& text);  // a message that is not the GO waited for
+    bool ask(const std::string& request, const std::string& answer, int timeout_ms, HeadPose* head, bool* has_head);
+    void heard(const std::string& text);  // a message that is not the answer waited for
     std::string endpoint_, tile_, machine_;
     bool has_effects_ = false;
     LiveEffects effects_;

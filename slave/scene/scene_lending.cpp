@@ -74,18 +74,8 @@ const ContextScene& SceneLending::scene_of(const ContextScene& scene) const {
     return it != scenes_.end() ? *it->second : scene;
 }
 
-void SceneLending::borrow_scene(SlaveContext& ctx, ContextScene& scene) {
+void SceneLending::borrow_scene(SlaveContext& ctx, ContextScene& scene, DrawState& state) {
     const GlApi& gl = core_.api();
-    GLint sampled[8] = {}, active = GL_TEXTURE0;
-    bool lenders = false;
-    for (auto& [id, other] : scenes_) lenders = lenders || (id != ctx.id && other->loan.scene_texture);
-    if (!lenders) return;
-    gl.glGetIntegerv(GL_ACTIVE_TEXTURE, &active);
-    for (int unit = 0; unit < 8; ++unit) {
-        gl.glActiveTexture(GLenum(GL_TEXTURE0 + unit));
-        gl.glGetIntegerv(GL_TEXTURE_BINDING_2D, &sampled[unit]);
-    }
-    gl.glActiveTexture(GLenum(active));
     for (auto& [id, other] : scenes_) {
         const SceneLoan& lent = other->loan;
         const SceneFacts& lent_facts = other->facts;
@@ -93,7 +83,7 @@ void SceneLending::borrow_scene(SlaveContext& ctx, ContextScene& scene) {
             continue;
         const SlaveContext* lender = core_.context(id);
         if (!lender || lender->names.shared != ctx.names.shared) continue;  // the same name, another texture
-        if (std::find(sampled, sampled + 8, GLint(lent.scene_texture)) == sampled + 8) continue;
+        if (!state.samples_texture(lent.scene_texture)) continue;
         BorrowerObjects& objects = scene.borrower;
         // Its depth, attached to a framebuffer object of this context.
         GLint read = 0;

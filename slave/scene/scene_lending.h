@@ -67,8 +67,8 @@ public:
     // colour is a texture: that texture shows the scene.
     void note_resolved_scene(ContextScene& scene, DrawState& state);
     // Another context's scene, shown by the draw about to run (a draw to the window sampling the
-    // lender's colour texture): taken as this frame's main view.
-    void borrow_scene(SlaveContext& ctx, ContextScene& scene);
+    // lender's colour texture: DrawState::samples_texture): taken as this frame's main view.
+    void borrow_scene(SlaveContext& ctx, ContextScene& scene, DrawState& state);
     // The draw about to run shows the context's own scene in part of the window (window_draw's
     // ShowsInPart): placed as a borrowed one.
     void show_own_scene(SlaveContext& ctx, ContextScene& scene);

@@ -107,7 +107,7 @@ void SceneRecorder::record(SlaveContext& ctx, const Call& c, const uint8_t* tupl
     e.program_state = kind == RedrawKind::ProgramState;
     e.offscreen = !to_window;
     if (opens) {
-        if (to_window && !facts.main_known && !facts.overlay) lending_.borrow_scene(ctx, sc);
+        if (to_window && !facts.main_known && !facts.overlay) lending_.borrow_scene(ctx, sc, state);
         e.draw = e.opens = true;
         const DrawVerdict verdict = classify_draw(facts, state, framebuffer, settings(ctx));
         if (verdict.found_view) lending_.note_lendable_scene(ctx, sc);
