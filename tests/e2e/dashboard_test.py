@@ -19,7 +19,6 @@ import json
 import os
 import re
 import shutil
-import socket
 import subprocess
 import sys
 import time
@@ -27,6 +26,7 @@ import urllib.error
 import urllib.request
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from ports import free_port_run  # noqa: E402
 from xvfb import Xvfb  # noqa: E402
 
 GLCAST = os.environ["GLCAST"]
@@ -41,12 +41,6 @@ CONFIG = {"name": "dashboard-2x2", "canvas": {"width": 640, "height": 480}, "swa
 def check(cond, msg):
     if not cond:
         raise AssertionError(msg)
-
-
-def free_port():
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
 
 
 def http(url, headers=None, data=None):
@@ -126,7 +120,7 @@ def dashboard_on_a_wall():
     config = os.path.join(OUT, "wall.json")
     json.dump(CONFIG, open(config, "w"))
     capture = os.path.join(OUT, "capture.glcs")
-    port = free_port()
+    port = free_port_run()
     env = dict(os.environ, GLCAST_CAPTURE=capture)
     run, url = start_run(["--config", config, "--backend", "egl", "--out", os.path.join(OUT, "tiles"), "--lockstep",
                           "--frames", "1200", "--dashboard", f"0.0.0.0:{port}", "--",
@@ -204,7 +198,7 @@ def dashboard_on_a_wall():
 
 
 def loopback_needs_no_token():
-    port = free_port()
+    port = free_port_run()
     run, url = start_run(["--backend", "egl", "--frames", "600", "--dashboard", f"127.0.0.1:{port}", "--",
                           os.path.join(APPS, "ff_scene"), "--frames", "100000"], os.path.join(OUT, "loopback.log"),
                          dict(os.environ))

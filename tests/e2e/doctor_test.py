@@ -20,6 +20,7 @@ import tempfile
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from ports import free_port_run  # noqa: E402
 from xvfb import Xvfb  # noqa: E402
 
 GLCAST = os.environ["GLCAST"]
@@ -63,26 +64,6 @@ def case_missing_key():
         check(keys_line.startswith("FAIL") and "slave.key" in keys_line, keys_line)
     finally:
         shutil.rmtree(keys, ignore_errors=True)
-
-
-def free_port_run(n):
-    """A port P with P..P+n-1 free (bound and released)."""
-    for _ in range(50):
-        s = socket.socket()
-        s.bind(("127.0.0.1", 0))
-        port = s.getsockname()[1]
-        s.close()
-        if port + n > 65535:
-            continue
-        try:
-            for i in range(n):
-                t = socket.socket()
-                t.bind(("127.0.0.1", port + i))
-                t.close()
-            return port
-        except OSError:
-            continue
-    raise RuntimeError("no run of free ports")
 
 
 def case_unreachable_master():

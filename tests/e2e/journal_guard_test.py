@@ -17,7 +17,6 @@ done_flood: a million "DONE n" reports without lockstep change nothing: the prog
 import os
 import shutil
 import signal
-import socket
 import subprocess
 import sys
 import threading
@@ -26,6 +25,7 @@ import time
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from xvfb import Xvfb  # noqa: E402
 import wall_test  # noqa: E402  (same_frames, wait_for: the wall tests' helpers)
+from ports import free_port_run  # noqa: E402
 
 GLCAST = os.environ["GLCAST"]
 APPS = os.environ.get("APPS_DIR", "")
@@ -48,12 +48,6 @@ def rss(pid):
             if line.startswith("VmRSS:"):
                 return int(line.split()[1]) * 1024
     raise AssertionError(f"no VmRSS for {pid}")
-
-
-def free_port():
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
 
 
 class Watch:
@@ -172,7 +166,7 @@ def case_done_flood():
 def case_garbage():
     out = fresh("garbage")
     stream = f"ipc://{out}/stream"
-    journal = f"tcp://127.0.0.1:{free_port()}"
+    journal = f"tcp://127.0.0.1:{free_port_run()}"
     env = dict(os.environ, GLCAST_PUBLISH=stream, GLCAST_JOURNAL_ENDPOINT=journal, GLCAST_VERBOSE="1",
                GLCAST_SNAPSHOT_DIR=os.path.join(out, "program"), GLCAST_FRAMES="360", GLCAST_EXIT_AFTER_FRAMES="1",
                LD_PRELOAD=os.environ["GLCAST_SHIM"])

@@ -19,6 +19,7 @@ import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from png import read_png  # noqa: E402
+from ports import free_port_run  # noqa: E402
 from xvfb import Xvfb  # noqa: E402
 
 GLCAST = os.environ["GLCAST"]
@@ -246,7 +247,7 @@ def case_run_keeper_killed():
     out = os.path.join(OUT, "run_keeper_killed")
     shutil.rmtree(out, ignore_errors=True)
     os.makedirs(out)
-    port = 21000 + os.getpid() % 20000
+    port = free_port_run(4)
     swap_log = os.path.join(out, "swaps.log")
     env = dict(os.environ, GLCAST_TEST_SWAP_LOG=swap_log)
     run_log = os.path.join(out, "run.log")

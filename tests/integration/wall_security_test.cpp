@@ -1,6 +1,9 @@
 // The wall across machines: the swap barrier's drop and return (cli/wall_control.h), CURVE keys,
 // the ZAP handler and the endpoint checks (net/security.h), the control channel under garbage.
 #include <gtest/gtest.h>
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -16,6 +19,7 @@
 #include <thread>
 
 #include "cli/wall_control.h"
+#include "net/bind_probe.h"
 #include "net/security.h"
 #include "slave/wall_link.h"
 
@@ -446,6 +450,20 @@ std::vector<std::string> heard(zmq::socket_t& s, int ms) {
     return out;
 }
 
+// A loopback TCP endpoint whose port was free a moment ago (bound to port 0 and released): a
+// fixed port may be held by another test or taken as an outgoing connection's local port.
+std::string free_loopback_endpoint() {
+    const int fd = socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in address{};
+    address.sin_family = AF_INET;
+    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    socklen_t size = sizeof address;
+    const bool ok = bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) == 0 &&
+                    getsockname(fd, reinterpret_cast<sockaddr*>(&address), &size) == 0;
+    close(fd);
+    return ok ? "tcp://127.0.0.1:" + std::to_string(ntohs(address.sin_port)) : "tcp://127.0.0.1:47931";
+}
+
 std::string ask(zmq::socket_t& s, const std::string& request) {
     s.send(zmq::buffer(request), zmq::send_flags::none);
     zmq::message_t answer;
@@ -514,14 +532,15 @@ TEST(WallControlChannel, OnlyTheOperatorSwitchesPasses) {
     ASSERT_TRUE(op.has_operator_pair);
     setenv("GLCAST_KEYS", master_dir.c_str(), 1);
     net::use_process_keys(master_dir, false);
-    WallControl wall("tcp://127.0.0.1:47931", {"a"}, false);
+    const std::string endpoint = free_loopback_endpoint();
+    WallControl wall(endpoint, {"a"}, false);
     zmq::context_t context(1);
     auto peer = [&](net::Security s) {
         if (s.has_operator_pair) s.client = s.operator_pair, s.has_client_pair = true;
         auto socket = std::make_unique<zmq::socket_t>(context, zmq::socket_type::dealer);
         socket->set(zmq::sockopt::linger, 0);
-        net::secure_client(*socket, "tcp://127.0.0.1:47931", s);
-        socket->connect("tcp://127.0.0.1:47931");
+        net::secure_client(*socket, endpoint, s);
+        socket->connect(endpoint);
         return socket;
     };
     auto display_socket = peer(display), operator_socket = peer(op);
@@ -533,4 +552,26 @@ TEST(WallControlChannel, OnlyTheOperatorSwitchesPasses) {
     operator_socket.reset();
     net::use_process_keys("", false);
     unsetenv("GLCAST_KEYS");
+}
+
+// A port another process listens on is refused before a wall starts, naming the channel and the
+// port; a free one, and an ipc:// path, pass (and stay free: the probe lets go at once).
+TEST(BindProbe, RefusesAPortInUseNamingTheChannel) {
+    const std::string endpoint = free_loopback_endpoint();
+    EXPECT_NO_THROW(net::check_can_bind(endpoint, "journal"));
+    EXPECT_NO_THROW(net::check_can_bind(endpoint, "journal"));  // released by the first probe
+    zmq::context_t context(1);
+    zmq::socket_t holder(context, zmq::socket_type::pull);
+    holder.set(zmq::sockopt::linger, 0);
+    holder.bind(endpoint);
+    try {
+        net::check_can_bind(endpoint, "journal");
+        ADD_FAILURE() << "a port in use passed";
+    } catch (const std::runtime_error& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find("journal"), std::string::npos) << what;
+        EXPECT_NE(what.find(endpoint.substr(endpoint.rfind(':') + 1)), std::string::npos) << what;
+        EXPECT_NE(what.find("in use"), std::string::npos) << what;
+    }
+    EXPECT_NO_THROW(net::check_can_bind("ipc:///nonexistent-folder/stream", "stream"));
 }
