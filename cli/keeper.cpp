@@ -21,7 +21,13 @@ Command add_keeper(CLI::App& glcast) {
         ->type_name("egl|osmesa");
     add_int(*app, "--wait", o->wait_seconds, 1, 86400, "how long to wait for the master (default 86400)")
         ->type_name("SECONDS");
-    app->add_flag("--verbose", o->verbose, "a line per snapshot served");
+    app->add_option("--state", o->state_path,
+                    "keep its state in FILE every few seconds, and start from it when it is there (a keeper\n"
+                    "started again then replays the journal's messages since, not the stream's start)")
+        ->type_name("FILE");
+    add_int(*app, "--state-every", o->state_every_seconds, 1, 3600, "how often the state is kept (default 10)")
+        ->type_name("SECONDS");
+    app->add_flag("--verbose", o->verbose, "a line per snapshot served and per state kept");
     return {app, [o](const std::vector<std::string>&) { return keeper::run_keeper(*o); }};
 }
 

@@ -146,7 +146,7 @@ void start_slaves(RunSession& session, const RunArgs& a, const WallPlan& plan, c
     }
     if (e.reachable)
         session.keep("keeper", {exe, "keeper", "--connect", e.local, "--journal", net::connectable(e.journal), "--bind",
-                                 e.keeper, "--wait", "120"});
+                                 e.keeper, "--wait", "120", "--state", session.dir() + "/keeper.state"});
 }
 
 // The tiles of other machines: their slaves (glcast slave --service) report to the control

@@ -2,13 +2,18 @@
 
 #include "net/security.h"
 
+#include <unistd.h>
+#include <zlib.h>
 #include <zmq.hpp>
 
 #include <chrono>
 #include <cinttypes>
 #include <cstdio>
+#include <optional>
 
+#include "common/environment.h"
 #include "keeper/kept_calls.h"
+#include "keeper/kept_state.h"
 #include "keeper/snapshot.h"
 #include "master/journal_requests.h"
 #include "master/stream.h"
@@ -42,8 +47,10 @@ constexpr size_t kMaxWaiting = 64;  // requests answered at one boundary; more w
 class KeeperSource : public MessageSource {
 public:
     KeeperSource(slave::NetworkSource& live, slave::Replayer& keeper, KeptCalls& kept, zmq::socket_t& router,
-                 bool verbose)
-        : live_(live), keeper_(keeper), kept_(kept), router_(router), verbose_(verbose) {
+                 const KeeperOptions& options)
+        : live_(live), keeper_(keeper), kept_(kept), router_(router), verbose_(options.verbose),
+          state_path_(options.state_path), state_every_(options.state_every_seconds),
+          next_save_(seconds_now() + options.state_every_seconds) {
         live_.on_idle = [this] {
             if (at_boundary_) serve();
         };
@@ -53,14 +60,63 @@ public:
     bool next(Message& m) override {
         if (at_boundary_) serve();
         if (!live_.next(m)) return false;
+        if (live_.from_state()) {  // its own kept state, replayed first: numbered as a snapshot, not the stream
+            at_boundary_ = false;
+            return true;
+        }
         last_sequence_ = m.header.sequence;
         at_boundary_ = (m.header.flags & kMsgFrameEnd) != 0;
         started_ = true;
+        if (at_boundary_ && !state_path_.empty() && seconds_now() >= next_save_) {
+            // What binds the kept state to this stream: the payload of the message it ends at.
+            boundary_crc_ = uint32_t(crc32(0, m.payload.data(), uInt(m.payload.size())));
+            save_due_ = true;
+        }
         return true;
     }
 
 private:
+    // The snapshot of the keeper's state now (at a frame boundary), as compressed stream messages.
+    // False (with `report.missing`) when some of the state cannot be held.
+    bool take_snapshot(std::vector<std::vector<uint8_t>>& messages, SnapshotReport& report) {
+        std::vector<std::unique_ptr<MessageSink>> sinks;
+        sinks.push_back(std::make_unique<CollectSink>(messages));
+        Stream stream(std::move(sinks), 1, 4);
+        report = write_snapshot(keeper_, kept_, [&](const uint8_t* t, size_t n) { stream.append(t, n); });
+        stream.close();
+        return report.missing.empty();
+    }
+
+    // Every state_every_ seconds: the state on disk, for a keeper started again after this one.
+    // One that cannot be held, or a disk that refuses it, leaves the last one there (older, but
+    // still this stream's, and still good while the journal holds what follows it).
+    void save_state() {
+        save_due_ = false;
+        next_save_ = seconds_now() + state_every_;
+        const auto start = std::chrono::steady_clock::now();
+        std::vector<std::vector<uint8_t>> messages;
+        SnapshotReport report;
+        if (!take_snapshot(messages, report)) return;
+        slave::NetworkSource::State state;
+        state.sequence = last_sequence_;
+        state.frame = keeper_.frame();
+        state.boundary_crc = boundary_crc_;
+        for (auto& m : messages) state.messages.push_back(std::move(m));
+        std::string error;
+        if (!save_kept_state(state_path_, state, error)) {
+            if (!save_failed_) std::fprintf(stderr, "glcast keeper: cannot keep its state: %s\n", error.c_str());
+            save_failed_ = true;
+            return;
+        }
+        save_failed_ = false;
+        if (verbose_)
+            std::fprintf(stderr, "glcast keeper: kept the state of frame %" PRIu64 " (%zu messages) in %.1f ms\n",
+                         state.frame, state.messages.size(),
+                         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+    }
+
     void serve() {
+        if (save_due_) save_state();
         std::vector<std::string> waiting;
         const double now = seconds_now();
         // Requests for a later frame wait until the replay gets there.
@@ -105,13 +161,7 @@ private:
         const auto start = std::chrono::steady_clock::now();
         std::vector<std::vector<uint8_t>> messages;
         SnapshotReport report;
-        {
-            std::vector<std::unique_ptr<MessageSink>> sinks;
-            sinks.push_back(std::make_unique<CollectSink>(messages));
-            Stream stream(std::move(sinks), 1, 4);
-            report = write_snapshot(keeper_, kept_, [&](const uint8_t* t, size_t n) { stream.append(t, n); });
-            stream.close();
-        }
+        take_snapshot(messages, report);
         // A snapshot that cannot hold some of the state would show a wrong picture: the slave is
         // told why and falls back to the journal (docs/keeper.md).
         if (!report.missing.empty()) {
@@ -154,6 +204,11 @@ private:
     KeptCalls& kept_;
     zmq::socket_t& router_;
     bool verbose_;
+    std::string state_path_;
+    int state_every_;
+    double next_save_;
+    bool save_due_ = false, save_failed_ = false;
+    uint32_t boundary_crc_ = 0;
     bool at_boundary_ = false, started_ = false;
     uint64_t last_sequence_ = 0;
     JournalAdmission admission_;
@@ -187,16 +242,31 @@ int run_keeper(const KeeperOptions& o) {
         return 1;
     }
     try {
-        slave::NetworkSource live(o.connect, o.journal, o.wait_seconds);
+        // A state kept by a keeper before this one: the journal's messages since it, not the
+        // stream's start. One refused is said and left for the journal.
+        std::optional<slave::NetworkSource::State> kept_state;
+        if (!o.state_path.empty()) {
+            slave::NetworkSource::State state;
+            if (load_kept_state(o.state_path, environment().catch_up_bytes, state, error)) {
+                std::fprintf(stderr, "glcast keeper: starting from its kept state of frame %" PRIu64 " (%zu messages)\n",
+                             state.frame, state.messages.size());
+                kept_state = std::move(state);
+            } else if (!error.empty()) {
+                std::fprintf(stderr, "glcast keeper: not starting from its kept state: %s\n", error.c_str());
+            }
+        }
+        slave::NetworkSource live(o.connect, o.journal, o.wait_seconds, "", 0, 0, std::move(kept_state));
         slave::Replayer keeper(std::move(backend), slave::ReplayOptions{});
+        keeper.set_frame(live.joined_frame());
         KeptCalls kept(keeper);
         keeper.watch(&kept);
         live.on_restart = [&] {
             throw std::runtime_error("the keeper lost messages the master's journal no longer holds (" + live.gap() +
                                      "): its state is gone; restart it while the journal holds the stream's start");
         };
-        KeeperSource source(live, keeper, kept, router, o.verbose);
+        KeeperSource source(live, keeper, kept, router, o);
         keeper.replay(source);
+        if (!o.state_path.empty()) unlink(o.state_path.c_str());  // the program's state is of no more use
         std::fprintf(stderr, "glcast keeper: the program ended after %" PRIu64 " frames (%" PRIu64 " calls refused)\n",
                      keeper.stats().frames, keeper.stats().errors);
         return 0;

@@ -5,7 +5,8 @@
 // snapshot covers, and the frame that follows it), one part per message of the snapshot, then
 // "END"; "SNAPSHOT AT n", the same at the first boundary at or after frame n (a recording that
 // starts at frame n). A slave replays those, then the journal's messages after <sequence>, then the live
-// stream. What a join costs depends on the live state, not on how long the program has run.
+// stream. What a join costs depends on the live state, not on how long the program has run; with
+// --state, so does what the keeper's own restart costs.
 #pragma once
 
 #include <cstdint>
@@ -20,6 +21,10 @@ struct KeeperOptions {
     std::string backend = "egl";
     int wait_seconds = 86400;  // for the master's first message
     bool verbose = false;      // a line per snapshot served
+    // Its state kept on disk (keeper/kept_state.h): written every `state_every_seconds` at a frame
+    // boundary, started from when it is there, removed when the program ends. Empty: none.
+    std::string state_path;
+    int state_every_seconds = 10;
 };
 
 // Runs until the program ends (0) or the keeper cannot go on (1, said on stderr).

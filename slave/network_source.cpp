@@ -4,6 +4,7 @@
 #include "net/security.h"
 
 #include <algorithm>
+#include <zlib.h>
 #include <zmq.hpp>
 
 #include <chrono>
@@ -37,10 +38,12 @@ public:
 }  // namespace
 
 NetworkSource::NetworkSource(std::string endpoint, std::string journal_endpoint, int wait_seconds,
-                             std::string keeper_endpoint, uint64_t keeper_frame, uint64_t catch_up_bytes)
+                             std::string keeper_endpoint, uint64_t keeper_frame, uint64_t catch_up_bytes,
+                             std::optional<State> kept)
     : endpoint_(std::move(endpoint)),
       journal_endpoint_(std::move(journal_endpoint)),
       keeper_endpoint_(std::move(keeper_endpoint)),
+      kept_(std::move(kept)),
       keeper_frame_(keeper_frame),
       wait_seconds_(wait_seconds),
       catch_up_limit_(catch_up_bytes ? catch_up_bytes : environment().catch_up_bytes),
@@ -122,7 +125,7 @@ void NetworkSource::synchronize() {
     // From a keeper, no live message is waited for: the journal's answer after the snapshot
     // reaches some message n, and a first live message after n + 1 is a gap, filled from the
     // journal like any other.
-    if (!keeper_endpoint_.empty()) {
+    if (!keeper_endpoint_.empty() || kept_) {
         try {
             fetch_snapshot();
             return;
@@ -265,6 +268,22 @@ bool parse_keeper_state(const std::string& text, uint64_t& sequence, uint64_t& f
     return number(at, frame) && at == text.size();
 }
 
+bool NetworkSource::journal_agrees(size_t from, uint64_t sequence, uint32_t crc) {
+    if (crc == 0) return true;
+    MessageChain chain;
+    Message m;
+    for (size_t i = from; i < snapshot_.size() && sequence_of(snapshot_[i]) <= sequence; ++i) {
+        try {
+            decode_message(snapshot_[i].data(), snapshot_[i].size(), 0, m, &chain);
+        } catch (const DecodeError&) {
+            return false;  // (not of one chain: not this stream either)
+        }
+        if (m.header.sequence == sequence)
+            return uint32_t(crc32(0, m.payload.data(), uInt(m.payload.size()))) == crc;
+    }
+    return true;
+}
+
 NetworkSource::State NetworkSource::fetch_state(const std::string& endpoint) {
     zmq::socket_t dealer(*context_, zmq::socket_type::dealer);
     dealer.set(zmq::sockopt::linger, 0);
@@ -342,7 +361,11 @@ void NetworkSource::fetch_snapshot(bool from_journal) {
     joined_frame_ = 0;
     expected_ = 0;
     std::optional<State> from_keeper;
-    if (!keeper_endpoint_.empty() && !from_journal) {
+    const bool from_kept = kept_.has_value() && !from_journal;
+    if (from_kept) {
+        from_keeper = std::move(*kept_);
+        kept_.reset();
+    } else if (!keeper_endpoint_.empty() && !from_journal) {
         try {
             from_keeper = fetch_state(keeper_endpoint_);
         } catch (const KeeperNotReady& e) {
@@ -364,7 +387,20 @@ void NetworkSource::fetch_snapshot(bool from_journal) {
         // coded against one this slave never had); without a journal, those kept while the
         // keeper worked.
         replay_from_ = state.sequence + 1;
-        if (!journal_endpoint_.empty()) {
+        if (from_kept) {
+            // A state of this keeper's own, kept on disk: of use only while the journal holds what
+            // follows it, and only for the stream it was kept from.
+            const char* why = !fetch_since(state.sequence + 1) ? "the master's journal no longer holds what follows it"
+                              : !journal_agrees(state_left_, state.sequence, state.boundary_crc)
+                                  ? "the master's journal holds another stream's message where it ends"
+                                  : nullptr;
+            if (why) {
+                std::fprintf(stderr, "glcast: the kept state of frame %llu: %s; catching up from the journal's start\n",
+                             static_cast<unsigned long long>(state.frame), why);
+                fetch_snapshot(true);
+                return;
+            }
+        } else if (!journal_endpoint_.empty()) {
             if (!fetch_since(state.sequence + 1))
                 throw std::runtime_error("the master's journal no longer holds message " +
                                          std::to_string(state.sequence + 1) +
@@ -510,6 +546,7 @@ bool NetworkSource::next(Message& m) {
         }
         bytes_ += bytes.size();
         decode_message(bytes.data(), bytes.size(), 0, m, state ? &state_chain_ : &chain_);
+        from_state_ = state;
         // A keeper's state messages count on their own; the master's sequence resumes after them.
         if (!state) expected_ = m.header.sequence + 1;
         else if (!state_left_ && expected_ < after_state_) expected_ = after_state_;

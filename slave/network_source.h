@@ -10,6 +10,7 @@
 #include <deque>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -36,11 +37,22 @@ constexpr int kTailCheckSeconds = 3;
 
 class NetworkSource : public MessageSource {
 public:
+    // A keeper's snapshot: the state messages in order, the master's last message they cover and
+    // the frame that follows it.
+    struct State {
+        std::deque<std::vector<uint8_t>> messages;
+        uint64_t sequence = 0, frame = 0;
+        uint32_t boundary_crc = 0;  // of master message `sequence`'s payload (0: not known)
+    };
+
     // keeper_frame > 0: ask the keeper for its state at that frame ("SNAPSHOT AT n"), waiting
     // until the program gets there (a recording that starts at a frame). catch_up_bytes: what one
-    // catching up may take from the journal and the keeper (0: GLCAST_CATCH_UP_MB's).
+    // catching up may take from the journal and the keeper (0: GLCAST_CATCH_UP_MB's). kept: a
+    // state to start from instead of asking a keeper (a keeper's own, kept on disk,
+    // keeper/kept_state.h); when the journal no longer holds what follows it, or holds another
+    // stream's message where it ends (boundary_crc), it is dropped for the journal's start.
     NetworkSource(std::string endpoint, std::string journal_endpoint, int wait_seconds, std::string keeper_endpoint = "",
-                  uint64_t keeper_frame = 0, uint64_t catch_up_bytes = 0);
+                  uint64_t keeper_frame = 0, uint64_t catch_up_bytes = 0, std::optional<State> kept = std::nullopt);
     ~NetworkSource() override;
 
     bool next(Message& m) override;  // false when the program has ended
@@ -57,6 +69,7 @@ public:
     void set_idle_interval(int ms) { idle_ms_ = ms; }
 
     bool live() const { return live_; }              // the last message came from the live stream
+    bool from_state() const { return from_state_; }  // ... or from a keeper's snapshot (its own sequence)
     // ... or was the last of a snapshot: the newest frame the master has, which a master in
     // lockstep waits for (the live message that showed a gap is in the snapshot, not replayed again)
     bool caught_up() const { return live_ || snapshot_.empty(); }
@@ -77,10 +90,6 @@ public:
     // Asks `endpoint` (a keeper, or anything that answers as one) for a snapshot: the state
     // messages in order, the last master sequence and the frame they stand for. Throws on no
     // answer within `wait_seconds` or a refusal. (glcast record and the tests use it too.)
-    struct State {
-        std::deque<std::vector<uint8_t>> messages;
-        uint64_t sequence = 0, frame = 0;
-    };
     State fetch_state(const std::string& endpoint);
     const std::string& gap() const { return gap_; }          // the last gap, for messages
     // The stream ended because another program began publishing on the endpoint (one that did
@@ -93,6 +102,10 @@ private:
     void fetch_snapshot(bool from_journal = false);
     // Appends the journal's messages from sequence `first` on to snapshot_; false: GONE.
     bool fetch_since(uint64_t first);
+    // Whether the journal's messages in snapshot_ after the first `from` hold message `sequence`
+    // with a payload of CRC `crc`, or do not reach back to it (the journal answered from a key
+    // message after it): false only for another stream's message.
+    bool journal_agrees(size_t from, uint64_t sequence, uint32_t crc);
     // Asks the journal `request`; each message part to `take`; false on GONE.
     bool ask_journal(const std::string& request, const std::function<void(zmq::message_t&)>& take);
     // The next live message into `bytes`; false when the stream has ended. Empty `bytes`: none
@@ -114,6 +127,7 @@ private:
     zmq::socket_t& control(const std::string& endpoint);  // throws when the master refused this machine's CURVE key
 
     std::string endpoint_, journal_endpoint_, keeper_endpoint_;
+    std::optional<State> kept_;  // taken by the first catching up
     uint64_t keeper_frame_ = 0;
     bool synchronized_ = false;  // the first catching up is over
     int idle_ms_ = 200;
@@ -136,7 +150,7 @@ private:
     uint64_t expected_ = 0;
     uint64_t gap_live_ = UINT64_MAX;  // the live message of the last gap, and how often it was one
     int gap_tries_ = 0;
-    bool live_ = false;
+    bool live_ = false, from_state_ = false;
     uint64_t recoveries_ = 0, bytes_ = 0, master_frame_ = 0;
     std::string gap_;
     bool replaced_ = false;

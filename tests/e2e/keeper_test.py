@@ -45,8 +45,10 @@ def frame_of(out, n):
     return os.path.join(out, f"frame-{n:06d}.png")
 
 
-def join(name, program, frames, join_at, journal_mb=2, size=None, fallback=None):
-    """fallback: what the keeper must name as missing; the slave then takes the journal."""
+def join(name, program, frames, join_at, journal_mb=2, size=None, fallback=None, restart_keeper_at=None):
+    """fallback: what the keeper must name as missing; the slave then takes the journal.
+    restart_keeper_at: the keeper is killed at this frame, once the journal no longer holds the
+    stream's start and the keeper has kept its state on disk, and started again (from that state)."""
     out = os.path.join(OUT, name)
     shutil.rmtree(out, ignore_errors=True)
     os.makedirs(out)
@@ -56,20 +58,40 @@ def join(name, program, frames, join_at, journal_mb=2, size=None, fallback=None)
                GLCAST_SNAPSHOT_FROM=str(join_at // 2), GLCAST_FRAMES=str(frames), GLCAST_EXIT_AFTER_FRAMES="1",
                GLCAST_WAIT_SUBSCRIBERS="1", GLCAST_TEST_SWAP_LOG=os.path.join(out, "swaps.log"),
                LD_PRELOAD=os.environ["GLCAST_SHIM"])
+    if restart_keeper_at:
+        env["GLCAST_VERBOSE"] = "1"  # (the program says when its journal lets go of the stream's start)
     swap_log = os.path.join(out, "swaps.log")
     keeper_log = os.path.join(out, "keeper.log")
+    keeper_args = [GLCAST, "keeper", "--connect", stream, "--journal", stream + "-journal", "--bind", stream + "-keeper",
+                   "--verbose", "--state", os.path.join(out, "keeper.state"), "--state-every", "1"]
     with open(keeper_log, "w") as log:
-        keeper = subprocess.Popen([GLCAST, "keeper", "--connect", stream, "--journal", stream + "-journal",
-                                   "--bind", stream + "-keeper", "--verbose"], stderr=log, text=True)
-    proc = subprocess.Popen(program, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+        keeper = subprocess.Popen(keeper_args, stderr=log, text=True)
+    program_log = os.path.join(out, "program.log")
+    with open(program_log, "w") as log:
+        proc = subprocess.Popen(program, env=env, stdout=subprocess.DEVNULL, stderr=log, text=True)
     rss = {}
     # The program's memory while it publishes, at frame 1000 (or half the join), and at the join.
-    for mark in sorted({min(1000, join_at // 2), join_at}):
+    for mark in sorted({min(1000, join_at // 2), join_at} | ({restart_keeper_at} if restart_keeper_at else set())):
         while program_frame(swap_log) < mark:
-            check(proc.poll() is None, lambda: f"the program ended early: {proc.stderr.read()[-2000:]}")
+            check(proc.poll() is None, lambda: f"the program ended early: {open(program_log).read()[-2000:]}")
             check(keeper.poll() is None, lambda: f"the keeper ended: {open(keeper_log).read()[-2000:]}")
             time.sleep(0.01)
         rss[mark] = rss_mib(proc.pid)
+        if mark == restart_keeper_at:
+            # Killed once the journal no longer holds the stream's start (before, a keeper started
+            # again could not be rebuilt at all) and once it has kept a state.
+            t0 = time.monotonic()
+            while not ("kept the state of frame" in open(keeper_log).read() and
+                       "GLCAST_JOURNAL_MB" in open(program_log).read()):
+                check(time.monotonic() - t0 < 120, lambda: f"no kept state and full journal within 120 s: "
+                      f"{open(keeper_log).read()[-1500:]} {open(program_log).read()[-1500:]}")
+                time.sleep(0.05)
+            keeper.kill()
+            keeper.wait()
+            with open(keeper_log, "a") as log:
+                log.write("(test: keeper killed)\n")
+                log.flush()
+                keeper = subprocess.Popen(keeper_args, stderr=log, text=True)
     # The program is stopped while the slave joins, so that the join happens at this frame
     # whatever the machine's speed; it goes on once the slave has the snapshot.
     os.kill(proc.pid, signal.SIGSTOP)
@@ -82,7 +104,11 @@ def join(name, program, frames, join_at, journal_mb=2, size=None, fallback=None)
     t0 = time.monotonic()
     # The keeper answers at the frame the program stopped at; the journal (the program's own
     # thread) answers the rest once it runs again.
-    while not any(said in open(keeper_log).read() for said in ("snapshot of frame", "not in the snapshot")):
+    def keeper_said(*what):
+        text = open(keeper_log).read()
+        return any(said in text[text.rfind("(test: keeper killed)") + 1:] for said in what)
+
+    while not keeper_said("snapshot of frame", "not in the snapshot"):
         check(slave.poll() is None, lambda: f"the slave ended early: {open(slave_log).read()[-3000:]}")
         check(time.monotonic() - t0 < 120, lambda: f"the keeper gave no snapshot within 120 s: {open(keeper_log).read()[-3000:]}")
         time.sleep(0.01)
@@ -97,6 +123,9 @@ def join(name, program, frames, join_at, journal_mb=2, size=None, fallback=None)
     check(slave.wait(timeout=300) == 0, lambda: f"slave failed: {open(slave_log).read()[-3000:]}")
     keeper.wait(timeout=300)
     keeper_log = open(keeper_log).read()
+    if restart_keeper_at:
+        check("starting from its kept state of frame" in keeper_log,
+              f"the keeper started again did not start from its kept state: {keeper_log[-2000:]}")
     shown = sorted(f for f in os.listdir(os.path.join(out, "slave")) if f.endswith(".png"))
     check(shown, "the slave wrote no frame")
     first_frame = int(shown[0][6:12])
@@ -238,6 +267,15 @@ def case_capture_start_frame():
                        text=True, timeout=300, env=headless)
     check(r.returncode == 0 and f"compared {n} frames: 0 differ" in r.stdout, lambda: f"{r.stdout[-1500:]} {r.stderr[-1500:]}")
     print(f"capture --start-frame {start} --frames {n}: {r.stdout.strip().splitlines()[-1]}")
+
+
+def case_keeper_restarted():
+    """A keeper killed once the journal (1 MiB) no longer holds the stream's start comes back from
+    the state it kept on disk and the journal's messages since; a slave then joins from it and
+    shows the program's frames. Before, a keeper started again replayed the journal from the
+    start: here it could not, and no slave could join from it for the rest of the program."""
+    join("keeper_restarted", app("ff_scene", "--size", "160x120", "--frames", "4000"), 4000, 3300, journal_mb=1,
+         restart_keeper_at=2400)
 
 
 def case_run_keeper_killed():
