@@ -267,8 +267,8 @@ int run_keeper(const KeeperOptions& o) {
         KeeperSource source(live, keeper, kept, router, o);
         keeper.replay(source);
         if (!o.state_path.empty()) unlink(o.state_path.c_str());  // the program's state is of no more use
-        std::fprintf(stderr, "glcast keeper: the program ended after %" PRIu64 " frames (%" PRIu64 " calls refused)\n",
-                     keeper.stats().frames, keeper.stats().errors);
+        std::fprintf(stderr, "glcast keeper: the program ended at frame %" PRIu64 " (%" PRIu64 " frames replayed here, %" PRIu64
+                             " calls refused)\n", keeper.frame(), keeper.stats().frames, keeper.stats().errors);
         return 0;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "glcast keeper: %s\n", e.what());
