@@ -7,6 +7,11 @@ namespace glcast::cli {
 
 Command add_keeper(CLI::App& glcast) {
     auto o = std::make_shared<keeper::KeeperOptions>();
+    struct Security {
+        std::string keys;
+        bool insecure = false;
+    };
+    auto security = std::make_shared<Security>();
     CLI::App* app = glcast.add_subcommand("keeper", "keep the live state of a master's stream, for slaves that join late");
     app->footer("Start it while the master's journal still holds the stream's start (GLCAST_JOURNAL_MB);\n"
                 "slaves then join at any time with glcast slave --keeper ENDPOINT.");
@@ -28,7 +33,12 @@ Command add_keeper(CLI::App& glcast) {
     add_int(*app, "--state-every", o->state_every_seconds, 1, 3600, "how often the state is kept (default 10)")
         ->type_name("SECONDS");
     app->add_flag("--verbose", o->verbose, "a line per snapshot served and per state kept");
-    return {app, [o](const std::vector<std::string>&) { return keeper::run_keeper(*o); }};
+    add_security_options(*app, security->keys, security->insecure);
+    return {app, [o, security](const std::vector<std::string>&) {
+                std::string error;
+                if (!use_keys(security->keys, security->insecure, "glcast keeper", error)) return 1;
+                return keeper::run_keeper(*o);
+            }};
 }
 
 }  // namespace glcast::cli

@@ -18,12 +18,15 @@ namespace glcast::cli {
 namespace {
 
 struct RecordArgs {
-    std::string endpoint, journal, keeper, output;
+    std::string endpoint, journal, keeper, output, keys;
+    bool insecure = false;
     uint64_t start_frame = 0, frames = 0;
     int wait_seconds = 3600;
 };
 
 int record(const RecordArgs& a) {
+    std::string error;
+    if (!use_keys(a.keys, a.insecure, "glcast record", error)) return 1;
     try {
         slave::NetworkSource source(a.endpoint, a.journal, a.wait_seconds, a.keeper, a.start_frame);
         auto file = std::make_unique<CaptureFileSink>(a.output);
@@ -67,6 +70,7 @@ Command add_record(CLI::App& glcast) {
     add_u64(*app, "--frames", a->frames, 0, UINT32_MAX, "stop after N frames (0: when the program ends)");
     add_int(*app, "--wait", a->wait_seconds, 1, 86400, "how long to wait for the master and the keeper (default 3600)")
         ->type_name("SECONDS");
+    add_security_options(*app, a->keys, a->insecure);
     return {app, [a](const std::vector<std::string>&) { return record(*a); }};
 }
 

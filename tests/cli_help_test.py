@@ -32,8 +32,10 @@ OPTIONS = {
     ("image", "motion"): ["--crop", "--radius", "--without"],
     ("effects",): [],
     ("trim",): ["IN", "--frames", "-o", "--output", "--backend"],
-    ("keeper",): ["--connect", "--journal", "--bind", "--backend", "--wait", "--verbose"],
-    ("record",): ["--connect", "--journal", "--keeper", "-o", "--output", "--start-frame", "--frames", "--wait"],
+    ("keeper",): ["--connect", "--journal", "--bind", "--backend", "--wait", "--verbose", "--state", "--state-every",
+                  "--keys", "--insecure"],
+    ("record",): ["--connect", "--journal", "--keeper", "-o", "--output", "--start-frame", "--frames", "--wait", "--keys",
+                  "--insecure"],
     # (its request's words come after WALL: the help names them)
     ("ctl",): ["WALL", "--keys", "--wait", "effects +NAME -NAME", "param NAME=VALUE"],
 }
@@ -158,9 +160,14 @@ def main():
           f"run with the program's options after '--': exit {r.returncode}, {r.stderr!r}")
 
     # Runtime failures stay exit 1.
-    for args in (["dump", "/nonexistent.glcs"], ["replay", "/nonexistent.glcs", "--backend", "egl"]):
+    for args in (["dump", "/nonexistent.glcs"], ["replay", "/nonexistent.glcs", "--backend", "egl"],
+                 # keys given on the command line are read before anything starts, as run's and slave's
+                 ["keeper", "--connect", "tcp://127.0.0.1:1", "--journal", "tcp://127.0.0.1:2", "--bind", "tcp://*:3",
+                  "--keys", "/nonexistent-keys"],
+                 ["record", "--connect", "tcp://127.0.0.1:1", "--journal", "tcp://127.0.0.1:2", "--keeper",
+                  "tcp://127.0.0.1:3", "-o", "/tmp/x.glcs", "--keys", "/nonexistent-keys"]):
         r = glcast(args)
-        check(r.returncode == 1 and "nonexistent" in r.stderr, f"glcast {' '.join(args)}: exit {r.returncode}")
+        check(r.returncode == 1 and "nonexistent" in r.stderr, f"glcast {' '.join(args)}: exit {r.returncode}: {r.stderr!r}")
 
     if failures:
         print(f"{len(failures)} failures")
