@@ -175,17 +175,6 @@ class Slave:
         self.log.close()
 
 
-def wall_config(out):
-    config = {"name": "chaos", "canvas": {"width": 640, "height": 480}, "swap_barrier": True,
-              "master": {"address": ADDRESS["master"], "port": PORT},
-              "tiles": [{"name": t, "machine": m, "x": x, "y": y, "width": 320, "height": 240}
-                        for t, (m, x, y) in TILES.items()]}
-    path = os.path.join(out, "wall.json")
-    with open(path, "w") as f:
-        json.dump(config, f, indent=1)
-    return path
-
-
 class Faults:
     """The faults of one run, each at a random time (seeded), one at a time."""
 
@@ -306,7 +295,7 @@ def run_wall(glcast, out, ns, keys, frames, chaos, seed, minutes, kinds):
     shutil.rmtree(out, ignore_errors=True)
     os.makedirs(out)
     rng = random.Random(seed)
-    config = wall_config(out)
+    config = netns.wall_config(out, "chaos", ADDRESS["master"], PORT, TILES, (320, 240))
     first_written = max(0, frames - 30)
     epoch = time.monotonic()
     slaves = [Slave(glcast, ns[m][0], t, m, config, keys[m], out, first_written, epoch)

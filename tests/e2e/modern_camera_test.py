@@ -44,13 +44,13 @@ import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from pillars_scene import FLOOR, floor_changes  # noqa: E402
 from png import read_png  # noqa: E402
 from xvfb import Xvfb  # noqa: E402
 
 GLCAST = os.environ["GLCAST"]
 APPS = os.environ.get("APPS_DIR", "")
 OUT = os.path.join(os.environ.get("OUT_DIR", "/tmp/glcast-e2e"), "modern_camera")
-FLOOR = (90, 90, 90)  # pillars.c
 HAND = (200, 180, 150)  # pillars.c --hand
 HUD = (230, 50, 40)  # pillars.c --hud
 
@@ -58,22 +58,6 @@ HUD = (230, 50, 40)  # pillars.c --hud
 def check(cond, msg):
     if not cond:
         raise AssertionError(msg)
-
-
-def floor_changes(plain, decorated):
-    """Of the floor's pixels in `plain`: how many `decorated` made whiter, and how many darker."""
-    w, h, a = read_png(plain)
-    _, _, b = read_png(decorated)
-    floor = whiter = darker = 0
-    for y in range(h):
-        for x in range(w):
-            if tuple(a[y][x][:3]) != FLOOR:
-                continue
-            floor += 1
-            delta = sum(b[y][x][:3]) - sum(a[y][x][:3])
-            whiter += delta > 30
-            darker += delta < -30
-    return floor, whiter, darker
 
 
 def darkened_floor(plain, decorated):
@@ -117,8 +101,8 @@ def main():
             check(r.returncode == 0, f"replay {mode} {name} failed: {r.stderr[-2000:]}")
         frame = "frame-000001.png"
         plain = os.path.join(OUT, f"{mode}-plain", frame)
-        floor, covered, _ = floor_changes(plain, os.path.join(OUT, f"{mode}-cover", frame))
-        _, _, shadowed = floor_changes(plain, os.path.join(OUT, f"{mode}-shadows", frame))
+        floor, covered, _ = floor_changes(read_png(plain), read_png(os.path.join(OUT, f"{mode}-cover", frame)))
+        _, _, shadowed = floor_changes(read_png(plain), read_png(os.path.join(OUT, f"{mode}-shadows", frame)))
         results[mode] = (floor, covered, shadowed)
         mapped = darkened_floor(plain, os.path.join(OUT, f"{mode}-shadows", frame))
         marched = darkened_floor(plain, os.path.join(OUT, f"{mode}-screen", frame))
@@ -191,7 +175,7 @@ def main():
     # leaves as it was, and none was drawn).
     frame = "frame-000001.png"
     for mode in ("reversed", "reversed_builtins", "fbo", "fbo_mvp"):
-        w, h, a = read_png(os.path.join(OUT, f"fixed-snow", frame))
+        w, h, a = read_png(os.path.join(OUT, "fixed-snow", frame))
         _, _, b = read_png(os.path.join(OUT, f"{mode}-snow", frame))
         _, _, plain = read_png(os.path.join(OUT, "fixed-plain", frame))
         snowed = sum(1 for y in range(h) for x in range(w) if a[y][x][:3] != plain[y][x][:3])

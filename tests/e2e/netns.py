@@ -2,6 +2,7 @@
 across them: for the tests of walls across machines (wall_machines_test.py) and the chaos run
 (scripts/chaos.py). Loopback and our own namespaces only: nothing leaves this machine."""
 import contextlib
+import json
 import os
 import shutil
 import subprocess
@@ -70,3 +71,19 @@ def wall_keys(glcast, out, displays, others=("stranger",)):
     for m in displays:
         shutil.copy(os.path.join(dirs[m], "slave.pub"), os.path.join(dirs["master"], "authorized", m + ".pub"))
     return dirs
+
+
+def wall_config(out, name, master_address, port, tiles, tile_size):
+    """A display config of a wall across these machines, written to OUT/wall.json: the swap
+    barrier on, the master at master_address:port, `tiles` as {name: (machine, x, y)}, each
+    tile_size (width, height), the canvas their extent."""
+    w, h = tile_size
+    config = {"name": name, "canvas": {"width": max(x for _, x, _ in tiles.values()) + w,
+                                       "height": max(y for _, _, y in tiles.values()) + h},
+              "swap_barrier": True, "master": {"address": master_address, "port": port},
+              "tiles": [{"name": t, "machine": m, "x": x, "y": y, "width": w, "height": h}
+                        for t, (m, x, y) in tiles.items()]}
+    path = os.path.join(out, "wall.json")
+    with open(path, "w") as f:
+        json.dump(config, f, indent=1)
+    return path

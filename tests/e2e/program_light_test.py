@@ -21,13 +21,13 @@ import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from pillars_scene import FLOOR  # noqa: E402
 from png import read_png  # noqa: E402
 from xvfb import Xvfb  # noqa: E402
 
 GLCAST = os.environ["GLCAST"]
 APPS = os.environ.get("APPS_DIR", "")
 OUT = os.path.join(os.environ.get("OUT_DIR", "/tmp/glcast-e2e"), "program_light")
-FLOOR = (90, 90, 90)  # pillars.c, unlit
 TURN = 40.0
 EYE_LIGHT = (-0.6, 1.0, 0.3)  # towards the sun in the turned camera's eye space
 

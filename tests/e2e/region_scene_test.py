@@ -23,13 +23,13 @@ import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from pillars_scene import floor_changes  # noqa: E402
 from png import read_png  # noqa: E402
 from xvfb import Xvfb  # noqa: E402
 
 GLCAST = os.environ["GLCAST"]
 APPS = os.environ.get("APPS_DIR", "")
 OUT = os.path.join(os.environ.get("OUT_DIR", "/tmp/glcast-e2e"), "region_scene")
-FLOOR = (90, 90, 90)  # pillars.c
 REGION = (80, 0, 400, 260)  # pillars.c --region at 400x300: x0, y0 (GL, from the bottom), x1, y1
 PASSES = {"cover": ["--effects", "cover"], "shadows": ["--effects", "shadows"],
           "screen": ["--effects", "shadows", "--effect-param", "shadows.method=screen-space"],
@@ -52,23 +52,6 @@ def run(args, **kw):
 def in_region(x, y, h):
     """Window pixel (x, y from the top) lies in the viewport."""
     return REGION[0] <= x < REGION[2] and REGION[1] <= h - 1 - y < REGION[3]
-
-
-def floor_changes(plain, decorated, inside):
-    """Of the floor's pixels of `plain` for which inside(x, y) holds: how many, and how many
-    `decorated` made whiter and darker."""
-    w, h, a = plain
-    b = decorated[2]
-    floor = whiter = darker = 0
-    for y in range(h):
-        for x in range(w):
-            if tuple(a[y][x][:3]) != FLOOR or not inside(x, y, h):
-                continue
-            floor += 1
-            delta = sum(b[y][x][:3]) - sum(a[y][x][:3])
-            whiter += delta > 30
-            darker += delta < -30
-    return floor, whiter, darker
 
 
 def replay(capture, out, extra, headless):

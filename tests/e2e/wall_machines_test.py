@@ -67,17 +67,6 @@ def keys(out):
     return netns.wall_keys(GLCAST, out, ("dispa", "dispb"))
 
 
-def wall_config(out, port):
-    config = {"name": "wall-machines", "canvas": {"width": 1280, "height": 960}, "swap_barrier": True,
-              "master": {"address": ADDRESS["master"], "port": port},
-              "tiles": [{"name": t, "machine": m, "x": x, "y": y, "width": 640, "height": 480}
-                        for t, (m, x, y) in TILES.items()]}
-    path = os.path.join(out, "wall.json")
-    with open(path, "w") as f:
-        json.dump(config, f, indent=1)
-    return path
-
-
 class Supervisor:
     """systemd as PID 1 of a PID, mount and cgroup namespace inside a display machine's network
     namespace, running glcast-slave@TILE.service for its tiles from the shipped unit. /run, /tmp
@@ -256,7 +245,7 @@ def case_tcp():
             return
         port = 6200
         k = keys(out)
-        config = wall_config(out, port)
+        config = netns.wall_config(out, "wall-machines", ADDRESS["master"], port, TILES, (640, 480))
         supervisors = [Supervisor(out, m, ns[m], [t for t, (tm, _, _) in TILES.items() if tm == m], config, k[m])
                        for m in ("dispa", "dispb")]
         try:
@@ -378,7 +367,7 @@ def case_epgm():
             return
         port = 6300
         k = keys(out)
-        config = wall_config(out, port)
+        config = netns.wall_config(out, "wall-machines", ADDRESS["master"], port, TILES, (640, 480))
         group = f"239.192.9.9:{port}"
         slaves = []
         for tile, (machine, _, _) in TILES.items():
