@@ -11,6 +11,7 @@
 #include <cstring>
 #include <fstream>
 #include <memory>
+#include <optional>
 
 #include "cli/commands.h"
 #include "cli/options.h"
@@ -33,7 +34,7 @@ using nlohmann::json;
 namespace {
 
 struct CalibrateArgs {
-    std::string spec, out_dir, format = "plain", simulate, outputs, image, reference;
+    std::string spec, out_dir, format = "plain", profile = "2d", simulate, outputs, image, reference;
     int scale = 1;  // --simulate: canvas pixels per side of one pixel of the unrolled picture
 };
 
@@ -125,9 +126,22 @@ Spec read_spec(const std::string& path) {
     return s;
 }
 
+// A frustum as the display config and the MPCDI file both say it: to a ten-thousandth of a
+// degree, so that the slave's check that a tile's view is its region's frustum holds exactly.
+TileView view_of(const EyeFrustum& f) {
+    auto round = [](double degrees) { return std::round(degrees * 1e4) / 1e4; };
+    TileView v;
+    v.enabled = true;
+    v.yaw_deg = round(f.yaw), v.pitch_deg = round(f.pitch), v.roll_deg = 0;
+    v.left_deg = round(f.left), v.right_deg = round(f.right), v.bottom_deg = round(f.down), v.top_deg = round(f.up);
+    return v;
+}
+
 int calibrate(const CalibrateArgs& a) {
     const Spec s = read_spec(a.spec);
     std::string error;
+    const bool three_d = a.profile == "3d";
+    if (three_d && a.format != "mpcdi") throw std::runtime_error("--profile 3d is MPCDI's: give --format mpcdi too");
     if (!make_directories(a.out_dir, error)) throw std::runtime_error("--out: " + error);
     json tiles = json::array();
     std::vector<MpcdiRegionOut> regions;
@@ -142,7 +156,16 @@ int calibrate(const CalibrateArgs& a) {
         FloatImage pfm;
         pfm.width = warp.width, pfm.height = warp.height, pfm.channels = 3;
         pfm.values.resize(size_t(warp.width) * warp.height * 3);
-        for (size_t n = 0; n < size_t(warp.width) * warp.height; n++) {
+        // The 3D profile: the view from the eye that holds what it lights, and the points it lights.
+        std::optional<EyeFrustum> frustum;
+        if (three_d) {
+            frustum = eye_frustum(s.surface, p);
+            if (!frustum)
+                throw std::runtime_error("projector " + p.name + ": no view from the eye holds what it lights (80 degrees "
+                                         "or more from its middle): the 3D profile cannot describe it");
+            pfm.values = projector_points(s.surface, p, warp.width, warp.height);
+        }
+        for (size_t n = 0; !three_d && n < size_t(warp.width) * warp.height; n++) {
             float u = warp.uv[n * 2], v = warp.uv[n * 2 + 1];
             if (a.format == "mpcdi" && !std::isnan(u))  // MPCDI's 2D profile: positions in the buffer (the canvas)
                 u = float((u * r.width + r.x) / s.canvas_width), v = float((v * r.height + r.y) / s.canvas_height);
@@ -162,6 +185,14 @@ int calibrate(const CalibrateArgs& a) {
             region.rect = {double(r.x) / s.canvas_width, double(r.y) / s.canvas_height, double(r.width) / s.canvas_width,
                            double(r.height) / s.canvas_height};
             region.warp_entry = warp_name, region.alpha_entry = blend_name;
+            if (frustum) {
+                region.has_frustum = true;
+                region.frustum = view_of(*frustum);
+                const TileView& v = region.frustum;
+                tile["view"] = {{"yaw", v.yaw_deg},         {"pitch", v.pitch_deg},   {"roll", v.roll_deg},
+                                {"left", v.left_deg},       {"right", v.right_deg},   {"bottom", v.bottom_deg},
+                                {"top", v.top_deg}};
+            }
             regions.push_back(region);
             tile["mpcdi"] = s.name + ".mpcdi";
             tile["region"] = p.name;
@@ -232,7 +263,8 @@ int simulate(const CalibrateArgs& a) {
         ProjectorMaps maps;
         const bool ok = t->mpcdi.empty()
                             ? load_plain_maps("", relative_to(a.simulate, t->blend), maps, error)
-                            : load_mpcdi_region(relative_to(a.simulate, t->mpcdi), t->region, BufferRect{}, maps, error);
+                            : load_mpcdi_region(relative_to(a.simulate, t->mpcdi), t->region, BufferRect{}, maps, error,
+                                                t->view.enabled ? &t->view : nullptr);
         if (!ok || !maps.has_alpha) throw std::runtime_error("tile " + p.name + ": its blend: " + error);
         blends.push_back(maps.alpha);
     }
@@ -243,11 +275,16 @@ int simulate(const CalibrateArgs& a) {
     canvas.width = config.canvas_width / k, canvas.height = config.canvas_height / k;
     canvas.rgba.assign(size_t(canvas.width) * canvas.height * 4, 0);
     uint64_t covered = 0, overlap = 0, over_2 = 0, points = 0;
+    // Where two projectors overlap (each with a blend of 0.2 to 0.8 on the whole unrolled pixel),
+    // how far what they show differs, unblended: they light one point of the surface, so both
+    // should show one thing there.
+    double agreement_sum = 0;
+    uint64_t agreement_points = 0, agreement_far = 0;
     double worst = 0;
     for (int y = 0; y < canvas.height; y++)
         for (int x = 0; x < canvas.width; x++) {
-            glm::dvec3 light(0.0);
-            int lit = 0;
+            glm::dvec3 light(0.0), shown_by[2] = {glm::dvec3(0.0), glm::dvec3(0.0)};
+            int lit = 0, both = 0;
             for (int sy = 0; sy < k; sy++)
                 for (int sx = 0; sx < k; sx++) {
                     const auto point = s.surface.roll({(x * k + sx + 0.5) / config.canvas_width,
@@ -255,12 +292,20 @@ int simulate(const CalibrateArgs& a) {
                     if (!point) continue;
                     double alpha = 0;
                     int reaching = 0;
+                    glm::dvec3 first(-1.0);
                     for (size_t i = 0; i < s.projectors.size(); i++) {
                         const auto o = s.projectors[i].project(*point);
                         if (!o) continue;
                         reaching++;
-                        light += sample(outputs[i], o->x * outputs[i].width, o->y * outputs[i].height);
-                        alpha += sample_blend(blends[i], o->x, o->y);
+                        // (unblended, to compare what two projectors show at one point of the surface)
+                        const glm::dvec3 shown = sample(outputs[i], o->x * outputs[i].width, o->y * outputs[i].height);
+                        const double b = sample_blend(blends[i], o->x, o->y);
+                        light += shown;
+                        alpha += b;
+                        const glm::dvec3 unblended = b > 0.2 && b < 0.8 ? shown / b : glm::dvec3(-1.0);
+                        if (reaching == 1) first = unblended;
+                        else if (reaching == 2 && first.x >= 0 && unblended.x >= 0)
+                            shown_by[0] += first, shown_by[1] += unblended, both++;
                     }
                     if (!reaching) continue;
                     lit++, points++;
@@ -269,6 +314,11 @@ int simulate(const CalibrateArgs& a) {
                     worst = std::max(worst, deviation);
                     over_2 += deviation > 0.02;
                 }
+            if (both == k * k) {  // two projectors overlap on the whole pixel: as the picture, each one's mean
+                const glm::dvec3 d = glm::abs(shown_by[0] - shown_by[1]) / double(both);
+                agreement_sum += (d.x + d.y + d.z) / 3, agreement_points++;
+                agreement_far += std::max(d.x, std::max(d.y, d.z)) > 8;
+            }
             if (lit < k * k) continue;  // a pixel the projectors light only in part: not compared
             covered++;
             uint8_t* px = &canvas.rgba[(size_t(y) * canvas.width + x) * 4];
@@ -296,6 +346,10 @@ int simulate(const CalibrateArgs& a) {
         std::printf("against %s: mean difference %.3f levels, %.3f%% of pixels more than 8 levels off\n",
                     a.reference.c_str(), n ? sum / (3.0 * n) : 0.0, n ? 100.0 * far / n : 0.0);
     }
+    std::printf("where two projectors overlap: %llu pixels, mean difference %.3f levels between them, %.3f%% more "
+                "than 8 levels off\n", (unsigned long long)agreement_points,
+                agreement_points ? agreement_sum / agreement_points : 0.0,
+                agreement_points ? 100.0 * agreement_far / agreement_points : 0.0);
     std::printf("unrolled %dx%d: %llu pixels lit whole; of %llu canvas points lit, %llu by more than one projector; "
                 "blend sum: %llu points more than 2%% off 1 (%.4f%%), the worst %.4f off\n",
                 canvas.width, canvas.height, (unsigned long long)covered, (unsigned long long)points,
@@ -316,6 +370,10 @@ Command add_calibrate(CLI::App& glcast) {
     app->add_option("--out", a->out_dir, "write the display config and the maps into DIR")->type_name("DIR");
     app->add_option("--format", a->format, "plain (a PFM warp and a PNG blend per projector, the default) or mpcdi")
         ->check(CLI::IsMember({"plain", "mpcdi"}));
+    app->add_option("--profile", a->profile,
+                    "with --format mpcdi: 2d (the canvas stretched over the surface, the default) or 3d (each\n"
+                    "projector a view from the viewer's eye at the room's origin: the program's camera turned)")
+        ->check(CLI::IsMember({"2d", "3d"}));
     app->add_option("--simulate", a->simulate, "the display config --out wrote: preview the installation")
         ->type_name("WALL.json");
     app->add_option("--outputs", a->outputs, "with --simulate: a folder of each projector's output, NAME.png")

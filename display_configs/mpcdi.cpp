@@ -365,7 +365,8 @@ bool write_mpcdi(const std::string& path, int buffer_width, int buffer_height, c
     doc.InsertEndChild(doc.NewDeclaration());
     tinyxml2::XMLElement* root = doc.NewElement("MPCDI");
     doc.InsertEndChild(root);
-    root->SetAttribute("profile", "2d");
+    const bool three_d = !regions.empty() && regions.front().has_frustum;
+    root->SetAttribute("profile", three_d ? "3d" : "2d");
     root->SetAttribute("geometry", "1");
     root->SetAttribute("color", "1");
     root->SetAttribute("version", "1.0");
@@ -384,6 +385,14 @@ bool write_mpcdi(const std::string& path, int buffer_width, int buffer_height, c
         region->SetAttribute("y", r.rect.y);
         region->SetAttribute("xsize", r.rect.width);
         region->SetAttribute("ysize", r.rect.height);
+        if (three_d) {
+            tinyxml2::XMLElement* frustum = region->InsertNewChildElement("frustum");
+            const std::pair<const char*, double> angles[] = {
+                {"yaw", r.frustum.yaw_deg},        {"pitch", r.frustum.pitch_deg},      {"roll", r.frustum.roll_deg},
+                {"rightAngle", r.frustum.right_deg}, {"leftAngle", r.frustum.left_deg},
+                {"upAngle", r.frustum.top_deg},    {"downAngle", r.frustum.bottom_deg}};
+            for (const auto& [name, value] : angles) frustum->InsertNewChildElement(name)->SetText(value);
+        }
         tinyxml2::XMLElement* fileset = file_list->InsertNewChildElement("fileset");
         fileset->SetAttribute("region", r.id.c_str());
         tinyxml2::XMLElement* warp = fileset->InsertNewChildElement("geometryWarpFile");

@@ -33,13 +33,16 @@ struct BufferRect {
 bool load_mpcdi_region(const std::string& path, const std::string& region, const BufferRect& tile, ProjectorMaps& out,
                        std::string& error, const TileView* view = nullptr);
 
-// What glcast calibrate writes: one buffer, a region per projector with its warp (buffer
-// coordinates) and alpha map. `files` are (entry name, bytes); the XML is made here.
+// What glcast calibrate writes: one buffer, a region per projector with its warp and alpha map;
+// the 2D profile (warps of buffer coordinates), or the 3D profile when the regions have their
+// frustum (warps of screen points). `files` are (entry name, bytes); the XML is made here.
 struct MpcdiRegionOut {
     std::string id;
     int width = 0, height = 0;  // the projector's resolution
     BufferRect rect;            // where its tile lies in the buffer
     std::string warp_entry, alpha_entry;
+    bool has_frustum = false;   // 3D profile: the view the image generator renders for it
+    TileView frustum;
 };
 bool write_mpcdi(const std::string& path, int buffer_width, int buffer_height, const std::vector<MpcdiRegionOut>& regions,
                  const std::vector<std::pair<std::string, std::string>>& files, std::string& error);

@@ -154,6 +154,49 @@ WarpMap projector_warp(const Surface& s, const Projector& p, const CanvasRect& t
     return w;
 }
 
+std::optional<EyeFrustum> eye_frustum(const Surface& s, const Projector& p) {
+    constexpr int kSamples = 65;  // along each side of the output: the frustum's edges within a fraction of a degree
+    std::vector<glm::dvec3> directions;
+    glm::dvec3 sum(0.0);
+    for (int j = 0; j < kSamples; j++)
+        for (int i = 0; i < kSamples; i++)
+            if (const auto hit = s.hit(p.position, p.ray(double(i) / (kSamples - 1), double(j) / (kSamples - 1)))) {
+                directions.push_back(glm::normalize(*hit));
+                sum += directions.back();
+            }
+    if (directions.empty() || glm::length(sum) == 0) return std::nullopt;
+    // Its axis: towards the middle of what it lights, from the eye.
+    const auto centre = s.hit(p.position, p.ray(0.5, 0.5));
+    const glm::dvec3 axis = glm::normalize(centre ? *centre : sum);
+    EyeFrustum f;
+    f.yaw = std::atan2(axis.x, -axis.z) / kDeg;
+    f.pitch = std::asin(std::clamp(axis.y, -1.0, 1.0)) / kDeg;
+    const glm::dmat3 to_view = glm::transpose(rotation(f.yaw, f.pitch, 0));
+    f.left = f.down = 90, f.right = f.up = -90;
+    for (const glm::dvec3& d : directions) {
+        const glm::dvec3 v = to_view * d;
+        if (!(v.z < 0)) return std::nullopt;
+        const double across = std::atan(v.x / -v.z) / kDeg, upward = std::atan(v.y / -v.z) / kDeg;
+        f.left = std::min(f.left, across), f.right = std::max(f.right, across);
+        f.down = std::min(f.down, upward), f.up = std::max(f.up, upward);
+    }
+    // A little beyond the outermost samples (the light between them), and never 80 degrees or more.
+    f.left -= 0.25, f.right += 0.25, f.down -= 0.25, f.up += 0.25;
+    if (f.left <= -80 || f.right >= 80 || f.down <= -80 || f.up >= 80) return std::nullopt;
+    return f;
+}
+
+std::vector<float> projector_points(const Surface& s, const Projector& p, int nodes_x, int nodes_y) {
+    std::vector<float> points(size_t(nodes_x) * nodes_y * 3, std::numeric_limits<float>::quiet_NaN());
+    for (int j = 0; j < nodes_y; j++)
+        for (int i = 0; i < nodes_x; i++)
+            if (const auto hit = s.hit(p.position, p.ray(double(i) / (nodes_x - 1), double(j) / (nodes_y - 1)))) {
+                float* out = &points[(size_t(j) * nodes_x + i) * 3];
+                out[0] = float(hit->x), out[1] = float(hit->y), out[2] = float(hit->z);
+            }
+    return points;
+}
+
 BlendMap projector_blend(const Surface& s, const std::vector<Projector>& all, size_t index, int width, int height) {
     BlendMap b;
     b.width = width, b.height = height;

@@ -55,6 +55,18 @@ CanvasRect footprint(const Surface& s, const Projector& p, int canvas_width, int
 // Its warp: nodes of `nodes_x` x `nodes_y` over its output, positions in its tile's image.
 WarpMap projector_warp(const Surface& s, const Projector& p, const CanvasRect& tile, int canvas_width, int canvas_height,
                        int nodes_x, int nodes_y);
+// MPCDI's 3D simulation profile: the image generator renders, for each projector, the view from
+// the viewer's eye (the room's origin) through a frustum that holds every surface point the
+// projector lights; the warp says which of those points each output node lights.
+struct EyeFrustum {
+    double yaw = 0, pitch = 0;                 // degrees, as a view tile's (roll 0)
+    double left = 0, right = 0, down = 0, up = 0;  // edges, degrees from its axis
+};
+// Nullopt when the projector lights nothing, or something at 80 degrees or more from its centre.
+std::optional<EyeFrustum> eye_frustum(const Surface& s, const Projector& p);
+// Per node of `nodes_x` x `nodes_y` over its output (rows top to bottom), the surface point it
+// lights (x, y, z in metres relative to the eye), NaN where its light misses the surface.
+std::vector<float> projector_points(const Surface& s, const Projector& p, int nodes_x, int nodes_y);
 // Its blend at `width` x `height`: each point's share among the projectors that reach it,
 // weighted by the square of its distance to each one's image edge (they sum to 1).
 BlendMap projector_blend(const Surface& s, const std::vector<Projector>& all, size_t index, int width, int height);
