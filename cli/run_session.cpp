@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <algorithm>
 #include <stdexcept>
 #include <thread>
 
@@ -64,15 +65,27 @@ void RunSession::end_keeping() {
         std::lock_guard<std::mutex> lock(mutex_);
         keeping_ = false;
     }
+    keeping_ended_.notify_all();
     if (watcher_.joinable()) watcher_.join();
 }
+
+namespace {
+
+// How long before a kept child is started again, after `quick_failures` ends in a row each
+// within 10 s of its start: 1 s, and from the third on 5, 10, 20, then 30 s.
+std::chrono::seconds restart_delay(int quick_failures) {
+    if (quick_failures < 3) return std::chrono::seconds(1);
+    return std::chrono::seconds(std::min(30, 5 << std::min(quick_failures - 3, 3)));
+}
+
+}  // namespace
 
 // Each kept child is waited for by its own pid (never waitpid(-1): the program and the slaves are
 // waited for elsewhere).
 void RunSession::watch_kept() {
     for (;;) {
         std::this_thread::sleep_for(std::chrono::milliseconds(100));
-        std::lock_guard<std::mutex> lock(mutex_);
+        std::unique_lock<std::mutex> lock(mutex_);
         if (!keeping_) return;
         for (auto it = children_.begin(); it != children_.end();) {
             Child& c = it->second;
@@ -89,17 +102,13 @@ void RunSession::watch_kept() {
             char why[64];
             if (WIFSIGNALED(status)) std::snprintf(why, sizeof why, "was killed (signal %d)", WTERMSIG(status));
             else std::snprintf(why, sizeof why, "failed (exit %d)", WEXITSTATUS(status));
-            if (ended.quick_failures >= 3) {
-                std::fprintf(stderr, "glcast run: the %s %s, the third time in a row within 10 s of its start; "
-                                     "not starting it again\n", ended.name.c_str(), why);
-                continue;
-            }
-            std::fprintf(stderr, "glcast run: the %s %s; starting it again in 1 s\n", ended.name.c_str(), why);
-            // Outside the lock: stop_all and the slaves' reaping go on meanwhile.
-            mutex_.unlock();
-            std::this_thread::sleep_for(std::chrono::seconds(1));
-            mutex_.lock();
-            if (!keeping_) return;
+            const std::chrono::seconds delay = restart_delay(ended.quick_failures);
+            std::fprintf(stderr, "glcast run: the %s %s%s; starting it again in %lld s\n", ended.name.c_str(), why,
+                         ended.quick_failures >= 3 ? ", again within 10 s of its start" : "",
+                         static_cast<long long>(delay.count()));
+            // The lock is let go while it waits: stop_all and the slaves' reaping go on meanwhile,
+            // and end_keeping() ends the wait at once.
+            if (keeping_ended_.wait_for(lock, delay, [this] { return !keeping_; })) return;
             try {
                 start_locked(std::move(ended));
             } catch (const std::exception& e) {

@@ -5,13 +5,16 @@
 //
 // A kept child (the keeper) is started again a second after it is killed or fails, as systemd's
 // Restart=on-failure would, until end_keeping(): slaves that join later need it, and nothing else
-// on this machine would notice it gone. One that fails within 10 s of starting three times in a
-// row is given up on, said once.
+// on this machine would notice it gone. One that ends within 10 s of its start three times in a
+// row or more is started again after a longer wait each time (5, 10, 20, then every 30 s), never
+// given up on: a keeper killed from outside in quick succession ends as one that crashes does,
+// and a wall that lost its keeper for good could not let a tile join for the rest of the program.
 #pragma once
 
 #include <sys/types.h>
 
 #include <chrono>
+#include <condition_variable>
 #include <map>
 #include <mutex>
 #include <string>
@@ -59,6 +62,7 @@ private:
     mutable std::mutex mutex_;  // children_ and keeping_: the watcher thread restarts kept children
     std::map<pid_t, Child> children_;
     bool keeping_ = false;
+    std::condition_variable keeping_ended_;  // wakes the watcher from a wait before a restart
     std::thread watcher_;
 };
 

@@ -338,6 +338,57 @@ def case_run_keeper_killed():
             run.wait(timeout=60)
 
 
+def case_run_keeper_killed_often():
+    """The keeper killed again each time run has started it, four times in a row: run waits
+    longer before each start (as systemd's restart backoff), and starts it again. Before, the
+    third quick death made run give up on it for the rest of the program (the hour-long chaos run
+    lost its keeper at minute 48 that way), and no slave could join from then on."""
+    out = os.path.join(OUT, "run_keeper_killed_often")
+    shutil.rmtree(out, ignore_errors=True)
+    os.makedirs(out)
+    port = free_port_run(4)
+    swap_log = os.path.join(out, "swaps.log")
+    run_log = os.path.join(out, "run.log")
+    with open(run_log, "w") as log:
+        run = subprocess.Popen([GLCAST, "run", "--endpoint", f"tcp://127.0.0.1:{port}", "--insecure", "--backend", "egl",
+                                "--frames", "1000000", "--", "glxgears"], env=dict(os.environ, GLCAST_TEST_SWAP_LOG=swap_log),
+                               stdout=subprocess.DEVNULL, stderr=log, start_new_session=True)
+
+    def keepers():
+        r = subprocess.run(["pgrep", "-f", f"keeper --connect .* --bind tcp://127.0.0.1:{port + 2}"],
+                           capture_output=True, text=True)
+        return [int(p) for p in r.stdout.split()]
+
+    def wait_for_keeper(other_than, seconds):
+        t0 = time.monotonic()
+        while time.monotonic() - t0 < seconds:
+            check(run.poll() is None, lambda: f"glcast run ended: {open(run_log).read()[-2000:]}")
+            now = [p for p in keepers() if p != other_than]
+            if now:
+                return now[0], time.monotonic() - t0
+            time.sleep(0.05)
+        return None, seconds
+
+    try:
+        keeper, _ = wait_for_keeper(None, 120)
+        check(keeper, lambda: f"no keeper: {open(run_log).read()[-2000:]}")
+        waits = []
+        for kill in range(4):
+            os.kill(keeper, signal.SIGKILL)
+            keeper, waited = wait_for_keeper(keeper, 60)
+            check(keeper, lambda: f"after kill {kill + 1}, no keeper within 60 s: {open(run_log).read()[-2000:]}")
+            waits.append(waited)
+        said = [l for l in open(run_log).read().splitlines() if "keeper" in l and "again" in l]
+        check(not any("not starting it again" in l for l in said), f"run gave up on its keeper: {said}")
+        check(waits[-1] > waits[0] + 2, f"run did not wait longer after quick deaths in a row: {waits}")
+        print(f"run_keeper_killed_often: started again after {', '.join(f'{w:.1f} s' for w in waits)}; "
+              f"run said: {said[-1]}")
+    finally:
+        if run.poll() is None:
+            os.killpg(run.pid, signal.SIGTERM)
+            run.wait(timeout=60)
+
+
 if __name__ == "__main__":
     with Xvfb():
         globals()["case_" + sys.argv[1]]()
