@@ -63,11 +63,11 @@ bool save_kept_state(const std::string& path, const slave::NetworkSource::State&
                                    uint8_t(m.size() >> 24)};
         ok = ok && write_all(fd, length, 4) && write_all(fd, m.data(), m.size());
     }
-    const int saved = errno;
     ok = ok && fsync(fd) == 0;
+    const int why = ok ? 0 : errno ? errno : ENOSPC;  // (a write of 0 bytes sets none: a full disk)
     close(fd);
     if (!ok || rename(temporary.c_str(), path.c_str()) != 0) {
-        error = temporary + ": " + std::strerror(ok ? errno : saved ? saved : ENOSPC);
+        error = temporary + ": " + std::strerror(ok ? errno : why);
         unlink(temporary.c_str());
         return false;
     }
