@@ -525,7 +525,11 @@ def main():
         if not ns:
             return 2
         keys = netns.wall_keys(glcast, a.out, ("dispa", "dispb", "recorder"))
-        with Xvfb():
+        with Xvfb() as x:
+            # The program's X server belongs to the master machine: each of the program's swaps
+            # waits on it, and left to any core it competed with the display machines' slaves.
+            if MASTER_CPUS and x.proc:
+                subprocess.run(["taskset", "-a", "-p", "-c", MASTER_CPUS[-1], str(x.proc.pid)], capture_output=True)
             fps = FPS_GUESS
             # Calm before and after: the first run of a session has been the slower one here
             # (the wall's first start), and the chaos run is compared with both.
