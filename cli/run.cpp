@@ -231,13 +231,15 @@ int run(RunArgs& a, const std::vector<std::string>& program) {
     try {
         RunSession session;  // its folder and children go however this block is left
         const RunEndpoints e = plan_endpoints(plan.endpoint, session.dir());
-        // Refused here, before anything starts, rather than inside the program.
-        for (const std::string& endpoint : {e.stream, e.journal, e.keeper, e.control})
-            if (!endpoint.empty()) net::check_endpoint(endpoint, net::process_security(), true);
+        // Refused here, before anything starts, rather than inside the program: an endpoint its
+        // keys do not allow, or a port another process holds.
         const std::pair<const char*, const std::string*> channels[] = {
             {"stream", &e.stream}, {"journal", &e.journal}, {"keeper", &e.keeper}, {"control channel", &e.control}};
-        for (const auto& [role, endpoint] : channels)
-            if (!endpoint->empty()) net::check_can_bind(*endpoint, role);
+        for (const auto& [role, endpoint] : channels) {
+            if (endpoint->empty()) continue;
+            net::check_endpoint(*endpoint, net::process_security(), true);
+            net::check_can_bind(*endpoint, role);
+        }
         std::fprintf(stderr, "glcast run: stream on %s, journal on %s%s%s, control on %s%s\n", e.stream.c_str(),
                      e.journal.c_str(), e.reachable ? ", keeper on " : "", e.keeper.c_str(), e.control.c_str(),
                      net::process_security().keyed() ? " (CURVE)" : "");
@@ -249,7 +251,6 @@ int run(RunArgs& a, const std::vector<std::string>& program) {
         std::unique_ptr<PoseReceiver> tracker;
         if (!a.tracker.empty()) {
             net::check_endpoint(a.tracker, net::process_security(), true);
-            net::check_can_bind(a.tracker, "pose socket");
             tracker = std::make_unique<PoseReceiver>(a.tracker);
             std::fprintf(stderr, "glcast run: head poses on %s\n", tracker->bound().c_str());
             plan.swap_barrier = true;
