@@ -420,6 +420,11 @@ void EffectsRunner::put_overlays_back(SlaveContext& ctx, bool overlays, bool tar
     gl.glBindTexture(GL_TEXTURE_2D, target_overlays ? st.copies.scene_target_before : 0);
     gl.glActiveTexture(GL_TEXTURE4);
     gl.glBindTexture(GL_TEXTURE_2D, target_overlays ? st.copies.scene_target_final : 0);
+    const GLuint mask = tile_.scene_over_tile();
+    gl.glActiveTexture(GL_TEXTURE5);
+    gl.glBindTexture(GL_TEXTURE_2D, mask);
+    gl.glUniform1i(effects::uniform(gl, st.overlay_program, "scene_mask"), 5);
+    gl.glUniform1i(effects::uniform(gl, st.overlay_program, "masked"), mask != 0);
     gl.glUniform1i(effects::uniform(gl, st.overlay_program, "target_before"), 3);
     gl.glUniform1i(effects::uniform(gl, st.overlay_program, "target_final"), 4);
     gl.glUniform1i(effects::uniform(gl, st.overlay_program, "target_overlays"), target_overlays);

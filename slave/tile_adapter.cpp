@@ -236,6 +236,9 @@ bool TileAdapter::replace_call(const Call& c) {
 
 void TileAdapter::after_call(const Call& c) {
     const CommandSemantics& sem = c.info->sem;
+    if (!redrawing_ && (sem.redraw == RedrawKind::Draw || sem.redraw == RedrawKind::End) && core_.current_or_null() &&
+        !state().in_begin_end)
+        finish_shown_scene();  // (a scene shown in part of the window, on a rotated tile)
     if (sem.window == WindowMapping::DrawFramebuffer) {
         const auto target = core_.value<GLenum>(c, sem.window_params[0]);
         if (target == GL_FRAMEBUFFER || target == GL_DRAW_FRAMEBUFFER) {

@@ -70,6 +70,10 @@ public:
     // before the window is drawn (VTK's text actors), that view. Null: the draw is shown as drawn
     // (a backdrop, the quad that shows the scene). Called once for each orthographic draw.
     const glm::dmat4* screen_of_flat_draw(const SlaveContext& ctx);
+    // This frame's scene, drawn in part of the program's window, was shown over the whole tile (a
+    // rotated tile: shown_scene.h): the mask of the tile's pixels that show it (the rest is the
+    // program's interface); 0 where it was not.
+    GLuint scene_over_tile();
     // Whether the vertex shader of master name `shader` gets the clip-space correction.
     bool patches_vertex_shader(uint64_t shader);
 
@@ -91,7 +95,15 @@ private:
     void track_matrix(const Call& c);
     void correct_projection();
     bool draws_scene_target(SlaveContext& ctx);
+    bool holds_colour_and_depth();  // the draw framebuffer (asked of the driver once)
     void saw_view(SlaveContext& ctx, const glm::dmat4& projection);
+    // A scene drawn into a target not of the window's shape and shown in part of the window
+    // (shown_scene.h; tile_shown_scene.cpp).
+    bool part_candidate(SlaveContext& ctx);
+    void note_part_view();
+    bool awaits_shown_scene(const SlaveContext& ctx);
+    bool shows_scene_in_part(const SlaveContext& ctx);  // the draw about to run; if so, redirected
+    void finish_shown_scene();                            // after it: the scene over the tile
     bool correct_shader_program(uint32_t program);  // false: not patched
     // Vertex shaders get glcast_clip: for rotated tiles, and for passes that redraw the scene.
     bool patching() const;

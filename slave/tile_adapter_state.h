@@ -3,12 +3,14 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <unordered_map>
 #include <vector>
 
 #include <glm/glm.hpp>
 
 #include "slave/program_camera.h"
+#include "slave/shown_scene.h"
 #include "slave/tile_adapter.h"
 
 namespace glcast::slave {
@@ -47,6 +49,25 @@ struct TileAdapter::State {
     bool scene_view = false;          // this frame drew a perspective view into the scene target
     glm::dmat4 scene_projection{1.0};  // that view's projection
     bool scene_shown = false;         // ... and the window's first flat draw, which shows it, went by
+    bool frame_shaped_view = false;   // this frame drew a view into a target of the window's shape
+
+    // A scene target that is not of the window's shape, shown in part of the window (shown_scene.h):
+    // once a frame's view went only there, it is the scene target and turned from the next frame
+    // on; the draw that shows it samples a texture of its view's size.
+    bool scene_in_part = false;       // the scene target is such a one
+    bool part_refused = false;        // one was turned and then not found shown: left alone since
+    uint64_t frame_part_target = 0;   // this frame's candidate, drawn with a perspective view
+    int32_t part_viewport[4] = {0, 0, 0, 0};  // that view's viewport in its target
+    bool part_turned = false;         // this frame drew the scene target turned
+    bool part_found = false;          // ... and the draw to the window that shows it was found
+    GLuint showing_texture = 0;       // the texture the draw that shows it samples, and its size
+    int32_t showing_size[2] = {0, 0};
+    // The program's window on its screen: the frustum of the scene's view extended by where in the
+    // window the program showed it (the frame before's until this frame's is measured).
+    bool window_screen_known = false;
+    glm::dmat4 window_screen{1.0};
+    uint64_t shown_in_frame = 0;      // the frame (+ 1) whose scene was last shown over the tile
+    std::shared_ptr<ShownScene> shown;  // (shared with the copy a redraw keeps)
 };
 
 // Per share group: what the shader patch needs to know of shaders and programs.

@@ -52,12 +52,21 @@ glm::dmat4 TileAdapter::program_projection_now() {
 
 // A framebuffer object the program draws its 3D view into, to show it in the window later (as
 // engines since 2010 do, behind post-processing): colour and depth attached, drawn over at the
-// window's shape (window_shaped: the scene classifier's rule too), at its size or another. A rotated
-// tile turns what is drawn there as it turns what the window gets; the program's other targets
-// (shadow and environment maps, post-processing without depth, thumbnails) are left alone.
+// window's shape (window_shaped: the scene classifier's rule too), at its size or another; or,
+// once found to hold the scene, one of another shape that the window shows in part of itself (a
+// content suite's viewport: shown_scene.h). A rotated tile turns what is drawn there as it turns
+// what the window gets; the program's other targets (shadow and environment maps,
+// post-processing without depth, thumbnails) are left alone.
 bool TileAdapter::draws_scene_target(SlaveContext& ctx) {
     State& s = state();
-    if (!window_shaped(s.viewport[0], ctx.master_width, ctx.master_height)) return false;
+    if (!holds_colour_and_depth()) return false;
+    if (window_shaped(s.viewport[0], ctx.master_width, ctx.master_height))
+        return !s.scene_target_known || s.draw_framebuffer == s.scene_target;
+    return s.scene_in_part && !s.part_refused && s.scene_target_known && s.draw_framebuffer == s.scene_target;
+}
+
+bool TileAdapter::holds_colour_and_depth() {
+    State& s = state();
     auto [known, fresh] = s.colour_and_depth.try_emplace(s.draw_framebuffer, false);
     if (fresh) {
         const GlApi& gl = core_.api();
@@ -68,29 +77,63 @@ bool TileAdapter::draws_scene_target(SlaveContext& ctx) {
                                                  GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE, &depth);
         known->second = colour != GL_NONE && depth != GL_NONE;
     }
-    if (!known->second) return false;
-    return !s.scene_target_known || s.draw_framebuffer == s.scene_target;
+    return known->second;
+}
+
+// A target of colour and depth not of the window's shape, drawn with a perspective view before the
+// window this frame: if no other view is found, the scene is there, shown in part of the window.
+bool TileAdapter::part_candidate(SlaveContext& ctx) {
+    State& s = state();
+    return !ctx.drawing_to_window && !s.window_drawn && !s.part_refused &&
+           !window_shaped(s.viewport[0], ctx.master_width, ctx.master_height) && holds_colour_and_depth();
+}
+
+void TileAdapter::note_part_view() {
+    State& s = state();
+    s.frame_part_target = s.draw_framebuffer;
 }
 
 // A perspective view drawn now: the window's, or, before the window is drawn, the scene
 // target's. The target is the one that got the frame's last view (a post-processing chain's own
-// window-shaped targets, drawn with full-screen quads after it, are not the scene's).
+// window-shaped targets, drawn with full-screen quads after it, are not the scene's); one of the
+// window's shape before one shown in part of the window.
 void TileAdapter::saw_view(SlaveContext& ctx, const glm::dmat4& projection) {
     State& s = state();
     (ctx.drawing_to_window ? s.window_view : s.scene_view) = true;
     (ctx.drawing_to_window ? s.window_projection : s.scene_projection) = projection;
-    if (!ctx.drawing_to_window && !s.window_drawn) s.frame_scene_target = s.draw_framebuffer;
+    if (ctx.drawing_to_window || s.window_drawn) return;
+    if (window_shaped(s.viewport[0], ctx.master_width, ctx.master_height)) {
+        s.frame_scene_target = s.draw_framebuffer;
+        s.frame_shaped_view = true;
+        return;
+    }
+    s.part_turned = true;  // (draws_scene_target turns only the known one)
+    for (int k = 0; k < 4; ++k) s.part_viewport[k] = int32_t(s.viewport[0][k]);
+    if (!s.frame_shaped_view) s.frame_scene_target = s.draw_framebuffer;
 }
 
 void TileAdapter::end_frame(SlaveContext& ctx) {
     if (core_.current_or_null() != &ctx) return;
     State& s = state();
+    if (s.part_turned && !s.part_found && !s.part_refused) {
+        // Its picture, turned, would show squeezed where the program shows it: never again.
+        s.part_refused = true;
+        std::fprintf(stderr, "glcast: a scene drawn into a framebuffer object of %dx%d is not found where the window "
+                             "shows it (no draw to the window sampled a texture of that size): it is not turned for "
+                             "this tile\n",
+                     s.part_viewport[2], s.part_viewport[3]);
+    }
     if (s.frame_scene_target || s.window_view) {
         s.scene_target = s.window_view ? 0 : s.frame_scene_target;
+        s.scene_in_part = s.scene_target && !s.frame_shaped_view;
         s.scene_target_known = true;
+    } else if (s.frame_part_target && !s.part_refused) {
+        s.scene_target = s.frame_part_target;
+        s.scene_in_part = s.scene_target_known = true;
     }
-    s.frame_scene_target = 0;
-    s.window_drawn = s.window_view = s.scene_view = s.scene_shown = false;
+    s.frame_scene_target = s.frame_part_target = 0;
+    s.window_drawn = s.window_view = s.scene_view = s.scene_shown = s.frame_shaped_view = false;
+    s.part_turned = s.part_found = false;
 }
 
 // The driver is asked only when the name is no longer mapped (a program deleted while in use
@@ -141,9 +184,15 @@ void TileAdapter::correct_projection() {
     }
     // The window, and a target the program draws its scene into to show later; its other
     // framebuffer objects are left alone.
-    if (!core_.options().view.enabled || !(ctx.drawing_to_window || draws_scene_target(ctx))) return;
+    if (!core_.options().view.enabled) return;
+    if (!(ctx.drawing_to_window || draws_scene_target(ctx))) {
+        if (part_candidate(ctx) && is_perspective(program_projection_now())) note_part_view();
+        return;
+    }
     auto& top = s.projection.back();
-    if ((top.corrected || top.left) && !top.dirty) return;
+    // (until the draw that shows a scene drawn in part of the window went by, each draw to the
+    // window is looked at: it may be that one)
+    if ((top.corrected || top.left) && !top.dirty && !awaits_shown_scene(ctx)) return;
     GLdouble current[16] = {};
     gl.glGetDoublev(GL_PROJECTION_MATRIX, current);
     glm::dmat4 p;
@@ -222,6 +271,10 @@ bool TileAdapter::correct_shader_program(uint32_t program) {
                                  "display config says what they use)\n");
         }
     }
+    if (!redrawing_ && view.enabled && part_candidate(ctx)) {
+        ProgramCamera camera;
+        if (view.program_fov_y_deg || shader_camera(program, camera)) note_part_view();
+    }
     if (it->second.value != m) {
         gl.glUniformMatrix4fv(it->second.location, 1, GL_FALSE, &m[0][0]);
         it->second.value = m;
@@ -236,11 +289,23 @@ const glm::dmat4* TileAdapter::screen_of_flat_draw(const SlaveContext& ctx) {
                                                                                                : nullptr;
     if (s.window_view) return &s.window_projection;
     if (!s.scene_view) return nullptr;
+    if (s.scene_in_part && s.part_turned) {  // a scene shown in part of the window
+        if (!s.scene_shown && shows_scene_in_part(ctx)) {
+            s.scene_shown = true;
+            return nullptr;
+        }
+        return s.window_screen_known ? &s.window_screen : nullptr;
+    }
     if (!s.scene_shown) {  // this draw shows the scene
         s.scene_shown = true;
         return nullptr;
     }
     return &s.scene_projection;
+}
+
+bool TileAdapter::awaits_shown_scene(const SlaveContext& ctx) {
+    const State& s = state();
+    return ctx.drawing_to_window && s.scene_in_part && s.part_turned && !s.scene_shown;
 }
 
 bool TileAdapter::shader_camera(uint32_t program, ProgramCamera& out) {

@@ -2,7 +2,9 @@
 // where the program's final picture differs from its scene before the first overlay, the
 // final picture (its HUD and text, untouched); so too where the depth the passes saw is in
 // front of `view_model_far` (a first-person weapon drawn with glDepthRange(0, 0.3)), and outside
-// `scene_rect` (a scene another context drew, shown in part of the window), and where the scene's
+// `scene_rect` (a scene another context drew, shown in part of the window) or, on a rotated tile
+// that shows such a scene turned over all of itself, outside `scene_mask` (the program's
+// interface around it: slave/shown_scene.h), and where the scene's
 // own framebuffer object changed after its first overlay (`target_overlays`: a HUD drawn into the
 // scene before it is shown; target_before/_final are that target's colour at its size, of which
 // `target_rect` is the part this tile shows); elsewhere what the passes made of the scene.
@@ -12,6 +14,8 @@ uniform sampler2D scene_depth;
 uniform bool overlays;
 uniform float view_model_far;  // 0: no view model this frame
 uniform vec4 scene_rect;       // x0, y0, x1, y1 in this tile's pixels
+uniform bool masked;
+uniform sampler2D scene_mask;  // 1 where the tile shows the scene
 uniform bool target_overlays;
 uniform sampler2D target_before;
 uniform sampler2D target_final;
@@ -31,7 +35,8 @@ void main() {
     vec3 final_rgb = texelFetch(final_image, p, 0).rgb;
     bool overlay = overlays && final_rgb != texelFetch(scene_image, p, 0).rgb;
     bool view_model = view_model_far > 0.0 && texelFetch(scene_depth, p, 0).r < view_model_far;
-    bool outside = any(lessThan(gl_FragCoord.xy, scene_rect.xy)) || any(greaterThanEqual(gl_FragCoord.xy, scene_rect.zw));
+    bool outside = masked ? texelFetch(scene_mask, p, 0).r < 0.5
+                          : any(lessThan(gl_FragCoord.xy, scene_rect.xy)) || any(greaterThanEqual(gl_FragCoord.xy, scene_rect.zw));
     if (!overlay && !view_model && !outside && !target_overlay()) discard;
     color = vec4(final_rgb, 1.0);
 }

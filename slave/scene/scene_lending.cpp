@@ -18,12 +18,9 @@ namespace glcast::slave {
 
 namespace {
 
-// The draw that showed a borrowed scene is drawn again at the master's window size, but at most
-// kMaxPlacementSize a side (a stream may claim a window of 16384 squared): the placement is then
-// to a few pixels. Its rectangle is kept while what places it is unchanged, for at most
-// kPlacementKeptFrames frames (a placement moved by a buffer upload, which the record does not
-// hold, is found again then).
-constexpr int kMaxPlacementSize = 4096;
+// The rectangle where the draw that showed a borrowed scene put it is kept while what places it is
+// unchanged, for at most kPlacementKeptFrames frames (a placement moved by a buffer upload, which
+// the record does not hold, is found again then).
 constexpr int kPlacementKeptFrames = 30;
 
 }  // namespace
@@ -116,49 +113,30 @@ void SceneLending::show_own_scene(SlaveContext& ctx, ContextScene& scene) {
     scene.loan.placement_from = scene.record.entries.size();
 }
 
-// The draw that showed a borrowed scene, drawn again in the master's window coordinates (the
-// program's viewport, no tile mapping) into a depth-only target with every fragment at depth 0:
-// the rectangle it covered is where the scene is, whatever matrix or vertices put it there.
+// The draw that showed a borrowed scene, drawn again in the master's window coordinates: its
+// footprint is where the scene is.
 bool SceneLending::measure_placement(SlaveContext& ctx, ContextScene& scene, size_t end, int32_t out[4]) {
     BorrowerObjects& st = scene.borrower;
     const FrameRecord& rec = scene.record;
     const GlApi& gl = core_.api();
-    const int master_w = std::max(1, ctx.master_width), master_h = std::max(1, ctx.master_height);
-    const double scale = std::min(1.0, double(kMaxPlacementSize) / std::max(master_w, master_h));
-    const int W = std::max(1, int(std::lround(master_w * scale))), H = std::max(1, int(std::lround(master_h * scale)));
     int32_t viewport[4];
     tile_.program_viewport(viewport);  // the program's, for that draw
     const bool compatibility = compatibility_profile(gl);
-    std::vector<uint8_t>& depth = st.placement_pixels;
-    depth.assign(size_t(W) * size_t(H), 255);
     const PendingClientArrays pending(ctx);
     try {
         GlStateGuard guard(gl, kGuardPass | kGuardPixelPack |
                                    (compatibility ? kGuardMatrixStacks | kGuardMatrixMode : 0));
-        if (st.placement_sizes[0] != W || st.placement_sizes[1] != H) {
-            if (st.placement_fb) gl.glDeleteFramebuffers(1, &st.placement_fb), gl.glDeleteTextures(1, &st.placement_depth);
-            st.placement_depth = effects::make_texture(gl, GL_DEPTH_COMPONENT24, W, H);
-            st.placement_fb = effects::make_framebuffer(gl, 0, st.placement_depth);
-            st.placement_sizes[0] = W, st.placement_sizes[1] = H;
-        }
         GLint program = 0;
         gl.glGetIntegerv(GL_CURRENT_PROGRAM, &program);
-        gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, st.placement_fb);
-        gl.glViewport(GLint(std::lround(viewport[0] * scale)), GLint(std::lround(viewport[1] * scale)),
-                      GLsizei(std::lround(viewport[2] * scale)), GLsizei(std::lround(viewport[3] * scale)));
-        gl.glEnable(GL_DEPTH_TEST);
-        gl.glDepthFunc(GL_ALWAYS);
-        gl.glDepthMask(GL_TRUE);
-        gl.glClearDepth(1.0);
-        gl.glClear(GL_DEPTH_BUFFER_BIT);
+        GLdouble range[2] = {0, 1};
+        gl.glGetDoublev(GL_DEPTH_RANGE, range);
+        st.placement.begin(gl, ctx.master_width, ctx.master_height, viewport);
         // The depth range and the tile's redraw mode are put back however the redraw ends.
         struct Redrawing {
             const GlApi& gl;
             TileAdapter& tile;
-            GLdouble range[2] = {0, 1};
-            Redrawing(const GlApi& g, TileAdapter& t, bool programs) : gl(g), tile(t) {
-                gl.glGetDoublev(GL_DEPTH_RANGE, range);
-                gl.glDepthRange(0, 0);
+            const GLdouble* range;
+            Redrawing(const GlApi& g, TileAdapter& t, bool programs, const GLdouble* r) : gl(g), tile(t), range(r) {
                 tile.begin_redraw(glm::dmat4(1.0), programs);
             }
             ~Redrawing() {
@@ -167,35 +145,15 @@ bool SceneLending::measure_placement(SlaveContext& ctx, ContextScene& scene, siz
             }
         };
         {
-            Redrawing redrawing(gl, tile_, program != 0);
+            Redrawing redrawing(gl, tile_, program != 0, range);
             Call c;
             for (size_t i = scene.loan.placement_from; i < end; ++i) redispatch_entry(core_, rec, rec.entries[i], c);
         }
-        gl.glBindFramebuffer(GL_READ_FRAMEBUFFER, st.placement_fb);
-        if (gl.has(OP_glBindBuffer)) gl.glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
-        gl.glPixelStorei(GL_PACK_ALIGNMENT, 1);
-        gl.glPixelStorei(GL_PACK_ROW_LENGTH, 0);
-        gl.glPixelStorei(GL_PACK_SKIP_ROWS, 0);
-        gl.glPixelStorei(GL_PACK_SKIP_PIXELS, 0);
-        gl.glReadPixels(0, 0, W, H, GL_DEPTH_COMPONENT, GL_UNSIGNED_BYTE, depth.data());
+        return st.placement.measure(gl, out);
     } catch (const std::runtime_error& e) {
         std::fprintf(stderr, "glcast: effects: cannot place another context's scene: %s\n", e.what());
     }
-    int x0 = W, y0 = H, x1 = 0, y1 = 0;
-    for (int y = 0; y < H; ++y) {
-        const uint8_t* row = depth.data() + size_t(y) * size_t(W);
-        for (int x = 0; x < W; ++x) {
-            if (row[x] == 255) continue;
-            x0 = std::min(x0, x), x1 = std::max(x1, x + 1), y0 = std::min(y0, y), y1 = std::max(y1, y + 1);
-        }
-    }
-    if (x0 >= x1 || y0 >= y1) return false;
-    if (scale < 1) {  // back to the master's pixels
-        x0 = int(std::floor(x0 / scale)), y0 = int(std::floor(y0 / scale));
-        x1 = std::min(master_w, int(std::ceil(x1 / scale))), y1 = std::min(master_h, int(std::ceil(y1 / scale)));
-    }
-    out[0] = x0, out[1] = y0, out[2] = x1, out[3] = y1;
-    return true;
+    return false;
 }
 
 // Measuring costs a draw, a clear and a read-back of the master's window size (docs/performance.md),
@@ -226,7 +184,9 @@ void SceneLending::place_borrowed_scene(SlaveContext& ctx, ContextScene& scene) 
     mix(&ctx.master_width, sizeof ctx.master_width);
     mix(&ctx.master_height, sizeof ctx.master_height);
     int32_t rect[4];
-    if (st.placement_known && st.placement_key == key && st.placement_age < kPlacementKeptFrames) {
+    if (tile_.scene_over_tile()) {  // a rotated tile showed the scene, turned, over all of itself
+        rect[0] = rect[1] = 0, rect[2] = ctx.master_width, rect[3] = ctx.master_height;
+    } else if (st.placement_known && st.placement_key == key && st.placement_age < kPlacementKeptFrames) {
         std::copy(st.placement_rect, st.placement_rect + 4, rect);
         st.placement_age++;
     } else if (measure_placement(ctx, scene, end, rect)) {

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "common/gl_headers.h"
+#include "slave/draw_footprint.h"
 
 namespace glcast::slave {
 
@@ -43,11 +44,10 @@ struct SceneLoan {
 // A borrower's GL objects and its last measured placement; they outlive frames.
 struct BorrowerObjects {
     // A framebuffer object of this context with the lender's depth attached (framebuffer objects
-    // are not shared, their attachments are), and the depth-only target of the master's window
-    // size on which the draw that shows the scene is drawn again.
-    GLuint lender_fb = 0, placement_fb = 0, placement_depth = 0;
-    int placement_sizes[2] = {0, 0};
-    std::vector<uint8_t> placement_pixels;  // its depth read back, one byte a pixel
+    // are not shared, their attachments are), and the footprint of the draw that shows the
+    // scene, drawn again.
+    GLuint lender_fb = 0;
+    DrawFootprint placement;
     bool placement_known = false;
     uint64_t placement_key = 0;  // what the last rectangle was measured for
     int placement_age = 0;

@@ -1,0 +1,92 @@
+// A scene shown in part of the window, on a rotated tile (shown_scene.h).
+#include "slave/shown_scene.h"
+
+#include "common/gl_state.h"
+#include "slave/effects/gl_util.h"
+
+namespace glcast::slave {
+
+void ShownScene::begin(const GlApi& gl, int master_w, int master_h, const int32_t viewport[4]) {
+    gl.glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &draw_framebuffer_);
+    gl.glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &read_framebuffer_);
+    gl.glGetIntegerv(GL_VIEWPORT, viewport_);
+    gl.glGetIntegerv(GL_DEPTH_FUNC, &depth_func_);
+    depth_test_ = gl.glIsEnabled(GL_DEPTH_TEST);
+    scissor_test_ = gl.glIsEnabled(GL_SCISSOR_TEST);
+    gl.glGetBooleanv(GL_DEPTH_WRITEMASK, &depth_mask_);
+    gl.glGetBooleanv(GL_COLOR_WRITEMASK, colour_mask_);
+    gl.glGetDoublev(GL_DEPTH_RANGE, depth_range_);
+    gl.glGetFloatv(GL_DEPTH_CLEAR_VALUE, &clear_depth_);
+    redirected_ = true;
+    footprint_.begin(gl, master_w, master_h, viewport);
+}
+
+bool ShownScene::end(const GlApi& gl, int32_t rect[4]) {
+    if (!redirected_) return false;
+    redirected_ = false;
+    bool drawn = false;
+    {
+        GlStateGuard pack(gl, kGuardPixelPack);
+        drawn = footprint_.measure(gl, rect);
+    }
+    gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(draw_framebuffer_));
+    gl.glBindFramebuffer(GL_READ_FRAMEBUFFER, GLuint(read_framebuffer_));
+    gl.glViewport(viewport_[0], viewport_[1], viewport_[2], viewport_[3]);
+    if (depth_test_) gl.glEnable(GL_DEPTH_TEST);
+    else gl.glDisable(GL_DEPTH_TEST);
+    if (scissor_test_) gl.glEnable(GL_SCISSOR_TEST);
+    gl.glDepthFunc(GLenum(depth_func_));
+    gl.glDepthMask(depth_mask_);
+    gl.glColorMask(colour_mask_[0], colour_mask_[1], colour_mask_[2], colour_mask_[3]);
+    gl.glDepthRange(depth_range_[0], depth_range_[1]);
+    gl.glClearDepth(clear_depth_);
+    return drawn;
+}
+
+void ShownScene::composite(const GlApi& gl, GLuint scene, const glm::dmat3& tile_to_screen, const int32_t viewport[4],
+                           int tile_w, int tile_h) {
+    effects::StateGuard guard(gl);
+    auto build = [&gl](Program& p, const char* defines) {
+        p.name = effects::build_program(gl, "fullscreen.vert", "shown_scene.frag", defines);
+        p.scene = effects::uniform(gl, p.name, "scene");
+        p.footprint = effects::uniform(gl, p.name, "footprint");
+        p.tile_to_screen = effects::uniform(gl, p.name, "tile_to_screen");
+    };
+    if (!picture_.name) {
+        build(picture_, "");
+        build(marks_, "#define MASK\n");
+        gl.glGenVertexArrays(1, &vao_);
+    }
+    if (mask_size_[0] != tile_w || mask_size_[1] != tile_h) {
+        if (mask_fb_) gl.glDeleteFramebuffers(1, &mask_fb_), gl.glDeleteTextures(1, &mask_);
+        mask_fb_ = mask_ = 0;
+        mask_size_[0] = mask_size_[1] = 0;
+        mask_ = effects::make_texture(gl, GL_R8, tile_w, tile_h);
+        mask_fb_ = effects::make_framebuffer(gl, mask_, 0);
+        mask_size_[0] = tile_w, mask_size_[1] = tile_h;
+    }
+    gl.glDisable(GL_DEPTH_TEST);
+    gl.glDisable(GL_BLEND);
+    gl.glDepthMask(GL_FALSE);
+    gl.glActiveTexture(GL_TEXTURE0);
+    gl.glBindTexture(GL_TEXTURE_2D, scene);
+    gl.glActiveTexture(GL_TEXTURE1);
+    gl.glBindTexture(GL_TEXTURE_2D, footprint_.depth_texture());
+    if (gl.has(OP_glBindSampler)) gl.glBindSampler(0, 0), gl.glBindSampler(1, 0);  // (the guard puts the program's back)
+    const glm::mat3 m(tile_to_screen);
+    gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, mask_fb_);
+    gl.glViewport(0, 0, tile_w, tile_h);
+    gl.glClearColor(0, 0, 0, 0);
+    gl.glClear(GL_COLOR_BUFFER_BIT);
+    for (const Program* p : {&marks_, &picture_}) {
+        if (p == &picture_) gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
+        gl.glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
+        gl.glUseProgram(p->name);
+        gl.glUniform1i(p->scene, 0);
+        gl.glUniform1i(p->footprint, 1);
+        gl.glUniformMatrix3fv(p->tile_to_screen, 1, GL_FALSE, &m[0][0]);
+        effects::draw_fullscreen(gl, vao_);
+    }
+}
+
+}  // namespace glcast::slave
