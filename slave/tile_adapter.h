@@ -100,9 +100,17 @@ private:
     // A scene drawn into a target not of the window's shape and shown in part of the window
     // (shown_scene.h; tile_shown_scene.cpp).
     bool part_candidate(SlaveContext& ctx);
+    static bool drew_window_this_frame(const State& s);
     void note_part_view();
     bool awaits_shown_scene(const SlaveContext& ctx);
-    bool shows_scene_in_part(const SlaveContext& ctx);  // the draw about to run; if so, redirected
+    // This frame's such scene, turned: the context's own, or one another context of its share
+    // group lends it (a toolkit's GL widget, which draws only when its view changes and never
+    // presents). Null: none.
+    const State* scene_in_part(const SlaveContext& ctx);
+    State* lender_of(const State& s);
+    void find_lender(const SlaveContext& ctx);  // a flat draw to the window may show a lender's scene
+    bool shows_scene_in_part(const SlaveContext& ctx, const State& scene);  // the draw about to run; if so, redirected
+    bool samples_texture_of_size(const int32_t size[2], GLuint& texture);
     void finish_shown_scene();                            // after it: the scene over the tile
     bool correct_shader_program(uint32_t program);  // false: not patched
     // Vertex shaders get glcast_clip: for rotated tiles, and for passes that redraw the scene.

@@ -43,6 +43,7 @@ struct TileAdapter::State {
     uint64_t scene_target = 0;  // 0: the window
     bool scene_target_known = false;
     uint64_t frame_scene_target = 0;  // this frame's, so far
+    bool presented = false;           // the context presented a frame (its frames end)
     bool window_drawn = false;        // this frame has drawn to the window
     bool window_view = false;         // ... with a perspective view
     glm::dmat4 window_projection{1.0};  // that view's projection (the program's, unturned)
@@ -66,6 +67,11 @@ struct TileAdapter::State {
     // window the program showed it (the frame before's until this frame's is measured).
     bool window_screen_known = false;
     glm::dmat4 window_screen{1.0};
+    // The scene the window shows this frame, as the draw that shows it found it (the context's own
+    // or its lender's: the projection of its view and that view's viewport).
+    glm::dmat4 shown_projection{1.0};
+    int32_t shown_viewport[4] = {0, 0, 0, 0};
+    uint32_t lender = 0;              // the context (id) whose scene the window shows, if not its own
     uint64_t shown_in_frame = 0;      // the frame (+ 1) whose scene was last shown over the tile
     std::shared_ptr<ShownScene> shown;  // (shared with the copy a redraw keeps)
 };

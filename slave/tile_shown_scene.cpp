@@ -2,6 +2,7 @@
 // window's and shows in part of the window (shown_scene.h). Its target's draws are turned as
 // the window's scene is (tile_turn.cpp); here the draw that shows it is found and redirected,
 // and the turned scene drawn over the tile in its stead.
+#include <algorithm>
 #include <cstdio>
 #include <stdexcept>
 
@@ -34,35 +35,75 @@ bool window_frustum(const glm::dmat4& projection, const int32_t view[4], const i
 
 }  // namespace
 
+const TileAdapter::State* TileAdapter::scene_in_part(const SlaveContext& ctx) {
+    const State& s = state();
+    if (!ctx.drawing_to_window) return nullptr;
+    if (s.scene_view && s.scene_in_part && s.part_turned) return &s;
+    const State* lender = lender_of(s);
+    return lender && lender->scene_in_part && lender->part_turned && !lender->part_refused ? lender : nullptr;
+}
+
+TileAdapter::State* TileAdapter::lender_of(const State& s) {
+    if (!s.lender) return nullptr;
+    auto it = states_.find(s.lender);
+    return it == states_.end() ? nullptr : it->second.get();
+}
+
+// A context of the share group that drew a view into a target of colour and depth and never
+// draws to its window (a toolkit's GL widget): when a flat draw to the window samples a texture
+// of that view's size, it lends the window its scene, which is turned from its next drawing on.
+void TileAdapter::find_lender(const SlaveContext& ctx) {
+    State& s = state();
+    if (s.lender) return;
+    for (auto& [id, other] : states_) {
+        if (id == ctx.id || !other->frame_part_target || other->part_refused || other->presented) continue;
+        const auto context = core_.contexts().find(id);
+        if (context == core_.contexts().end() || context->second->names.shared.get() != ctx.names.shared.get()) continue;
+        GLuint texture = 0;
+        if (!samples_texture_of_size(other->part_viewport + 2, texture)) continue;
+        s.lender = id;
+        other->scene_target = other->frame_part_target;
+        other->scene_in_part = other->scene_target_known = true;
+        return;
+    }
+}
+
 // The draw that shows the scene samples a texture of its view's size (the target's own colour,
 // a resolve's or a post-processing copy's); the toolbars and panels drawn around it do not.
-bool TileAdapter::shows_scene_in_part(const SlaveContext& ctx) {
-    State& s = state();
+bool TileAdapter::samples_texture_of_size(const int32_t size[2], GLuint& texture) {
     const GlApi& gl = core_.api();
     const bool fixed_function = program_in_use() == 0;
-    GLint active = GL_TEXTURE0, bound = 0, size[2] = {0, 0};
+    GLint active = GL_TEXTURE0, bound = 0, w = 0, h = 0;
     gl.glGetIntegerv(GL_ACTIVE_TEXTURE, &active);
-    GLuint found = 0;
-    for (int unit = 0; unit < 8 && !found; ++unit) {
+    texture = 0;
+    for (int unit = 0; unit < 8 && !texture; ++unit) {
         gl.glActiveTexture(GLenum(GL_TEXTURE0 + unit));
         gl.glGetIntegerv(GL_TEXTURE_BINDING_2D, &bound);
         if (!bound || (fixed_function && !gl.glIsEnabled(GL_TEXTURE_2D))) continue;
-        gl.glGetTexLevelParameteriv(GL_TEXTURE_2D, 0, GL_TEXTURE_WIDTH, &size[0]);
-        gl.glGetTexLevelParameteriv(GL_TEXTURE_2D, 0, GL_TEXTURE_HEIGHT, &size[1]);
-        if (size[0] == s.part_viewport[2] && size[1] == s.part_viewport[3]) found = GLuint(bound);
+        gl.glGetTexLevelParameteriv(GL_TEXTURE_2D, 0, GL_TEXTURE_WIDTH, &w);
+        gl.glGetTexLevelParameteriv(GL_TEXTURE_2D, 0, GL_TEXTURE_HEIGHT, &h);
+        if (w == size[0] && h == size[1]) texture = GLuint(bound);
     }
     gl.glActiveTexture(GLenum(active));
-    if (!found) return false;
+    return texture != 0;
+}
+
+bool TileAdapter::shows_scene_in_part(const SlaveContext& ctx, const State& scene) {
+    State& s = state();
+    GLuint found = 0;
+    if (!samples_texture_of_size(scene.part_viewport + 2, found)) return false;
     s.part_found = true;
     s.showing_texture = found;
-    s.showing_size[0] = size[0], s.showing_size[1] = size[1];
+    s.showing_size[0] = scene.part_viewport[2], s.showing_size[1] = scene.part_viewport[3];
+    s.shown_projection = scene.scene_projection;
+    std::copy(scene.part_viewport, scene.part_viewport + 4, s.shown_viewport);
     int32_t viewport[4];
     program_viewport(viewport);
     try {
         if (!s.shown) s.shown = std::make_shared<ShownScene>();
-        s.shown->begin(gl, ctx.master_width, ctx.master_height, viewport);
+        s.shown->begin(core_.api(), ctx.master_width, ctx.master_height, viewport);
     } catch (const std::runtime_error& e) {
-        s.shown->end(gl, viewport);
+        s.shown->end(core_.api(), viewport);
         std::fprintf(stderr, "glcast: cannot show the scene shown in part of the window on this tile: %s\n", e.what());
     }
     return true;
@@ -76,7 +117,7 @@ void TileAdapter::finish_shown_scene() {
     int32_t rect[4];
     if (!s.shown->end(gl, rect)) return;  // it drew nothing: nor does the tile
     const int window[2] = {ctx.master_width, ctx.master_height};
-    if (!window_frustum(s.scene_projection, s.part_viewport, s.showing_size, rect, window, s.window_screen)) return;
+    if (!window_frustum(s.shown_projection, s.shown_viewport, s.showing_size, rect, window, s.window_screen)) return;
     s.window_screen_known = true;
     // The interface lies on the program's screen, (x, y, 0, 1) of the window's clip space, and the
     // tile's correction takes it to (X, Y, W): those rows and columns, inverted, find it.

@@ -80,17 +80,22 @@ bool TileAdapter::holds_colour_and_depth() {
     return known->second;
 }
 
+// A context that never presented has no frames of its own (a toolkit's GL widget's, which draws
+// into its offscreen surface at will): what it drew there says nothing of the order of its views.
+bool TileAdapter::drew_window_this_frame(const State& s) { return s.window_drawn && s.presented; }
+
 // A target of colour and depth not of the window's shape, drawn with a perspective view before the
 // window this frame: if no other view is found, the scene is there, shown in part of the window.
 bool TileAdapter::part_candidate(SlaveContext& ctx) {
     State& s = state();
-    return !ctx.drawing_to_window && !s.window_drawn && !s.part_refused &&
+    return !ctx.drawing_to_window && !drew_window_this_frame(s) && !s.part_refused &&
            !window_shaped(s.viewport[0], ctx.master_width, ctx.master_height) && holds_colour_and_depth();
 }
 
 void TileAdapter::note_part_view() {
     State& s = state();
     s.frame_part_target = s.draw_framebuffer;
+    for (int k = 0; k < 4; ++k) s.part_viewport[k] = int32_t(s.viewport[0][k]);
 }
 
 // A perspective view drawn now: the window's, or, before the window is drawn, the scene
@@ -101,7 +106,7 @@ void TileAdapter::saw_view(SlaveContext& ctx, const glm::dmat4& projection) {
     State& s = state();
     (ctx.drawing_to_window ? s.window_view : s.scene_view) = true;
     (ctx.drawing_to_window ? s.window_projection : s.scene_projection) = projection;
-    if (ctx.drawing_to_window || s.window_drawn) return;
+    if (ctx.drawing_to_window || drew_window_this_frame(s)) return;
     if (window_shaped(s.viewport[0], ctx.master_width, ctx.master_height)) {
         s.frame_scene_target = s.draw_framebuffer;
         s.frame_shaped_view = true;
@@ -115,14 +120,17 @@ void TileAdapter::saw_view(SlaveContext& ctx, const glm::dmat4& projection) {
 void TileAdapter::end_frame(SlaveContext& ctx) {
     if (core_.current_or_null() != &ctx) return;
     State& s = state();
-    if (s.part_turned && !s.part_found && !s.part_refused) {
-        // Its picture, turned, would show squeezed where the program shows it: never again.
-        s.part_refused = true;
+    // A scene turned but not found where the window shows it would show squeezed there: never again.
+    auto refuse = [](State& scene) {
+        scene.part_refused = true;
         std::fprintf(stderr, "glcast: a scene drawn into a framebuffer object of %dx%d is not found where the window "
                              "shows it (no draw to the window sampled a texture of that size): it is not turned for "
                              "this tile\n",
-                     s.part_viewport[2], s.part_viewport[3]);
-    }
+                     scene.part_viewport[2], scene.part_viewport[3]);
+    };
+    if (s.part_turned && !s.part_found && !s.part_refused) refuse(s);
+    if (State* lender = lender_of(s); lender && lender->part_turned && !s.part_found && !lender->part_refused)
+        refuse(*lender);
     if (s.frame_scene_target || s.window_view) {
         s.scene_target = s.window_view ? 0 : s.frame_scene_target;
         s.scene_in_part = s.scene_target && !s.frame_shaped_view;
@@ -131,6 +139,7 @@ void TileAdapter::end_frame(SlaveContext& ctx) {
         s.scene_target = s.frame_part_target;
         s.scene_in_part = s.scene_target_known = true;
     }
+    s.presented = true;
     s.frame_scene_target = s.frame_part_target = 0;
     s.window_drawn = s.window_view = s.scene_view = s.scene_shown = s.frame_shaped_view = false;
     s.part_turned = s.part_found = false;
@@ -262,7 +271,7 @@ bool TileAdapter::correct_shader_program(uint32_t program) {
             saw_view(ctx, camera.projection);
         } else if (const glm::dmat4* screen = screen_of_flat_draw(ctx)) {
             m = glm::mat4(view.correction(*screen));  // over a view: on the program's screen
-        } else if (ctx.drawing_to_window && (s.scene_view || s.window_view)) {
+        } else if (ctx.drawing_to_window && (s.scene_view || s.window_view || s.scene_shown)) {
             // the quad that shows the scene: as drawn
         } else if (!warned_no_camera_) {
             warned_no_camera_ = true;
@@ -285,16 +294,19 @@ bool TileAdapter::correct_shader_program(uint32_t program) {
 const glm::dmat4* TileAdapter::screen_of_flat_draw(const SlaveContext& ctx) {
     State& s = state();
     if (!ctx.drawing_to_window)
-        return s.scene_view && !s.window_drawn && s.draw_framebuffer == s.frame_scene_target ? &s.scene_projection
+        return s.scene_view && !drew_window_this_frame(s) && s.draw_framebuffer == s.frame_scene_target ? &s.scene_projection
                                                                                                : nullptr;
     if (s.window_view) return &s.window_projection;
-    if (!s.scene_view) return nullptr;
-    if (s.scene_in_part && s.part_turned) {  // a scene shown in part of the window
-        if (!s.scene_shown && shows_scene_in_part(ctx)) {
+    if (const State* scene = scene_in_part(ctx)) {  // a scene shown in part of the window
+        if (!s.scene_shown && shows_scene_in_part(ctx, *scene)) {
             s.scene_shown = true;
             return nullptr;
         }
         return s.window_screen_known ? &s.window_screen : nullptr;
+    }
+    if (!s.scene_view) {
+        find_lender(ctx);
+        return nullptr;
     }
     if (!s.scene_shown) {  // this draw shows the scene
         s.scene_shown = true;
@@ -304,8 +316,7 @@ const glm::dmat4* TileAdapter::screen_of_flat_draw(const SlaveContext& ctx) {
 }
 
 bool TileAdapter::awaits_shown_scene(const SlaveContext& ctx) {
-    const State& s = state();
-    return ctx.drawing_to_window && s.scene_in_part && s.part_turned && !s.scene_shown;
+    return ctx.drawing_to_window && !state().scene_shown && scene_in_part(ctx);
 }
 
 bool TileAdapter::shader_camera(uint32_t program, ProgramCamera& out) {

@@ -17,11 +17,13 @@ drawn, the toolbar down its left fifth.
 fixed: the viewport drawn by fixed function and shown by a fixed-function textured quad.
 builtins: drawn by a shader program on the built-ins, copied by a post-processing draw into a
   second target of its size, and shown by a GLSL texture blit (Blender's viewport's way).
+widget: a scene another context draws, as a toolkit's GL widget (ff_scene --widget).
 winter: the fixed-function viewport under snow cover and shadows, then snow: the interface
   keeps every pixel where the screen puts it, and the floor of a tile away from the screen is
   covered and shadowed as the program drawing directly gets it (before: the passes decorated
   the viewport's rectangle of the window, mapped onto the tile, and snow fell on the toolbar).
 """
+import json
 import math
 import os
 import shutil
@@ -41,8 +43,9 @@ CONFIG = os.path.join(ROOT, "display_configs", "cylinder-360.json")
 OUT = os.path.join(os.environ.get("OUT_DIR", "/tmp/glcast-e2e"), "region_turn")
 TILES = [f"yaw{60 * i:03d}" for i in range(6)]
 TOOLBAR, HEADER, GIZMO = (60, 62, 70), (45, 48, 55), (230, 50, 40)  # pillars.c --region --hud
-# Window rectangles (GL: y up) of the interface, in drawing order: the gizmo lies over the viewport.
-INTERFACE = [(TOOLBAR, 0, 0, 80, 300), (HEADER, 80, 260, 400, 300), (GIZMO, 330, 190, 380, 240)]
+# Its window's rectangles (GL: y up) in drawing order, None the viewport: the gizmo lies over it.
+PILLARS_LAYOUT = [(TOOLBAR, 0, 0, 80, 300), (None, 80, 0, 400, 260), (HEADER, 80, 260, 400, 300),
+                  (GIZMO, 330, 190, 380, 240)]
 FRAME = 2  # the first frame finds the viewport's scene; from the second on it is turned
 STEP = 3   # pixels of each tile looked at: every STEP-th of every STEP-th row
 
@@ -52,36 +55,40 @@ def check(cond, msg):
         raise AssertionError(msg)
 
 
-def window_point(yaw, px, py):
+# pillars --fbo --region at 400x300: its viewport (x 80..400, y 0..260) holds a 60-degree-wide
+# frustum of its own aspect, so the window is that frustum extended: its edges' tangents, left,
+# right, bottom, top, and its size.
+T30 = math.tan(math.radians(30))
+TOP = T30 * 260 / 320
+PILLARS_SCREEN = (-T30 - 80 * 2 * T30 / 320, T30, -TOP, TOP + 40 * 2 * TOP / 260, 400, 300)
+
+
+def window_point(yaw, px, py, screen=PILLARS_SCREEN):
     """The program's window point (x, y; GL y up) that its screen puts at pixel (px, py) of a
     1600x1200 tile of cylinder-360.json turned `yaw` degrees right (60 degrees across, 20 below
-    the horizon to 30 above), or None where the tile does not face the screen. The viewport (x
-    80..400, y 0..260) holds a 60-degree-wide frustum of its own aspect: the window is that
-    frustum extended."""
-    t30, t20 = math.tan(math.radians(30)), math.tan(math.radians(20))
-    tx = -t30 + (px + 0.5) / 1600 * 2 * t30
-    ty = t30 - (py + 0.5) / 1200 * (t30 + t20)
+    the horizon to 30 above), or None where the tile does not face the screen."""
+    t20 = math.tan(math.radians(20))
+    tx = -T30 + (px + 0.5) / 1600 * 2 * T30
+    ty = T30 - (py + 0.5) / 1200 * (T30 + t20)
     c, s = math.cos(math.radians(yaw)), math.sin(math.radians(yaw))
     x, z = tx * c + s, tx * s - c  # the direction (tx, ty, -1), turned
     if z >= 0:
         return None
-    top = t30 * 260 / 320
-    return 80 + (x / -z / t30 + 1) / 2 * 320, (ty / -z / top + 1) / 2 * 260
+    left, right, bottom, top, w, h = screen
+    return (x / -z - left) / (right - left) * w, (ty / -z - bottom) / (top - bottom) * h
 
 
-def expected(point, margin=1.0):
-    """The interface's colour at a window point, None for the scene (the viewport, or outside
-    the window), "edge" within `margin` window pixels of a boundary."""
+def expected(point, layout, margin=1.0):
+    """At a window point: the colour of the last of `layout`'s rectangles (colour, x0, y0, x1, y1 in
+    drawing order) that holds it, None for the scene (a rectangle of colour None: the viewport; or
+    outside the window), "edge" within `margin` window pixels of a boundary."""
     if point is None:
         return None
     x, y = point
-    for colour, x0, y0, x1, y1 in reversed(INTERFACE):
+    for colour, x0, y0, x1, y1 in reversed(layout):
         if x0 - margin <= x < x1 + margin and y0 - margin <= y < y1 + margin:
             inside = x0 + margin <= x < x1 - margin and y0 + margin <= y < y1 - margin
             return colour if inside else "edge"
-    if -margin <= x < 400 + margin and -margin <= y < 300 + margin and not (
-            margin <= x < 400 - margin and margin <= y < 300 - margin):
-        return "edge"
     return None
 
 
@@ -95,18 +102,23 @@ def wall(name, flags, effects=()):
     return out
 
 
-def interface_on_screen(name, out):
+def tile_image(out, tile, frame):
+    return read_png(os.path.join(out, tile, f"frame-{frame:06d}.png"))
+
+
+def interface_on_screen(name, out, layout=PILLARS_LAYOUT, screen=PILLARS_SCREEN, frame=FRAME):
+    colours = {c for c, *_ in layout if c}
     for i, tile in enumerate(TILES):
-        w, h, rows = read_png(os.path.join(out, tile, f"frame-{FRAME:06d}.png"))
+        w, h, rows = tile_image(out, tile, frame)
         right = wrong = stray = shown = 0
         for py in range(0, h, STEP):
             for px in range(0, w, STEP):
-                want = expected(window_point(60 * i, px, py))
+                want = expected(window_point(60 * i, px, py, screen), layout)
                 got = tuple(rows[py][px][:3])
                 if want == "edge":
                     continue
                 if want is None:
-                    stray += got in (TOOLBAR, HEADER, GIZMO)
+                    stray += got in colours
                     continue
                 shown += 1
                 right += got == want
@@ -115,23 +127,40 @@ def interface_on_screen(name, out):
               f"where the scene belongs")
         check(wrong <= shown // 100, f"{tile}: {wrong} of {shown} interface pixels are not where the screen puts them")
         check(stray <= w * h // STEP // STEP // 500, f"{tile}: {stray} interface pixels where the scene belongs")
-    # (the toolbar lies left of the front tile's frustum, the header and the gizmo on it)
 
 
-def away_from_screen(name, out, direct):
-    for tile in ("yaw120", "yaw180"):
-        w, h, a = read_png(os.path.join(out, tile, f"frame-{FRAME:06d}.png"))
-        _, _, b = read_png(os.path.join(direct, tile, f"frame-{FRAME:06d}.png"))
-        total = off = 0
-        for y in range(0, h, STEP):
-            for x in range(0, w, STEP):
-                d = max(abs(a[y][x][k] - b[y][x][k]) for k in range(3))
-                total += d
-                off += d > 8
-        n = len(range(0, h, STEP)) * len(range(0, w, STEP))
-        print(f"{name} {tile}: differs from the program drawing directly by {total / n:.2f} levels on average, "
-              f"{100 * off / n:.2f}% of pixels more than 8")
-        check(total / n <= 1 and off <= n // 100, f"{tile} differs from the directly drawn scene")
+def scene_like_direct(name, out, direct, layout=PILLARS_LAYOUT, screen=PILLARS_SCREEN, frame=FRAME):
+    """Where no interface lies, each tile shows what it shows of the program drawing the same scene
+    directly into its window: within rounding and the scene target's resolution (at most 1 level
+    on average, 1% of the pixels more than 8 levels off). `direct` may hold tiles of another size
+    (the scene target's): each of its pixels is compared with the tile's at its centre."""
+    for i, tile in enumerate(TILES):
+        w, h, a = tile_image(out, tile, frame)
+        dw, dh, b = tile_image(direct, tile, frame)
+        step = max(1, STEP * dw // w)
+        total = off = n = 0
+        for y in range(0, dh, step):
+            for x in range(0, dw, step):
+                px, py = int((x + 0.5) * w / dw), int((y + 0.5) * h / dh)
+                if expected(window_point(60 * i, px, py, screen), layout, margin=2.0) is not None:
+                    continue
+                d = max(abs(a[py][px][k] - b[y][x][k]) for k in range(3))
+                total, off, n = total + d, off + (d > 8), n + 1
+        print(f"{name} {tile}: the scene ({n} pixels) differs from the program drawing directly by "
+              f"{total / max(n, 1):.2f} levels on average, {100 * off / max(n, 1):.2f}% of pixels more than 8")
+        check(total <= n and off <= n // 100, f"{tile}: the scene differs from the directly drawn one")
+
+
+def config_of_size(path, width, height):
+    """cylinder-360.json with tiles of width x height pixels: the same directions at another resolution."""
+    with open(CONFIG) as f:
+        config = json.load(f)
+    for i, tile in enumerate(config["tiles"]):
+        tile.update(x=i * width, y=0, width=width, height=height)
+    config["canvas"] = {"width": 6 * width, "height": height}
+    with open(path, "w") as f:
+        json.dump(config, f)
+    return path
 
 
 def case(name, flags, viewport_flags=()):
@@ -141,7 +170,7 @@ def case(name, flags, viewport_flags=()):
     pillars_on_tiles(name, out, FRAME, hidden_seams=("yaw300",))
     interface_on_screen(name, out)
     direct = wall(name + "_direct", flags)
-    away_from_screen(name, out, direct)
+    scene_like_direct(name, out, direct)
 
 
 def case_winter():
@@ -165,6 +194,32 @@ def case_winter():
             # (the shadow map fits the program's frustum, whose aspect is the viewport's here)
             check(abs(got[1] - want[1]) <= want[0] // 50, f"{tile}: covered unlike the direct program's: {got} {want}")
             check(abs(got[2] - want[2]) <= want[0] // 100, f"{tile}: shadowed unlike the direct program's: {got} {want}")
+
+
+def case_widget():
+    # ff_scene --widget (320x240): a second context, which never presents, draws the scene into a
+    # framebuffer object of 200x180 in frames 0 and 4 only (as Qt's QOpenGLWidget draws when its
+    # view changes); every frame the window's context draws a grey background, that texture at
+    # (80, 30), a toolbar along the top and a label over the widget. From the widget's drawing
+    # in frame 4 on, its scene is turned, the window's frame on the program's screen.
+    top = math.tan(math.radians(22.5))
+    tx, ty = top * 200 / 180, top  # the widget's frustum: tangents of its right and top edges
+    screen = (-tx - 80 * 2 * tx / 200, tx + 40 * 2 * tx / 200, -ty - 30 * 2 * ty / 180, ty + 30 * 2 * ty / 180, 320, 240)
+    grey, blue = (199, 199, 199), (40, 90, 200)
+    layout = [(grey, 0, 0, 320, 240), (None, 80, 30, 280, 210), (blue, 0, 224, 320, 240), (blue, 84, 34, 144, 50)]
+    out, direct = (os.path.join(OUT, n) for n in ("widget", "widget_direct"))
+    os.makedirs(OUT, exist_ok=True)
+    # (the widget's 200x180 picture is stretched over 1600x1200 tiles: it is compared with the
+    # program drawing directly onto tiles of 200x180)
+    small = config_of_size(os.path.join(OUT, "cylinder-200x180.json"), 200, 180)
+    for d, args, config in ((out, ["--widget"], CONFIG), (direct, [], small)):
+        shutil.rmtree(d, ignore_errors=True)
+        r = subprocess.run([GLCAST, "run", "--config", config, "--backend", "egl", "--out", d, "--frames", "5", "--",
+                            os.path.join(APPS, "ff_scene")] + args + ["--size", "320x240", "--frames", "6"],
+                           capture_output=True, text=True, timeout=600)
+        check(r.returncode == 0, f"glcast run failed: {r.stderr[-3000:]}")
+    interface_on_screen("widget", out, layout, screen, frame=4)
+    scene_like_direct("widget", out, direct, layout, screen, frame=4)
 
 
 def case_fixed():
