@@ -1,6 +1,8 @@
 // A scene shown in part of the window, on a rotated tile (shown_scene.h).
 #include "slave/shown_scene.h"
 
+#include <cmath>
+
 #include "common/gl_state.h"
 #include "slave/effects/gl_util.h"
 
@@ -41,6 +43,37 @@ bool ShownScene::end(const GlApi& gl, int32_t rect[4]) {
     gl.glDepthRange(depth_range_[0], depth_range_[1]);
     gl.glClearDepth(clear_depth_);
     return drawn;
+}
+
+GLuint ShownScene::draw_stretched(const GlApi& gl, const int32_t rect[4], const int32_t viewport[4], int tile_w,
+                                  int tile_h, const std::function<void()>& draw) {
+    if (stretched_size_[0] != tile_w || stretched_size_[1] != tile_h) {
+        if (stretched_fb_) gl.glDeleteFramebuffers(1, &stretched_fb_), gl.glDeleteTextures(1, &stretched_);
+        stretched_fb_ = stretched_ = 0;
+        stretched_size_[0] = stretched_size_[1] = 0;
+        stretched_ = effects::make_texture(gl, GL_RGBA8, tile_w, tile_h);
+        stretched_fb_ = effects::make_framebuffer(gl, stretched_, 0);
+        stretched_size_[0] = tile_w, stretched_size_[1] = tile_h;
+    }
+    GLint framebuffer = 0, saved_viewport[4] = {};
+    GLfloat clear[4] = {};
+    gl.glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &framebuffer);
+    gl.glGetIntegerv(GL_VIEWPORT, saved_viewport);
+    gl.glGetFloatv(GL_COLOR_CLEAR_VALUE, clear);
+    const GLboolean scissor = gl.glIsEnabled(GL_SCISSOR_TEST);
+    gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, stretched_fb_);
+    gl.glDisable(GL_SCISSOR_TEST);
+    gl.glClearColor(0, 0, 0, 0);
+    gl.glClear(GL_COLOR_BUFFER_BIT);
+    const double sx = double(tile_w) / (rect[2] - rect[0]), sy = double(tile_h) / (rect[3] - rect[1]);
+    gl.glViewport(GLint(std::lround((viewport[0] - rect[0]) * sx)), GLint(std::lround((viewport[1] - rect[1]) * sy)),
+                  GLsizei(std::lround(viewport[2] * sx)), GLsizei(std::lround(viewport[3] * sy)));
+    draw();
+    gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(framebuffer));
+    gl.glViewport(saved_viewport[0], saved_viewport[1], saved_viewport[2], saved_viewport[3]);
+    gl.glClearColor(clear[0], clear[1], clear[2], clear[3]);
+    if (scissor) gl.glEnable(GL_SCISSOR_TEST);
+    return stretched_;
 }
 
 void ShownScene::composite(const GlApi& gl, GLuint scene, const glm::dmat3& tile_to_screen, const int32_t viewport[4],

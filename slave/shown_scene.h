@@ -10,6 +10,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 
 #include <glm/glm.hpp>
 
@@ -29,6 +30,13 @@ public:
     // master's window pixels). False: it drew nothing.
     bool end(const GlApi& gl, int32_t rect[4]);
     bool redirected() const { return redirected_; }
+    // The program's draw that showed the scene, run again by `draw` into a target of the tile's size
+    // with its viewport (`viewport`, the master's window pixels) scaled so that where it put the
+    // scene (`rect`) covers the target: the picture the program's own shader makes of its targets
+    // (Blender's blends its engines' colour with its overlays), across the tile. Returns that
+    // target's colour texture.
+    GLuint draw_stretched(const GlApi& gl, const int32_t rect[4], const int32_t viewport[4], int tile_w, int tile_h,
+                          const std::function<void()>& draw);
     // Draws `scene` (the texture the program's draw showed, holding the tile's frustum) over
     // `viewport` of the window (the program's window mapped onto the tile) but where
     // `tile_to_screen` (tile clip x, y, w to the program's window clip x, y, 1, as in
@@ -52,8 +60,8 @@ private:
         GLint scene = -1, footprint = -1, tile_to_screen = -1;
     };
     Program picture_, marks_;
-    GLuint vao_ = 0, mask_ = 0, mask_fb_ = 0;
-    int mask_size_[2] = {0, 0};
+    GLuint vao_ = 0, mask_ = 0, mask_fb_ = 0, stretched_ = 0, stretched_fb_ = 0;
+    int mask_size_[2] = {0, 0}, stretched_size_[2] = {0, 0};
 };
 
 }  // namespace glcast::slave

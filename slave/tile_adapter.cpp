@@ -134,6 +134,7 @@ void TileAdapter::before_call(const Call& c, const uint8_t*, size_t) {
     if (!redrawing_ && !patching()) return;
     if (k != RedrawKind::Draw && k != RedrawKind::Begin && k != RedrawKind::End) return;
     State& s = state();
+    opening_begin_ = k == RedrawKind::Begin;
     if (k == RedrawKind::End) s.in_begin_end = false;
     else if (!s.in_begin_end) correct_projection();
     if (k == RedrawKind::Begin) s.in_begin_end = true;
@@ -238,7 +239,7 @@ void TileAdapter::after_call(const Call& c) {
     const CommandSemantics& sem = c.info->sem;
     if (!redrawing_ && (sem.redraw == RedrawKind::Draw || sem.redraw == RedrawKind::End) && core_.current_or_null() &&
         !state().in_begin_end)
-        finish_shown_scene();  // (a scene shown in part of the window, on a rotated tile)
+        finish_shown_scene(c);  // (a scene shown in part of the window, on a rotated tile)
     if (sem.window == WindowMapping::DrawFramebuffer) {
         const auto target = core_.value<GLenum>(c, sem.window_params[0]);
         if (target == GL_FRAMEBUFFER || target == GL_DRAW_FRAMEBUFFER) {

@@ -111,7 +111,7 @@ private:
     void find_lender(const SlaveContext& ctx);  // a flat draw to the window may show a lender's scene
     bool shows_scene_in_part(const SlaveContext& ctx, const State& scene);  // the draw about to run; if so, redirected
     bool samples_texture_of_size(const int32_t size[2], GLuint& texture);
-    void finish_shown_scene();                            // after it: the scene over the tile
+    void finish_shown_scene(const Call& c);               // after it: the scene over the tile
     bool correct_shader_program(uint32_t program);  // false: not patched
     // Vertex shaders get glcast_clip: for rotated tiles, and for passes that redraw the scene.
     bool patching() const;
@@ -123,6 +123,7 @@ private:
     std::unordered_map<const ShareGroup*, std::unique_ptr<Shared>> shared_;
     bool redrawing_ = false, redraw_programs_ = false, redraw_refused_ = false;
     bool warned_no_camera_ = false;
+    bool opening_begin_ = false;  // the draw being opened is glBegin's
     glm::dmat4 redraw_correction_{1.0};
     std::unique_ptr<State> saved_;  // the tracking state a redraw started from
 };

@@ -44,6 +44,7 @@ struct TileAdapter::State {
     bool scene_target_known = false;
     uint64_t frame_scene_target = 0;  // this frame's, so far
     bool presented = false;           // the context presented a frame (its frames end)
+    uint64_t presented_frame = 0;     // ... the last
     bool window_drawn = false;        // this frame has drawn to the window
     bool window_view = false;         // ... with a perspective view
     glm::dmat4 window_projection{1.0};  // that view's projection (the program's, unturned)
@@ -62,6 +63,7 @@ struct TileAdapter::State {
     bool part_turned = false;         // this frame drew the scene target turned
     bool part_found = false;          // ... and the draw to the window that shows it was found
     GLuint showing_texture = 0;       // the texture the draw that shows it samples, and its size
+    bool showing_repeatable = false;  // that draw is one call (not glBegin/glEnd's)
     int32_t showing_size[2] = {0, 0};
     // The program's window on its screen: the frustum of the scene's view extended by where in the
     // window the program showed it (the frame before's until this frame's is measured).

@@ -15,6 +15,9 @@ namespace glcast::slave {
 
 namespace {
 
+// A context that presented in the last frames may draw a frame of its own: it lends nothing.
+constexpr uint64_t kLendsAfterFrames = 2;
+
 // The frustum of the program's whole window on its screen, from the scene's view: `projection`
 // over `view` (a viewport of its target, whose colour is a texture of `texture` size) shown whole
 // at `rect` of a window of `window` size. Window clip -> the view's clip is a scale and an offset
@@ -56,7 +59,9 @@ void TileAdapter::find_lender(const SlaveContext& ctx) {
     State& s = state();
     if (s.lender) return;
     for (auto& [id, other] : states_) {
-        if (id == ctx.id || !other->frame_part_target || other->part_refused || other->presented) continue;
+        // (Blender's draw manager's context swaps its hidden window once when it is made)
+        const bool presents = other->presented && other->presented_frame + kLendsAfterFrames >= core_.frame();
+        if (id == ctx.id || !other->frame_part_target || other->part_refused || presents) continue;
         const auto context = core_.contexts().find(id);
         if (context == core_.contexts().end() || context->second->names.shared.get() != ctx.names.shared.get()) continue;
         GLuint texture = 0;
@@ -94,6 +99,7 @@ bool TileAdapter::shows_scene_in_part(const SlaveContext& ctx, const State& scen
     if (!samples_texture_of_size(scene.part_viewport + 2, found)) return false;
     s.part_found = true;
     s.showing_texture = found;
+    s.showing_repeatable = !opening_begin_;
     s.showing_size[0] = scene.part_viewport[2], s.showing_size[1] = scene.part_viewport[3];
     s.shown_projection = scene.scene_projection;
     std::copy(scene.part_viewport, scene.part_viewport + 4, s.shown_viewport);
@@ -109,7 +115,7 @@ bool TileAdapter::shows_scene_in_part(const SlaveContext& ctx, const State& scen
     return true;
 }
 
-void TileAdapter::finish_shown_scene() {
+void TileAdapter::finish_shown_scene(const Call& c) {
     State& s = state();
     if (!s.shown || !s.shown->redirected()) return;
     const SlaveContext& ctx = core_.current();
@@ -134,7 +140,16 @@ void TileAdapter::finish_shown_scene() {
         viewport[0] = int32_t(t.map_x(0, W)), viewport[1] = int32_t(t.map_y(0, H)),
         viewport[2] = int32_t(t.map_w(0, W, W)), viewport[3] = int32_t(t.map_h(0, H, H));
     try {
-        s.shown->composite(gl, s.showing_texture, glm::inverse(screen_to_tile), viewport, ctx.width, ctx.height);
+        GLuint picture = s.showing_texture;
+        // A draw that can be run again (not glBegin/glEnd's) shows the scene as the program's own
+        // shader makes it, stretched over the tile; else its texture is shown as it is.
+        if (s.showing_repeatable && kReplay[c.opcode]) {
+            int32_t program[4];
+            program_viewport(program);
+            picture = s.shown->draw_stretched(gl, rect, program, ctx.width, ctx.height,
+                                              [this, &c] { kReplay[c.opcode](core_, c); });
+        }
+        s.shown->composite(gl, picture, glm::inverse(screen_to_tile), viewport, ctx.width, ctx.height);
         s.shown_in_frame = core_.frame() + 1;
     } catch (const std::runtime_error& e) {
         std::fprintf(stderr, "glcast: cannot show the scene shown in part of the window on this tile: %s\n", e.what());

@@ -62,7 +62,11 @@ bool TileAdapter::draws_scene_target(SlaveContext& ctx) {
     if (!holds_colour_and_depth()) return false;
     if (window_shaped(s.viewport[0], ctx.master_width, ctx.master_height))
         return !s.scene_target_known || s.draw_framebuffer == s.scene_target;
-    return s.scene_in_part && !s.part_refused && s.scene_target_known && s.draw_framebuffer == s.scene_target;
+    // (and the others of its size: Blender's viewport draws its engines' colour and its overlays
+    // into targets of the region's size, which the draw that shows it blends)
+    return s.scene_in_part && !s.part_refused && s.scene_target_known &&
+           (s.draw_framebuffer == s.scene_target ||
+            (int32_t(s.viewport[0][2]) == s.part_viewport[2] && int32_t(s.viewport[0][3]) == s.part_viewport[3]));
 }
 
 bool TileAdapter::holds_colour_and_depth() {
@@ -84,11 +88,11 @@ bool TileAdapter::holds_colour_and_depth() {
 // into its offscreen surface at will): what it drew there says nothing of the order of its views.
 bool TileAdapter::drew_window_this_frame(const State& s) { return s.window_drawn && s.presented; }
 
-// A target of colour and depth not of the window's shape, drawn with a perspective view before the
-// window this frame: if no other view is found, the scene is there, shown in part of the window.
+// A target of colour and depth not of the window's shape, drawn with a perspective view this
+// frame: if no other view is found, the scene is there, shown in part of the window.
 bool TileAdapter::part_candidate(SlaveContext& ctx) {
     State& s = state();
-    return !ctx.drawing_to_window && !drew_window_this_frame(s) && !s.part_refused &&
+    return !ctx.drawing_to_window && !s.part_refused &&
            !window_shaped(s.viewport[0], ctx.master_width, ctx.master_height) && holds_colour_and_depth();
 }
 
@@ -106,12 +110,15 @@ void TileAdapter::saw_view(SlaveContext& ctx, const glm::dmat4& projection) {
     State& s = state();
     (ctx.drawing_to_window ? s.window_view : s.scene_view) = true;
     (ctx.drawing_to_window ? s.window_projection : s.scene_projection) = projection;
-    if (ctx.drawing_to_window || drew_window_this_frame(s)) return;
+    if (ctx.drawing_to_window) return;
     if (window_shaped(s.viewport[0], ctx.master_width, ctx.master_height)) {
+        if (drew_window_this_frame(s)) return;
         s.frame_scene_target = s.draw_framebuffer;
         s.frame_shaped_view = true;
         return;
     }
+    // (shown in part of the window, it may be drawn after other parts were: Blender draws each
+    // region into its own target and copies it into the window before drawing the next)
     s.part_turned = true;  // (draws_scene_target turns only the known one)
     for (int k = 0; k < 4; ++k) s.part_viewport[k] = int32_t(s.viewport[0][k]);
     if (!s.frame_shaped_view) s.frame_scene_target = s.draw_framebuffer;
@@ -140,6 +147,7 @@ void TileAdapter::end_frame(SlaveContext& ctx) {
         s.scene_in_part = s.scene_target_known = true;
     }
     s.presented = true;
+    s.presented_frame = core_.frame();
     s.frame_scene_target = s.frame_part_target = 0;
     s.window_drawn = s.window_view = s.scene_view = s.scene_shown = s.frame_shaped_view = false;
     s.part_turned = s.part_found = false;
@@ -294,8 +302,10 @@ bool TileAdapter::correct_shader_program(uint32_t program) {
 const glm::dmat4* TileAdapter::screen_of_flat_draw(const SlaveContext& ctx) {
     State& s = state();
     if (!ctx.drawing_to_window)
-        return s.scene_view && !drew_window_this_frame(s) && s.draw_framebuffer == s.frame_scene_target ? &s.scene_projection
-                                                                                               : nullptr;
+        return s.scene_view && s.draw_framebuffer == s.frame_scene_target &&
+                       (!drew_window_this_frame(s) || (s.scene_in_part && s.part_turned))
+                   ? &s.scene_projection
+                   : nullptr;
     if (s.window_view) return &s.window_projection;
     if (const State* scene = scene_in_part(ctx)) {  // a scene shown in part of the window
         if (!s.scene_shown && shows_scene_in_part(ctx, *scene)) {
