@@ -57,7 +57,8 @@ TileAdapter::State* TileAdapter::lender_of(const State& s) {
 // of that view's size, it lends the window its scene, which is turned from its next drawing on.
 void TileAdapter::find_lender(const SlaveContext& ctx) {
     State& s = state();
-    if (s.lender) return;
+    if (s.lender && lender_of(s)) return;
+    s.lender = 0;  // (none yet, or its context is gone)
     for (auto& [id, other] : states_) {
         // (Blender's draw manager's context swaps its hidden window once when it is made)
         const bool presents = other->presented && other->presented_frame + kLendsAfterFrames >= core_.frame();
