@@ -20,7 +20,10 @@ void ShownScene::begin(const GlApi& gl, int master_w, int master_h, const int32_
     gl.glGetDoublev(GL_DEPTH_RANGE, depth_range_);
     gl.glGetFloatv(GL_DEPTH_CLEAR_VALUE, &clear_depth_);
     redirected_ = true;
+    GLint texture = 0;  // (making the footprint binds its texture)
+    gl.glGetIntegerv(GL_TEXTURE_BINDING_2D, &texture);
     footprint_.begin(gl, master_w, master_h, viewport);
+    gl.glBindTexture(GL_TEXTURE_2D, GLuint(texture));
 }
 
 bool ShownScene::end(const GlApi& gl, int32_t rect[4]) {
@@ -47,20 +50,37 @@ bool ShownScene::end(const GlApi& gl, int32_t rect[4]) {
 
 GLuint ShownScene::draw_stretched(const GlApi& gl, const int32_t rect[4], const int32_t viewport[4], int tile_w,
                                   int tile_h, const std::function<void()>& draw) {
-    if (stretched_size_[0] != tile_w || stretched_size_[1] != tile_h) {
-        if (stretched_fb_) gl.glDeleteFramebuffers(1, &stretched_fb_), gl.glDeleteTextures(1, &stretched_);
-        stretched_fb_ = stretched_ = 0;
-        stretched_size_[0] = stretched_size_[1] = 0;
-        stretched_ = effects::make_texture(gl, GL_RGBA8, tile_w, tile_h);
-        stretched_fb_ = effects::make_framebuffer(gl, stretched_, 0);
-        stretched_size_[0] = tile_w, stretched_size_[1] = tile_h;
-    }
-    GLint framebuffer = 0, saved_viewport[4] = {};
+    // (saved before the target is made: making it binds it, and its texture)
+    GLint draw_framebuffer = 0, read_framebuffer = 0, saved_viewport[4] = {}, texture = 0;
     GLfloat clear[4] = {};
-    gl.glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &framebuffer);
+    gl.glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &draw_framebuffer);
+    gl.glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &read_framebuffer);
+    gl.glGetIntegerv(GL_TEXTURE_BINDING_2D, &texture);
     gl.glGetIntegerv(GL_VIEWPORT, saved_viewport);
     gl.glGetFloatv(GL_COLOR_CLEAR_VALUE, clear);
     const GLboolean scissor = gl.glIsEnabled(GL_SCISSOR_TEST);
+    auto restore = [&] {
+        gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(draw_framebuffer));
+        gl.glBindFramebuffer(GL_READ_FRAMEBUFFER, GLuint(read_framebuffer));
+        gl.glViewport(saved_viewport[0], saved_viewport[1], saved_viewport[2], saved_viewport[3]);
+        gl.glClearColor(clear[0], clear[1], clear[2], clear[3]);
+        if (scissor) gl.glEnable(GL_SCISSOR_TEST);
+        gl.glBindTexture(GL_TEXTURE_2D, GLuint(texture));
+    };
+    try {
+        if (stretched_size_[0] != tile_w || stretched_size_[1] != tile_h) {
+            if (stretched_fb_) gl.glDeleteFramebuffers(1, &stretched_fb_), gl.glDeleteTextures(1, &stretched_);
+            stretched_fb_ = stretched_ = 0;
+            stretched_size_[0] = stretched_size_[1] = 0;
+            stretched_ = effects::make_texture(gl, GL_RGBA8, tile_w, tile_h);
+            stretched_fb_ = effects::make_framebuffer(gl, stretched_, 0);
+            stretched_size_[0] = tile_w, stretched_size_[1] = tile_h;
+        }
+    } catch (...) {
+        restore();
+        throw;
+    }
+    gl.glBindTexture(GL_TEXTURE_2D, GLuint(texture));  // the program's draw samples it
     gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, stretched_fb_);
     gl.glDisable(GL_SCISSOR_TEST);
     gl.glClearColor(0, 0, 0, 0);
@@ -69,10 +89,7 @@ GLuint ShownScene::draw_stretched(const GlApi& gl, const int32_t rect[4], const 
     gl.glViewport(GLint(std::lround((viewport[0] - rect[0]) * sx)), GLint(std::lround((viewport[1] - rect[1]) * sy)),
                   GLsizei(std::lround(viewport[2] * sx)), GLsizei(std::lround(viewport[3] * sy)));
     draw();
-    gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(framebuffer));
-    gl.glViewport(saved_viewport[0], saved_viewport[1], saved_viewport[2], saved_viewport[3]);
-    gl.glClearColor(clear[0], clear[1], clear[2], clear[3]);
-    if (scissor) gl.glEnable(GL_SCISSOR_TEST);
+    restore();
     return stretched_;
 }
 
