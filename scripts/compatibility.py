@@ -288,7 +288,11 @@ KNOWN = """## What the table does not show
   model's plate holds cover, the sphere and cubes cast shadows on it, icicles hang from its
   edges, and the editor, console and toolbars keep every pixel. (Until this stop a replay with
   snow alone found no view: with no pass re-rendering, Qt's GLSL blit was not drawn again to
-  find where the scene is.)
+  find where the scene is.) On the cylinder it turns from the widget's next drawing (frame 7):
+  the window's interface lies on the program's screen (the widget's frustum extended to the
+  window), the model in the widget, the axes continuing beyond the screen onto the tiles beside
+  it (docs/wall.md, "A scene shown in part of the window"); frames 0-6 show the window as drawn.
+  (The table's cylinder column, "unturned", is from the run before that change.)
 - **openarena** (a recorded match): its renderer draws the scene into a framebuffer object of
   the window's size, copies it to the window with a full-window draw, then draws the HUD (3D
   head icons in small viewports among it). Until this stop the passes took a HUD icon for the
@@ -369,7 +373,8 @@ KNOWN = """## What the table does not show
   screen, the viewport's frustum extended to the window (larger than the front tile at Blender's
   view). Over the front tile large dark shapes and a star of red and white lines show, which the
   program's frame does not: not understood yet (the draw manager's wire frames, drawn with lines
-  it widens in screen space, are the suspects). Before, every tile showed the window as drawn.
+  it widens in screen space, are the suspects). Before, every tile showed the window as drawn (the
+  table's cylinder column, "unturned", is from that run).
   Its replay differs
   from the program's own frames by 1 level of green or blue in 24 pixels of one row (window row
   458, from the timeline's playhead to its right, drawn by a blended fan over the window after the
