@@ -48,6 +48,16 @@ bool ShownScene::end(const GlApi& gl, int32_t rect[4]) {
     return drawn;
 }
 
+void ShownScene::TileTarget::fit(const GlApi& gl, GLenum format, int width, int height) {
+    if (size[0] == width && size[1] == height) return;
+    if (framebuffer) gl.glDeleteFramebuffers(1, &framebuffer), gl.glDeleteTextures(1, &texture);
+    framebuffer = texture = 0;
+    size[0] = size[1] = 0;
+    texture = effects::make_texture(gl, format, width, height);
+    framebuffer = effects::make_framebuffer(gl, texture, 0);
+    size[0] = width, size[1] = height;
+}
+
 GLuint ShownScene::draw_stretched(const GlApi& gl, const int32_t rect[4], const int32_t viewport[4], int tile_w,
                                   int tile_h, const std::function<void()>& draw) {
     // (saved before the target is made: making it binds it, and its texture)
@@ -68,20 +78,13 @@ GLuint ShownScene::draw_stretched(const GlApi& gl, const int32_t rect[4], const 
         gl.glBindTexture(GL_TEXTURE_2D, GLuint(texture));
     };
     try {
-        if (stretched_size_[0] != tile_w || stretched_size_[1] != tile_h) {
-            if (stretched_fb_) gl.glDeleteFramebuffers(1, &stretched_fb_), gl.glDeleteTextures(1, &stretched_);
-            stretched_fb_ = stretched_ = 0;
-            stretched_size_[0] = stretched_size_[1] = 0;
-            stretched_ = effects::make_texture(gl, GL_RGBA8, tile_w, tile_h);
-            stretched_fb_ = effects::make_framebuffer(gl, stretched_, 0);
-            stretched_size_[0] = tile_w, stretched_size_[1] = tile_h;
-        }
+        stretched_.fit(gl, GL_RGBA8, tile_w, tile_h);
     } catch (...) {
         restore();
         throw;
     }
     gl.glBindTexture(GL_TEXTURE_2D, GLuint(texture));  // the program's draw samples it
-    gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, stretched_fb_);
+    gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, stretched_.framebuffer);
     gl.glDisable(GL_SCISSOR_TEST);
     gl.glClearColor(0, 0, 0, 0);
     gl.glClear(GL_COLOR_BUFFER_BIT);
@@ -90,7 +93,7 @@ GLuint ShownScene::draw_stretched(const GlApi& gl, const int32_t rect[4], const 
                   GLsizei(std::lround(viewport[2] * sx)), GLsizei(std::lround(viewport[3] * sy)));
     draw();
     restore();
-    return stretched_;
+    return stretched_.texture;
 }
 
 void ShownScene::composite(const GlApi& gl, GLuint scene, const glm::dmat3& tile_to_screen, const int32_t viewport[4],
@@ -107,14 +110,7 @@ void ShownScene::composite(const GlApi& gl, GLuint scene, const glm::dmat3& tile
         build(marks_, "#define MASK\n");
         gl.glGenVertexArrays(1, &vao_);
     }
-    if (mask_size_[0] != tile_w || mask_size_[1] != tile_h) {
-        if (mask_fb_) gl.glDeleteFramebuffers(1, &mask_fb_), gl.glDeleteTextures(1, &mask_);
-        mask_fb_ = mask_ = 0;
-        mask_size_[0] = mask_size_[1] = 0;
-        mask_ = effects::make_texture(gl, GL_R8, tile_w, tile_h);
-        mask_fb_ = effects::make_framebuffer(gl, mask_, 0);
-        mask_size_[0] = tile_w, mask_size_[1] = tile_h;
-    }
+    mask_.fit(gl, GL_R8, tile_w, tile_h);
     gl.glDisable(GL_DEPTH_TEST);
     gl.glDisable(GL_BLEND);
     gl.glDepthMask(GL_FALSE);
@@ -124,7 +120,7 @@ void ShownScene::composite(const GlApi& gl, GLuint scene, const glm::dmat3& tile
     gl.glBindTexture(GL_TEXTURE_2D, footprint_.depth_texture());
     if (gl.has(OP_glBindSampler)) gl.glBindSampler(0, 0), gl.glBindSampler(1, 0);  // (the guard puts the program's back)
     const glm::mat3 m(tile_to_screen);
-    gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, mask_fb_);
+    gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, mask_.framebuffer);
     gl.glViewport(0, 0, tile_w, tile_h);
     gl.glClearColor(0, 0, 0, 0);
     gl.glClear(GL_COLOR_BUFFER_BIT);

@@ -45,7 +45,7 @@ public:
     void composite(const GlApi& gl, GLuint scene, const glm::dmat3& tile_to_screen, const int32_t viewport[4],
                    int tile_w, int tile_h);
     // Where the last composite drew the scene: 1, elsewhere 0.
-    GLuint mask() const { return mask_; }
+    GLuint mask() const { return mask_.texture; }
 
 private:
     DrawFootprint footprint_;
@@ -60,8 +60,14 @@ private:
         GLint scene = -1, footprint = -1, tile_to_screen = -1;
     };
     Program picture_, marks_;
-    GLuint vao_ = 0, mask_ = 0, mask_fb_ = 0, stretched_ = 0, stretched_fb_ = 0;
-    int mask_size_[2] = {0, 0}, stretched_size_[2] = {0, 0};
+    // A colour target of the tile's size, made again when that changes (making it binds it).
+    struct TileTarget {
+        GLuint texture = 0, framebuffer = 0;
+        int size[2] = {0, 0};
+        void fit(const GlApi& gl, GLenum format, int width, int height);
+    };
+    TileTarget mask_, stretched_;
+    GLuint vao_ = 0;
 };
 
 }  // namespace glcast::slave
