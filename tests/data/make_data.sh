@@ -9,10 +9,11 @@ build=$(cd "${1:?usage: make_data.sh BUILD_DIR}" && pwd)
 data=$(cd "$(dirname "$0")" && pwd)
 apps=$build/tests/apps
 
-exec 3< <(Xvfb -displayfd 1 -screen 0 1024x768x24 -nolisten tcp 2>/dev/null)
+exec 3< <(exec Xvfb -displayfd 1 -screen 0 1024x768x24 -nolisten tcp -noreset 2>/dev/null)
+xvfb=$!  # (the server itself: the process substitution execs it; pkill by pattern ended others' too)
 read -r display <&3
 export DISPLAY=:$display
-trap 'pkill -f "Xvfb -displayfd 1" || true' EXIT
+trap 'kill "$xvfb" 2>/dev/null || true' EXIT
 
 capture() {  # name frames program args...
     local name=$1 frames=$2

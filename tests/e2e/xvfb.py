@@ -74,7 +74,12 @@ class Xvfb:
             os.environ["DISPLAY"] = os.environ["GLCAST_TEST_DISPLAY"]
             return self
         r, w = os.pipe()
-        self.proc = subprocess.Popen(["Xvfb", "-displayfd", str(w), "-screen", "0", self.size, "-nolisten", "tcp"],
+        # -noreset: by default the server resets when its last client leaves, and a client that
+        # connects during the reset is dropped before its setup is answered (XOpenDisplay fails:
+        # Window.SameSceneAsHeadlessBackends once in CI, right after the previous test's window
+        # closed).
+        self.proc = subprocess.Popen(["Xvfb", "-displayfd", str(w), "-screen", "0", self.size, "-nolisten", "tcp",
+                                      "-noreset"],
                                      pass_fds=(w,), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         os.close(w)
         number = b""
