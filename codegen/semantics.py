@@ -12,7 +12,7 @@ VENDOR_SUFFIX = re.compile(r"(ARB|EXT|OES|NV|KHR|AMD|APPLE|ATI|SGIS|SGIX|MESA|IN
 MATRIX_OPS = ["mode", "push", "pop", "load", "multiply"]
 REDRAW_KINDS = ["state", "draw", "begin", "end", "new_list", "end_list", "pixels", "program_state", "copy", "clear"]
 WINDOW_KINDS = ["viewport", "scissor", "viewport_indexed", "scissor_indexed", "viewport_array", "scissor_array",
-                "line_width", "point_size", "pixel_zoom", "blit_destination", "draw_framebuffer"]
+                "line_width", "point_size", "pixel_zoom", "blit", "draw_framebuffer"]
 OBJECT_ACCESS = ["bound", "named"]
 CONTEXT_OPS = ["create", "make_current", "swap", "destroy"]
 LIST_OPS = ["new", "call", "call_many"]
@@ -148,8 +148,8 @@ class Semantics:
             if idx is not None:
                 sem["window"], sem["window_params"] = k, idx
                 break
-        if len(sem["window_params"]) > 5:
-            raise SemanticsError(f"semantics.yaml window: {cmd.name} maps more than 5 parameters")
+        if len(sem["window_params"]) > 10:
+            raise SemanticsError(f"semantics.yaml window: {cmd.name} names more than 10 parameters")
 
         p.window_query = bool(self.find(cmd, s["window_system_pnames"]["commands"])[0])
         sem["frame_only"] = bool(p.draw) or bool(self.find(cmd, s["frame_only"])[0])

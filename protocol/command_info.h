@@ -73,7 +73,7 @@ enum class MatrixOp : uint8_t { Nothing, Mode, Push, Pop, Load, Multiply };
 enum class RedrawKind : uint8_t { Ignored, State, Draw, Begin, End, NewList, EndList, Pixels, ProgramState, Copy, Clear };
 enum class WindowMapping : uint8_t {
     Nothing, Viewport, Scissor, ViewportIndexed, ScissorIndexed, ViewportArray, ScissorArray,
-    LineWidth, PointSize, PixelZoom, BlitDestination, DrawFramebuffer,
+    LineWidth, PointSize, PixelZoom, Blit, DrawFramebuffer,
 };
 enum class ObjectAccess : uint8_t { Nothing, Bound, Named };
 enum class ContextOp : uint8_t { Nothing, Create, MakeCurrent, Swap, Destroy };
@@ -91,7 +91,7 @@ struct CommandSemantics {
     MatrixOp matrix;            // on the stack glMatrixMode selects
     RedrawKind redraw;          // what the frame recorder keeps of it
     WindowMapping window;       // window coordinates or pixel sizes a tile maps
-    int8_t window_params[5];    // ... taken from these parameters, in the mapping's order
+    int8_t window_params[10];   // ... taken from these parameters, in the mapping's order
     StateGroup state;           // the context state it sets
     int8_t state_key[2];        // parameters saying which entry of the group (-1: none)
     ObjectAccess writes;        // object contents it writes ...

@@ -34,6 +34,19 @@ void DrawFootprint::begin(const GlApi& gl, int master_w, int master_h, const int
     gl.glDepthRange(0, 0);
 }
 
+void DrawFootprint::cover(const GlApi& gl, const int32_t rect[4]) {
+    GLint box[4] = {};
+    gl.glGetIntegerv(GL_SCISSOR_BOX, box);
+    const GLint x0 = GLint(std::lround(rect[0] * scale_)), y0 = GLint(std::lround(rect[1] * scale_));
+    const GLint x1 = GLint(std::lround(rect[2] * scale_)), y1 = GLint(std::lround(rect[3] * scale_));
+    gl.glEnable(GL_SCISSOR_TEST);
+    gl.glScissor(x0, y0, std::max(0, x1 - x0), std::max(0, y1 - y0));
+    gl.glClearDepth(0.0);
+    gl.glClear(GL_DEPTH_BUFFER_BIT);
+    gl.glScissor(box[0], box[1], box[2], box[3]);
+    gl.glDisable(GL_SCISSOR_TEST);
+}
+
 bool DrawFootprint::measure(const GlApi& gl, int32_t out[4]) {
     const int W = size_[0], H = size_[1];
     if (!framebuffer_) return false;

@@ -26,6 +26,9 @@ public:
     // and restores the program's state around it. Throws std::runtime_error if the target cannot
     // be made.
     void begin(const GlApi& gl, int master_w, int master_h, const int32_t viewport[4]);
+    // Instead of a draw, between begin and measure: a rectangle's footprint (x0, y0, x1, y1 in
+    // the master's window pixels; a blit's destination).
+    void cover(const GlApi& gl, const int32_t rect[4]);
     // After the draw: the rectangle it covered (x0, y0, x1, y1 in the master's window pixels, GL's
     // y up). False: it drew nothing. Leaves the target bound for reading.
     bool measure(const GlApi& gl, int32_t out[4]);

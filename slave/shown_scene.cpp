@@ -48,6 +48,13 @@ bool ShownScene::end(const GlApi& gl, int32_t rect[4]) {
     return drawn;
 }
 
+bool ShownScene::cover(const GlApi& gl, int master_w, int master_h, const int32_t rect[4], int32_t out[4]) {
+    const int32_t window[4] = {0, 0, master_w, master_h};
+    begin(gl, master_w, master_h, window);
+    footprint_.cover(gl, rect);
+    return end(gl, out);
+}
+
 void ShownScene::TileTarget::fit(const GlApi& gl, GLenum format, int width, int height) {
     if (size[0] == width && size[1] == height) return;
     if (framebuffer) gl.glDeleteFramebuffers(1, &framebuffer), gl.glDeleteTextures(1, &texture);
@@ -84,6 +91,7 @@ GLuint ShownScene::draw_stretched(const GlApi& gl, const int32_t rect[4], const 
         throw;
     }
     gl.glBindTexture(GL_TEXTURE_2D, GLuint(texture));  // the program's draw samples it
+    gl.glBindFramebuffer(GL_READ_FRAMEBUFFER, GLuint(read_framebuffer));  // (and a blit reads its own)
     gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, stretched_.framebuffer);
     gl.glDisable(GL_SCISSOR_TEST);
     gl.glClearColor(0, 0, 0, 0);

@@ -30,6 +30,9 @@ public:
     // master's window pixels). False: it drew nothing.
     bool end(const GlApi& gl, int32_t rect[4]);
     bool redirected() const { return redirected_; }
+    // Instead of begin, a draw and end: the program showed the scene by a blit into `rect` (x0,
+    // y0, x1, y1 of a master window of master_w x master_h), its footprint. Returns end's.
+    bool cover(const GlApi& gl, int master_w, int master_h, const int32_t rect[4], int32_t out[4]);
     // The program's draw that showed the scene, run again by `draw` into a target of the tile's size
     // with its viewport (`viewport`, the master's window pixels) scaled so that where it put the
     // scene (`rect`) covers the target: the picture the program's own shader makes of its targets

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <stdexcept>
 
 #include "common/gl_headers.h"
 #include "common/gl_state.h"
@@ -210,21 +211,36 @@ bool TileAdapter::replace_call(const Call& c) {
                        GLfloat(core_.value<GLfloat>(c, arg(1)) * t.sy(ctx.master_height)));
         return true;
     }
-    case WindowMapping::BlitDestination: {
+    case WindowMapping::Blit: {
         // Into the window: the destination rectangle is window coordinates. (Reading the window
         // back on a tile would need the other tiles' pixels; that source is left as it is.)
         if (!mapping()) return false;
         const SlaveContext& ctx = core_.current();
         const TileMapping& t = core_.options().tile;
+        int32_t destination[4], source[4], mapped_rect[4];
+        for (int k = 0; k < 4; ++k)
+            destination[k] = core_.value<GLint>(c, arg(k)), source[k] = core_.value<GLint>(c, arg(4 + k));
+        const auto mask = GLbitfield(core_.value<GLuint>(c, arg(8)));
+        if (shows_scene_by_blit(source, destination, mask)) return true;  // (a rotated tile)
         // The call as the program made it but for the mapped rectangle, replayed as any call is
         // (whatever the command's other parameters are).
         Call mapped = c;
-        auto map = [&](int k, bool x) {
-            const int64_t v = core_.value<GLint>(c, arg(k));
-            const int64_t m = x ? t.map_x(double(v), ctx.master_width) : t.map_y(double(v), ctx.master_height);
-            mapped.args[size_t(arg(k))].bits = uint32_t(GLint(m));  // as the decoder holds an i32: its 4 bytes
-        };
-        map(0, true), map(1, false), map(2, true), map(3, false);
+        for (int k = 0; k < 4; ++k) {
+            const double v = destination[k];
+            mapped_rect[k] = int32_t(int64_t(k % 2 == 0 ? t.map_x(v, ctx.master_width) : t.map_y(v, ctx.master_height)));
+            mapped.args[size_t(arg(k))].bits = uint32_t(mapped_rect[k]);  // as the decoder holds an i32: its 4 bytes
+        }
+        if (ScaledBlit::needed(gl, source, mapped_rect)) {  // a multisampled source at the tile's scale
+            State& s = state();
+            try {
+                if (!s.scaled_blit) s.scaled_blit = std::make_shared<ScaledBlit>();
+                s.scaled_blit->blit(gl, source, mapped_rect, mask, GLenum(core_.value<GLenum>(c, arg(9))));
+            } catch (const std::runtime_error& e) {
+                std::fprintf(stderr, "glcast: a multisampled blit into the window cannot be scaled to this tile: %s\n",
+                             e.what());
+            }
+            return true;
+        }
         if (!kReplay[c.opcode]) return false;
         kReplay[c.opcode](core_, mapped);
         return true;

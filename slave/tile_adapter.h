@@ -10,6 +10,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <unordered_map>
 #include <utility>
@@ -112,6 +113,9 @@ private:
     bool shows_scene_in_part(const SlaveContext& ctx, const State& scene);  // the draw about to run; if so, redirected
     bool samples_texture_of_size(const int32_t size[2], GLuint& texture);
     void finish_shown_scene(const Call& c);               // after it: the scene over the tile
+    // A glBlitFramebuffer into the window that shows it: shown over the tile instead (true).
+    bool shows_scene_by_blit(const int32_t source[4], const int32_t destination[4], GLbitfield mask);
+    void show_over_tile(const int32_t rect[4], const std::function<GLuint()>& picture);
     bool correct_shader_program(uint32_t program);  // false: not patched
     // Vertex shaders get glcast_clip: for rotated tiles, and for passes that redraw the scene.
     bool patching() const;

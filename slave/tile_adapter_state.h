@@ -10,6 +10,7 @@
 #include <glm/glm.hpp>
 
 #include "slave/program_camera.h"
+#include "slave/scaled_blit.h"
 #include "slave/shown_scene.h"
 #include "slave/tile_adapter.h"
 
@@ -76,6 +77,7 @@ struct TileAdapter::State {
     uint32_t lender = 0;              // the context (id) whose scene the window shows, if not its own
     uint64_t shown_in_frame = 0;      // the frame (+ 1) whose scene was last shown over the tile
     std::shared_ptr<ShownScene> shown;  // (shared with the copy a redraw keeps)
+    std::shared_ptr<ScaledBlit> scaled_blit;  // a multisampled blit into the window, scaled (scaled_blit.h)
 };
 
 // Per share group: what the shader patch needs to know of shaders and programs.

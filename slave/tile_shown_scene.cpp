@@ -4,10 +4,12 @@
 // and the turned scene drawn over the tile in its stead.
 #include <algorithm>
 #include <cstdio>
+#include <functional>
 #include <stdexcept>
 
 #include "common/gl_headers.h"
 #include "slave/replayer.h"
+#include "slave/scaled_blit.h"
 #include "slave/tile_adapter.h"
 #include "slave/tile_adapter_state.h"
 
@@ -123,6 +125,67 @@ void TileAdapter::finish_shown_scene(const Call& c) {
     const GlApi& gl = core_.api();
     int32_t rect[4];
     if (!s.shown->end(gl, rect)) return;  // it drew nothing: nor does the tile
+    show_over_tile(rect, [&] {
+        // A draw that can be run again (not glBegin/glEnd's) shows the scene as the program's own
+        // shader makes it, stretched over the tile; else its texture is shown as it is.
+        if (!s.showing_repeatable || !kReplay[c.opcode]) return s.showing_texture;
+        int32_t program[4];
+        program_viewport(program);
+        return s.shown->draw_stretched(gl, rect, program, ctx.width, ctx.height,
+                                       [this, &c] { kReplay[c.opcode](core_, c); });
+    });
+}
+
+// A scene shown by glBlitFramebuffer from its target (or a resolve's or a copy's of its size)
+// into the window: the blit is the draw that shows it, its destination is where. On the tile the
+// blit stretches the turned scene over a tile-sized target (resolving a multisampled one first).
+bool TileAdapter::shows_scene_by_blit(const int32_t source[4], const int32_t destination[4], GLbitfield mask) {
+    State& s = state();
+    const SlaveContext& ctx = core_.current();
+    if (!core_.options().view.enabled || s.scene_shown || !(mask & GL_COLOR_BUFFER_BIT)) return false;
+    // (a lender's targets are its own context's: never read by this one's blit)
+    if (scene_in_part(ctx) != &s || source[2] - source[0] != s.part_viewport[2] ||
+        source[3] - source[1] != s.part_viewport[3] || destination[2] <= destination[0] ||
+        destination[3] <= destination[1])
+        return false;
+    s.scene_shown = s.part_found = true;
+    s.showing_size[0] = s.part_viewport[2], s.showing_size[1] = s.part_viewport[3];
+    s.shown_projection = s.scene_projection;
+    s.shown_viewport[0] = s.part_viewport[0] - source[0], s.shown_viewport[1] = s.part_viewport[1] - source[1];
+    s.shown_viewport[2] = s.part_viewport[2], s.shown_viewport[3] = s.part_viewport[3];
+    const GlApi& gl = core_.api();
+    int32_t rect[4];
+    try {
+        if (!s.shown) s.shown = std::make_shared<ShownScene>();
+        if (!s.shown->cover(gl, ctx.master_width, ctx.master_height, destination, rect)) return true;
+    } catch (const std::runtime_error& e) {
+        std::fprintf(stderr, "glcast: cannot show the scene shown in part of the window on this tile: %s\n", e.what());
+        return true;
+    }
+    show_over_tile(destination, [&] {
+        const int32_t whole[4] = {destination[0], destination[1], destination[2] - destination[0],
+                                  destination[3] - destination[1]};
+        return s.shown->draw_stretched(gl, destination, whole, ctx.width, ctx.height, [&] {
+            const int32_t tile[4] = {0, 0, ctx.width, ctx.height};
+            if (ScaledBlit::needed(gl, source, tile)) {
+                if (!s.scaled_blit) s.scaled_blit = std::make_shared<ScaledBlit>();
+                s.scaled_blit->blit(gl, source, tile, GL_COLOR_BUFFER_BIT, GL_LINEAR);
+            } else {
+                gl.glBlitFramebuffer(source[0], source[1], source[2], source[3], 0, 0, ctx.width, ctx.height,
+                                     GL_COLOR_BUFFER_BIT, GL_LINEAR);
+            }
+        });
+    });
+    return true;
+}
+
+// The scene the program showed at `rect` of its window (x0, y0, x1, y1: the footprint's), turned,
+// over the tile: where the tile does not see the program's screen, and where the footprint lies
+// on it. `picture` makes the texture to show.
+void TileAdapter::show_over_tile(const int32_t rect[4], const std::function<GLuint()>& picture) {
+    State& s = state();
+    const SlaveContext& ctx = core_.current();
+    const GlApi& gl = core_.api();
     const int window[2] = {ctx.master_width, ctx.master_height};
     if (!window_frustum(s.shown_projection, s.shown_viewport, s.showing_size, rect, window, s.window_screen)) return;
     s.window_screen_known = true;
@@ -141,16 +204,7 @@ void TileAdapter::finish_shown_scene(const Call& c) {
         viewport[0] = int32_t(t.map_x(0, W)), viewport[1] = int32_t(t.map_y(0, H)),
         viewport[2] = int32_t(t.map_w(0, W, W)), viewport[3] = int32_t(t.map_h(0, H, H));
     try {
-        GLuint picture = s.showing_texture;
-        // A draw that can be run again (not glBegin/glEnd's) shows the scene as the program's own
-        // shader makes it, stretched over the tile; else its texture is shown as it is.
-        if (s.showing_repeatable && kReplay[c.opcode]) {
-            int32_t program[4];
-            program_viewport(program);
-            picture = s.shown->draw_stretched(gl, rect, program, ctx.width, ctx.height,
-                                              [this, &c] { kReplay[c.opcode](core_, c); });
-        }
-        s.shown->composite(gl, picture, glm::inverse(screen_to_tile), viewport, ctx.width, ctx.height);
+        s.shown->composite(gl, picture(), glm::inverse(screen_to_tile), viewport, ctx.width, ctx.height);
         s.shown_in_frame = core_.frame() + 1;
     } catch (const std::runtime_error& e) {
         std::fprintf(stderr, "glcast: cannot show the scene shown in part of the window on this tile: %s\n", e.what());

@@ -279,8 +279,9 @@ bool TileAdapter::correct_shader_program(uint32_t program) {
             saw_view(ctx, camera.projection);
         } else if (const glm::dmat4* screen = screen_of_flat_draw(ctx)) {
             m = glm::mat4(view.correction(*screen));  // over a view: on the program's screen
-        } else if (ctx.drawing_to_window && (s.scene_view || s.window_view || s.scene_shown)) {
-            // the quad that shows the scene: as drawn
+        } else if (ctx.drawing_to_window && (s.scene_view || s.window_view || s.scene_shown || s.frame_part_target)) {
+            // the quad that shows the scene: as drawn (or a scene in part of the window, not known
+            // yet: the frame that finds it is shown as drawn)
         } else if (!warned_no_camera_) {
             warned_no_camera_ = true;
             std::fprintf(stderr, "glcast: a shader program draws to the window with no perspective projection among "

@@ -107,7 +107,9 @@ class DeclaredSemantics(unittest.TestCase):
         self.assertEqual(sem("glViewportArrayv")["window"], "viewport_array")
         self.assertEqual(sem("glScissorIndexed")["window_params"], [0, 1, 2, 3, 4])
         self.assertEqual(sem("glScissorArrayv")["window"], "scissor_array")
-        self.assertEqual(sem("glBlitFramebuffer")["window_params"], [4, 5, 6, 7])
+        # (the destination first: the rectangle a tile maps; then the source, the mask, the filter)
+        self.assertEqual((sem("glBlitFramebuffer")["window"], sem("glBlitFramebuffer")["window_params"]),
+                         ("blit", [4, 5, 6, 7, 0, 1, 2, 3, 8, 9]))
 
     def test_matrix_and_redraw_kinds(self):
         self.assertEqual(sem("glLoadIdentity")["matrix"], "load")

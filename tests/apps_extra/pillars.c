@@ -83,6 +83,9 @@
  * viewport after it, at x 330..380, y 190..240. With --post the scene's colour is first copied by a
  * full-target draw into a second framebuffer object of the region's size that shares the scene's
  * depth renderbuffer (Blender's viewport resolves its engines' colour so), and that one is shown.
+ * With --blit the viewport is shown by glBlitFramebuffer from its target into that rectangle of the
+ * window instead of a quad (with --msaa straight from the multisampled target: the resolve is the
+ * blit that shows it, as programs drawing with multisampling often show their scene).
  *
  * With --markers the scene gets marker points (GL_POINTS of size 4, depth-tested, unlit) at known
  * positions of its eye space, one colour each, for the immersive-wall tests (units are metres there,
@@ -112,7 +115,7 @@
  * which the shader reads through gl_LightSource[0]. The fixed-function program is unlit: the passes
  * then use their configured light.
  *
- *   pillars [--shader | --builtins | --mvp] [--grow] [--fbo [--half | --region] [--mrt | --msaa] [--depth-texture]] [--reversed] [--hud [--in-scene [--depth-on]]]
+ *   pillars [--shader | --builtins | --mvp] [--grow] [--fbo [--half | --region [--blit]] [--mrt | --msaa] [--depth-texture]] [--reversed] [--hud [--in-scene [--depth-on]]]
  *           [--hand] [--left-handed] [--mixed] [--foliage] [--post] [--markers] [--cull] [--fov DEG]
  *           [--fisheye] [--scale S] [--turn DEG] [--sun X,Y,Z | --gl-light X,Y,Z] [--frames N] [--size WxH]
  */
@@ -268,9 +271,9 @@ static void flat_rect(double x0, double y0, double x1, double y1, GLubyte r, GLu
  * not 0, copied into post_fbo's `post_color` first if that is not 0) shown at x rx..width, y 0..rh
  * of the window between a toolbar and a header, as a content suite composites its regions */
 static void show_region(GLuint msaa_fbo, GLuint fbo, GLuint color, GLuint post_fbo, GLuint post_color, GLuint blit,
-                        int fw, int fh, int width, int height, int rx, int rh, int gizmo)
+                        int by_blit, int fw, int fh, int width, int height, int rx, int rh, int gizmo)
 {
-    if (msaa_fbo) {
+    if (msaa_fbo && !by_blit) {
         glBindFramebuffer(GL_READ_FRAMEBUFFER, msaa_fbo);
         glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo);
         glBlitFramebuffer(0, 0, fw, fh, 0, 0, fw, fh, GL_COLOR_BUFFER_BIT, GL_NEAREST);
@@ -299,6 +302,11 @@ static void show_region(GLuint msaa_fbo, GLuint fbo, GLuint color, GLuint post_f
     glViewport(0, 0, width, height);
     glOrtho(0, width, 0, height, -1, 1);
     flat_rect(0, 0, rx, height, 60, 62, 70);  /* the toolbar */
+    if (by_blit) {
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, msaa_fbo ? msaa_fbo : post_fbo ? post_fbo : fbo);
+        glBlitFramebuffer(0, 0, fw, fh, rx, 0, width, rh, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+    } else {
     if (blit) glUseProgram(blit);
     else glEnable(GL_TEXTURE_2D);
     glBindTexture(GL_TEXTURE_2D, post_fbo ? post_color : color);
@@ -311,6 +319,7 @@ static void show_region(GLuint msaa_fbo, GLuint fbo, GLuint color, GLuint post_f
     glEnd();
     glUseProgram(0);
     glDisable(GL_TEXTURE_2D);
+    }
     flat_rect(rx, rh, width, height, 45, 48, 55);  /* the header */
     const double sx = width / 400.0, sy = height / 300.0;
     if (gizmo) flat_rect(330 * sx, 190 * sy, 380 * sx, 240 * sy, 230, 50, 40);
@@ -326,6 +335,7 @@ int main(int argc, char **argv)
     const int fbo_mode = app_take_flag(&argc, &argv, "--fbo");
     const int half = fbo_mode && app_take_flag(&argc, &argv, "--half");
     const int region = fbo_mode && !half && app_take_flag(&argc, &argv, "--region");
+    const int by_blit = region && app_take_flag(&argc, &argv, "--blit");
     const int mrt = fbo_mode && app_take_flag(&argc, &argv, "--mrt");
     const int msaa = fbo_mode && app_take_flag(&argc, &argv, "--msaa");
     const int depth_texture = fbo_mode && app_take_flag(&argc, &argv, "--depth-texture");
@@ -651,8 +661,8 @@ int main(int argc, char **argv)
         }
         if (hud_in_scene) draw_hud(shader ? program : 0, proj_location, builtins, fw, fh, 40, hud_depth);
         if (region) {
-            show_region(msaa ? msaa_fbo : 0, fbo, color, post_fbo, post_color, blit, fw, fh, a.width, a.height, rx,
-                        rh, hud);
+            show_region(msaa ? msaa_fbo : 0, fbo, color, post_fbo, post_color, blit, by_blit, fw, fh, a.width, a.height,
+                        rx, rh, hud);
         } else if (fbo_mode) {  /* the scene shown in the window, as a last post-processing pass does */
             if (msaa) {
                 glBindFramebuffer(GL_READ_FRAMEBUFFER, msaa_fbo);

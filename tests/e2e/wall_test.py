@@ -143,6 +143,17 @@ def case_mosaic_grow():
     mosaic([os.path.join(APPS, "pillars"), "--grow", "--size", "320x240", "--frames", "100"], probes)
 
 
+def case_mosaic_msaa_blit():
+    # A multisampled scene resolved into the window by glBlitFramebuffer at its own size: each
+    # tile (and the canvas) scales it. GL resolves samples only at the same size: before, every
+    # tile and the canvas were black where the scene is shown.
+    def probes(frame):  # tests/apps_extra/pillars.c --region at 320x240: its viewport x 64..320, y 0..208
+        return [(*window_to_canvas(192, 120), (40, 200, 255), 3, "pillar 0, straight ahead"),
+                (*window_to_canvas(30, 120), (60, 62, 70), 3, "the toolbar")]
+    mosaic([os.path.join(APPS, "pillars"), "--shader", "--fbo", "--region", "--blit", "--msaa", "--size", "320x240",
+            "--frames", "100"], probes)
+
+
 def window_to_canvas(x, y):
     """A point of the program's 320x240 window (GL: from the bottom left) on the 1280x960
     canvas image (from the top left), in the middle of the 4x4 pixels it becomes."""
