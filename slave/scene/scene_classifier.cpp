@@ -133,7 +133,7 @@ void follow_scene_texture(SceneFacts& f, DrawState& s, RedrawKind kind) {
             !s.samples_texture(f.scene_texture))
             return;
     }
-    if (const GLuint texture = s.color_texture()) f.scene_texture = texture;
+    if (const GLuint texture = s.color_texture()) f.scene_texture = texture, f.scene_copy = framebuffer;
 }
 
 bool offscreen_scene(const SceneFacts& f, DrawState& s, int master_width, int master_height, GLuint& framebuffer) {
@@ -179,6 +179,20 @@ WindowDrawMeaning window_draw(SceneFacts& f, DrawState& s, RedrawKind kind) {
     if (!f.scene_framebuffer && !starts_overlays(f, s, kind)) return WindowDrawMeaning::Scene;
     f.overlay = true;
     return WindowDrawMeaning::StartsOverlays;
+}
+
+WindowDrawMeaning window_blit(SceneFacts& f, DrawState& s, const int32_t source[4]) {
+    if (!f.scene_framebuffer || f.presented) return WindowDrawMeaning::Scene;
+    if (!f.in_part) {
+        f.presented = true;  // the scene's image copied over the window
+        return WindowDrawMeaning::Scene;
+    }
+    const GLuint read = s.read_framebuffer();
+    if ((read != f.scene_framebuffer && (!f.scene_copy || read != f.scene_copy)) ||
+        source[2] - source[0] != f.viewport[2] || source[3] - source[1] != f.viewport[3])
+        return WindowDrawMeaning::Scene;  // (another picture: a thumbnail, part of the interface)
+    f.presented = true;
+    return WindowDrawMeaning::ShowsInPart;
 }
 
 bool scene_target_overlays_start(SceneFacts& f, DrawState& s, RedrawKind kind) {

@@ -50,6 +50,7 @@ struct SceneFacts {
     // Flat draws to the window before it are the interface around it.
     bool in_part = false;
     GLuint scene_texture = 0;
+    GLuint scene_copy = 0;  // the framebuffer object whose colour scene_texture is, when a copy's
     // Overlays drawn into that framebuffer object after the main view, before it is shown (VTK's
     // text actors): from the first flat draw there (starts_overlays' rule) on, what the target
     // gets is the program's, as the window's overlays are.
@@ -127,6 +128,13 @@ void follow_scene_texture(SceneFacts& facts, DrawState& state, RedrawKind kind);
 // the window the first such draw that samples its texture; a 3D draw instead means the
 // offscreen draws were not the scene.
 WindowDrawMeaning window_draw(SceneFacts& facts, DrawState& state, RedrawKind kind);
+
+// A glBlitFramebuffer into the window of `source` (x0, y0, x1, y1 of the read framebuffer) while
+// the main view is known and overlays have not started. For a scene shown in part of the window,
+// one that reads its target (or the one its colour was resolved or copied into) over a rectangle
+// of the view's size shows it (ShowsInPart: placed at the blit's destination); for another scene
+// drawn offscreen, any blit shows it.
+WindowDrawMeaning window_blit(SceneFacts& facts, DrawState& state, const int32_t source[4]);
 
 // A draw of `kind` into the scene's framebuffer object (`facts.scene_framebuffer`) while its main
 // view is known and it has not been shown: true when it is the first flat one (starts_overlays),

@@ -113,6 +113,14 @@ void SceneLending::show_own_scene(SlaveContext& ctx, ContextScene& scene) {
     scene.loan.placement_from = scene.record.entries.size();
 }
 
+void SceneLending::show_own_scene(SlaveContext& ctx, ContextScene& scene, const int32_t source[4],
+                                  const int32_t destination[4]) {
+    show_own_scene(ctx, scene);
+    scene.loan.placement_given = true;
+    std::copy(destination, destination + 4, scene.loan.placement);
+    std::copy(source, source + 4, scene.loan.placement_source);
+}
+
 // The draw that showed a borrowed scene, drawn again in the master's window coordinates: its
 // footprint is where the scene is.
 bool SceneLending::measure_placement(SlaveContext& ctx, ContextScene& scene, size_t end, int32_t out[4]) {
@@ -158,17 +166,12 @@ bool SceneLending::measure_placement(SlaveContext& ctx, ContextScene& scene, siz
 
 // Measuring costs a draw, a clear and a read-back of the master's window size (docs/performance.md),
 // so the last frame's rectangle is kept while the frame's calls up to that draw are the same
-// bytes, with the same viewport and lender.
-void SceneLending::place_borrowed_scene(SlaveContext& ctx, ContextScene& scene) {
+// bytes, with the same viewport and lender. False: the draw was not kept, or drew nothing.
+bool SceneLending::measured_placement(SlaveContext& ctx, ContextScene& scene, int32_t rect[4]) {
     BorrowerObjects& st = scene.borrower;
-    FrameRecord& rec = scene.record;
-    SceneLoan& loan = scene.loan;
-    loan.placement_pending = false;
-    auto lender = scenes_.find(loan.borrowed_from);
-    if (rec.entries.size() <= loan.placement_from || lender == scenes_.end()) {  // the draw was not kept
-        drop_borrowed(scene);
-        return;
-    }
+    const FrameRecord& rec = scene.record;
+    const SceneLoan& loan = scene.loan;
+    if (rec.entries.size() <= loan.placement_from) return false;
     size_t end = loan.placement_from + 1;  // the draw only: its opening call and its block
     while (end < rec.entries.size() && rec.entries[end].draw && !rec.entries[end].opens) end++;
     int32_t viewport[4];
@@ -183,10 +186,7 @@ void SceneLending::place_borrowed_scene(SlaveContext& ctx, ContextScene& scene) 
     mix(&loan.borrowed_from, sizeof loan.borrowed_from);
     mix(&ctx.master_width, sizeof ctx.master_width);
     mix(&ctx.master_height, sizeof ctx.master_height);
-    int32_t rect[4];
-    if (tile_.scene_over_tile()) {  // a rotated tile showed the scene, turned, over all of itself
-        rect[0] = rect[1] = 0, rect[2] = ctx.master_width, rect[3] = ctx.master_height;
-    } else if (st.placement_known && st.placement_key == key && st.placement_age < kPlacementKeptFrames) {
+    if (st.placement_known && st.placement_key == key && st.placement_age < kPlacementKeptFrames) {
         std::copy(st.placement_rect, st.placement_rect + 4, rect);
         st.placement_age++;
     } else if (measure_placement(ctx, scene, end, rect)) {
@@ -194,13 +194,35 @@ void SceneLending::place_borrowed_scene(SlaveContext& ctx, ContextScene& scene) 
         st.placement_known = true, st.placement_key = key, st.placement_age = 0;
     } else {
         st.placement_known = false;
-        rect[0] = rect[2] = 0;
+        return false;
     }
-    if (rect[0] >= rect[2]) {  // it drew nothing: the scene is not shown
+    return rect[0] < rect[2];
+}
+
+void SceneLending::place_borrowed_scene(SlaveContext& ctx, ContextScene& scene) {
+    SceneLoan& loan = scene.loan;
+    loan.placement_pending = false;
+    auto lender = scenes_.find(loan.borrowed_from);
+    if (lender == scenes_.end()) {
         drop_borrowed(scene);
         return;
     }
     const SceneLoan& lent = lender->second->loan;
+    int32_t rect[4];
+    if (tile_.scene_over_tile()) {  // a rotated tile showed the scene, turned, over all of itself
+        rect[0] = rect[1] = 0, rect[2] = ctx.master_width, rect[3] = ctx.master_height;
+    } else if (loan.placement_given) {  // a blit's: where it put the whole of the scene's target
+        const int32_t* d = loan.placement;
+        const int32_t* s = loan.placement_source;
+        for (int axis = 0; axis < 2; ++axis) {
+            const double scale = double(d[axis + 2] - d[axis]) / std::max(1, s[axis + 2] - s[axis]);
+            rect[axis] = int32_t(std::lround(d[axis] - s[axis] * scale));
+            rect[axis + 2] = int32_t(std::lround(d[axis] + (lent.scene_size[axis] - s[axis]) * scale));
+        }
+    } else if (!measured_placement(ctx, scene, rect)) {  // it drew nothing: the scene is not shown
+        drop_borrowed(scene);
+        return;
+    }
     int32_t lent_viewport[4];  // (the scene's own when it is this context's: copied before it is placed)
     std::copy(lender->second->facts.viewport, lender->second->facts.viewport + 4, lent_viewport);
     std::copy(rect, rect + 4, loan.placement);

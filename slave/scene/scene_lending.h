@@ -38,6 +38,8 @@ struct SceneLoan {
     uint32_t borrowed_from = 0;
     bool placement_pending = false;  // from entry placement_from on, the draw that shows it
     size_t placement_from = 0;
+    bool placement_given = false;  // a blit showed it: placement is its destination, of this source
+    int32_t placement_source[4] = {0, 0, 0, 0};
     int32_t placement[4] = {0, 0, 0, 0};
 };
 
@@ -72,12 +74,17 @@ public:
     // The draw about to run shows the context's own scene in part of the window (window_draw's
     // ShowsInPart): placed as a borrowed one.
     void show_own_scene(SlaveContext& ctx, ContextScene& scene);
+    // ... by a blit of `source` (x0, y0, x1, y1 of its target) into `destination` of the window
+    // (the master's pixels): placed there, with no draw to measure.
+    void show_own_scene(SlaveContext& ctx, ContextScene& scene, const int32_t source[4],
+                        const int32_t destination[4]);
     // After that draw ran: where it put the scene, and the scene's viewport in the window.
     void place_borrowed_scene(SlaveContext& ctx, ContextScene& scene);
     // The scene whose draws and camera are this context's frame's: the lender's when borrowed.
     const ContextScene& scene_of(const ContextScene& scene) const;
 
 private:
+    bool measured_placement(SlaveContext& ctx, ContextScene& scene, int32_t rect[4]);  // kept or measured
     bool measure_placement(SlaveContext& ctx, ContextScene& scene, size_t end, int32_t out[4]);
 
     Replayer& core_;

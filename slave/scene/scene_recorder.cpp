@@ -74,7 +74,18 @@ void SceneRecorder::record(SlaveContext& ctx, const Call& c, const uint8_t* tupl
         scene_target_overlays_start(facts, state, kind) && on_target_overlays_start)
         on_target_overlays_start(ctx);
     if (kind == RedrawKind::Copy) {  // a blit to the window shows an offscreen scene there
-        if (facts.scene_framebuffer && !facts.overlay && !facts.in_part) facts.presented = true;
+        const CommandSemantics& sem = c.info->sem;
+        if (!facts.scene_framebuffer || facts.overlay) return;
+        if (sem.window != WindowMapping::Blit) {  // (its rectangles not annotated)
+            if (!facts.in_part) facts.presented = true;
+            return;
+        }
+        int32_t destination[4], source[4];
+        for (int k = 0; k < 4; ++k)
+            destination[k] = core_.value<GLint>(c, sem.window_params[k]),
+            source[k] = core_.value<GLint>(c, sem.window_params[4 + k]);
+        if (window_blit(facts, state, source) == WindowDrawMeaning::ShowsInPart)
+            lending_.show_own_scene(ctx, sc, source, destination);
         return;
     }
     if (sc.loan.borrowed_from && to_window && opens && state.writes_depth()) {

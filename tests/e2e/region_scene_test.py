@@ -8,7 +8,7 @@ With every pass the viewport is decorated as the same scene drawn directly into 
 is (pillars --size 320x260): its floor covered and shadowed as much, within 2%; snow falls in the
 viewport; and not one pixel of the toolbar, the header or the gizmo changes under any pass. So for a
 fixed-function scene, one by GLSL built-ins (shown by a GLSL texture blit), one resolved from a
-multisampled target, and one whose
+multisampled target, one resolved from it into the window by glBlitFramebuffer, and one whose
 colour is copied by a post-processing draw into a second target that shares its depth (Blender's
 viewport resolves its engines' colour so) before it is shown. On a 640x480 canvas as a 2x2 wall
 the four tiles stitched equal the canvas within rounding. Before, the passes found no view in
@@ -67,6 +67,7 @@ def main():
     modes = {"direct": ["--size", "320x260"],
              "region": ["--fbo", "--region", "--hud"], "region_builtins": ["--builtins", "--fbo", "--region", "--hud"],
              "region_msaa": ["--fbo", "--region", "--msaa", "--hud"],
+             "region_blit": ["--fbo", "--region", "--blit", "--msaa", "--hud"],
              "region_post": ["--builtins", "--fbo", "--region", "--hud", "--post"]}
     pictures = {}
     for mode, flags in modes.items():

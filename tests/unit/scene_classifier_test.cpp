@@ -461,6 +461,41 @@ TEST(SceneClassifier, ASceneShownInPartFollowsItsColourThroughAResolveAndAPostPr
     EXPECT_EQ(facts.scene_texture, 13u);
 }
 
+TEST(SceneClassifier, ABlitFromASceneShownInPartAtTheViewsSizeShowsIt) {
+    SceneFacts facts;
+    Given s;
+    s.framebuffer = 3, s.texture = 0, s.color = GL_RENDERBUFFER;  // multisampled renderbuffers
+    s.vp[2] = 320, s.vp[3] = 260;
+    ASSERT_TRUE(classify_draw(facts, s, 3, ClassifierSettings{false, true, 400, 300}).found_view);
+    ASSERT_TRUE(facts.in_part);
+    s.framebuffer = 0;
+    const int32_t view[4] = {0, 0, 320, 260}, half[4] = {0, 0, 160, 130};
+    s.read = 7;  // another target's picture (an icon, a thumbnail)
+    EXPECT_EQ(window_blit(facts, s, view), WindowDrawMeaning::Scene);
+    s.read = 3;
+    EXPECT_EQ(window_blit(facts, s, half), WindowDrawMeaning::Scene);  // part of it
+    EXPECT_FALSE(facts.presented);
+    EXPECT_EQ(window_blit(facts, s, view), WindowDrawMeaning::ShowsInPart);  // the resolve into the window
+    EXPECT_TRUE(facts.presented);
+    EXPECT_EQ(window_blit(facts, s, view), WindowDrawMeaning::Scene);  // once
+    // Resolved into a texture first, that target's blit shows it.
+    SceneFacts copied;
+    s.framebuffer = 3;
+    classify_draw(copied, s, 3, ClassifierSettings{false, true, 400, 300});
+    s.framebuffer = 4, s.read = 3, s.texture = 12;
+    follow_scene_texture(copied, s, RedrawKind::Copy);
+    s.framebuffer = 0, s.read = 4;
+    EXPECT_EQ(window_blit(copied, s, view), WindowDrawMeaning::ShowsInPart);
+    // A scene of the window's size is shown by any blit.
+    SceneFacts whole;
+    s.framebuffer = 3, s.vp[2] = 400, s.vp[3] = 300;
+    classify_draw(whole, s, 3, ClassifierSettings{false, true, 400, 300});
+    ASSERT_TRUE(whole.scene_framebuffer && !whole.in_part);
+    s.framebuffer = 0, s.read = 9;
+    EXPECT_EQ(window_blit(whole, s, half), WindowDrawMeaning::Scene);
+    EXPECT_TRUE(whole.presented);
+}
+
 TEST(SceneClassifier, ALaterTargetOfTheWindowsShapeReplacesASceneFoundInPart) {
     // A reflection of another shape drawn first, the scene's window-sized target after it.
     SceneFacts facts;
