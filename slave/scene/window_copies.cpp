@@ -130,17 +130,15 @@ GLuint WindowCopies::scene_depth_copy(SlaveContext& ctx, ContextScene& scene, co
         return window_copy(ctx, true, scene, shown);
     }
     const int W = std::max(1, ctx.master_width), H = std::max(1, ctx.master_height);
-    // The scene's target in the master's window: all of it, or where a borrowed scene was drawn.
+    // A scene drawn at another size than the window's and shown stretched over it, or a borrowed
+    // one placed in part of the window (on a rotated tile: over all of it), is copied at its own
+    // size, and stretched by the interpolating draw below (a nearest blit would make steps of its
+    // depth, and surfaces of steps have no normal; a multisampled depth cannot be scaled at all).
     const bool placed = scene.loan.borrowed_from != 0;
-    const int32_t* p = scene.loan.placement;
-    // A scene drawn at another size than the window's and shown stretched over it is copied at
-    // its own size, and stretched by the interpolating draw below (a nearest blit would make
-    // steps of its depth, and surfaces of steps have no normal).
     int SW = W, SH = H;
     scene_target_size(ctx, scene, SW, SH);
+    if (placed) SW = std::max(1, shown.loan.scene_size[0]), SH = std::max(1, shown.loan.scene_size[1]);
     const int sizes[4] = {SW, SH, ctx.width, ctx.height};
-    const int from[4] = {0, 0, placed ? shown.loan.scene_size[0] : SW, placed ? shown.loan.scene_size[1] : SH};
-    const int target[4] = {placed ? p[0] : 0, placed ? p[1] : 0, placed ? p[2] : SW, placed ? p[3] : SH};
     if (format != scene_depth_format_ || !std::equal(sizes, sizes + 4, scene_depth_sizes_)) {
         if (scene_depth_full_) {
             const GLuint textures[] = {scene_depth_full_, scene_depth_}, fbs[] = {scene_depth_full_fb_, scene_depth_fb_};
@@ -161,14 +159,14 @@ GLuint WindowCopies::scene_depth_copy(SlaveContext& ctx, ContextScene& scene, co
     // (the canvas stretches it) drawn over the tile's size.
     gl.glBindFramebuffer(GL_READ_FRAMEBUFFER, scene.facts.scene_framebuffer);
     gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, scene_depth_full_fb_);
-    if (placed) {  // nothing but the scene's rectangle: the far plane around it
-        gl.glDepthMask(GL_TRUE);
-        gl.glClearDepth(1.0);
-        gl.glClear(GL_DEPTH_BUFFER_BIT);
+    gl.glBlitFramebuffer(0, 0, SW, SH, 0, 0, SW, SH, GL_DEPTH_BUFFER_BIT, GL_NEAREST);
+    glm::dvec4 source = tile_source(ctx, SW, SH);
+    if (placed) {  // the tile's rectangle of the window, in the scene's texels (beyond them: the far plane)
+        const int32_t* p = scene.loan.placement;
+        const glm::dvec4 window = tile_source(ctx, W, H);
+        const double sx = double(SW) / std::max(1, p[2] - p[0]), sy = double(SH) / std::max(1, p[3] - p[1]);
+        source = {(window.x - p[0]) * sx, (window.y - p[1]) * sy, (window.z - p[0]) * sx, (window.w - p[1]) * sy};
     }
-    gl.glBlitFramebuffer(from[0], from[1], from[2], from[3], target[0], target[1], target[2], target[3],
-                         GL_DEPTH_BUFFER_BIT, GL_NEAREST);
-    const glm::dvec4 source = tile_source(ctx, SW, SH);
     if (!scene_depth_program_) {
         scene_depth_program_ = effects::build_program(gl, "fullscreen.vert", "scene_depth.frag");
         gl.glGenVertexArrays(1, &scene_depth_vao_);
