@@ -87,6 +87,11 @@
  * window instead of a quad (with --msaa straight from the multisampled target: the resolve is the
  * blit that shows it, as programs drawing with multisampling often show their scene).
  *
+ * With --fbo --grade a colour grade follows the scene in its target: a full-target triangle whose
+ * vertex shader places it by gl_VertexID with no matrix at all, halving every pixel's colour by
+ * blending (GL_DST_COLOR, GL_ZERO), as an engine's screen-space passes (an outline, a background,
+ * a tone map) work on the picture in the scene's own target.
+ *
  * With --markers the scene gets marker points (GL_POINTS of size 4, depth-tested, unlit) at known
  * positions of its eye space, one colour each, for the immersive-wall tests (units are metres there,
  * the camera at a room's origin): MARKERS below, the first straight ahead behind a CAVE's front wall.
@@ -116,7 +121,7 @@
  * then use their configured light.
  *
  *   pillars [--shader | --builtins | --mvp] [--grow] [--fbo [--half | --region [--blit]] [--mrt | --msaa] [--depth-texture]] [--reversed] [--hud [--in-scene [--depth-on]]]
- *           [--hand] [--left-handed] [--mixed] [--foliage] [--post] [--markers] [--cull] [--fov DEG]
+ *           [--hand] [--left-handed] [--mixed] [--foliage] [--post] [--grade] [--markers] [--cull] [--fov DEG]
  *           [--fisheye] [--scale S] [--turn DEG] [--sun X,Y,Z | --gl-light X,Y,Z] [--frames N] [--size WxH]
  */
 #define GL_GLEXT_PROTOTYPES 1
@@ -348,6 +353,7 @@ int main(int argc, char **argv)
     const int mixed = builtins && app_take_flag(&argc, &argv, "--mixed");
     const int foliage = builtins && app_take_flag(&argc, &argv, "--foliage");
     const int post = fbo_mode && app_take_flag(&argc, &argv, "--post");
+    const int grade = fbo_mode && app_take_flag(&argc, &argv, "--grade");
     const int markers = app_take_flag(&argc, &argv, "--markers");
     const int cull = app_take_flag(&argc, &argv, "--cull");
     const int fisheye = shader && !builtins && !mvp && app_take_flag(&argc, &argv, "--fisheye");
@@ -474,6 +480,17 @@ int main(int argc, char **argv)
         blit = link_program(bvs, bfs);
         if (!blit) {
             fprintf(stderr, "pillars: the blit program does not link\n");
+            return 1;
+        }
+    }
+    GLuint grade_program = 0;  /* --grade: a full-target pass whose vertex shader has no matrix */
+    if (grade) {
+        const char *gvs = "#version 130\nvoid main() { gl_Position = vec4(float((gl_VertexID & 1) * 4 - 1),"
+                          " float((gl_VertexID & 2) * 2 - 1), 0.0, 1.0); }\n";
+        const char *gfs = "#version 130\nvoid main() { gl_FragColor = vec4(0.5, 0.5, 0.5, 1.0); }\n";
+        grade_program = link_program(gvs, gfs);
+        if (!grade_program) {
+            fprintf(stderr, "pillars: the grade program does not link\n");
             return 1;
         }
     }
@@ -658,6 +675,18 @@ int main(int argc, char **argv)
             if (mvp) upload(proj_location, proj);  /* the view is the identity: the points as modelled */
             else if (shader && mixed) glUseProgram(program);
             draw_markers(zs);
+        }
+        if (grade) {  /* the scene's colour halved, in its target, as an engine's colour grade is */
+            glUseProgram(grade_program);
+            glDisable(GL_DEPTH_TEST);
+            glDepthMask(GL_FALSE);
+            glEnable(GL_BLEND);
+            glBlendFunc(GL_DST_COLOR, GL_ZERO);
+            glDrawArrays(GL_TRIANGLES, 0, 3);
+            glDisable(GL_BLEND);
+            glDepthMask(GL_TRUE);
+            glEnable(GL_DEPTH_TEST);
+            glUseProgram(0);
         }
         if (hud_in_scene) draw_hud(shader ? program : 0, proj_location, builtins, fw, fh, 40, hud_depth);
         if (region) {

@@ -21,6 +21,8 @@ blit: drawn by a shader program into a multisampled target and shown by the glBl
   that resolves it into the viewport's rectangle of the window (before: one frame turned shown
   squeezed into that rectangle, then the scene was left unturned).
 widget: a scene another context draws, as a toolkit's GL widget (ff_scene --widget).
+grade: a shader program's viewport with a colour grade in its target (a full-target pass with
+  no matrix), which must grade every tile's scene.
 winter_shader: the same for a shader program's multisampled viewport shown by a blit.
 winter: the fixed-function viewport under snow cover and shadows, then snow: the interface
   keeps every pixel where the screen puts it, and the floor of a tile away from the screen is
@@ -168,14 +170,24 @@ def config_of_size(path, width, height):
     return path
 
 
-def case(name, flags, viewport_flags=(), region_flags=(), edges=1):
+def case(name, flags, viewport_flags=(), region_flags=(), edges=1, direct_flags=()):
     out = wall(name, flags + ["--fbo", "--region"] + list(region_flags) + ["--hud"] + list(viewport_flags))
     # (the toolbar's right edge lies on the seam of yaw300 and yaw000: on yaw300's side the
-    # toolbar hides that seam's pillar)
-    pillars_on_tiles(name, out, FRAME, hidden_seams=("yaw300",))
+    # toolbar hides that seam's pillar; a graded scene's pillars are not their own colours)
+    if not direct_flags:
+        pillars_on_tiles(name, out, FRAME, hidden_seams=("yaw300",))
     interface_on_screen(name, out)
-    direct = wall(name + "_direct", flags)
+    direct = wall(name + "_direct", flags + list(direct_flags))
     scene_like_direct(name, out, direct, edges=edges)
+
+
+def case_grade():
+    # A colour grade in the viewport's target: a full-target triangle with no matrix (as
+    # Blender's outline and background passes are). It works on the turned picture, so it covers
+    # every tile's scene; before, it was taken for a HUD and turned onto the program's screen:
+    # graded on the front tile's screen only. Compared with the program grading a scene of the
+    # window's shape (pillars --shader --fbo --grade), which the cylinder turns as ever.
+    case("grade", ["--shader"], ["--grade"], direct_flags=["--fbo", "--grade"])
 
 
 def case_winter(flags=(), region=("--fbo", "--region", "--hud"), prefix="winter", edges=1):
