@@ -371,10 +371,14 @@ KNOWN = """## What the table does not show
   On the cylinder the viewport now turns (docs/wall.md, "A scene shown in part of the window"):
   its grid continues across yaw300, yaw000 and yaw060, and the interface lies on the program's
   screen, the viewport's frustum extended to the window (larger than the front tile at Blender's
-  view). Over the front tile large dark shapes and a star of red and white lines show, which the
-  program's frame does not: not understood yet (the draw manager's wire frames, drawn with lines
-  it widens in screen space, are the suspects). Before, every tile showed the window as drawn (the
-  table's cylinder column, "unturned", is from that run).
+  view). Over the front tile large dark shapes and a star of red and white lines (centred on the
+  3D cursor) show, which the program's frame does not: not understood yet. What is known: they
+  appear with the first turned frame; they are in what the program's compositing draw (its
+  engines' colour blended with its overlay texture) shows when run again over the tile: with the
+  colour texture shown alone they are gone (and so are the overlays); the navigation gizmo,
+  which was turned onto the program's screen with them, is drawn whole since full-target passes
+  stay full-target (docs/wall.md). Before, every tile showed the window as drawn (the table's
+  cylinder column, "unturned", is from that run).
   Its replay differs
   from the program's own frames by 1 level of green or blue in 24 pixels of one row (window row
   458, from the timeline's playhead to its right, drawn by a blended fan over the window after the
