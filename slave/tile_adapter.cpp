@@ -119,6 +119,11 @@ void TileAdapter::apply_window_rects() {
             for (int k = 0; k < 4; ++k) viewports[i][k] = GLfloat(v[k]), scissors[i][k] = b[k];
         }
     }
+    // (line width and point size once the program set them: context state, scaled with the
+    // canvas for the window's draws only)
+    const double scale = map ? pixel_scale() : 1.0;
+    if (s.line_width > 0) gl.glLineWidth(GLfloat(s.line_width * scale));
+    if (s.point_size > 0) gl.glPointSize(GLfloat(s.point_size * scale));
     if (s.indexed) {
         gl.glViewportArrayv(0, kViewports, &viewports[0][0]);
         gl.glScissorArrayv(0, kViewports, &scissors[0][0]);
@@ -197,6 +202,10 @@ bool TileAdapter::replace_call(const Call& c) {
     }
     case WindowMapping::LineWidth:
     case WindowMapping::PointSize: {
+        // Context state, not the framebuffer's: kept as the program set it, and scaled with the
+        // canvas only while the window is bound (apply_window_rects does it again at each switch).
+        State& s = state();
+        (sem.window == WindowMapping::LineWidth ? s.line_width : s.point_size) = core_.value<GLfloat>(c, arg(0));
         if (!mapping()) return false;
         const GLfloat v = GLfloat(core_.value<GLfloat>(c, arg(0)) * pixel_scale());
         if (sem.window == WindowMapping::LineWidth) gl.glLineWidth(v);

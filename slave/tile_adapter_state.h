@@ -23,6 +23,7 @@ struct TileAdapter::State {
     double viewport[kViewports][4] = {};
     int32_t scissor[kViewports][4] = {};
     bool indexed = false;  // the program used GL_ARB_viewport_array: all rectangles are applied
+    double line_width = 0, point_size = 0;  // as the program set them (0: it did not)
     int mapped_for[2] = {0, 0};  // the master's window size the rectangles were last mapped for
     struct Projection {
         bool corrected = false, dirty = false;

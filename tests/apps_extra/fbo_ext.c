@@ -17,7 +17,13 @@
  * object, GL 3.0 / ARB_framebuffer_object entry point): a control that shows the picture a
  * slave that understands the binding must produce.
  *
- *   fbo_ext [--core-bind] [--frames N] [--size WxH] [--screenshot PATH.ppm]
+ * With --line the program sets glLineWidth(3) while its window is bound, and the texture's scene
+ * gets a white line 3 texels wide from x -0.95 to -0.45 at y -0.2 (texture t 0.4): line width is
+ * context state, which a slave that scales it for the window's draws must not carry into the
+ * framebuffer object's (Blender sets it with its hidden window bound, 1x1, and drew its overlay
+ * wires hundreds of pixels wide on every tile).
+ *
+ *   fbo_ext [--core-bind] [--line] [--frames N] [--size WxH] [--screenshot PATH.ppm]
  */
 #define GL_GLEXT_PROTOTYPES 1
 #include <GL/gl.h>
@@ -34,7 +40,7 @@
 
 #define TEX 256
 
-static int core_bind;
+static int core_bind, line;
 
 static void bind_fbo(GLuint fb)
 {
@@ -75,12 +81,20 @@ static void draw_offscreen(int f)
         glVertex2f(0.6f * cosf(a), 0.6f * sinf(a));
     }
     glEnd();
+    if (line) {
+        glLoadIdentity();
+        glColor3f(1, 1, 1);
+        glBegin(GL_LINES);
+        glVertex2f(-0.95f, -0.2f); glVertex2f(-0.45f, -0.2f);
+        glEnd();
+    }
 }
 
 int main(int argc, char **argv)
 {
     struct app_args a;
     core_bind = app_take_flag(&argc, &argv, "--core-bind");
+    line = app_take_flag(&argc, &argv, "--line");
     app_parse_args("fbo_ext", argc, argv, &a);
     int attribs[] = {GLX_RGBA, GLX_DOUBLEBUFFER, GLX_RED_SIZE, 8, GLX_GREEN_SIZE, 8, GLX_BLUE_SIZE, 8, None};
     struct glx_window w = glx_window_open("fbo_ext", &a, attribs, "double-buffered RGB");
@@ -137,6 +151,7 @@ int main(int argc, char **argv)
         glColor3f(0.9f, 0.6f, 0.1f);
         glVertex2f(0.5f, -0.5f); glVertex2f(0.9f, -0.5f); glVertex2f(0.7f, 0.5f);
         glEnd();
+        if (line) glLineWidth(3);  /* with the window bound; the next frame's texture draws with it */
 
         if (a.screenshot && f == a.frames - 1 && app_screenshot("fbo_ext", &a) != 0)
             return 1;

@@ -93,11 +93,12 @@ def canvas_replay(capture, out, canvas, frame):
     return os.path.join(ref, f"frame-{frame:06d}.png")
 
 
-def mosaic(program, probes=None):
+def mosaic(program, probes=None, name=None):
     """probes(frame): (x, y, rgb, tolerance, what) that the canvas replay of that frame must show
-    at x, y (from the top left): the canvas itself is right, not only the tiles like it."""
+    at x, y (from the top left): the canvas itself is right, not only the tiles like it. `name`:
+    the output's (each case's own: ctest runs them side by side)."""
     frames = 6
-    out, capture = wall_run("mosaic_" + os.path.basename(program[0]), "wall-2x2.json", program, frames)
+    out, capture = wall_run("mosaic_" + (name or os.path.basename(program[0])), "wall-2x2.json", program, frames)
     last = f"frame-{frames - 1:06d}.png"
     tiles = [os.path.join(out, t, last) for t in ("top-left", "top-right", "bottom-left", "bottom-right")]
     for t in tiles:
@@ -140,7 +141,7 @@ def case_mosaic_grow():
     # by the window's new size. Before, they kept it mapped for 32x32 and every tile was black.
     def probes(frame):  # tests/apps_extra/pillars.c: pillar 0 straight ahead, above the horizon
         return [(*window_to_canvas(160, 150), (40, 200, 255), 3, "pillar 0")]
-    mosaic([os.path.join(APPS, "pillars"), "--grow", "--size", "320x240", "--frames", "100"], probes)
+    mosaic([os.path.join(APPS, "pillars"), "--grow", "--size", "320x240", "--frames", "100"], probes, "grow")
 
 
 def case_mosaic_msaa_blit():
@@ -151,7 +152,7 @@ def case_mosaic_msaa_blit():
         return [(*window_to_canvas(192, 120), (40, 200, 255), 3, "pillar 0, straight ahead"),
                 (*window_to_canvas(30, 120), (60, 62, 70), 3, "the toolbar")]
     mosaic([os.path.join(APPS, "pillars"), "--shader", "--fbo", "--region", "--blit", "--msaa", "--size", "320x240",
-            "--frames", "100"], probes)
+            "--frames", "100"], probes, "msaa_blit")
 
 
 def window_to_canvas(x, y):
@@ -177,6 +178,20 @@ def fbo_ext_probes(frame):
 
 def case_mosaic_fbo_ext():
     mosaic([os.path.join(APPS, "fbo_ext"), "--frames", "100"], fbo_ext_probes)
+
+
+def case_mosaic_line_width():
+    # glLineWidth set while the window is bound, a line drawn into the framebuffer object: 3
+    # texels wide there. Before, the width scaled for the window's draws (x4 on this canvas) was
+    # kept for the texture's: 12 texels.
+    def probes(frame):
+        def texture_point(s, t):
+            return window_to_canvas((0.1 + 1.25 * s) / 2 * 320, (0.15 + 1.7 * t) / 2 * 240)
+        clear = rgb8(0.15 + 0.02 * (frame % 10), 0.1, 0.3)
+        return [(*texture_point(0.1, 0.4), (255, 255, 255), 24, "the line's middle"),
+                (*texture_point(0.1, 0.4 + 3 / 256), clear, 6, "3 texels above it (the line is 3 wide)"),
+                (*texture_point(0.1, 0.4 - 3 / 256), clear, 6, "3 texels below it")]
+    mosaic([os.path.join(APPS, "fbo_ext"), "--line", "--frames", "100"], probes, "line_width")
 
 
 def viewport_array_probes(frame):
