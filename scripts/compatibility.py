@@ -371,14 +371,17 @@ KNOWN = """## What the table does not show
   On the cylinder the viewport now turns (docs/wall.md, "A scene shown in part of the window"):
   its grid continues across yaw300, yaw000 and yaw060, and the interface lies on the program's
   screen, the viewport's frustum extended to the window (larger than the front tile at Blender's
-  view). Over the front tile large dark shapes and a star of red and white lines (centred on the
-  3D cursor) show, which the program's frame does not: not understood yet. What is known: they
-  appear with the first turned frame; they are in what the program's compositing draw (its
-  engines' colour blended with its overlay texture) shows when run again over the tile: with the
-  colour texture shown alone they are gone (and so are the overlays); the navigation gizmo,
-  which was turned onto the program's screen with them, is drawn whole since full-target passes
-  stay full-target (docs/wall.md). Before, every tile showed the window as drawn (the table's
-  cylinder column, "unturned", is from that run).
+  view). The large dark shapes and the star of red and white lines that covered the front tile
+  (and every tile of the 2x2 wall, and its canvas, which the mosaic equalled) were Blender's
+  overlay wires drawn 1,120 pixels wide: it sets glLineWidth with its draw manager's hidden 1x1
+  window bound, and the slave kept the width it scaled for that window for the viewport's
+  framebuffer objects. Line width and point size are now applied scaled only while the window is
+  bound (docs/wall.md): the viewport shows on flat tiles as in the program's frame, and on the
+  cylinder's front tile turned, its cube, cursor, camera and gizmo in place. Left: on the front
+  tile the cube's top face is black, and yaw060 shows the cube's selection outline (a
+  full-target pass over an ID buffer) where no cube is: a buffer one of its passes reads is not
+  turned with the scene (its targets that hold no colour and depth are left alone). Before, every
+  tile showed the window as drawn (the table's cylinder column, "unturned", is from that run).
   Its replay differs
   from the program's own frames by 1 level of green or blue in 24 pixels of one row (window row
   458, from the timeline's playhead to its right, drawn by a blended fan over the window after the
