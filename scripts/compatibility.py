@@ -13,6 +13,8 @@ measured against the program's own (measure() below) and shown.
     scripts/compatibility.py [--build build] [--only a,b] [--frames N] [--install]
                              [--out DIR] [--doc docs/compatibility.md] [--resume]
 
+With --only, the table's other rows and their pictures are kept as the last run wrote them.
+
 --install installs the programs' Debian packages first (apt-get, as root). Programs whose
 package is missing are listed as such. The CI test (compatibility_fast) runs two xscreensaver
 hacks with --doc '' (no table written).
@@ -717,6 +719,34 @@ def one(glcast, name, argv, frames, out, images):
     return row
 
 
+def rows_written(doc):
+    """The rows of a table written before, as they are: {program name: (its line, its picture
+    lines)}, a program's name as PROGRAMS gives it."""
+    if not doc or not os.path.exists(doc):
+        return {}
+    with open(doc) as f:
+        text = f.read().split("\n")
+    def named(line, start):  # a row's program cell: "name (package version)", or the name alone
+        for name, *_ in PROGRAMS:
+            if line.startswith(f"{start}{name} (") or line.startswith(f"{start}{name} |") or line == f"{start}{name}**  ":
+                return name
+        return None
+    found, pictures, current = {}, False, None
+    for line in text:
+        if line.startswith("## Pictures"):
+            pictures = True
+        elif not pictures and line.startswith("| ") and (name := named(line, "| ")):
+            found[name] = (line, [])
+        elif pictures and line.startswith("**") and (name := named(line, "**")) and name in found:
+            current = name
+            found[name][1].append(line)
+        elif pictures and current and line:
+            found[current][1].append(line)
+        else:
+            current = None
+    return found
+
+
 def table(rows, doc):
     columns = ["capture", "egl", "osmesa", "mosaic", "cylinder", "around"] + [c for c, _ in EFFECTS]
     lines = ["# Compatibility with real programs", "",
@@ -737,6 +767,9 @@ def table(rows, doc):
              "**snow**: the share of scene pixels changed. Whether it looks right is in the pictures.", "",
              "| program | " + " | ".join(columns) + " |", "|---" * (len(columns) + 1) + "|"]
     for row in rows:
+        if "written" in row:  # a row of the last run, kept
+            lines.append(row["written"][0])
+            continue
         cells = []
         for c in columns:
             if c not in row:
@@ -748,6 +781,9 @@ def table(rows, doc):
     lines += ["", KNOWN, "## Pictures (the last frame: the program's own, then with each effect; below, the six "
               "tiles of the cylinder)", ""]
     for row in rows:
+        if "written" in row:
+            lines += row["written"][1] + ([""] if row["written"][1] else [])
+            continue
         if row.get("pictures"):
             flat = {c: p for c, p in row["pictures"].items() if c != "cylinder"}
             lines.append(f"**{row['program']}**  ")
@@ -773,6 +809,7 @@ def main():
     glcast = os.path.join(a.build, "glcast")
     os.environ.setdefault("GLCAST_SHIM", os.path.join(a.build, "libglcast.so"))
     chosen = [p for p in PROGRAMS if not a.only or p[0] in a.only.split(",")]
+    written = rows_written(a.doc) if a.only else {}
     if a.install:
         packages = sorted({p[1] for p in chosen})
         run(["apt-get", "update", "-qq"], timeout=900)
@@ -780,7 +817,11 @@ def main():
     images = os.path.join(os.path.dirname(a.doc), "images", "compatibility") if a.doc else ""
     rows, failed = [], []
     with Xvfb("1280x1024x24"):
-        for name, package, argv, frames in chosen:
+        for name, package, argv, frames in PROGRAMS:
+            if (name, package, argv, frames) not in chosen:
+                if name in written:
+                    rows.append({"program": name, "written": written[name]})
+                continue
             if not shutil.which(argv[0]):
                 rows.append({"program": name, "capture": (False, f"not installed (apt install {package})")})
                 print(f"{name}: not installed ({package})", flush=True)
