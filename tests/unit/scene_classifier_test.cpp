@@ -62,6 +62,14 @@ struct Given final : DrawState {
 };
 
 const ClassifierSettings kPasses{false, true};  // a pass redraws the scene
+
+// A 400x300 window's scene drawn into multisampled renderbuffers (framebuffer 3) of its
+// 320x260 viewport: shown in part of the window.
+bool found_in_part_of_400x300(SceneFacts& facts, Given& s) {
+    s.framebuffer = 3, s.texture = 0, s.color = GL_RENDERBUFFER;
+    s.vp[2] = 320, s.vp[3] = 260;
+    return classify_draw(facts, s, 3, ClassifierSettings{false, true, 400, 300}).found_view && facts.in_part;
+}
 const glm::dmat4 kOrtho = glm::ortho(0.0, 640.0, 0.0, 480.0, -1.0, 1.0);
 
 }  // namespace
@@ -441,10 +449,7 @@ TEST(SceneClassifier, TheDrawThatSamplesASceneShownInPartShowsItAndTheInterfaceB
 TEST(SceneClassifier, ASceneShownInPartFollowsItsColourThroughAResolveAndAPostProcessingCopy) {
     SceneFacts facts;
     Given s;
-    s.framebuffer = 3, s.texture = 0, s.color = GL_RENDERBUFFER;  // multisampled renderbuffers
-    s.vp[2] = 320, s.vp[3] = 260;
-    ASSERT_TRUE(classify_draw(facts, s, 3, ClassifierSettings{false, true, 400, 300}).found_view);
-    ASSERT_TRUE(facts.in_part);
+    ASSERT_TRUE(found_in_part_of_400x300(facts, s));
     EXPECT_EQ(facts.scene_texture, 0u);
     s.framebuffer = 4, s.read = 3, s.texture = 12;  // resolved into a texture
     follow_scene_texture(facts, s, RedrawKind::Copy);
@@ -464,10 +469,7 @@ TEST(SceneClassifier, ASceneShownInPartFollowsItsColourThroughAResolveAndAPostPr
 TEST(SceneClassifier, ABlitFromASceneShownInPartAtTheViewsSizeShowsIt) {
     SceneFacts facts;
     Given s;
-    s.framebuffer = 3, s.texture = 0, s.color = GL_RENDERBUFFER;  // multisampled renderbuffers
-    s.vp[2] = 320, s.vp[3] = 260;
-    ASSERT_TRUE(classify_draw(facts, s, 3, ClassifierSettings{false, true, 400, 300}).found_view);
-    ASSERT_TRUE(facts.in_part);
+    ASSERT_TRUE(found_in_part_of_400x300(facts, s));
     s.framebuffer = 0;
     const int32_t view[4] = {0, 0, 320, 260}, half[4] = {0, 0, 160, 130};
     s.read = 7;  // another target's picture (an icon, a thumbnail)
