@@ -180,6 +180,10 @@ bool ProgramCameras::orthographic(uint32_t program) {
 
 bool ProgramCameras::reads_fixed_function(uint32_t program) { return program && uniforms(program).fixed_function; }
 
+bool ProgramCameras::places_by_matrix(uint32_t program) {
+    return program && (!uniforms(program).matrices.empty() || uniforms(program).fixed_function);
+}
+
 bool ProgramCameras::light(uint32_t program, const ProgramCamera& camera, effects::SceneLight& out) {
     if (!program) return false;
     const Uniforms& all = uniforms(program);

@@ -77,6 +77,9 @@ public:
     // One of its matrices is orthographic (is_orthographic) as they are now: it draws flat (a
     // HUD's text, VTK's 2D actors).
     bool orthographic(uint32_t program);
+    // It has a 4x4 matrix at all (its own, or the fixed-function ones through the built-ins): a
+    // program with none places its vertices itself (a full-target pass by gl_VertexID).
+    bool places_by_matrix(uint32_t program);
     void forget() { uniforms_.clear(); }
 
 private:

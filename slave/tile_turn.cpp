@@ -277,11 +277,12 @@ bool TileAdapter::correct_shader_program(uint32_t program) {
         } else if (shader_camera(program, camera)) {
             m = glm::mat4(view.correction(camera.projection));
             saw_view(ctx, camera.projection);
-        } else if (const glm::dmat4* screen =
-                       ctx.drawing_to_window || shader_flat(program) ? screen_of_flat_draw(ctx) : nullptr) {
-            // Over a view: on the program's screen. (Into the scene's target, only a draw by an
-            // orthographic matrix is: one with no matrix at all is a pass over the picture there,
-            // an outline's or a background's full-screen triangle, which stays full-screen.)
+        } else if (const glm::dmat4* screen = ctx.drawing_to_window || shared().cameras.places_by_matrix(program)
+                                                  ? screen_of_flat_draw(ctx)
+                                                  : nullptr) {
+            // Over a view: on the program's screen. (Into the scene's target, a draw by a program
+            // with no matrix at all is a pass over the picture there, a colour grade's or a
+            // background's full-target triangle, which stays over the whole target.)
             m = glm::mat4(view.correction(*screen));
         } else if (ctx.drawing_to_window && (s.scene_view || s.window_view || s.scene_shown || s.frame_part_target)) {
             // the quad that shows the scene: as drawn (or a scene in part of the window, not known
