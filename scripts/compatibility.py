@@ -379,11 +379,13 @@ KNOWN = """## What the table does not show
   window bound, and the slave kept the width it scaled for that window for the viewport's
   framebuffer objects. Line width and point size are now applied scaled only while the window is
   bound (docs/wall.md): the viewport shows on flat tiles as in the program's frame, and on the
-  cylinder's front tile turned, its cube, cursor, camera and gizmo in place. Left: on the front
-  tile the cube's top face is black, and yaw060 shows the cube's selection outline (a
-  full-target pass over an ID buffer) where no cube is: a buffer one of its passes reads is not
-  turned with the scene (its targets that hold no colour and depth are left alone). Before, every
-  tile showed the window as drawn (the table's cylinder column, "unturned", is from that run).
+  cylinder's front tile turned, its cube, cursor, camera and gizmo in place, the interface on the
+  program's screen. Left, not understood: on the front tile the cube's top face is black; on
+  the five other tiles the overlay picture (the grid, the cube's selection outline and origin
+  dot) is the same on each (yaw120, yaw180 and yaw240 are identical to the pixel): the overlay
+  texture is not turned there, while the engines' picture is (the cube shows on the front tile
+  only). The **around** column's 89% is that unturned grid. Before this stop the cylinder column
+  said "unturned" (every tile showed the window as drawn).
   Its replay differs
   from the program's own frames by 1 level of green or blue in 24 pixels of one row (window row
   458, from the timeline's playhead to its right, drawn by a blended fan over the window after the
