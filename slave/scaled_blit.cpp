@@ -2,6 +2,7 @@
 #include "slave/scaled_blit.h"
 
 #include <algorithm>
+#include <climits>
 #include <cstdlib>
 #include <stdexcept>
 #include <string>
@@ -73,24 +74,32 @@ void ScaledBlit::blit(const GlApi& gl, const int32_t source[4], const int32_t de
     gl.glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &read);
     const GLenum format = read_format(gl);
     if (!format) throw std::runtime_error("the multisampled read buffer's format is not known");
-    const int32_t x = std::min(source[0], source[2]), y = std::min(source[1], source[3]);
-    const int w = std::abs(source[2] - source[0]), h = std::abs(source[3] - source[1]);
+    // (the rectangle is the stream's: its size is checked before a target of that size is made)
+    const int64_t x = std::min(source[0], source[2]), y = std::min(source[1], source[3]);
+    const int64_t w = std::llabs(int64_t(source[2]) - source[0]), h = std::llabs(int64_t(source[3]) - source[1]);
+    GLint most = 0;
+    gl.glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &most);
+    if (w < 1 || h < 1 || w > most || h > most || x + w > INT32_MAX || y + h > INT32_MAX)
+        throw std::runtime_error("a source rectangle of " + std::to_string(w) + "x" + std::to_string(h) + " at " +
+                                 std::to_string(x) + "," + std::to_string(y) +
+                                 " is beyond the driver's largest renderbuffer (" + std::to_string(most) + ")");
     const GLboolean scissor = gl.glIsEnabled(GL_SCISSOR_TEST);
     try {
-        fit(gl, format, std::max(1, w), std::max(1, h));
+        fit(gl, format, int(w), int(h));
     } catch (...) {
         gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(draw));
         throw;
     }
     gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, framebuffer_);  // (fit binds it only when it makes it)
     gl.glDisable(GL_SCISSOR_TEST);  // (the program's box is the destination's)
-    gl.glBlitFramebuffer(x, y, x + w, y + h, 0, 0, w, h, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    gl.glBlitFramebuffer(GLint(x), GLint(y), GLint(x + w), GLint(y + h), 0, 0, GLint(w), GLint(h), GL_COLOR_BUFFER_BIT,
+                         GL_NEAREST);
     if (scissor) gl.glEnable(GL_SCISSOR_TEST);
     gl.glBindFramebuffer(GL_READ_FRAMEBUFFER, framebuffer_);
     gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(draw));
     // (the source's direction kept: a mirrored blit stays mirrored)
-    gl.glBlitFramebuffer(source[0] - x, source[1] - y, source[2] - x, source[3] - y, destination[0], destination[1],
-                         destination[2], destination[3], GL_COLOR_BUFFER_BIT, filter);
+    gl.glBlitFramebuffer(GLint(source[0] - x), GLint(source[1] - y), GLint(source[2] - x), GLint(source[3] - y),
+                         destination[0], destination[1], destination[2], destination[3], GL_COLOR_BUFFER_BIT, filter);
     gl.glBindFramebuffer(GL_READ_FRAMEBUFFER, GLuint(read));
 }
 

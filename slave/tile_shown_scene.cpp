@@ -144,8 +144,8 @@ bool TileAdapter::shows_scene_by_blit(const int32_t source[4], const int32_t des
     const SlaveContext& ctx = core_.current();
     if (!core_.options().view.enabled || s.scene_shown || !(mask & GL_COLOR_BUFFER_BIT)) return false;
     // (a lender's targets are its own context's: never read by this one's blit)
-    if (scene_in_part(ctx) != &s || source[2] - source[0] != s.part_viewport[2] ||
-        source[3] - source[1] != s.part_viewport[3] || destination[2] <= destination[0] ||
+    if (scene_in_part(ctx) != &s || int64_t(source[2]) - source[0] != s.part_viewport[2] ||
+        int64_t(source[3]) - source[1] != s.part_viewport[3] || destination[2] <= destination[0] ||
         destination[3] <= destination[1])
         return false;
     s.scene_shown = s.part_found = true;

@@ -189,7 +189,7 @@ WindowDrawMeaning window_blit(SceneFacts& f, DrawState& s, const int32_t source[
     }
     const GLuint read = s.read_framebuffer();
     if ((read != f.scene_framebuffer && (!f.scene_copy || read != f.scene_copy)) ||
-        source[2] - source[0] != f.viewport[2] || source[3] - source[1] != f.viewport[3])
+        int64_t(source[2]) - source[0] != f.viewport[2] || int64_t(source[3]) - source[1] != f.viewport[3])
         return WindowDrawMeaning::Scene;  // (another picture: a thumbnail, part of the interface)
     f.presented = true;
     return WindowDrawMeaning::ShowsInPart;

@@ -2,6 +2,7 @@
 #include "slave/scene/scene_lending.h"
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -215,9 +216,11 @@ void SceneLending::place_borrowed_scene(SlaveContext& ctx, ContextScene& scene) 
         const int32_t* d = loan.placement;
         const int32_t* s = loan.placement_source;
         for (int axis = 0; axis < 2; ++axis) {
-            const double scale = double(d[axis + 2] - d[axis]) / std::max(1, s[axis + 2] - s[axis]);
-            rect[axis] = int32_t(std::lround(d[axis] - s[axis] * scale));
-            rect[axis + 2] = int32_t(std::lround(d[axis] + (lent.scene_size[axis] - s[axis]) * scale));
+            // (the stream's rectangles: in doubles, and the result kept to the int32 range)
+            const double scale = (double(d[axis + 2]) - d[axis]) / std::max(1.0, double(s[axis + 2]) - s[axis]);
+            const auto clamped = [](double v) { return int32_t(std::clamp(v, double(INT32_MIN), double(INT32_MAX))); };
+            rect[axis] = clamped(std::round(d[axis] - s[axis] * scale));
+            rect[axis + 2] = clamped(std::round(d[axis] + (lent.scene_size[axis] - double(s[axis])) * scale));
         }
     } else if (!measured_placement(ctx, scene, rect)) {  // it drew nothing: the scene is not shown
         drop_borrowed(scene);

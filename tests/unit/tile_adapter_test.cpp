@@ -110,6 +110,86 @@ TEST(TileAdapter, OnAScaledCanvasWindowCoordinatesAndPixelSizesScale) {
     EXPECT_EQ(h.calls("glPixelZoom"), std::vector<std::string>{"glPixelZoom(2, -2)"});
 }
 
+TEST(TileAdapter, LineWidthAndPointSizeAreScaledOnlyWhileTheWindowIsBound) {
+    // Context state, set with the window bound (Blender does it with a hidden 1x1 window): the
+    // framebuffer object's draws get the program's own values, the window's the scaled ones.
+    ReplayHarness h;
+    scaled_top_right(h);
+    GL(glLineWidth, 2.0f);
+    GL(glPointSize, 3.0f);
+    GLuint fb[1] = {3};
+    GL(glGenFramebuffers, 1, fb);
+    GL(glBindFramebuffer, GL_FRAMEBUFFER, 3);
+    GL(glBindFramebuffer, GL_FRAMEBUFFER, 0);
+    h.replay();
+    const std::vector<std::string> widths = h.calls("glLineWidth"), sizes = h.calls("glPointSize");
+    EXPECT_EQ(widths, (std::vector<std::string>{"glLineWidth(4)", "glLineWidth(2)", "glLineWidth(4)"})) << h.log;
+    EXPECT_EQ(sizes, (std::vector<std::string>{"glPointSize(6)", "glPointSize(3)", "glPointSize(6)"}));
+}
+
+namespace {
+
+// A driver whose read framebuffer (slave name 3) is multisampled RGBA8 renderbuffers, at most
+// 16384 a side.
+void multisampled_read_framebuffer(ReplayHarness& h) {
+    h.gl->answer = [](slave::RecordedCall& c) {
+        if (c.opcode == OP_glGetIntegerv) {
+            GLint* out = c.pointer<GLint>(1);
+            switch (GLenum(c.args[0])) {
+            case GL_READ_FRAMEBUFFER_BINDING: *out = 3; break;
+            case GL_SAMPLES: *out = 4; break;
+            case GL_READ_BUFFER: *out = GL_COLOR_ATTACHMENT0; break;
+            case GL_MAX_RENDERBUFFER_SIZE: *out = 16384; break;
+            default: break;
+            }
+        } else if (c.opcode == OP_glGetFramebufferAttachmentParameteriv &&
+                   GLenum(c.args[2]) == GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE) {
+            *c.pointer<GLint>(3) = GL_RENDERBUFFER;
+        } else if (c.opcode == OP_glGetRenderbufferParameteriv &&
+                   GLenum(c.args[1]) == GL_RENDERBUFFER_INTERNAL_FORMAT) {
+            *c.pointer<GLint>(2) = GL_RGBA8;
+        }
+    };
+}
+
+}  // namespace
+
+TEST(TileAdapter, AMultisampledBlitIntoTheWindowIsResolvedAtItsOwnSizeBeforeTheTileScalesIt) {
+    ReplayHarness h;
+    scaled_top_right(h);
+    multisampled_read_framebuffer(h);
+    GLuint fb[1] = {3};
+    GL(glGenFramebuffers, 1, fb);
+    GL(glBindFramebuffer, GL_READ_FRAMEBUFFER, 3);
+    GL(glBlitFramebuffer, 0, 0, 320, 240, 0, 0, 320, 240, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    h.replay();
+    EXPECT_EQ(h.calls("glRenderbufferStorage"),
+              std::vector<std::string>{"glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, 320, 240)"}) << h.log;
+    const std::vector<std::string> blits = h.calls("glBlitFramebuffer");
+    ASSERT_EQ(blits.size(), 2u) << h.log;
+    EXPECT_EQ(blits[0], "glBlitFramebuffer(0, 0, 320, 240, 0, 0, 320, 240, 16384, GL_NEAREST)");  // the resolve
+    EXPECT_EQ(blits[1], "glBlitFramebuffer(0, 0, 320, 240, -640, -480, 0, 0, 16384, GL_NEAREST)");  // scaled
+}
+
+TEST(TileAdapter, AMultisampledBlitOfAnImpossibleRectangleIsRefusedBeforeAnythingIsMade) {
+    // The stream's rectangle: INT_MIN to INT_MAX wide would have overflowed, then asked the
+    // driver for a renderbuffer of that size.
+    ReplayHarness h;
+    scaled_top_right(h);
+    multisampled_read_framebuffer(h);
+    GLuint fb[1] = {3};
+    GL(glGenFramebuffers, 1, fb);
+    GL(glBindFramebuffer, GL_READ_FRAMEBUFFER, 3);
+    GL(glBlitFramebuffer, INT32_MIN, 0, INT32_MAX, 240, 0, 0, 320, 240, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    GL(glBlitFramebuffer, 0, 0, 20000, 240, 0, 0, 320, 240, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    h.replay();
+    EXPECT_TRUE(h.calls("glRenderbufferStorage").empty());
+    EXPECT_TRUE(h.calls("glBlitFramebuffer").empty());
+    EXPECT_NE(h.log.find("a source rectangle of 4294967295x240"), std::string::npos) << h.log;
+    EXPECT_NE(h.log.find("a source rectangle of 20000x240 at 0,0 is beyond the driver's largest renderbuffer (16384)"),
+              std::string::npos) << h.log;
+}
+
 TEST(TileAdapter, ABlitToTheWindowLandsWhereTheTileShowsIt) {
     ReplayHarness h;
     h.tile(1, 0, 2, 2);
