@@ -129,9 +129,14 @@ TEST(TileAdapter, LineWidthAndPointSizeAreScaledOnlyWhileTheWindowIsBound) {
 
 namespace {
 
-// A driver whose read framebuffer (slave name 3) is multisampled RGBA8 renderbuffers, at most
-// 16384 a side.
-void multisampled_read_framebuffer(ReplayHarness& h) {
+// The scaled top-right tile, the program's framebuffer 3 bound for reading, and a driver that
+// says the read framebuffer (slave name 3) is multisampled RGBA8 renderbuffers, at most 16384 a
+// side.
+void reading_multisampled_on_scaled_tile(ReplayHarness& h) {
+    scaled_top_right(h);
+    GLuint fb[1] = {3};
+    GL(glGenFramebuffers, 1, fb);
+    GL(glBindFramebuffer, GL_READ_FRAMEBUFFER, 3);
     h.gl->answer = [](slave::RecordedCall& c) {
         if (c.opcode == OP_glGetIntegerv) {
             GLint* out = c.pointer<GLint>(1);
@@ -156,11 +161,7 @@ void multisampled_read_framebuffer(ReplayHarness& h) {
 
 TEST(TileAdapter, AMultisampledBlitIntoTheWindowIsResolvedAtItsOwnSizeBeforeTheTileScalesIt) {
     ReplayHarness h;
-    scaled_top_right(h);
-    multisampled_read_framebuffer(h);
-    GLuint fb[1] = {3};
-    GL(glGenFramebuffers, 1, fb);
-    GL(glBindFramebuffer, GL_READ_FRAMEBUFFER, 3);
+    reading_multisampled_on_scaled_tile(h);
     GL(glBlitFramebuffer, 0, 0, 320, 240, 0, 0, 320, 240, GL_COLOR_BUFFER_BIT, GL_NEAREST);
     h.replay();
     EXPECT_EQ(h.calls("glRenderbufferStorage"),
@@ -175,11 +176,7 @@ TEST(TileAdapter, AMultisampledBlitOfAnImpossibleRectangleIsRefusedBeforeAnythin
     // The stream's rectangle: INT_MIN to INT_MAX wide would have overflowed, then asked the
     // driver for a renderbuffer of that size.
     ReplayHarness h;
-    scaled_top_right(h);
-    multisampled_read_framebuffer(h);
-    GLuint fb[1] = {3};
-    GL(glGenFramebuffers, 1, fb);
-    GL(glBindFramebuffer, GL_READ_FRAMEBUFFER, 3);
+    reading_multisampled_on_scaled_tile(h);
     GL(glBlitFramebuffer, INT32_MIN, 0, INT32_MAX, 240, 0, 0, 320, 240, GL_COLOR_BUFFER_BIT, GL_NEAREST);
     GL(glBlitFramebuffer, 0, 0, 20000, 240, 0, 0, 320, 240, GL_COLOR_BUFFER_BIT, GL_NEAREST);
     h.replay();
