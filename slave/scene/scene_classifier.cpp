@@ -181,7 +181,7 @@ WindowDrawMeaning window_draw(SceneFacts& f, DrawState& s, RedrawKind kind) {
     return WindowDrawMeaning::StartsOverlays;
 }
 
-WindowDrawMeaning window_blit(SceneFacts& f, DrawState& s, const int32_t source[4]) {
+WindowDrawMeaning window_blit(SceneFacts& f, DrawState& s, const int32_t source[4], const int32_t destination[4]) {
     if (!f.scene_framebuffer || f.presented) return WindowDrawMeaning::Scene;
     if (!f.in_part) {
         f.presented = true;  // the scene's image copied over the window
@@ -191,6 +191,8 @@ WindowDrawMeaning window_blit(SceneFacts& f, DrawState& s, const int32_t source[
     if ((read != f.scene_framebuffer && (!f.scene_copy || read != f.scene_copy)) ||
         int64_t(source[2]) - source[0] != f.viewport[2] || int64_t(source[3]) - source[1] != f.viewport[3])
         return WindowDrawMeaning::Scene;  // (another picture: a thumbnail, part of the interface)
+    if (destination[2] <= destination[0] || destination[3] <= destination[1])
+        return WindowDrawMeaning::Scene;  // (mirrored or empty: not placed, left as drawn, as rotated tiles do)
     f.presented = true;
     return WindowDrawMeaning::ShowsInPart;
 }

@@ -129,12 +129,13 @@ void follow_scene_texture(SceneFacts& facts, DrawState& state, RedrawKind kind);
 // offscreen draws were not the scene.
 WindowDrawMeaning window_draw(SceneFacts& facts, DrawState& state, RedrawKind kind);
 
-// A glBlitFramebuffer into the window of `source` (x0, y0, x1, y1 of the read framebuffer) while
-// the main view is known and overlays have not started. For a scene shown in part of the window,
-// one that reads its target (or the one its colour was resolved or copied into) over a rectangle
-// of the view's size shows it (ShowsInPart: placed at the blit's destination); for another scene
-// drawn offscreen, any blit shows it.
-WindowDrawMeaning window_blit(SceneFacts& facts, DrawState& state, const int32_t source[4]);
+// A glBlitFramebuffer into the window of `source` (x0, y0, x1, y1 of the read framebuffer) to
+// `destination` while the main view is known and overlays have not started. For a scene shown in
+// part of the window, one that reads its target (or the one its colour was resolved or copied
+// into) over a rectangle of the view's size, unmirrored, shows it (ShowsInPart: placed at the
+// destination); for another scene drawn offscreen, any blit shows it.
+WindowDrawMeaning window_blit(SceneFacts& facts, DrawState& state, const int32_t source[4],
+                              const int32_t destination[4]);
 
 // A draw of `kind` into the scene's framebuffer object (`facts.scene_framebuffer`) while its main
 // view is known and it has not been shown: true when it is the first flat one (starts_overlays),

@@ -222,7 +222,10 @@ void SceneLending::place_borrowed_scene(SlaveContext& ctx, ContextScene& scene) 
             rect[axis] = clamped(std::round(d[axis] - s[axis] * scale));
             rect[axis + 2] = clamped(std::round(d[axis] + (lent.scene_size[axis] - double(s[axis])) * scale));
         }
-    } else if (!measured_placement(ctx, scene, rect)) {  // it drew nothing: the scene is not shown
+    } else if (!measured_placement(ctx, scene, rect)) {
+        rect[0] = rect[2] = 0;
+    }
+    if (rect[0] >= rect[2] || rect[1] >= rect[3]) {  // nothing drawn, or a blit mirrored: not shown
         drop_borrowed(scene);
         return;
     }
@@ -230,8 +233,8 @@ void SceneLending::place_borrowed_scene(SlaveContext& ctx, ContextScene& scene) 
     std::copy(lender->second->facts.viewport, lender->second->facts.viewport + 4, lent_viewport);
     std::copy(rect, rect + 4, loan.placement);
     // The lender's viewport, in its target's pixels, placed and scaled as the window shows them.
-    const double sx = double(rect[2] - rect[0]) / std::max(1, lent.scene_size[0]);
-    const double sy = double(rect[3] - rect[1]) / std::max(1, lent.scene_size[1]);
+    const double sx = (double(rect[2]) - rect[0]) / std::max(1, lent.scene_size[0]);
+    const double sy = (double(rect[3]) - rect[1]) / std::max(1, lent.scene_size[1]);
     int32_t* v = scene.facts.viewport;
     v[0] = int32_t(std::lround(rect[0] + lent_viewport[0] * sx));
     v[1] = int32_t(std::lround(rect[1] + lent_viewport[1] * sy));

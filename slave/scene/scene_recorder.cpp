@@ -84,7 +84,7 @@ void SceneRecorder::record(SlaveContext& ctx, const Call& c, const uint8_t* tupl
         for (int k = 0; k < 4; ++k)
             destination[k] = core_.value<GLint>(c, sem.window_params[k]),
             source[k] = core_.value<GLint>(c, sem.window_params[4 + k]);
-        if (window_blit(facts, state, source) == WindowDrawMeaning::ShowsInPart)
+        if (window_blit(facts, state, source, destination) == WindowDrawMeaning::ShowsInPart)
             lending_.show_own_scene(ctx, sc, source, destination);
         return;
     }

@@ -164,7 +164,7 @@ GLuint WindowCopies::scene_depth_copy(SlaveContext& ctx, ContextScene& scene, co
     if (placed) {  // the tile's rectangle of the window, in the scene's texels (beyond them: the far plane)
         const int32_t* p = scene.loan.placement;
         const glm::dvec4 window = tile_source(ctx, W, H);
-        const double sx = double(SW) / std::max(1, p[2] - p[0]), sy = double(SH) / std::max(1, p[3] - p[1]);
+        const double sx = SW / std::max(1.0, double(p[2]) - p[0]), sy = SH / std::max(1.0, double(p[3]) - p[1]);
         source = {(window.x - p[0]) * sx, (window.y - p[1]) * sy, (window.z - p[0]) * sx, (window.w - p[1]) * sy};
     }
     if (!scene_depth_program_) {

@@ -471,15 +471,17 @@ TEST(SceneClassifier, ABlitFromASceneShownInPartAtTheViewsSizeShowsIt) {
     Given s;
     ASSERT_TRUE(found_in_part_of_400x300(facts, s));
     s.framebuffer = 0;
-    const int32_t view[4] = {0, 0, 320, 260}, half[4] = {0, 0, 160, 130};
+    const int32_t view[4] = {0, 0, 320, 260}, half[4] = {0, 0, 160, 130}, at[4] = {80, 0, 400, 260};
+    const int32_t mirrored[4] = {80, 260, 400, 0};
     s.read = 7;  // another target's picture (an icon, a thumbnail)
-    EXPECT_EQ(window_blit(facts, s, view), WindowDrawMeaning::Scene);
+    EXPECT_EQ(window_blit(facts, s, view, at), WindowDrawMeaning::Scene);
     s.read = 3;
-    EXPECT_EQ(window_blit(facts, s, half), WindowDrawMeaning::Scene);  // part of it
+    EXPECT_EQ(window_blit(facts, s, half, at), WindowDrawMeaning::Scene);  // part of it
+    EXPECT_EQ(window_blit(facts, s, view, mirrored), WindowDrawMeaning::Scene);  // upside down: not placed
     EXPECT_FALSE(facts.presented);
-    EXPECT_EQ(window_blit(facts, s, view), WindowDrawMeaning::ShowsInPart);  // the resolve into the window
+    EXPECT_EQ(window_blit(facts, s, view, at), WindowDrawMeaning::ShowsInPart);  // the resolve into the window
     EXPECT_TRUE(facts.presented);
-    EXPECT_EQ(window_blit(facts, s, view), WindowDrawMeaning::Scene);  // once
+    EXPECT_EQ(window_blit(facts, s, view, at), WindowDrawMeaning::Scene);  // once
     // Resolved into a texture first, that target's blit shows it.
     SceneFacts copied;
     s.framebuffer = 3;
@@ -487,14 +489,14 @@ TEST(SceneClassifier, ABlitFromASceneShownInPartAtTheViewsSizeShowsIt) {
     s.framebuffer = 4, s.read = 3, s.texture = 12;
     follow_scene_texture(copied, s, RedrawKind::Copy);
     s.framebuffer = 0, s.read = 4;
-    EXPECT_EQ(window_blit(copied, s, view), WindowDrawMeaning::ShowsInPart);
+    EXPECT_EQ(window_blit(copied, s, view, at), WindowDrawMeaning::ShowsInPart);
     // A scene of the window's size is shown by any blit.
     SceneFacts whole;
     s.framebuffer = 3, s.vp[2] = 400, s.vp[3] = 300;
     classify_draw(whole, s, 3, ClassifierSettings{false, true, 400, 300});
     ASSERT_TRUE(whole.scene_framebuffer && !whole.in_part);
     s.framebuffer = 0, s.read = 9;
-    EXPECT_EQ(window_blit(whole, s, half), WindowDrawMeaning::Scene);
+    EXPECT_EQ(window_blit(whole, s, half, at), WindowDrawMeaning::Scene);
     EXPECT_TRUE(whole.presented);
 }
 
