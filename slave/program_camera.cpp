@@ -69,6 +69,17 @@ int light_source_index(const char* name) {
     return std::isdigit(static_cast<unsigned char>(*digits)) && digits[1] == ']' ? *digits - '0' : -1;
 }
 
+// An element after the first of an array of structures in a uniform block, which the driver lists
+// one by one ("objects[7].model"): per-object data, never the camera. (An array of matrices is
+// listed once, by its first element, whose value is all this class reads of it.)
+bool past_first_element(const char* name) {
+    for (const char* at = std::strchr(name, '['); at; at = std::strchr(at + 1, '['))
+        if (at[1] != '0' || at[2] != ']') return true;
+    return false;
+}
+
+constexpr GLint kMostActiveUniforms = 1 << 16;
+
 }  // namespace
 
 LightUniform light_uniform(const std::string& original) {
@@ -92,11 +103,14 @@ const ProgramCameras::Uniforms& ProgramCameras::uniforms(uint32_t program) {
     Uniforms& out = uniforms_[program];
     GLint count = 0;
     gl_.glGetProgramiv(program, GL_ACTIVE_UNIFORMS, &count);
-    for (GLuint i = 0; i < GLuint(std::clamp(count, 0, 1024)); ++i) {
+    // (every one the driver lists: Blender's programs list 1,024 per-object matrices of a block
+    // before the one that holds the view; the driver's own limits bound the count)
+    for (GLuint i = 0; i < GLuint(std::clamp(count, 0, kMostActiveUniforms)); ++i) {
         char name[256] = {};
         GLint size = 0;
         GLenum type = 0;
         gl_.glGetActiveUniform(program, i, sizeof name, nullptr, &size, &type, name);
+        if (past_first_element(name)) continue;
         const bool builtin = std::strncmp(name, "gl_", 3) == 0;
         if (builtin && (std::strncmp(name, "gl_ModelView", 12) == 0 || std::strncmp(name, "gl_Projection", 13) == 0))
             out.fixed_function = true;

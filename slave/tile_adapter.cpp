@@ -277,7 +277,7 @@ void TileAdapter::after_call(const Call& c) {
             }
         }
     }
-    if (sem.writes_ns == Ns::framebuffer || (sem.flags & kSemDeletes)) state().colour_and_depth.clear();
+    if (sem.writes_ns == Ns::framebuffer || (sem.flags & kSemDeletes)) state().attachments.clear();
     if (sem.shader_type >= 0) shared().shader_types[c.ret.bits] = uint32_t(c.args[size_t(sem.shader_type)].bits);
     if (sem.flags & kSemLinksProgram) {  // linking resets uniforms, and may change which there are
         shared().clip_uniforms.clear();

@@ -96,7 +96,10 @@ private:
     void track_matrix(const Call& c);
     void correct_projection();
     bool draws_scene_target(SlaveContext& ctx);
-    bool holds_colour_and_depth();  // the draw framebuffer (asked of the driver once)
+    // What the draw framebuffer holds (asked of the driver once): kHoldsColour | kHoldsDepth.
+    static constexpr uint8_t kHoldsColour = 1, kHoldsDepth = 2;
+    uint8_t attachments();
+    bool holds_colour_and_depth() { return attachments() == (kHoldsColour | kHoldsDepth); }
     void saw_view(SlaveContext& ctx, const glm::dmat4& projection);
     // A scene drawn into a target not of the window's shape and shown in part of the window
     // (shown_scene.h; tile_shown_scene.cpp).

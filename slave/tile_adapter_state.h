@@ -34,9 +34,10 @@ struct TileAdapter::State {
     uint32_t matrix_mode = GL_MODELVIEW;
     bool in_begin_end = false;  // GL refuses queries between glBegin and glEnd
     uint64_t draw_framebuffer = 0;  // the master's name of the bound draw framebuffer (0: the window)
-    // Framebuffer objects (by the master's name) that hold colour and depth: a scene may be drawn
-    // there. Asked of the driver at the first draw into each, forgotten when attachments change.
-    std::unordered_map<uint64_t, bool> colour_and_depth;
+    // What framebuffer objects (by the master's name) hold, colour and depth (kHoldsColour,
+    // kHoldsDepth): a scene may be drawn where both are. Asked of the driver at the first draw into
+    // each, forgotten when attachments change.
+    std::unordered_map<uint64_t, uint8_t> attachments;
     // Engines draw their other views (a monitor's, a reflection's) first and their scene last
     // before showing it: the last such target drawn with a perspective view before the window
     // in a frame (not a post-processing target its full-screen quads fill after it) held the

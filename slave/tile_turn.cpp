@@ -59,19 +59,21 @@ glm::dmat4 TileAdapter::program_projection_now() {
 // post-processing without depth, thumbnails) are left alone.
 bool TileAdapter::draws_scene_target(SlaveContext& ctx) {
     State& s = state();
-    if (!holds_colour_and_depth()) return false;
     if (window_shaped(s.viewport[0], ctx.master_width, ctx.master_height))
-        return !s.scene_target_known || s.draw_framebuffer == s.scene_target;
+        return holds_colour_and_depth() && (!s.scene_target_known || s.draw_framebuffer == s.scene_target);
     // (and the others of its size: Blender's viewport draws its engines' colour and its overlays
-    // into targets of the region's size, which the draw that shows it blends)
-    return s.scene_in_part && !s.part_refused && s.scene_target_known &&
-           (s.draw_framebuffer == s.scene_target ||
-            (int32_t(s.viewport[0][2]) == s.part_viewport[2] && int32_t(s.viewport[0][3]) == s.part_viewport[3]));
+    // into targets of the region's size, which the draw that shows it blends; its overlay engine
+    // draws the grid and the object centres into one that holds colour only, and tests depth in
+    // its shaders against the scene's depth texture)
+    if (!s.scene_in_part || s.part_refused || !s.scene_target_known) return false;
+    if (s.draw_framebuffer == s.scene_target) return holds_colour_and_depth();
+    return (attachments() & kHoldsColour) && int32_t(s.viewport[0][2]) == s.part_viewport[2] &&
+           int32_t(s.viewport[0][3]) == s.part_viewport[3];
 }
 
-bool TileAdapter::holds_colour_and_depth() {
+uint8_t TileAdapter::attachments() {
     State& s = state();
-    auto [known, fresh] = s.colour_and_depth.try_emplace(s.draw_framebuffer, false);
+    auto [known, fresh] = s.attachments.try_emplace(s.draw_framebuffer, uint8_t(0));
     if (fresh) {
         const GlApi& gl = core_.api();
         GLint colour = GL_NONE, depth = GL_NONE;
@@ -79,7 +81,7 @@ bool TileAdapter::holds_colour_and_depth() {
                                                  GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE, &colour);
         gl.glGetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, GL_DEPTH_ATTACHMENT,
                                                  GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE, &depth);
-        known->second = colour != GL_NONE && depth != GL_NONE;
+        known->second = uint8_t((colour != GL_NONE ? kHoldsColour : 0) | (depth != GL_NONE ? kHoldsDepth : 0));
     }
     return known->second;
 }
@@ -119,9 +121,10 @@ void TileAdapter::saw_view(SlaveContext& ctx, const glm::dmat4& projection) {
     }
     // (shown in part of the window, it may be drawn after other parts were: Blender draws each
     // region into its own target and copies it into the window before drawing the next)
+    // (a target of its size with colour only, an overlay's, is drawn over it: not the scene's)
     s.part_turned = true;  // (draws_scene_target turns only the known one)
     for (int k = 0; k < 4; ++k) s.part_viewport[k] = int32_t(s.viewport[0][k]);
-    if (!s.frame_shaped_view) s.frame_scene_target = s.draw_framebuffer;
+    if (!s.frame_shaped_view && holds_colour_and_depth()) s.frame_scene_target = s.draw_framebuffer;
 }
 
 void TileAdapter::end_frame(SlaveContext& ctx) {

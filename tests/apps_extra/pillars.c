@@ -87,6 +87,16 @@
  * window instead of a quad (with --msaa straight from the multisampled target: the resolve is the
  * blit that shows it, as programs drawing with multisampling often show their scene).
  *
+ * With --overlay the pillars are drawn after the floor with the depth test off (they stand on it and
+ * do not hide one another); with --fbo (not --msaa) into a second framebuffer object that holds the
+ * scene's colour texture and no depth, as Blender's overlay engine draws its grid, outlines and
+ * object centres into a colour-only target of the viewport's size over the engines' picture.
+ *
+ * With --shader --objects the projection is in a uniform block of its own, declared before a block
+ * of 512 per-object matrix pairs (model and its inverse; the first the identity, the rest zero), as
+ * Blender's draw manager keeps its view and its objects: std140 makes every one of the 1,024
+ * per-object matrices an active uniform of the program, and Mesa lists the later block's first.
+ *
  * With --fbo --grade a colour grade follows the scene in its target: a full-target triangle whose
  * vertex shader places it by gl_VertexID with no matrix at all, halving every pixel's colour by
  * blending (GL_DST_COLOR, GL_ZERO), as an engine's screen-space passes (an outline, a background,
@@ -121,7 +131,7 @@
  * then use their configured light.
  *
  *   pillars [--shader | --builtins | --mvp] [--grow] [--fbo [--half | --region [--blit]] [--mrt | --msaa] [--depth-texture]] [--reversed] [--hud [--in-scene [--depth-on]]]
- *           [--hand] [--left-handed] [--mixed] [--foliage] [--post] [--grade] [--markers] [--cull] [--fov DEG]
+ *           [--hand] [--left-handed] [--mixed] [--foliage] [--post] [--grade] [--markers] [--cull] [--overlay] [--objects] [--fov DEG]
  *           [--fisheye] [--scale S] [--turn DEG] [--sun X,Y,Z | --gl-light X,Y,Z] [--frames N] [--size WxH]
  */
 #define GL_GLEXT_PROTOTYPES 1
@@ -356,6 +366,8 @@ int main(int argc, char **argv)
     const int grade = fbo_mode && app_take_flag(&argc, &argv, "--grade");
     const int markers = app_take_flag(&argc, &argv, "--markers");
     const int cull = app_take_flag(&argc, &argv, "--cull");
+    const int overlay = app_take_flag(&argc, &argv, "--overlay");
+    const int objects = shader && !builtins && !mvp && app_take_flag(&argc, &argv, "--objects");
     const int fisheye = shader && !builtins && !mvp && app_take_flag(&argc, &argv, "--fisheye");
     double fov = 60;
     if (argc > 2 && strcmp(argv[1], "--fov") == 0) {  /* (before --turn, as the usage lists them) */
@@ -447,6 +459,12 @@ int main(int argc, char **argv)
                                    " gl_Position = gl_ModelViewProjectionMatrix * gl_Vertex; }\n"
                          : builtins ? "#version 120\n"
                                     "void main() { gl_FrontColor = gl_Color; gl_Position = gl_ModelViewProjectionMatrix * gl_Vertex; }\n"
+                         : objects ? "#version 140\n#extension GL_ARB_compatibility : enable\n"
+                                     "struct Object { mat4 model; mat4 model_inverse; };\n"
+                                     "layout(std140) uniform view_block { mat4 winmat; };\n"
+                                     "layout(std140) uniform objects_block { Object object[512]; };\n"
+                                     "void main() { gl_FrontColor = gl_Color;"
+                                     " gl_Position = winmat * (object[0].model * gl_Vertex); }\n"
                          : mvp ? "#version 120\nuniform mat4 mvp;\n"
                                  "void main() { gl_FrontColor = gl_Color; gl_Position = mvp * gl_Vertex; }\n"
                                : "#version 120\nuniform mat4 proj;\n"
@@ -460,6 +478,21 @@ int main(int argc, char **argv)
             return 1;
         }
         proj_location = glGetUniformLocation(program, mvp ? "mvp" : "proj");
+        if (objects) {  /* block bindings 1 (the objects) and 2 (the view) */
+            GLuint ubo[2];
+            glGenBuffers(2, ubo);
+            GLfloat *block = calloc(512 * 32, sizeof(GLfloat));
+            for (int i = 0; i < 4; i++) block[i * 5] = block[16 + i * 5] = 1;  /* object 0: the identity */
+            glBindBuffer(GL_UNIFORM_BUFFER, ubo[0]);
+            glBufferData(GL_UNIFORM_BUFFER, 512 * 32 * sizeof(GLfloat), block, GL_STATIC_DRAW);
+            free(block);
+            glBindBuffer(GL_UNIFORM_BUFFER, ubo[1]);
+            glBufferData(GL_UNIFORM_BUFFER, 16 * sizeof(GLfloat), NULL, GL_DYNAMIC_DRAW);
+            glBindBufferBase(GL_UNIFORM_BUFFER, 1, ubo[0]);
+            glBindBufferBase(GL_UNIFORM_BUFFER, 2, ubo[1]);
+            glUniformBlockBinding(program, glGetUniformBlockIndex(program, "objects_block"), 1);
+            glUniformBlockBinding(program, glGetUniformBlockIndex(program, "view_block"), 2);
+        }
         if (fisheye) {
             glUseProgram(program);
             glUniform1f(glGetUniformLocation(program, "aspect"), (GLfloat)a.width / (GLfloat)a.height);
@@ -562,6 +595,17 @@ int main(int argc, char **argv)
         }
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
     }
+    GLuint overlay_fbo = 0;  /* --overlay --fbo: the scene's colour, no depth */
+    if (overlay && fbo_mode && !msaa) {
+        glGenFramebuffers(1, &overlay_fbo);
+        glBindFramebuffer(GL_FRAMEBUFFER, overlay_fbo);
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, color, 0);
+        if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+            fprintf(stderr, "pillars: the overlay's framebuffer object is not complete\n");
+            return 1;
+        }
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    }
     GLuint post_fbo = 0, post_color = 0;
     if (post && region) {  /* the region's size, the scene's depth */
         GLint scene_depth = 0;
@@ -628,7 +672,8 @@ int main(int argc, char **argv)
         if (shader && !builtins && !mvp) {
             GLfloat m[16];
             for (int i = 0; i < 16; i++) m[i] = (GLfloat)proj[i];
-            glUniformMatrix4fv(proj_location, 1, GL_FALSE, m);
+            if (objects) glBufferSubData(GL_UNIFORM_BUFFER, 0, sizeof m, m);  /* (the view's block stays bound) */
+            else glUniformMatrix4fv(proj_location, 1, GL_FALSE, m);
         }
         glMatrixMode(GL_MODELVIEW);
         glLoadIdentity();
@@ -654,6 +699,8 @@ int main(int argc, char **argv)
             glVertex3d(-50, -2, 50 * zs);
             glEnd();
             if (mixed) glUseProgram(program);
+            if (overlay) glDisable(GL_DEPTH_TEST);
+            if (overlay_fbo) glBindFramebuffer(GL_FRAMEBUFFER, overlay_fbo);
             for (int k = 0; k < 12; k++) {
                 const double yaw = k * 30.0 * M_PI / 180.0, x = 6 * sin(yaw), z = -6 * cos(yaw), w = 0.6;
                 /* --cull: outside the field of view by more than the pillar's half width (0.6 at 6) */
@@ -670,6 +717,8 @@ int main(int argc, char **argv)
                 glEnd();
             }
             if (foliage) glDisable(GL_ALPHA_TEST);
+            if (overlay_fbo) glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+            if (overlay) glEnable(GL_DEPTH_TEST);
         }
         if (markers) {
             if (mvp) upload(proj_location, proj);  /* the view is the identity: the points as modelled */

@@ -23,6 +23,8 @@ blit: drawn by a shader program into a multisampled target and shown by the glBl
 widget: a scene another context draws, as a toolkit's GL widget (ff_scene --widget).
 grade: a shader program's viewport with a colour grade in its target (a full-target pass with
   no matrix), which must grade every tile's scene.
+overlay, overlay_builtins: the pillars drawn into a second target of the viewport's size that
+  holds its colour and no depth (Blender's overlay engine's way), by fixed function or built-ins.
 winter_shader: the same for a shader program's multisampled viewport shown by a blit.
 winter: the fixed-function viewport under snow cover and shadows, then snow: the interface
   keeps every pixel where the screen puts it, and the floor of a tile away from the screen is
@@ -170,11 +172,11 @@ def config_of_size(path, width, height):
     return path
 
 
-def case(name, flags, viewport_flags=(), region_flags=(), edges=1, direct_flags=()):
+def case(name, flags, viewport_flags=(), region_flags=(), edges=1, direct_flags=(), own_colours=None):
     out = wall(name, flags + ["--fbo", "--region"] + list(region_flags) + ["--hud"] + list(viewport_flags))
     # (the toolbar's right edge lies on the seam of yaw300 and yaw000: on yaw300's side the
     # toolbar hides that seam's pillar; a graded scene's pillars are not their own colours)
-    if not direct_flags:
+    if own_colours if own_colours is not None else not direct_flags:
         pillars_on_tiles(name, out, FRAME, hidden_seams=("yaw300",))
     interface_on_screen(name, out)
     direct = wall(name + "_direct", flags + list(direct_flags))
@@ -188,6 +190,19 @@ def case_grade():
     # graded on the front tile's screen only. Compared with the program grading a scene of the
     # window's shape (pillars --shader --fbo --grade), which the cylinder turns as ever.
     case("grade", ["--shader"], ["--grade"], direct_flags=["--fbo", "--grade"])
+
+
+def case_overlay(flags=()):
+    # The pillars drawn into a second target that holds the viewport's colour and no depth, as
+    # Blender's overlay engine draws its grid, outlines and object centres: before, that target
+    # was not taken for the scene's and its draws were left unturned (every tile showed the
+    # program's pillars over its own floor).
+    case("overlay" + "".join(f.replace("--", "_") for f in flags), list(flags), ["--overlay"],
+         direct_flags=["--overlay"], own_colours=True)
+
+
+def case_overlay_builtins():
+    case_overlay(["--builtins"])
 
 
 def case_winter(flags=(), region=("--fbo", "--region", "--hud"), prefix="winter", edges=1):

@@ -258,6 +258,13 @@ def case_cylinder_shader_found():
     cylinder("cylinder_shader_found", os.path.join(CONFIGS, "cylinder-360.json"), ["--shader"])
 
 
+def case_cylinder_shader_objects():
+    # The projection in a uniform block after a block of 1,024 per-object matrices, all active
+    # uniforms (Blender's draw manager's layout): before, the slave looked at the first 1,024
+    # uniforms only and never reached the projection (no camera: every tile the same picture).
+    cylinder("cylinder_shader_objects", os.path.join(CONFIGS, "cylinder-360.json"), ["--shader", "--objects"])
+
+
 def case_cylinder_builtins():
     # A shader program that reads the fixed-function matrices through GLSL's built-ins
     # (gl_ModelViewProjectionMatrix) and has no matrix uniform: turned by its GL_PROJECTION.
