@@ -81,7 +81,11 @@ void SceneLending::borrow_scene(SlaveContext& ctx, ContextScene& scene, DrawStat
             continue;
         const SlaveContext* lender = core_.context(id);
         if (!lender || lender->names.shared != ctx.names.shared) continue;  // the same name, another texture
-        if (!state.samples_texture(lent.scene_texture)) continue;
+        // (its target's colour, the texture it was resolved into, or the one a draw of its size
+        // copied it into since: Blender's viewport reaches the window through post-processing)
+        if (!state.samples_texture(lent.scene_texture) &&
+            !(lent_facts.in_part && lent_facts.scene_texture && state.samples_texture(lent_facts.scene_texture)))
+            continue;
         BorrowerObjects& objects = scene.borrower;
         // Its depth, attached to a framebuffer object of this context.
         GLint read = 0;

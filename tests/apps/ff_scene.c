@@ -52,6 +52,10 @@
  * of the window and a label inside the widget's lower left corner (docs/effects.md: a scene
  * drawn by another context). --widget-samples N (implies --widget): the scene is drawn with N
  * samples into renderbuffers and its colour resolved into the texture with glBlitFramebuffer.
+ * --widget-post (after --widget): the widget's context then copies its picture by a fixed-function
+ * textured quad into a second texture of its size (a framebuffer object without depth), and the
+ * window shows that one, as Blender's draw manager copies its viewport's picture through
+ * post-processing targets before the window's context composites it.
  * --widget-swaps (implies --widget): the widget's context swaps its pbuffer once when it is made, as
  * Blender's draw manager's hidden window does; it never presents again.
  * --preview (implies --widget): the window's context draws that texture small in the top left
@@ -571,6 +575,9 @@ struct widget_target {
      * with samples does */
     int samples;
     GLuint resolved, color;
+    /* --widget-post: the picture copied into post_texture, which the window shows */
+    int post;
+    GLuint post_framebuffer, post_texture;
     int x, y, width, height; /* where the window shows it */
 };
 
@@ -659,8 +666,53 @@ static int widget_create(Display *dpy, XVisualInfo *vi, GLXContext window_contex
             return -1;
         }
     }
+    if (t->post) {
+        glGenTextures(1, &t->post_texture);
+        glBindTexture(GL_TEXTURE_2D, t->post_texture);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, t->width, t->height, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
+        glBindTexture(GL_TEXTURE_2D, 0);
+        gen_framebuffers(1, &t->post_framebuffer);
+        bind_framebuffer(GL_FRAMEBUFFER, t->post_framebuffer);
+        framebuffer_texture(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, t->post_texture, 0);
+        if (check_status(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+            fprintf(stderr, "%s: --widget-post: the copy's framebuffer object is not complete\n", PROG);
+            return -1;
+        }
+    }
     bind_framebuffer(GL_FRAMEBUFFER, 0);
     return 0;
+}
+
+static void draw_viewport_quad(void);
+
+/* --widget-post: the widget's picture copied into post_texture by a full-target quad. */
+static void widget_copy(const struct widget_target *t)
+{
+    bind_framebuffer(GL_FRAMEBUFFER, t->post_framebuffer);
+    glPushAttrib(GL_ALL_ATTRIB_BITS);
+    glViewport(0, 0, t->width, t->height);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_LIGHTING);
+    glDisable(GL_FOG);
+    glDisable(GL_BLEND);
+    glMatrixMode(GL_PROJECTION);
+    glPushMatrix();
+    glLoadIdentity();
+    glMatrixMode(GL_MODELVIEW);
+    glPushMatrix();
+    glLoadIdentity();
+    glEnable(GL_TEXTURE_2D);
+    glBindTexture(GL_TEXTURE_2D, t->texture);
+    glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_REPLACE);
+    draw_viewport_quad();
+    glBindTexture(GL_TEXTURE_2D, 0);
+    glPopMatrix();
+    glMatrixMode(GL_PROJECTION);
+    glPopMatrix();
+    glMatrixMode(GL_MODELVIEW);
+    glPopAttrib();
 }
 
 /* Before the scene (bind), after it (unbind; multisampled: its colour resolved into the texture). */
@@ -671,6 +723,8 @@ static void widget_bind(const struct widget_target *t, int bind)
         bind_framebuffer(GL_DRAW_FRAMEBUFFER, t->resolved);
         blit_framebuffer(0, 0, t->width, t->height, 0, 0, t->width, t->height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
     }
+    if (!bind && t->post)
+        widget_copy(t);
     bind_framebuffer(GL_FRAMEBUFFER, bind ? t->framebuffer : 0);
 }
 
@@ -697,7 +751,7 @@ static void widget_composite(const struct widget_target *t, int w, int h)
     glLoadIdentity();
     glDisable(GL_DEPTH_TEST);
     glEnable(GL_TEXTURE_2D);
-    glBindTexture(GL_TEXTURE_2D, t->texture);
+    glBindTexture(GL_TEXTURE_2D, t->post ? t->post_texture : t->texture);
     glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_REPLACE);
     /* placed by the viewport: a quad over all of it */
     glViewport(t->x, t->y, t->width, t->height);
@@ -814,6 +868,7 @@ int main(int argc, char **argv)
     culled = app_take_flag(&argc, &argv, "--culled");
     widget = app_take_flag(&argc, &argv, "--widget");
     preview = app_take_flag(&argc, &argv, "--preview");
+    target.post = widget && app_take_flag(&argc, &argv, "--widget-post");
     const int widget_swaps = app_take_flag(&argc, &argv, "--widget-swaps");
     widget = widget || preview || widget_swaps;
     target.samples = 0;

@@ -171,7 +171,7 @@ def widget_that_swapped_once(headless):
               f"frame {k}: the widget that swapped once is not decorated as a widget ({changed} in, {touched} out)")
 
 
-def widget(headless, samples=0):
+def widget(headless, samples=0, post=False):
     """ff_scene --widget (320x240): a second context draws the scene into a framebuffer object of
     200x180 in frames 0 and 4 only; every frame the window's context draws a grey background,
     that texture at (80, 30), a toolbar and a label over the widget. With every pass, frames 0-5
@@ -182,17 +182,21 @@ def widget(headless, samples=0):
     window, toolbar and label included. With `samples` (--widget-samples: the scene drawn into
     multisampled renderbuffers, its colour resolved into the texture), the same but for the
     comparison with the direct scene (whose edges are not antialiased); before, 31,564 pixels
-    outside the widget changed."""
+    outside the widget changed. With `post` (--widget-post: the widget's context copies its picture
+    into a second texture by a full-target quad and the window shows that one, as Blender's draw
+    manager's viewport is copied through post-processing targets), the same; before, the window's
+    draw sampled a texture the lent scene did not name, and once the scene's first draw had a
+    camera no pass found a view in any frame."""
     x0, y0, x1, y1 = 80, 30, 280, 210  # the widget, GL window pixels
     label = {(x, H - 1 - y) for y in range(y0 + 4, y0 + 20) for x in range(x0 + 4, x0 + 64)}
     widget_px = [(x, H - 1 - y) for y in range(y0, y1) for x in range(x0, x1) if (x, H - 1 - y) not in label]
     rect = set(widget_px) | label
     outside = [(x, y) for y in range(H) for x in range(W) if (x, y) not in rect] + sorted(label)
     frames = 6
-    variant = f"widget{samples or ''}"
+    variant = f"widget{samples or ''}" + ("_post" if post else "")
     captures = {"widget": os.path.join(OUT, f"ff_scene_{variant}.glcs"),
                 "direct": os.path.join(OUT, "ff_scene_direct.glcs")}
-    mode = ["--widget-samples", str(samples)] if samples else ["--widget"]
+    mode = ["--widget-samples", str(samples)] if samples else ["--widget"] + (["--widget-post"] if post else [])
     with Xvfb():
         for name, args in (("widget", mode + ["--size", f"{W}x{H}", "--frames", str(frames)]),
                            ("direct", ["--size", f"{x1 - x0}x{y1 - y0}", "--frames", "1"])):
@@ -313,5 +317,11 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    if sys.argv[1:] == ["widget_post"]:  # (a test of its own, beside main's in ctest: its own folder)
+        OUT += "_widget_post"
+        shutil.rmtree(OUT, ignore_errors=True)
+        os.makedirs(OUT)
+        widget({k: v for k, v in os.environ.items() if k != "DISPLAY"}, post=True)
+    else:
+        main()
     print("PASS")
