@@ -593,6 +593,32 @@ static PFNGLBLITFRAMEBUFFERPROC blit_framebuffer;
 
 #define GL_PROC(type, name) (type)glXGetProcAddressARB((const GLubyte *)name)
 
+/* A colour texture of the widget's size, read with nearest texels. */
+static GLuint widget_texture(const struct widget_target *t)
+{
+    GLuint texture = 0;
+    glGenTextures(1, &texture);
+    glBindTexture(GL_TEXTURE_2D, texture);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, t->width, t->height, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    return texture;
+}
+
+/* A framebuffer object of `texture` alone; -1 (said) when it is not complete. Leaves it bound. */
+static int colour_framebuffer(GLuint texture, GLuint *framebuffer, const char *what)
+{
+    gen_framebuffers(1, framebuffer);
+    bind_framebuffer(GL_FRAMEBUFFER, *framebuffer);
+    framebuffer_texture(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, texture, 0);
+    if (check_status(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+        fprintf(stderr, "%s: %s framebuffer object is not complete\n", PROG, what);
+        return -1;
+    }
+    return 0;
+}
+
 /* The scene's context: shares objects with `window_context`, current on a 1x1 pbuffer of the
  * window's visual, with a framebuffer object of the widget's size. Leaves it current. */
 static int widget_create(Display *dpy, XVisualInfo *vi, GLXContext window_context, int w, int h,
@@ -632,12 +658,7 @@ static int widget_create(Display *dpy, XVisualInfo *vi, GLXContext window_contex
         return -1;
     }
     t->width = w * 5 / 8, t->height = h * 3 / 4, t->x = w / 4, t->y = h / 8;
-    glGenTextures(1, &t->texture);
-    glBindTexture(GL_TEXTURE_2D, t->texture);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, t->width, t->height, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
-    glBindTexture(GL_TEXTURE_2D, 0);
+    t->texture = widget_texture(t);
     gen_renderbuffers(1, &t->depth);
     bind_renderbuffer(GL_RENDERBUFFER, t->depth);
     renderbuffer_storage_multisample(GL_RENDERBUFFER, t->samples, GL_DEPTH24_STENCIL8, t->width, t->height);
@@ -657,29 +678,12 @@ static int widget_create(Display *dpy, XVisualInfo *vi, GLXContext window_contex
         fprintf(stderr, "%s: --widget: the widget's framebuffer object is not complete\n", PROG);
         return -1;
     }
-    if (t->samples) {
-        gen_framebuffers(1, &t->resolved);
-        bind_framebuffer(GL_FRAMEBUFFER, t->resolved);
-        framebuffer_texture(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, t->texture, 0);
-        if (check_status(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
-            fprintf(stderr, "%s: --widget: the resolve framebuffer object is not complete\n", PROG);
+    if (t->samples && colour_framebuffer(t->texture, &t->resolved, "--widget: the resolve") != 0)
+        return -1;
+    if (t->post) {  /* (a texture of the widget's size, in a framebuffer object without depth) */
+        t->post_texture = widget_texture(t);
+        if (colour_framebuffer(t->post_texture, &t->post_framebuffer, "--widget-post: the copy") != 0)
             return -1;
-        }
-    }
-    if (t->post) {
-        glGenTextures(1, &t->post_texture);
-        glBindTexture(GL_TEXTURE_2D, t->post_texture);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, t->width, t->height, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
-        glBindTexture(GL_TEXTURE_2D, 0);
-        gen_framebuffers(1, &t->post_framebuffer);
-        bind_framebuffer(GL_FRAMEBUFFER, t->post_framebuffer);
-        framebuffer_texture(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, t->post_texture, 0);
-        if (check_status(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
-            fprintf(stderr, "%s: --widget-post: the copy's framebuffer object is not complete\n", PROG);
-            return -1;
-        }
     }
     bind_framebuffer(GL_FRAMEBUFFER, 0);
     return 0;
