@@ -263,10 +263,16 @@ KNOWN = """## What the table does not show
   1-pixel shift's); a tile of the canvas's width but not its height (0,1,1280,959) changes 404,
   because EGL's framebuffers are y-flipped and the height moves the origin. Softpipe, another
   rasterizer, flips 390 pixels on the same mosaic (208 of them the same). The table's mosaic
-  column makes this check itself when a mosaic is over the tolerance, and says "rounding" when
-  95% of the differing pixels lie near the shifted canvas's; in this run's random scene 662 of
-  730 did (91%), with the unshifted tile again exact, so the column says FAIL. pymol's mosaic
-  (293 pixels, 258 near a shift's, an unshifted tile exact) is the same rounding on its sticks.
+  column makes a check of its own when a mosaic is over the tolerance, and says "rounding" when
+  the tile with the canvas's origin is exact, every tile matches the canvas best where it belongs
+  (more than ten times better than one pixel off any way: a tile mapped a pixel off matches best
+  there, as a tile shifted on purpose does, 201 pixels off against 20,972 in place), and 95% of
+  the differing pixels lie on the picture's edges (a neighbour more than 16 levels away), where
+  a rasterizer's origin flips pixels, not inside its shapes. Until this stop it asked instead that
+  95% lie within 4 pixels of those a one-pixel shift of the canvas changes: at another origin
+  other edge pixels flip, and engine's run above (662 of 730 near) and pymol's (199 of 230) said
+  FAIL for what is the same rounding (engine's row is from that run; pymol's now says rounding:
+  227 of its 230 pixels on the edges of its sticks, each tile a hundred times or more better in place than a pixel off).
 - **Shadows on shader programs** are re-rendered through their patched vertex shaders
   (docs/effects.md, "How redraw works"; test `shadows_e2e_core_scene`). glmark2's two scenes
   give them little to fall on: one object on black (the horse shades 5 pixels of itself, the
@@ -370,22 +376,27 @@ KNOWN = """## What the table does not show
   What the draw manager draws into the viewport's own textures is decorated with the scene: the
   grid, the camera's and the light's wire frames (cover speckles their lines), the navigation
   gizmo and the viewport's text. The default scene has no ground: shadows fall on the cube only.
-  On the cylinder the viewport now turns (docs/wall.md, "A scene shown in part of the window"):
-  its grid continues across yaw300, yaw000 and yaw060, and the interface lies on the program's
-  screen, the viewport's frustum extended to the window (larger than the front tile at Blender's
-  view). The large dark shapes and the star of red and white lines that covered the front tile
-  (and every tile of the 2x2 wall, and its canvas, which the mosaic equalled) were Blender's
-  overlay wires drawn 1,120 pixels wide: it sets glLineWidth with its draw manager's hidden 1x1
-  window bound, and the slave kept the width it scaled for that window for the viewport's
-  framebuffer objects. Line width and point size are now applied scaled only while the window is
-  bound (docs/wall.md): the viewport shows on flat tiles as in the program's frame, and on the
-  cylinder's front tile turned, its cube, cursor, camera and gizmo in place, the interface on the
-  program's screen. Left, not understood: on the front tile the cube's top face is black; on
-  the five other tiles the overlay picture (the grid, the cube's selection outline and origin
-  dot) is the same on each (yaw120, yaw180 and yaw240 are identical to the pixel): the overlay
-  texture is not turned there, while the engines' picture is (the cube shows on the front tile
-  only). The **around** column's 89% is that unturned grid. Before this stop the cylinder column
-  said "unturned" (every tile showed the window as drawn).
+  On the cylinder the whole viewport turns (docs/wall.md, "A scene shown in part of the window"):
+  the front tile shows the cube, the camera's and the light's wire frames, the cursor and the
+  gizmo where the program's view puts them, the interface on the program's screen (the viewport's
+  frustum extended to the window); the other five tiles show the grid turned, continuing to the
+  horizon (Blender's grid is infinite: the **around** column's 83-84% of the back tiles). Two
+  things had left parts of it unturned until this stop, both reproduced first by test programs
+  of our own: the overlay engine draws the grid and the object centres into a target of the
+  viewport's size that holds colour only (it tests depth in its shader), which was not taken for
+  the scene's (`wall_region_turn_overlay_builtins`); and its programs list 1,024 per-object
+  matrices of a uniform block before the block that holds the view, where the slave stopped
+  looking (`wall_cylinder_shader_objects`): the workbench's first pass, the outline ids and the
+  object centres had no camera (each back tile showed the cube's outline and origin at the same
+  place, and the front tile's cube had a black top). With the view found in the workbench's
+  first pass, its picture reaches the window through post-processing targets, and the window's
+  context now borrows the scene through them too (`effects_widget_post`: before, the passes found
+  no view). Earlier in the round: the large dark shapes and the star of red and white lines that
+  covered the front tile (and every tile of the 2x2 wall, and its canvas, which the mosaic
+  equalled) were Blender's overlay wires drawn 1,120 pixels wide: it sets glLineWidth with its
+  draw manager's hidden 1x1 window bound, and the slave kept the width it scaled for that window
+  for the viewport's framebuffer objects; line width and point size are applied scaled only while
+  the window is bound (docs/wall.md).
   Its replay differs
   from the program's own frames by 1 level of green or blue in 24 pixels of one row (window row
   458, from the timeline's playhead to its right, drawn by a blended fan over the window after the
@@ -470,7 +481,7 @@ def mosaic(glcast, capture, out, frame):
     large = off_by_more_than_2(a, b)
     if len(large) <= 1e-4 * 1280 * 960:
         return True, f"{len(large)} px > 2 off" + timing
-    ok, text = rounding(glcast, capture, out, frame, b, large)
+    ok, text = rounding(glcast, capture, out, frame, b, large, [read_png(t)[2] for t in tiles])
     return ok, text + timing
 
 
@@ -480,27 +491,41 @@ def off_by_more_than_2(a, b, dx=0, dy=0):
             if max(abs(p - q) for p, q in zip(pa, pb)) > 2}
 
 
-def rounding(glcast, capture, out, frame, canvas, large):
+def rounding(glcast, capture, out, frame, canvas, large, tiles):
     """Whether a mosaic's differences are the rasterizer's rounding rather than a mapping error.
     A planar tile changes only where the rasterizer's origin lies (its viewport and scissor are
-    integer translations; docs/wall.md). So: a tile whose origin is the canvas's (its left half,
-    full height: EGL's framebuffers are y-flipped, so the height moves the origin too) must equal
-    the canvas exactly, and a canvas shifted by one pixel must change the same spots (most of the
-    mosaic's differing pixels within 4 pixels of one it changes)."""
-    shifted = {}
-    for name, rect in (("unshifted", "0,0,640,960"), ("shifted", "1,0,1279,960")):
-        d = os.path.join(out, name)
-        r = run([glcast, "replay", capture, "--backend", "egl", "--canvas", "1280x960", "--tile-rect", rect,
-                 "--out", d, "--frames", str(frame)], env=headless())
-        if r.returncode != 0:
-            return False, f"{len(large)} px > 2 off; the {name} canvas failed"
-        shifted[name] = read_png(os.path.join(d, f"frame-{frame:06d}.png"))[2]
-    unshifted = off_by_more_than_2(shifted["unshifted"], canvas)
-    moved = off_by_more_than_2(shifted["shifted"], canvas, dx=1)
-    near = sum(1 for x, y in large if any((x + i, y + j) in moved for i in range(-4, 5) for j in range(-4, 5)))
-    text = (f"{len(large)} px > 2 off; an unshifted tile {len(unshifted)} px, a 1-px shift {len(moved)} px, "
-            f"{near} of the {len(large)} near those")
-    if unshifted or near < 0.95 * len(large):
+    integer translations; docs/wall.md), which flips pixels on the picture's edges. So: a tile
+    whose origin is the canvas's (its left half, full height: EGL's framebuffers are y-flipped, so
+    the height moves the origin too) must equal the canvas exactly; every tile must match the
+    canvas best where it belongs, far better than one pixel off in any direction (a tile mapped
+    off by a pixel matches best there); and the differing pixels must lie on the canvas picture's
+    edges (at least 95% of them: a neighbour more than 16 levels away), not inside its shapes."""
+    d = os.path.join(out, "unshifted")
+    r = run([glcast, "replay", capture, "--backend", "egl", "--canvas", "1280x960", "--tile-rect", "0,0,640,960",
+             "--out", d, "--frames", str(frame)], env=headless())
+    if r.returncode != 0:
+        return False, f"{len(large)} px > 2 off; the unshifted canvas failed"
+    unshifted = off_by_more_than_2(read_png(os.path.join(d, f"frame-{frame:06d}.png"))[2], canvas)
+    misplaced = []
+    for name, tile in zip(TILES, tiles):
+        x0, y0 = (640 if "right" in name else 0), (480 if "bottom" in name else 0)
+
+        def off_at(dx, dy):  # the tile's inner pixels against the canvas dx, dy away
+            return sum(1 for y in range(1, len(tile) - 1) for x in range(1, len(tile[0]) - 1)
+                       if max(abs(p - q) for p, q in zip(tile[y][x][:3], canvas[y0 + y + dy][x0 + x + dx][:3])) > 2)
+        at = {(dx, dy): off_at(dx, dy) for dx, dy in ((0, 0), (1, 0), (-1, 0), (0, 1), (0, -1))}
+        if at[0, 0] and min(n for k, n in at.items() if k != (0, 0)) <= 10 * at[0, 0]:
+            misplaced.append(f"{name}: {at[0, 0]} px off in place, " +
+                             ", ".join(f"{n} at {k}" for k, n in at.items() if k != (0, 0)))
+    h, w = len(canvas), len(canvas[0])
+
+    def on_edge(x, y):
+        return any(max(abs(p - q) for p, q in zip(canvas[y][x][:3], canvas[j][i][:3])) > 16
+                   for j in range(max(y - 1, 0), min(y + 2, h)) for i in range(max(x - 1, 0), min(x + 2, w)))
+    edges = sum(1 for x, y in large if on_edge(x, y))
+    text = (f"{len(large)} px > 2 off, {edges} of them on edges; an unshifted tile {len(unshifted)} px; each tile "
+            f"best in place" if not misplaced else f"{len(large)} px > 2 off; misplaced: {'; '.join(misplaced)}")
+    if unshifted or misplaced or edges < 0.95 * len(large):
         return False, text
     return True, "rounding: " + text
 
@@ -625,12 +650,13 @@ def cylinder(glcast, capture, out, frame):
     if run([glcast, "image", "mosaic", "6x1", picture] + pictures).returncode != 0:
         picture = None
     # Turned: the tiles show different pictures (each its direction). An unturned program shows
-    # the same picture on all six, and the slave says why.
+    # the same picture on all six, and the slave says why. (A turned one's slave may have said so
+    # of its first frames, a splash or an interface before the scene: not the picture's reason.)
     images = [read_png(p)[2] for p in pictures]
     reason = sorted(said)[0].split(": ", 1)[-1][:110] if said else ""
     if all(image == images[0] for image in images[1:]):
         return True, "unturned: " + (reason or "the slave found no camera"), picture
-    return True, "turned" + (f" (the slave: {reason})" if reason else ""), picture
+    return True, "turned", picture
 
 
 def scene_share(rows, step=8):
