@@ -2,7 +2,9 @@
 """What a projector's warp and blend cost: `glcast replay CAPTURE --config WALL --tile p` of one
 1920x1080 tile with a warp (a barrel distortion, 241x136 nodes) and a blend (an edge ramp),
 against the same tile without them, interleaved A B A B, whole-process CPU (user + system).
-Prints the medians and the ratio A/B.
+Prints the medians and the ratio A/B; and, in the same interleaved rounds, the least any
+full-screen pass can add to the plain replay on this driver (bench/fullscreen_pass.c: one
+textured quad per frame, the simplest shader, nearest texels) as the same ratio.
 
     bench/projector_warp_bench.py BUILD_DIR CAPTURE [--repeats R]
 
@@ -51,12 +53,14 @@ def write_maps(folder):
                   open(os.path.join(folder, name), "w"))
 
 
-def cpu_of(cmd):
+def cpu_of(cmd, out=None):
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     r = subprocess.run(cmd, capture_output=True, text=True, timeout=1800)
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     if r.returncode != 0:
         sys.exit(f"{' '.join(cmd)}: {r.stderr[-2000:]}")
+    if out is not None:
+        out.append(r.stdout + r.stderr)
     return (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
 
 
@@ -69,17 +73,26 @@ def main():
     glcast = os.path.join(os.path.abspath(a.build), "glcast")
     with tempfile.TemporaryDirectory() as folder:
         write_maps(folder)
-        runs = {"warped": [], "plain": []}
+        runs = {"warped": [], "plain": [], "pass": []}
+        said = []
         for _ in range(a.repeats):
             for name in ("warped", "plain"):
                 runs[name].append(cpu_of([glcast, "replay", a.capture, "--backend", "egl", "--config",
-                                          os.path.join(folder, name + ".json"), "--tile", "p"]))
+                                          os.path.join(folder, name + ".json"), "--tile", "p"], said))
+            frames = int(said[-1].split("replayed ", 1)[1].split()[0])
+            per_pass = subprocess.run([os.path.join(os.path.abspath(a.build), "tests", "fullscreen_pass"), str(frames),
+                                       f"{W}x{H}"], capture_output=True, text=True, timeout=1800, check=True)
+            runs["pass"].append(float(per_pass.stdout) * frames)
         ratios = [w / p for w, p in zip(runs["warped"], runs["plain"])]
+        floor = [(p + f) / p for p, f in zip(runs["plain"], runs["pass"])]
         print(f"| tile | warped CPU s (median) | plain CPU s (median) | A/B min | A/B median | A/B max |")
         print(f"|---|---|---|---|---|---|")
         print(f"| {W}x{H}, {os.path.basename(a.capture)} | {statistics.median(runs['warped']):.2f} | "
               f"{statistics.median(runs['plain']):.2f} | {min(ratios):.3f} | {statistics.median(ratios):.3f} | "
               f"{max(ratios):.3f} |")
+        print(f"| the plain replay and one full-screen pass a frame (fullscreen_pass) | - | "
+              f"{statistics.median(runs['plain']):.2f} + {statistics.median(runs['pass']):.2f} | {min(floor):.3f} | "
+              f"{statistics.median(floor):.3f} | {max(floor):.3f} |")
 
 
 if __name__ == "__main__":
