@@ -251,8 +251,8 @@ EFFECTS = [("shadows", "shadows"), ("cover", "cover,icicles"), ("snow", "snow")]
 KNOWN = """## What the table does not show
 
 - **engine** (xscreensaver, a random scene each run): the 2x2 wall differs from the canvas by
-  more than 2 levels in a few hundred pixels (730 in the table's run; 552, 402, 394 and 1,351
-  before; 0.03-0.11%, over the 0.01% allowed), speckles where the crank pins and discs coincide
+  more than 2 levels in a few hundred pixels (249 in the table's run; 730, 552, 402, 394 and 1,351
+  before; 0.02-0.11%, over the 0.01% allowed), speckles where the crank pins and discs coincide
   ([the differing pixels in red](images/compatibility/engine-mosaic-differences.png)): two
   surfaces fighting for the depth test, whose winner depends on the last bit of the interpolated
   depth. Shown to be rasterizer rounding, not a mapping error: a planar tile changes only where
@@ -265,14 +265,17 @@ KNOWN = """## What the table does not show
   rasterizer, flips 390 pixels on the same mosaic (208 of them the same). The table's mosaic
   column makes a check of its own when a mosaic is over the tolerance, and says "rounding" when
   the tile with the canvas's origin is exact, every tile matches the canvas best where it belongs
-  (more than ten times better than one pixel off any way: a tile mapped a pixel off matches best
+  (at least twice as well as one pixel off any way: a tile mapped a pixel off matches best
   there, as a tile shifted on purpose does, 201 pixels off against 20,972 in place), and 95% of
   the differing pixels lie on the picture's edges (a neighbour more than 16 levels away), where
   a rasterizer's origin flips pixels, not inside its shapes. Until this stop it asked instead that
   95% lie within 4 pixels of those a one-pixel shift of the canvas changes: at another origin
-  other edge pixels flip, and engine's run above (662 of 730 near) and pymol's (199 of 230) said
-  FAIL for what is the same rounding (engine's row is from that run; pymol's now says rounding:
-  227 of its 230 pixels on the edges of its sticks, each tile a hundred times or more better in place than a pixel off).
+  other edge pixels flip, and pymol's mosaic (199 of 230 near) said FAIL for what is rounding:
+  227 of its 230 pixels lie on the edges of its sticks, each tile a hundred times or more better
+  in place than a pixel off, and the column now says rounding. engine's scene of this run differs
+  in 249 pixels, each tile best in place and the unshifted tile exact, but only 141 of them (57%)
+  on edges: its speckles lie inside the surfaces that fight for the depth test, where a mapping
+  error could also show, so its column says FAIL (from the previous check: 662 of 730 near).
 - **Shadows on shader programs** are re-rendered through their patched vertex shaders
   (docs/effects.md, "How redraw works"; test `shadows_e2e_core_scene`). glmark2's two scenes
   give them little to fall on: one object on black (the horse shades 5 pixels of itself, the
@@ -497,9 +500,10 @@ def rounding(glcast, capture, out, frame, canvas, large, tiles):
     integer translations; docs/wall.md), which flips pixels on the picture's edges. So: a tile
     whose origin is the canvas's (its left half, full height: EGL's framebuffers are y-flipped, so
     the height moves the origin too) must equal the canvas exactly; every tile must match the
-    canvas best where it belongs, far better than one pixel off in any direction (a tile mapped
-    off by a pixel matches best there); and the differing pixels must lie on the canvas picture's
-    edges (at least 95% of them: a neighbour more than 16 levels away), not inside its shapes."""
+    canvas best where it belongs, at least twice as well as one pixel off in any direction (a tile
+    mapped off by a pixel matches best there); and the differing pixels must lie on the canvas
+    picture's edges (at least 95% of them: a neighbour more than 16 levels away), not inside its
+    shapes."""
     d = os.path.join(out, "unshifted")
     r = run([glcast, "replay", capture, "--backend", "egl", "--canvas", "1280x960", "--tile-rect", "0,0,640,960",
              "--out", d, "--frames", str(frame)], env=headless())
@@ -514,7 +518,7 @@ def rounding(glcast, capture, out, frame, canvas, large, tiles):
             return sum(1 for y in range(1, len(tile) - 1) for x in range(1, len(tile[0]) - 1)
                        if max(abs(p - q) for p, q in zip(tile[y][x][:3], canvas[y0 + y + dy][x0 + x + dx][:3])) > 2)
         at = {(dx, dy): off_at(dx, dy) for dx, dy in ((0, 0), (1, 0), (-1, 0), (0, 1), (0, -1))}
-        if at[0, 0] and min(n for k, n in at.items() if k != (0, 0)) <= 10 * at[0, 0]:
+        if at[0, 0] and min(n for k, n in at.items() if k != (0, 0)) < 2 * at[0, 0]:
             misplaced.append(f"{name}: {at[0, 0]} px off in place, " +
                              ", ".join(f"{n} at {k}" for k, n in at.items() if k != (0, 0)))
     h, w = len(canvas), len(canvas[0])
