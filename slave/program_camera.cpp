@@ -79,6 +79,9 @@ bool past_first_element(const char* name) {
 }
 
 constexpr GLint kMostActiveUniforms = 1 << 16;
+// The matrices (and light vectors) kept per program: each is read from its buffer at every draw
+// that looks for a camera, so their number, not the uniforms looked at, bounds that draw's cost.
+constexpr size_t kMostKept = 1024;
 
 }  // namespace
 
@@ -104,7 +107,8 @@ const ProgramCameras::Uniforms& ProgramCameras::uniforms(uint32_t program) {
     GLint count = 0;
     gl_.glGetProgramiv(program, GL_ACTIVE_UNIFORMS, &count);
     // (every one the driver lists: Blender's programs list 1,024 per-object matrices of a block
-    // before the one that holds the view; the driver's own limits bound the count)
+    // before the one that holds the view; the driver's own limits bound the count, kMostKept
+    // what is kept of them)
     for (GLuint i = 0; i < GLuint(std::clamp(count, 0, kMostActiveUniforms)); ++i) {
         char name[256] = {};
         GLint size = 0;
@@ -128,6 +132,7 @@ const ProgramCameras::Uniforms& ProgramCameras::uniforms(uint32_t program) {
         } else {
             continue;
         }
+        if ((u.columns == 4 ? out.matrices : out.lights).size() >= kMostKept) continue;
         GLint block = -1, offset = 0, stride = 0, row_major = 0;
         if (gl_.has(OP_glGetActiveUniformsiv)) {
             gl_.glGetActiveUniformsiv(program, 1, &i, GL_UNIFORM_BLOCK_INDEX, &block);
