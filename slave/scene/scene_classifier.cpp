@@ -216,9 +216,12 @@ bool depth_clear_starts_overlays(SceneFacts& f, GLbitfield mask) {
 }
 
 bool starts_overlays(const SceneFacts& f, DrawState& s, RedrawKind kind) {
-    const GLuint program = kind != RedrawKind::Pixels ? s.program() : 0;
-    const bool flat = kind == RedrawKind::Pixels || !s.depth_test();
-    if (!program) return flat || !is_perspective(s.projection());
+    if (kind == RedrawKind::Pixels) return true;
+    const GLuint program = s.program();
+    const bool flat = !s.depth_test();
+    // A fixed-function draw with the main view's projection and the depth test off is the scene's
+    // too (neverball's reflection, drawn into its floor before the floor is blended over it).
+    if (!program) return !is_perspective(s.projection()) || (flat && !same_projection(s.projection(), f.projection));
     // (its matrices are read only where they decide: a 3D scene's draws pay one look at them)
     ProgramCamera camera;
     // A shader program that paints its 3D scene in order with the depth test off draws it with

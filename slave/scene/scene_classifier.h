@@ -147,9 +147,10 @@ bool scene_target_overlays_start(SceneFacts& facts, DrawState& state, RedrawKind
 // its own projection, then the HUD) lies over it. True: the overlays start with it.
 bool depth_clear_starts_overlays(SceneFacts& facts, GLbitfield mask);
 
-// A flat draw to the window after a main view drawn there: pixels at the raster position, the
-// depth test off, or a fixed-function orthographic projection; a shader program drawing with
-// the main view's camera is scene whatever its depth test.
+// A flat draw to the window after a main view drawn there: pixels at the raster position, a
+// fixed-function orthographic projection, or the depth test off under another projection than
+// the main view's; a draw with the main view's camera (fixed function or a shader program's) is
+// scene whatever its depth test.
 bool starts_overlays(const SceneFacts& facts, DrawState& state, RedrawKind kind);
 
 // glPushMatrix before the main view is known: a push of the modelview may save the view.

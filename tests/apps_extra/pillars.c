@@ -92,6 +92,12 @@
  * scene's colour texture and no depth, as Blender's overlay engine draws its grid, outlines and
  * object centres into a colour-only target of the viewport's size over the engines' picture.
  *
+ * With --reflection (not --mvp, --reversed or --foliage) the floor gets a reflection as neverball
+ * draws its mirror: after the floor, with the depth test off and the main view's projection, a
+ * quad in the floor's plane (the reflection's sky, REFLECTION's colour), then the floor again over
+ * it with GL_LEQUAL (neverball blends its floor over the reflection; here it is opaque, so the
+ * picture is the one without it). The quad writes no depth and is no overlay: the scene goes on.
+ *
  * With --shader --objects the projection is in a uniform block of its own, declared before a block
  * of 512 per-object matrix pairs (model and its inverse; the first the identity, the rest zero), as
  * Blender's draw manager keeps its view and its objects: std140 makes every one of the 1,024
@@ -131,7 +137,7 @@
  * then use their configured light.
  *
  *   pillars [--shader | --builtins | --mvp] [--grow] [--fbo [--half | --region [--blit]] [--mrt | --msaa] [--depth-texture]] [--reversed] [--hud [--in-scene [--depth-on]]]
- *           [--hand] [--left-handed] [--mixed] [--foliage] [--post] [--grade] [--markers] [--cull] [--overlay] [--objects] [--fov DEG]
+ *           [--hand] [--left-handed] [--mixed] [--foliage] [--post] [--grade] [--markers] [--cull] [--overlay] [--reflection] [--objects] [--fov DEG]
  *           [--fisheye] [--scale S] [--turn DEG] [--sun X,Y,Z | --gl-light X,Y,Z] [--frames N] [--size WxH]
  */
 #define GL_GLEXT_PROTOTYPES 1
@@ -367,6 +373,7 @@ int main(int argc, char **argv)
     const int markers = app_take_flag(&argc, &argv, "--markers");
     const int cull = app_take_flag(&argc, &argv, "--cull");
     const int overlay = app_take_flag(&argc, &argv, "--overlay");
+    const int reflection = app_take_flag(&argc, &argv, "--reflection");
     const int objects = shader && !builtins && !mvp && app_take_flag(&argc, &argv, "--objects");
     const int fisheye = shader && !builtins && !mvp && app_take_flag(&argc, &argv, "--fisheye");
     double fov = 60;
@@ -698,6 +705,22 @@ int main(int argc, char **argv)
             glVertex3d(-50, -2, -50 * zs); glVertex3d(50, -2, -50 * zs); glVertex3d(50, -2, 50 * zs);
             glVertex3d(-50, -2, 50 * zs);
             glEnd();
+            if (reflection) {
+                glDisable(GL_DEPTH_TEST);
+                glBegin(GL_QUADS);
+                glColor3ub(60, 90, 200);
+                glVertex3d(-50, -2, -50 * zs); glVertex3d(50, -2, -50 * zs); glVertex3d(50, -2, 50 * zs);
+                glVertex3d(-50, -2, 50 * zs);
+                glEnd();
+                glEnable(GL_DEPTH_TEST);
+                glDepthFunc(GL_LEQUAL);
+                glBegin(GL_QUADS);
+                glColor3ub(90, 90, 90);
+                glVertex3d(-50, -2, -50 * zs); glVertex3d(50, -2, -50 * zs); glVertex3d(50, -2, 50 * zs);
+                glVertex3d(-50, -2, 50 * zs);
+                glEnd();
+                glDepthFunc(GL_LESS);
+            }
             if (mixed) glUseProgram(program);
             if (overlay) glDisable(GL_DEPTH_TEST);
             if (overlay_fbo) glBindFramebuffer(GL_FRAMEBUFFER, overlay_fbo);

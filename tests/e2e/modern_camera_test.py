@@ -33,6 +33,10 @@ A program of another scale (pillars --scale 10: near plane, far plane and world 
 is shadowed as the same picture at its own scale: the shadow map reaches as far into the view,
 measured in the program's near-plane distances (before: 60 eye units, the first 6 of its world's:
 4,796 floor pixels darkened where the program's own scale has 3,214).
+A reflection drawn into the floor with the depth test off under the main view's projection, the
+floor then drawn again over it (pillars --reflection, as neverball draws its mirror), is the
+scene's: the pillars drawn after it cast their shadows and get their cover as without it (before,
+the fixed-function program's reflection started the overlays: 0 floor pixels shadowed of 3,214).
 
     modern_camera_test.py     with GLCAST, GLCAST_SHIM, APPS_DIR, OUT_DIR in the environment
 """
@@ -85,7 +89,8 @@ def main():
              "fbo_hud_msaa": ["--fbo", "--msaa", "--hud", "--in-scene"],
              "fbo_hud_depth_shader": ["--shader", "--fbo", "--hud", "--in-scene", "--depth-on"],
              "fbo_hud_depth_builtins": ["--builtins", "--fbo", "--hud", "--in-scene", "--depth-on"],
-             "scaled": ["--scale", "10"], "scaled_builtins": ["--builtins", "--scale", "10"]}
+             "scaled": ["--scale", "10"], "scaled_builtins": ["--builtins", "--scale", "10"],
+             "reflection": ["--reflection"], "reflection_builtins": ["--builtins", "--reflection"]}
     for mode, flags in modes.items():
         capture = os.path.join(OUT, f"{mode}.glcs")
         with Xvfb():

@@ -194,12 +194,24 @@ TEST(SceneClassifier, AnOrthographicHudAfterTheMainViewStartsTheOverlays) {
     EXPECT_TRUE(facts.overlay);
 }
 
-TEST(SceneClassifier, ADrawWithTheDepthTestOffStartsTheOverlays) {
+TEST(SceneClassifier, ADrawWithTheDepthTestOffUnderAnotherProjectionStartsTheOverlays) {
     SceneFacts facts;
     Given s;
     classify_draw(facts, s, 0, kPasses);
     s.depth_on = false;
+    s.proj = glm::perspective(1.2, 4.0 / 3.0, 0.1, 10.0);  // a HUD's 3D icon, its own projection
     EXPECT_EQ(window_draw(facts, s, RedrawKind::Begin), WindowDrawMeaning::StartsOverlays);
+}
+
+TEST(SceneClassifier, ADrawWithTheMainProjectionAndTheDepthTestOffIsTheScenes) {
+    SceneFacts facts;
+    Given s;
+    classify_draw(facts, s, 0, kPasses);
+    s.depth_on = false;  // a reflection drawn into the floor (neverball's mirror)
+    EXPECT_EQ(window_draw(facts, s, RedrawKind::Begin), WindowDrawMeaning::Scene);
+    EXPECT_FALSE(facts.overlay);
+    s.depth_on = true;  // the floor over it, then the level: still the main view's
+    EXPECT_TRUE(classify_draw(facts, s, 0, kPasses).main);
 }
 
 TEST(SceneClassifier, PixelsAtTheRasterPositionStartTheOverlays) {
