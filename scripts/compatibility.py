@@ -548,7 +548,25 @@ def load_report(report, frame):
         depth = [flat[(h - 1 - y) * w:(h - y) * w] for y in range(h)]
     _, _, mask = read_png(base + "-kept.png")
     kept = {(x, y) for y in range(h) for x in range(w) if mask[y][x][0]}
+    facts["under"] = None
+    if os.path.exists(base + "-under-plain.png"):  # decorated under its overlays
+        facts["under"] = (read_png(base + "-under-plain.png")[2], read_png(base + "-under-decorated.png")[2])
     return facts, depth, kept
+
+
+def kept_changed(own, dec, under):
+    """Whether a kept pixel, the program's `own` and the `dec`orated, differs by more than a
+    translucent overlay lets through: nothing (more than 2 levels) where the passes left the
+    scene under it as it was, else per channel at most the passes' change there (`under`: the
+    scene before and after them), the same way."""
+    for c in range(3):
+        d = dec[c] - own[c]
+        passes = under[1][c] - under[0][c] if under else 0
+        if abs(d) <= 2:
+            continue
+        if d * passes < 0 or abs(d) > abs(passes) + 2:
+            return True
+    return False
 
 
 def upward_pixels(facts, depth, up_world, spread_deg=40):
@@ -605,14 +623,22 @@ def measure(column, own_png, decorated_png, report, frame, up_world):
     if (facts["width"], facts["height"]) != (w, h):
         return False, f"the report is {facts['width']}x{facts['height']}, the picture {w}x{h}"
     delta = [[sum(dec[y][x][:3]) - sum(own[y][x][:3]) for x in range(w)] for y in range(h)]
-    changed_kept = sum(1 for x, y in kept if max(abs(a - b) for a, b in zip(own[y][x][:3], dec[y][x][:3])) > 2)
+    under = facts["under"]
+    changed_kept = sum(1 for x, y in kept
+                       if kept_changed(own[y][x], dec[y][x], (under[0][y][x], under[1][y][x]) if under else None))
     kept_text = f"{changed_kept} of {len(kept)} kept px changed"
     if not facts["view_known"] or depth is None:
         changed = sum(1 for y in range(h) for x in range(w) if delta[y][x])
         return changed_kept == 0, f"no view found; {changed} px changed, {kept_text}"
-    scene = [(x, y) for y in range(h) for x in range(w) if depth[y][x] < 0.999999 and (x, y) not in kept]
+    hidden = kept
+    if under:
+        # Decorated under its overlays: what the passes did is measured on the scene before the
+        # overlays were drawn over it (translucent ones let it through, opaque ones are kept).
+        own, hidden = under[0], set()
+        delta = [[sum(under[1][y][x][:3]) - sum(own[y][x][:3]) for x in range(w)] for y in range(h)]
+    scene = [(x, y) for y in range(h) for x in range(w) if depth[y][x] < 0.999999 and (x, y) not in hidden]
     if column == "cover":
-        upward = upward_pixels(facts, depth, up_world) - kept
+        upward = upward_pixels(facts, depth, up_world) - hidden
         covered = sum(1 for x, y in upward if delta[y][x] > 30)
         text = f"{100 * covered / max(1, len(upward)):.0f}% of {len(upward)} upward px covered"
     elif column == "shadows":
@@ -622,7 +648,7 @@ def measure(column, own_png, decorated_png, report, frame, up_world):
     else:
         touched = sum(1 for x, y in scene if delta[y][x])
         text = f"{100 * touched / max(1, len(scene)):.0f}% of {len(scene)} scene px"
-    return changed_kept == 0, f"{text}; {kept_text}"
+    return changed_kept == 0, f"{text}{' under the overlays' if under else ''}; {kept_text}"
 
 
 def world_up(stderr):

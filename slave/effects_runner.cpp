@@ -53,8 +53,14 @@ void set_depth_state(const GlApi& gl, const ProgramDepthState& s) {
 }  // namespace
 
 EffectsRunner::EffectsRunner(Replayer& core, TileAdapter& tile) : core_(core), tile_(tile), scenes_(core, tile) {
-    // The window as the scene left it, before the first overlay: what the passes decorate.
+    // The window as the scene left it, before the first overlay: what the passes decorate, now
+    // when the frame is a new picture (the overlays are then drawn over the winter, translucent
+    // ones blended with it), else at the frame's end, the overlays' pixels put back after.
     scenes_.on_overlays_start = [this](SlaveContext& ctx) {
+        if (decorates_under_overlays(ctx)) {
+            decorate(ctx, /*under_overlays=*/true);
+            return;
+        }
         WindowCopies& copies = passes(ctx).copies;
         copies.size(ctx);
         copies.copy(ctx, copies.scene_image_fb, false);
@@ -118,12 +124,27 @@ void EffectsRunner::presented(SlaveContext& ctx) {
 void EffectsRunner::run_effects(SlaveContext& ctx) {
     ContextPasses& st = passes(ctx);
     ContextScene& scene = scenes_.scene(ctx);
-    // Nothing shown, or every pass switched off live: nothing to decorate.
-    if (ctx.width <= 0 || ctx.height <= 0 || !core_.options().effects.any()) {
-        st.copies.end_frame();
-        scene.next_frame();
-        return;
+    if (st.under_overlays.decorated) {
+        report_under_overlays(ctx);
+        st.under_overlays = UnderOverlays{};
+    } else if (ctx.width > 0 && ctx.height > 0 && core_.options().effects.any()) {
+        // (nothing shown, or every pass switched off live: nothing to decorate)
+        decorate(ctx, /*under_overlays=*/false);
     }
+    st.copies.end_frame();
+    scene.next_frame();
+}
+
+bool EffectsRunner::decorates_under_overlays(SlaveContext& ctx) {
+    const ContextScene& scene = scenes_.scene(ctx);
+    // (a scene shown in part of the window is placed by the draw that shows it, after the fact)
+    return !passes(ctx).under_overlays.decorated && scene.facts.window_cleared && !scene.loan.borrowed_from && !scene.facts.in_part && ctx.width > 0 &&
+           ctx.height > 0 && core_.options().effects.any();
+}
+
+void EffectsRunner::decorate(SlaveContext& ctx, bool under_overlays) {
+    ContextPasses& st = passes(ctx);
+    ContextScene& scene = scenes_.scene(ctx);
     const GlApi& gl = core_.api();
     if (!checked_) {
         const std::string missing = effects::missing_pass_function(gl);
@@ -136,10 +157,12 @@ void EffectsRunner::run_effects(SlaveContext& ctx) {
         frame_view(ctx, view);
         WindowCopies& copies = st.copies;
         copies.size(ctx);
-        copies.copy(ctx, copies.program_image_fb, false);
-        copies.program_image_saved = true;
+        if (!under_overlays) {  // (a frame decorated under its overlays began with a clear: nothing to give back)
+            copies.copy(ctx, copies.program_image_fb, false);
+            copies.program_image_saved = true;
+        }
         const bool sized = copies.sized(ctx);
-        const bool overlays = scene.facts.overlay && sized;
+        const bool overlays = !under_overlays && scene.facts.overlay && sized;
         if (overlays) copies.copy(ctx, copies.scene_image_fb, false, /*back=*/true);  // the scene alone
         // (a borrowed scene's target is another context's)
         const bool target_overlays = scene.facts.target_overlay && scene.facts.scene_framebuffer &&
@@ -150,14 +173,29 @@ void EffectsRunner::run_effects(SlaveContext& ctx) {
         const bool placed = scene.loan.borrowed_from != 0 && sized;
         if (view_model) st.view_model_depth = copies.window_copy(ctx, true, scene, scenes_.scene_shown(ctx));  // before any pass draws
         else scene.facts.view_model_far = 0;
+        const ReplayOptions& opt = core_.options();
+        const bool report = !opt.scene_report_dir.empty() && view.frame >= opt.first_frame && view.frame <= opt.last_frame;
+        std::string error;
+        if (under_overlays && report) {
+            copies.copy(ctx, copies.program_image_fb, false);  // (not the program's to give back in this frame)
+            if (!write_scene_under_overlays(gl, opt.scene_report_dir, view, copies.program_image_fb, "plain", error))
+                throw std::runtime_error("--scene-report: " + error);
+        }
         if (!st.depth.standard) set_depth_state(gl, ProgramDepthState{});
         st.pipeline->run(view);
         if (!st.depth.standard) set_depth_state(gl, st.depth.program);
         const bool kept = overlays || view_model || placed || target_overlays;
         if (kept) put_overlays_back(ctx, overlays, target_overlays);
-        const ReplayOptions& opt = core_.options();
-        if (!opt.scene_report_dir.empty() && view.frame >= opt.first_frame && view.frame <= opt.last_frame)
+        if (under_overlays) {
+            // The program draws its overlays over this: at the frame's end, what differs from it
+            // is theirs (report_under_overlays).
+            copies.copy(ctx, copies.scene_image_fb, false);
+            if (report && !write_scene_under_overlays(gl, opt.scene_report_dir, view, copies.scene_image_fb, "decorated", error))
+                throw std::runtime_error("--scene-report: " + error);
+            st.under_overlays = UnderOverlays{true, report, target_overlays, view};
+        } else if (report) {
             report_scene(ctx, view, overlays, target_overlays, kept);
+        }
         if (core_.after_effects) core_.after_effects(view);
         if (scene.loan.borrowed_from && !said_borrowed_) {
             said_borrowed_ = true;
@@ -175,8 +213,18 @@ void EffectsRunner::run_effects(SlaveContext& ctx) {
     } catch (const std::runtime_error& e) {
         throw EffectsError(std::string("effects: ") + e.what());
     }
-    st.copies.end_frame();
-    scene.next_frame();
+}
+
+void EffectsRunner::report_under_overlays(SlaveContext& ctx) {
+    ContextPasses& st = passes(ctx);
+    if (!st.under_overlays.report || !st.copies.sized(ctx)) return;
+    WindowCopies& copies = st.copies;
+    copies.copy(ctx, copies.program_image_fb, false);  // the final picture, overlays and all
+    try {
+        report_scene(ctx, st.under_overlays.view, /*overlays=*/true, st.under_overlays.target_overlays, /*kept=*/true);
+    } catch (const std::runtime_error& e) {
+        throw EffectsError(std::string("effects: ") + e.what());
+    }
 }
 
 void EffectsRunner::frame_view(SlaveContext& ctx, effects::FrameView& v) {

@@ -52,6 +52,14 @@ private:
     // Per slave context: its pipeline, the copies of its window, the overlays' program, and the
     // program's vertex-array object and 2D textures (units 0..7) as the frame left them, before
     // any pass: a redraw gives them back to the program's draws, whatever a pass bound.
+    // A frame decorated when its overlays started (decorates_under_overlays), the window's
+    // copy scene_image then holding the decorated scene: what its end still owes.
+    struct UnderOverlays {
+        bool decorated = false;
+        bool report = false;           // --scene-report wants the frame
+        bool target_overlays = false;  // the scene's own target had overlays (put back then)
+        effects::FrameView view;
+    };
     struct ContextPasses {
         explicit ContextPasses(Replayer& core) : copies(core) {}
         std::unique_ptr<effects::Pipeline> pipeline;
@@ -63,9 +71,16 @@ private:
         glm::dmat4 pass_clip_from_program_clip{1.0};  // the depth conversion's, with the tile's map
         GLuint report_mask = 0, report_mask_fb = 0;   // --scene-report: the kept pixels
         int report_size[2] = {0, 0};
+        UnderOverlays under_overlays;
     };
     ContextPasses& passes(const SlaveContext& ctx);
-    void run_effects(SlaveContext& ctx);
+    void run_effects(SlaveContext& ctx);  // at the frame's end
+    // The frame's passes, run over the window as it is (under_overlays: when its overlays start)
+    // and the program's own pixels put back.
+    void decorate(SlaveContext& ctx, bool under_overlays);
+    bool decorates_under_overlays(SlaveContext& ctx);
+    // The scene report of a frame decorated under its overlays: the pixels they changed are kept.
+    void report_under_overlays(SlaveContext& ctx);
     void frame_view(SlaveContext& ctx, effects::FrameView& view);
     // A program whose depth is not the passes' (depth_convention.h): the view in the passes'
     // projection, the window's depth converted, redraws corrected.

@@ -5,6 +5,7 @@
 
 #include "slave/effects/gl_util.h"
 #include "slave/replayer.h"
+#include "slave/scene/window_copies.h"
 
 namespace glcast::slave {
 
@@ -161,11 +162,8 @@ void ProjectorWarp::before_call(const Call& c, const uint8_t*, size_t) {
     ContextMaps& m = *it->second;
     m.restore = false;
     const GlApi& gl = core_.api();
-    if (c.info->sem.redraw == RedrawKind::Clear && (GLbitfield(c.args[0].bits) & GL_COLOR_BUFFER_BIT)) {
-        GLboolean mask[4] = {GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE};
-        gl.glGetBooleanv(GL_COLOR_WRITEMASK, mask);
-        if (!gl.glIsEnabled(GL_SCISSOR_TEST) && mask[0] && mask[1] && mask[2]) return;  // all of it cleared
-    }
+    if (c.info->sem.redraw == RedrawKind::Clear && clears_whole_colour(gl, GLbitfield(c.args[0].bits)))
+        return;  // all of it cleared
     if (m.width != ctx->width || m.height != ctx->height) return;  // resized: a new picture anyway
     GlStateGuard guard(gl, kGuardFramebuffers | kGuardRaster);
     gl.glBindFramebuffer(GL_READ_FRAMEBUFFER, m.source_fb);

@@ -9,7 +9,13 @@
 //                        the depth the passes read, in their convention (0 near, 1 far); only
 //                        when view_known
 //   frame-N-kept.png     white where the program's own pixels are put back over the passes
-//                        (overlays, a view model, outside a borrowed scene), black elsewhere
+//                        (overlays, a view model, outside a borrowed scene), black elsewhere;
+//                        in a frame decorated under its overlays (docs/effects.md, "Overlays"),
+//                        where the program drew its overlays over the decorated scene
+//   frame-N-under-plain.png, frame-N-under-decorated.png
+//                        only for a frame decorated under its overlays: the window when its
+//                        overlays started, before the passes and after them. A translucent
+//                        overlay lets the passes' change through, at most what it is here
 #pragma once
 
 #include <cstdint>
@@ -30,5 +36,8 @@ namespace glcast::slave {
 // pixels are kept (0: none kept). The window must be current; GL state is restored.
 bool write_scene_report(const GlApi& gl, const std::string& dir, const effects::FrameView& view, GLuint kept_fb,
                         std::string& error);
+// Writes frame-N-under-`what`.png from the RGBA framebuffer `fb` of the tile's size.
+bool write_scene_under_overlays(const GlApi& gl, const std::string& dir, const effects::FrameView& view, GLuint fb,
+                                const char* what, std::string& error);
 
 }  // namespace glcast::slave

@@ -18,6 +18,10 @@ namespace glcast::slave {
 // What one context's frame has shown of its scene so far; a new frame starts from SceneFacts{}.
 struct SceneFacts {
     bool shader_draws = false;  // some draw to the window used a shader program
+    // The window's colour was cleared whole (clears_whole_colour) before the main view: the
+    // frame is a new picture, and the passes may decorate its scene when the overlays start,
+    // under them (the program's translucent menus and panels then blend over the winter).
+    bool window_cleared = false;
     // Overlays: from the first draw after the main view that is two-dimensional (an
     // orthographic projection, the depth test off, pixels at the raster position) on, the
     // frame's draws are the program's HUD and text, drawn over what the passes decorate.

@@ -7,6 +7,7 @@
 
 #include "protocol/format.h"
 #include "slave/replayer.h"
+#include "slave/scene/window_copies.h"
 #include "slave/tile_adapter.h"
 
 namespace glcast::slave {
@@ -49,6 +50,9 @@ void SceneRecorder::record(SlaveContext& ctx, const Call& c, const uint8_t* tupl
     if (rec.compiling_list) return;
     const bool to_window = ctx.drawing_to_window;
     if (kind == RedrawKind::Clear) {  // never kept
+        if (to_window && !rec.in_begin_end && !facts.main_known && !facts.overlay &&
+            clears_whole_colour(gl, GLbitfield(c.args[0].bits)))
+            facts.window_cleared = true;
         if (to_window && !rec.in_begin_end && depth_clear_starts_overlays(facts, GLbitfield(c.args[0].bits)) &&
             on_overlays_start)
             on_overlays_start(ctx);

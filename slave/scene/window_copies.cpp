@@ -39,6 +39,13 @@ void scene_target_size(const SlaveContext& ctx, const ContextScene& scene, int& 
 
 }  // namespace
 
+bool clears_whole_colour(const GlApi& gl, GLbitfield mask) {
+    if (!(mask & GL_COLOR_BUFFER_BIT)) return false;
+    GLboolean write[4] = {GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE};
+    gl.glGetBooleanv(GL_COLOR_WRITEMASK, write);
+    return !gl.glIsEnabled(GL_SCISSOR_TEST) && write[0] && write[1] && write[2];
+}
+
 GLenum depth_format(const GlApi& gl, GLenum target) {
     GLint type = GL_NONE, name = 0, stencil_type = GL_NONE, stencil_name = 0, bits = 0, component = GL_NONE;
     gl.glGetFramebufferAttachmentParameteriv(target, GL_DEPTH_ATTACHMENT, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE, &type);

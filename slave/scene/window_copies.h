@@ -20,6 +20,10 @@ struct SlaveContext;
 struct ContextScene;
 struct DepthConvention;
 
+// glClear(mask) of the window clears all of its colour: no scissor test, every colour channel
+// written. A program that does so draws a new picture every frame.
+bool clears_whole_colour(const GlApi& gl, GLbitfield mask);
+
 // The depth format of the bound framebuffer's depth attachment at `target`, from what GL says of
 // it (a depth blit needs the same format on both sides); 0 when it has no depth.
 GLenum depth_format(const GlApi& gl, GLenum target);

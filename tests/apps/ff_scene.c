@@ -24,6 +24,9 @@
  * 8..40, colour 230,50,40), and a row of glBitmap glyphs at (12, 52) in white (docs/effects.md:
  * overlays stay untouched by the passes).
  *
+ * With --hud --dim the HUD starts with a full-window black quad of alpha 0.27 blended over the
+ * scene, as a game's menu dims the scene behind it (neverball's title screen).
+ *
  * With --backdrop a star-field box (unlit, no depth writes) is drawn around the world first; its
  * floor shows beyond the ground's far edge (docs/effects.md: backdrops are not surfaces).
  *
@@ -816,7 +819,8 @@ static void init_fixed_state(void)
 
 /* ---------------------------------------------------------------- main */
 
-/* A game's HUD: 2D, drawn last, without depth. */
+/* A game's HUD: 2D, drawn last, without depth; --dim: the scene dimmed under it first. */
+static int dim;
 static void draw_hud(int width, int height, int frame)
 {
     static const GLubyte glyph[8] = {0x7e, 0x42, 0x5a, 0x5a, 0x5a, 0x42, 0x7e, 0x00};
@@ -831,6 +835,14 @@ static void draw_hud(int width, int height, int frame)
     glMatrixMode(GL_MODELVIEW);
     glPushMatrix();
     glLoadIdentity();
+    if (dim) {
+        glPushAttrib(GL_COLOR_BUFFER_BIT);
+        glEnable(GL_BLEND);
+        glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+        glColor4f(0, 0, 0, 0.27f);
+        glRecti(0, 0, width, height);
+        glPopAttrib();
+    }
     glColor3ub(230, 50, 40);
     glRecti(8, 8, 136, 40);
     glColor3ub(255, 255, 255);
@@ -866,6 +878,7 @@ int main(int argc, char **argv)
                      GLX_BLUE_SIZE, 8, GLX_DEPTH_SIZE, 24, None};
 
     const int hud = app_take_flag(&argc, &argv, "--hud");
+    dim = hud && app_take_flag(&argc, &argv, "--dim");
     backdrop = app_take_flag(&argc, &argv, "--backdrop");
     reflection = app_take_flag(&argc, &argv, "--reflection");
     weapon = app_take_flag(&argc, &argv, "--weapon");

@@ -9,7 +9,8 @@ a HUD. And a scene drawn offscreen (core_scene --offscreen: into a framebuffer o
 window's size, then copied to the window, then a HUD panel) is decorated as the same scene drawn
 in the window is, its HUD untouched; before, the passes saw only the window's copy and the HUD.
 And a first-person weapon drawn with glDepthRange(0, 0.3) among the scene's draws (ff_scene
---weapon) is left as the program drew it. And a scene another context draws into a texture only
+--weapon) is left as the program drew it. And a scene dimmed whole before the HUD (ff_scene --hud --dim, a menu's way; `overlay_test.py
+dimmed`) is decorated under the dimming. And a scene another context draws into a texture only
 every fourth frame, which the window's context shows in part of the window every frame (ff_scene
 --widget, as Qt's QOpenGLWidget does), is decorated in every frame, where it is shown, and nothing
 else is.
@@ -82,7 +83,7 @@ def plain_and_decorated(app, variants, headless):
     images = {}
     for name, capture in captures.items():
         for effects in ("", "shadows,cover,icicles,snow"):
-            out = os.path.join(OUT, f"{variant if name == 'widget' else name}-{effects or 'plain'}")
+            out = os.path.join(OUT, f"{name}-{effects or 'plain'}")
             r = subprocess.run([GLCAST, "replay", capture, "--backend", "egl", "--out", out] +
                                (["--effects", effects] if effects else []),
                                capture_output=True, text=True, timeout=300, env=headless)
@@ -135,6 +136,32 @@ def view_model(headless):
           f"more than 2 levels off the scene without it")
     check(touched == 0, f"the passes changed {touched} of the weapon's {len(weapon)} pixels")
     check(unlike == 0, f"with the weapon, {unlike} scene pixels differ from the scene without it")
+
+
+def dimmed(headless):
+    """ff_scene --hud --dim: a menu dims the whole scene with a black quad of alpha 0.27 before its
+    HUD panel, as neverball's title screen does. With every pass the scene is decorated under it and
+    dimmed with the rest: each pixel outside the HUD is the undimmed scene's decorated pixel
+    (ff_scene --hud) times 0.73, within 2 levels, and the opaque panel is untouched. Before, the
+    dimming quad was the first overlay and changed every pixel, so every pixel was put back as the
+    program drew it: the passes changed none."""
+    images = plain_and_decorated("ff_scene", (("hud", ["--hud"]), ("dim", ["--hud", "--dim"])), headless)
+    hud = set(inside(PANEL, margin=0)) | set(inside(TEXT, margin=0))
+    scene = [(x, y) for y in range(H) for x in range(W) if (x, y) not in hud]
+
+    def off_dimmed(a, b):  # a, b: pictures; pixels of `a` not `b` dimmed
+        return sum(1 for x, y in scene if max(abs(p - round(0.73 * q)) for p, q in zip(a[y][x][:3], b[y][x][:3])) > 2)
+
+    plain, decorated = images["dim", False], images["dim", True]
+    check(off_dimmed(plain, images["hud", False]) <= len(scene) // 100, "the dimmed picture is not what the test expects")
+    changed = sum(1 for x, y in scene if decorated[y][x] != plain[y][x])
+    unlike = off_dimmed(decorated, images["hud", True])
+    touched = sum(1 for x, y in inside(PANEL) if decorated[y][x] != plain[y][x])
+    print(f"dimmed: the passes changed {changed} of the scene's {len(scene)} pixels under the dimming, {unlike} more "
+          f"than 2 levels off the undimmed decorated scene dimmed; {touched} of the panel's pixels changed")
+    check(touched == 0, f"the passes changed {touched} of the panel's pixels")
+    check(changed > len(scene) // 2, f"under the dimming the passes changed only {changed} of {len(scene)} pixels")
+    check(unlike <= len(scene) // 100, f"{unlike} pixels are not the decorated scene dimmed")
 
 
 def widget_that_swapped_once(headless):
@@ -206,7 +233,7 @@ def widget(headless, samples=0, post=False):
     runs = {}
     for name, effects in (("widget", ""), ("widget", "shadows,cover,icicles,snow"), ("widget", "shadows,cover"),
                           ("direct", ""), ("direct", "shadows,cover")):
-        out = os.path.join(OUT, f"{variant if name == 'widget' else name}-{effects or 'plain'}")
+        out = os.path.join(OUT, f"{name}-{effects or 'plain'}")
         r = subprocess.run([GLCAST, "replay", captures[name], "--backend", "egl", "--out", out] +
                            (["--effects", effects] if effects else []),
                            capture_output=True, text=True, timeout=300, env=headless)
@@ -317,11 +344,12 @@ def main():
 
 
 if __name__ == "__main__":
-    if sys.argv[1:] == ["widget_post"]:  # (a test of its own, beside main's in ctest: its own folder)
-        OUT += "_widget_post"
+    if sys.argv[1:] in (["widget_post"], ["dimmed"]):  # (tests of their own, beside main's in ctest: own folders)
+        OUT += "_" + sys.argv[1]
         shutil.rmtree(OUT, ignore_errors=True)
         os.makedirs(OUT)
-        widget({k: v for k, v in os.environ.items() if k != "DISPLAY"}, post=True)
+        headless = {k: v for k, v in os.environ.items() if k != "DISPLAY"}
+        widget(headless, post=True) if sys.argv[1] == "widget_post" else dimmed(headless)
     else:
         main()
     print("PASS")
