@@ -324,11 +324,19 @@ KNOWN = """## What the table does not show
   frames until this stop: it ran with the menu's culling (off), so the backs of the level's rails
   hid the floor (see its shadows below). The cover takes the normals of visible surfaces the
   redraw leaves out from the depth (docs/winter.md), so the level holds snow and icicles hang
-  from its edges.
+  from its edges. Its title screen dims the whole scene with a black quad of alpha 0.27 before
+  the menu: until this stop that quad was the first overlay and changed every pixel, so all
+  but 450 of its 480,000 pixels were kept as drawn and no pass showed. The frame clears its
+  window whole, so it is now decorated when its overlays start and the menu dims the winter with
+  the scene (docs/effects.md, "Overlays drawn over the winter"); its columns measure the passes
+  under the overlays, and a kept pixel may change by what the dimming lets through.
 - **neverball's shadows** were dark hard bars along its floor (13,695 pixels darkened on frame
   119): the redraw ran with the culling its menu leaves (off), so the backs of its level's rails
   hid the floor from the passes. A redraw now culls what the program culled (docs/effects.md,
   "How redraw works"): 137 pixels darkened; the menu hides what little its ball and coins cast.
+  Its newer captures darken 0.0% of the lit pixels (one pixel on the title's last frame); the
+  screen-space method darkens 947 pixels there, around the coins' feet. Not traced: the coins
+  may not be among the main view's draws, or their shadows fall under them.
 - **foobillardplus** crashes at its start on this machine without glcast as well (a strcpy of a
   NULL string after it looks for a web browser and a dialog program); no frame to compare.
 - **chromium-bsu**'s menu is 2D: no main view, so cover and shadows have nothing to work on.

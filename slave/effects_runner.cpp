@@ -138,7 +138,8 @@ void EffectsRunner::run_effects(SlaveContext& ctx) {
 bool EffectsRunner::decorates_under_overlays(SlaveContext& ctx) {
     const ContextScene& scene = scenes_.scene(ctx);
     // (a scene shown in part of the window is placed by the draw that shows it, after the fact)
-    return !passes(ctx).under_overlays.decorated && scene.facts.window_cleared && !scene.loan.borrowed_from && !scene.facts.in_part && ctx.width > 0 &&
+    const bool new_picture = scene.facts.window_cleared || scene.facts.shown_whole;
+    return !passes(ctx).under_overlays.decorated && new_picture && !scene.loan.borrowed_from && !scene.facts.in_part && ctx.width > 0 &&
            ctx.height > 0 && core_.options().effects.any();
 }
 
@@ -187,11 +188,13 @@ void EffectsRunner::decorate(SlaveContext& ctx, bool under_overlays) {
         const bool kept = overlays || view_model || placed || target_overlays;
         if (kept) put_overlays_back(ctx, overlays, target_overlays);
         if (under_overlays) {
-            // The program draws its overlays over this: at the frame's end, what differs from it
-            // is theirs (report_under_overlays).
-            copies.copy(ctx, copies.scene_image_fb, false);
-            if (report && !write_scene_under_overlays(gl, opt.scene_report_dir, view, copies.scene_image_fb, "decorated", error))
-                throw std::runtime_error("--scene-report: " + error);
+            // The program draws its overlays over this: for the report, what differs from it at
+            // the frame's end is theirs (report_under_overlays).
+            if (report) {
+                copies.copy(ctx, copies.scene_image_fb, false);
+                if (!write_scene_under_overlays(gl, opt.scene_report_dir, view, copies.scene_image_fb, "decorated", error))
+                    throw std::runtime_error("--scene-report: " + error);
+            }
             st.under_overlays = UnderOverlays{true, report, target_overlays, view};
         } else if (report) {
             report_scene(ctx, view, overlays, target_overlays, kept);

@@ -251,6 +251,13 @@ static const struct marker {
     {0.3, -1.2, -0.3, 255, 0, 255},   /* below, on a CAVE's floor */
 };
 
+/* The floor's quad, 100 x 100 at y = -2 (inside glBegin(GL_QUADS)). */
+static void floor_vertices(double zs)
+{
+    glVertex3d(-50, -2, -50 * zs); glVertex3d(50, -2, -50 * zs); glVertex3d(50, -2, 50 * zs);
+    glVertex3d(-50, -2, 50 * zs);
+}
+
 static void draw_markers(double zs)
 {
     glPointSize(4);
@@ -702,22 +709,19 @@ int main(int argc, char **argv)
             glColor3ub(90, 90, 90);
             glNormal3f(0, 1, 0);
             glTexCoord2f(0.25f, 0.5f);  /* (--foliage: the opaque texel) */
-            glVertex3d(-50, -2, -50 * zs); glVertex3d(50, -2, -50 * zs); glVertex3d(50, -2, 50 * zs);
-            glVertex3d(-50, -2, 50 * zs);
+            floor_vertices(zs);
             glEnd();
             if (reflection) {
                 glDisable(GL_DEPTH_TEST);
                 glBegin(GL_QUADS);
                 glColor3ub(60, 90, 200);
-                glVertex3d(-50, -2, -50 * zs); glVertex3d(50, -2, -50 * zs); glVertex3d(50, -2, 50 * zs);
-                glVertex3d(-50, -2, 50 * zs);
+                floor_vertices(zs);
                 glEnd();
                 glEnable(GL_DEPTH_TEST);
                 glDepthFunc(GL_LEQUAL);
                 glBegin(GL_QUADS);
                 glColor3ub(90, 90, 90);
-                glVertex3d(-50, -2, -50 * zs); glVertex3d(50, -2, -50 * zs); glVertex3d(50, -2, 50 * zs);
-                glVertex3d(-50, -2, 50 * zs);
+                floor_vertices(zs);
                 glEnd();
                 glDepthFunc(GL_LESS);
             }

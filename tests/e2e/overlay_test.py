@@ -83,7 +83,7 @@ def plain_and_decorated(app, variants, headless):
     images = {}
     for name, capture in captures.items():
         for effects in ("", "shadows,cover,icicles,snow"):
-            out = os.path.join(OUT, f"{name}-{effects or 'plain'}")
+            out = os.path.join(OUT, f"{app}_{name}-{effects or 'plain'}")
             r = subprocess.run([GLCAST, "replay", capture, "--backend", "egl", "--out", out] +
                                (["--effects", effects] if effects else []),
                                capture_output=True, text=True, timeout=300, env=headless)
@@ -138,15 +138,23 @@ def view_model(headless):
     check(unlike == 0, f"with the weapon, {unlike} scene pixels differ from the scene without it")
 
 
-def dimmed(headless):
+def dimmed(headless, app="ff_scene"):
     """ff_scene --hud --dim: a menu dims the whole scene with a black quad of alpha 0.27 before its
     HUD panel, as neverball's title screen does. With every pass the scene is decorated under it and
     dimmed with the rest: each pixel outside the HUD is the undimmed scene's decorated pixel
     (ff_scene --hud) times 0.73, within 2 levels, and the opaque panel is untouched. Before, the
     dimming quad was the first overlay and changed every pixel, so every pixel was put back as the
-    program drew it: the passes changed none."""
-    images = plain_and_decorated("ff_scene", (("hud", ["--hud"]), ("dim", ["--hud", "--dim"])), headless)
-    hud = set(inside(PANEL, margin=0)) | set(inside(TEXT, margin=0))
+    program drew it: the passes changed none. The same for a scene drawn offscreen and shown over
+    the whole window by a draw, the window's colour never cleared (core_scene --offscreen --dim,
+    against core_scene --offscreen)."""
+    if app == "ff_scene":
+        images = plain_and_decorated(app, (("hud", ["--hud"]), ("dim", ["--hud", "--dim"])), headless)
+        panel = inside(PANEL)
+        hud = set(inside(PANEL, margin=0)) | set(inside(TEXT, margin=0))
+    else:
+        images = plain_and_decorated(app, (("hud", ["--offscreen"]), ("dim", ["--offscreen", "--dim"])), headless)
+        panel = [(x, H - 1 - y) for y in range(8, 8 + 24) for x in range(8, 8 + 96)]  # HUD_X, HUD_Y, HUD_W, HUD_H
+        hud = set(panel)
     scene = [(x, y) for y in range(H) for x in range(W) if (x, y) not in hud]
 
     def off_dimmed(a, b):  # a, b: pictures; pixels of `a` not `b` dimmed
@@ -156,8 +164,8 @@ def dimmed(headless):
     check(off_dimmed(plain, images["hud", False]) <= len(scene) // 100, "the dimmed picture is not what the test expects")
     changed = sum(1 for x, y in scene if decorated[y][x] != plain[y][x])
     unlike = off_dimmed(decorated, images["hud", True])
-    touched = sum(1 for x, y in inside(PANEL) if decorated[y][x] != plain[y][x])
-    print(f"dimmed: the passes changed {changed} of the scene's {len(scene)} pixels under the dimming, {unlike} more "
+    touched = sum(1 for x, y in panel if decorated[y][x] != plain[y][x])
+    print(f"dimmed {app}: the passes changed {changed} of the scene's {len(scene)} pixels under the dimming, {unlike} more "
           f"than 2 levels off the undimmed decorated scene dimmed; {touched} of the panel's pixels changed")
     check(touched == 0, f"the passes changed {touched} of the panel's pixels")
     check(changed > len(scene) // 2, f"under the dimming the passes changed only {changed} of {len(scene)} pixels")
@@ -349,7 +357,11 @@ if __name__ == "__main__":
         shutil.rmtree(OUT, ignore_errors=True)
         os.makedirs(OUT)
         headless = {k: v for k, v in os.environ.items() if k != "DISPLAY"}
-        widget(headless, post=True) if sys.argv[1] == "widget_post" else dimmed(headless)
+        if sys.argv[1] == "widget_post":
+            widget(headless, post=True)
+        else:
+            dimmed(headless)
+            dimmed(headless, "core_scene")
     else:
         main()
     print("PASS")
