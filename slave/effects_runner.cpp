@@ -139,8 +139,8 @@ bool EffectsRunner::decorates_under_overlays(SlaveContext& ctx) {
     const ContextScene& scene = scenes_.scene(ctx);
     // (a scene shown in part of the window is placed by the draw that shows it, after the fact)
     const bool new_picture = scene.facts.window_cleared || scene.facts.shown_whole;
-    return !passes(ctx).under_overlays.decorated && new_picture && !scene.loan.borrowed_from && !scene.facts.in_part && ctx.width > 0 &&
-           ctx.height > 0 && core_.options().effects.any();
+    return !passes(ctx).under_overlays.decorated && new_picture && !scene.loan.borrowed_from &&
+           !scene.facts.in_part && ctx.width > 0 && ctx.height > 0 && core_.options().effects.any();
 }
 
 void EffectsRunner::decorate(SlaveContext& ctx, bool under_overlays) {
@@ -158,7 +158,7 @@ void EffectsRunner::decorate(SlaveContext& ctx, bool under_overlays) {
         frame_view(ctx, view);
         WindowCopies& copies = st.copies;
         copies.size(ctx);
-        if (!under_overlays) {  // (a frame decorated under its overlays began with a clear: nothing to give back)
+        if (!under_overlays) {  // (a frame decorated under its overlays is a new picture: nothing to give back)
             copies.copy(ctx, copies.program_image_fb, false);
             copies.program_image_saved = true;
         }
@@ -181,6 +181,9 @@ void EffectsRunner::decorate(SlaveContext& ctx, bool under_overlays) {
             copies.copy(ctx, copies.program_image_fb, false);  // (not the program's to give back in this frame)
             if (!write_scene_under_overlays(gl, opt.scene_report_dir, view, copies.program_image_fb, "plain", error))
                 throw std::runtime_error("--scene-report: " + error);
+            // The depth the report gives is the scene's, copied now (kept for the frame): the
+            // overlays may clear it before the frame's end (a view model's depth-only clear).
+            if (view.view_known && view.depth_texture) view.depth_texture();
         }
         if (!st.depth.standard) set_depth_state(gl, ProgramDepthState{});
         st.pipeline->run(view);
