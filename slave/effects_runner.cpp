@@ -138,8 +138,7 @@ void EffectsRunner::run_effects(SlaveContext& ctx) {
 bool EffectsRunner::decorates_under_overlays(SlaveContext& ctx) {
     const ContextScene& scene = scenes_.scene(ctx);
     // (a scene shown in part of the window is placed by the draw that shows it, after the fact)
-    const bool new_picture = scene.facts.window_cleared || scene.facts.shown_whole;
-    return !passes(ctx).under_overlays.decorated && new_picture && !scene.loan.borrowed_from &&
+    return !passes(ctx).under_overlays.decorated && scene.facts.window_cleared && !scene.loan.borrowed_from &&
            !scene.facts.in_part && ctx.width > 0 && ctx.height > 0 && core_.options().effects.any();
 }
 
@@ -177,8 +176,11 @@ void EffectsRunner::decorate(SlaveContext& ctx, bool under_overlays) {
         const ReplayOptions& opt = core_.options();
         const bool report = !opt.scene_report_dir.empty() && view.frame >= opt.first_frame && view.frame <= opt.last_frame;
         std::string error;
+        if (under_overlays && (report || view_model || target_overlays)) {
+            // The program's pixels to put back over the passes (not to give back after present).
+            copies.copy(ctx, copies.program_image_fb, false);
+        }
         if (under_overlays && report) {
-            copies.copy(ctx, copies.program_image_fb, false);  // (not the program's to give back in this frame)
             if (!write_scene_under_overlays(gl, opt.scene_report_dir, view, copies.program_image_fb, "plain", error))
                 throw std::runtime_error("--scene-report: " + error);
             // The depth the report gives is the scene's, copied now (kept for the frame): the
