@@ -176,12 +176,13 @@ void EffectsRunner::decorate(SlaveContext& ctx, bool under_overlays) {
         const ReplayOptions& opt = core_.options();
         const bool report = !opt.scene_report_dir.empty() && view.frame >= opt.first_frame && view.frame <= opt.last_frame;
         std::string error;
-        if (under_overlays && (report || view_model || target_overlays)) {
+        const GLenum window = ctx.double_buffered ? GL_BACK : GL_FRONT;
+        if (under_overlays && (view_model || target_overlays)) {
             // The program's pixels to put back over the passes (not to give back after present).
             copies.copy(ctx, copies.program_image_fb, false);
         }
         if (under_overlays && report) {
-            if (!write_scene_under_overlays(gl, opt.scene_report_dir, view, copies.program_image_fb, "plain", error))
+            if (!write_scene_under_overlays(gl, opt.scene_report_dir, view, window, "plain", error))
                 throw std::runtime_error("--scene-report: " + error);
             // The depth the report gives is the scene's, copied now (kept for the frame): the
             // overlays may clear it before the frame's end (a view model's depth-only clear).
@@ -197,7 +198,7 @@ void EffectsRunner::decorate(SlaveContext& ctx, bool under_overlays) {
             // the frame's end is theirs (report_under_overlays).
             if (report) {
                 copies.copy(ctx, copies.scene_image_fb, false);
-                if (!write_scene_under_overlays(gl, opt.scene_report_dir, view, copies.scene_image_fb, "decorated", error))
+                if (!write_scene_under_overlays(gl, opt.scene_report_dir, view, window, "decorated", error))
                     throw std::runtime_error("--scene-report: " + error);
             }
             st.under_overlays = UnderOverlays{true, report, target_overlays, view};

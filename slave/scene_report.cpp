@@ -1,12 +1,12 @@
 // The frame's scene as the passes saw it, for measurements (scene_report.h).
 #include "slave/scene_report.h"
 
-#include <algorithm>
 #include <cinttypes>
 #include <cstdio>
 #include <fstream>
 
 #include "common/image.h"
+#include "common/window_readback.h"
 #include "slave/effects/gl_util.h"
 #include "slave/effects/gl_api.h"
 
@@ -32,20 +32,11 @@ std::string numbers(const glm::dmat4& m) {
 
 }  // namespace
 
-bool write_scene_under_overlays(const GlApi& gl, const std::string& dir, const effects::FrameView& view, GLuint fb,
+bool write_scene_under_overlays(const GlApi& gl, const std::string& dir, const effects::FrameView& view, GLenum buffer,
                                 const char* what, std::string& error) {
-    const int w = view.width, h = view.height;
-    effects::StateGuard guard(gl);
-    gl.glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    std::vector<uint8_t> rgba(size_t(w) * size_t(h) * 4);
-    gl.glBindFramebuffer(GL_READ_FRAMEBUFFER, fb);
-    gl.glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
     Image image;
-    image.width = w, image.height = h;
-    image.rgba.resize(rgba.size());
-    for (int y = 0; y < h; ++y)  // (PNG rows top to bottom)
-        std::copy_n(&rgba[size_t(y) * w * 4], size_t(w) * 4, &image.rgba[size_t(h - 1 - y) * w * 4]);
-    for (size_t i = 3; i < image.rgba.size(); i += 4) image.rgba[i] = 255;
+    image.width = view.width, image.height = view.height;
+    image.rgba = read_window(gl, buffer, view.width, view.height);
     const std::string name = std::string("under-") + what + ".png";
     return write_png(frame_path(dir, view.frame, name.c_str()), image, error);
 }

@@ -36,8 +36,8 @@ namespace glcast::slave {
 // pixels are kept (0: none kept). The window must be current; GL state is restored.
 bool write_scene_report(const GlApi& gl, const std::string& dir, const effects::FrameView& view, GLuint kept_fb,
                         std::string& error);
-// Writes frame-N-under-`what`.png from the RGBA framebuffer `fb` of the tile's size.
-bool write_scene_under_overlays(const GlApi& gl, const std::string& dir, const effects::FrameView& view, GLuint fb,
+// Writes frame-N-under-`what`.png: the window's `buffer` (GL_BACK or GL_FRONT) as it is now.
+bool write_scene_under_overlays(const GlApi& gl, const std::string& dir, const effects::FrameView& view, GLenum buffer,
                                 const char* what, std::string& error);
 
 }  // namespace glcast::slave
