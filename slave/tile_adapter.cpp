@@ -304,6 +304,20 @@ void TileAdapter::end_redraw() {
         s.matrix_mode = saved_->matrix_mode;
         saved_.reset();
     }
+    if (clips_before_redraw_.empty()) return;
+    const GlApi& gl = core_.api();
+    GLint program_in_use = 0;
+    gl.glGetIntegerv(GL_CURRENT_PROGRAM, &program_in_use);
+    Shared& group = shared();
+    for (const auto& [program, before] : clips_before_redraw_) {
+        auto it = group.clip_uniforms.find(program);
+        if (it == group.clip_uniforms.end() || it->second.value == before) continue;
+        gl.glUseProgram(program);
+        gl.glUniformMatrix4fv(it->second.location, 1, GL_FALSE, &before[0][0]);
+        it->second.value = before;
+    }
+    gl.glUseProgram(GLuint(program_in_use));
+    clips_before_redraw_.clear();
 }
 
 }  // namespace glcast::slave

@@ -83,7 +83,9 @@ public:
     void view_changed();
     // Redraw by the injected passes: draws get `correction` premultiplied into the program's
     // projection, or as glcast_clip when `programs` (the redraw binds the program's shader
-    // programs); end_redraw puts the projection tracking back as it was.
+    // programs); end_redraw puts the projection tracking back as it was, and each program's
+    // glcast_clip: a redraw may run just before a draw whose clip is already set (passes that
+    // decorate a scene under its overlays run at the first overlay's draw).
     void begin_redraw(const glm::dmat4& correction, bool programs);
     void end_redraw();
 
@@ -133,6 +135,7 @@ private:
     bool opening_begin_ = false;  // the draw being opened is glBegin's
     glm::dmat4 redraw_correction_{1.0};
     std::unique_ptr<State> saved_;  // the tracking state a redraw started from
+    std::vector<std::pair<uint32_t, glm::mat4>> clips_before_redraw_;  // program, its glcast_clip
 };
 
 }  // namespace glcast::slave

@@ -1,6 +1,7 @@
 // Rotated tiles (cylinders, CAVEs): the tile adapter's projection correction
 // (slave/view_correction.h) of fixed-function draws, shader programs' glcast_clip, the scene
 // target an engine draws into, and the program's screen that its HUD lies on.
+#include <algorithm>
 #include <cstdio>
 #include <cstring>
 
@@ -10,6 +11,8 @@
 #include "slave/replayer.h"
 #include "slave/scene/scene_classifier.h"
 #include "slave/tile_adapter.h"
+
+#include <algorithm>
 #include "slave/tile_adapter_state.h"
 
 namespace glcast::slave {
@@ -302,6 +305,9 @@ bool TileAdapter::correct_shader_program(uint32_t program) {
         if (view.program_fov_y_deg || shader_camera(program, camera)) note_part_view();
     }
     if (it->second.value != m) {
+        if (redrawing_ && std::none_of(clips_before_redraw_.begin(), clips_before_redraw_.end(),
+                                       [program](const auto& kept) { return kept.first == program; }))
+            clips_before_redraw_.emplace_back(program, it->second.value);
         gl.glUniformMatrix4fv(it->second.location, 1, GL_FALSE, &m[0][0]);
         it->second.value = m;
     }

@@ -10,7 +10,9 @@ window's size, then copied to the window, then a HUD panel) is decorated as the 
 in the window is, its HUD untouched; before, the passes saw only the window's copy and the HUD.
 And a first-person weapon drawn with glDepthRange(0, 0.3) among the scene's draws (ff_scene
 --weapon) is left as the program drew it. And a scene dimmed whole before the HUD (ff_scene --hud --dim, a menu's way; `overlay_test.py
-dimmed`) is decorated under the dimming. And a scene another context draws into a texture only
+dimmed`) is decorated under the dimming. And a HUD drawn by the scene's own shader program
+(pillars --shader --hud and its kin; `overlay_test.py shader_hud`) is untouched by the shadows'
+redraw that ran before it. And a scene another context draws into a texture only
 every fourth frame, which the window's context shows in part of the window every frame (ff_scene
 --widget, as Qt's QOpenGLWidget does), is decorated in every frame, where it is shown, and nothing
 else is.
@@ -144,6 +146,45 @@ def view_model(headless):
     print(f"view model under a HUD: the passes changed {touched_hud} of the weapon's {len(under)} pixels")
     check(touched_hud == 0, f"under a HUD the passes changed {touched_hud} of the weapon's {len(under)} pixels")
     check(unlike == 0, f"with the weapon, {unlike} scene pixels differ from the scene without it")
+
+
+def shader_hud(headless):
+    """pillars --hud with a shader program (--shader: its projection a uniform; --mvp: one
+    premultiplied matrix; --builtins: GL_PROJECTION read through GLSL's built-ins; --fbo: the
+    scene drawn offscreen and shown), whose HUD panel is drawn by the scene's own program under an
+    orthographic matrix after the scene. With the shadows' redraw from the light (the shadow
+    map, which re-renders the scene with the program's patched vertex shaders), every pass
+    together, the panel is the plain replay's. Before, the panel's first draw came after the
+    passes that ran under the overlays had left the light's clip transform in the program:
+    drawn as the light sees it, 3,654 of its 6,000 pixels changed (--shader)."""
+    variants = (("shader", ["--shader"]), ("mvp", ["--mvp"]), ("builtins", ["--builtins"]),
+                ("fbo", ["--shader", "--fbo"]))
+    for name, flags in variants:
+        capture = os.path.join(OUT, f"pillars_hud_{name}.glcs")
+        with Xvfb():
+            r = subprocess.run([GLCAST, "capture", "-o", capture, "--", os.path.join(APPS, "pillars"), *flags, "--hud",
+                                "--size", "400x300", "--frames", "2"], capture_output=True, text=True, timeout=300)
+        check(r.returncode == 0, f"capture {name} failed: {r.stderr[-2000:]}")
+        images = {}
+        for effects in ("", "shadows", "shadows,cover,icicles,snow"):
+            out = os.path.join(OUT, f"pillars_hud_{name}-{effects or 'plain'}")
+            r = subprocess.run([GLCAST, "replay", capture, "--backend", "egl", "--out", out] +
+                               (["--effects", effects] if effects else []),
+                               capture_output=True, text=True, timeout=300, env=headless)
+            check(r.returncode == 0, f"replay {out} failed: {r.stderr[-2000:]}")
+            w, h, images[effects] = read_png(os.path.join(out, "frame-000001.png"))
+        plain = images[""]
+        hud = [(x, y) for y in range(h) for x in range(w) if plain[y][x] == (230, 50, 40)]
+        check(len(hud) >= 5000, f"{name}: the HUD panel is not where the test expects it ({len(hud)} pixels)")
+        for effects, image in images.items():
+            if not effects:
+                continue
+            touched = sum(1 for x, y in hud if image[y][x] != plain[y][x])
+            scene = sum(1 for y in range(h) for x in range(w) if image[y][x] != plain[y][x])
+            print(f"shader HUD ({name}, {effects}): the passes changed {touched} of the panel's {len(hud)} pixels, "
+                  f"{scene} pixels in all")
+            check(touched == 0, f"{name}, {effects}: the passes changed {touched} of the panel's {len(hud)} pixels")
+            check(scene > 500, f"{name}, {effects}: the passes changed only {scene} pixels")
 
 
 def dimmed(headless, app="ff_scene"):
@@ -360,13 +401,15 @@ def main():
 
 
 if __name__ == "__main__":
-    if sys.argv[1:] in (["widget_post"], ["dimmed"]):  # (tests of their own, beside main's in ctest: own folders)
+    if sys.argv[1:] in (["widget_post"], ["dimmed"], ["shader_hud"]):  # (tests of their own, beside main's in ctest: own folders)
         OUT += "_" + sys.argv[1]
         shutil.rmtree(OUT, ignore_errors=True)
         os.makedirs(OUT)
         headless = {k: v for k, v in os.environ.items() if k != "DISPLAY"}
         if sys.argv[1] == "widget_post":
             widget(headless, post=True)
+        elif sys.argv[1] == "shader_hud":
+            shader_hud(headless)
         else:
             dimmed(headless)
     else:
