@@ -138,7 +138,8 @@ void EffectsRunner::run_effects(SlaveContext& ctx) {
 bool EffectsRunner::decorates_under_overlays(SlaveContext& ctx) {
     const ContextScene& scene = scenes_.scene(ctx);
     // (a scene shown in part of the window is placed by the draw that shows it, after the fact)
-    return !passes(ctx).under_overlays.decorated && scene.facts.window_cleared && !scene.loan.borrowed_from &&
+    const bool new_picture = scene.facts.window_cleared || scene.facts.shown_whole;
+    return !passes(ctx).under_overlays.decorated && new_picture && !scene.loan.borrowed_from &&
            !scene.facts.in_part && ctx.width > 0 && ctx.height > 0 && core_.options().effects.any();
 }
 

@@ -19,8 +19,9 @@ namespace glcast::slave {
 struct SceneFacts {
     bool shader_draws = false;  // some draw to the window used a shader program
     // The window's colour was cleared whole (clears_whole_colour) before the main view: the
-    // frame is a new picture, and the passes may decorate its scene when the overlays start,
-    // under them (the program's translucent menus and panels then blend over the winter).
+    // frame is a new picture (so is one whose offscreen scene is shown_whole), and the passes
+    // may decorate its scene when the overlays start, under them (the program's translucent
+    // menus and panels then blend over the winter).
     bool window_cleared = false;
     // Overlays: from the first draw after the main view that is two-dimensional (an
     // orthographic projection, the depth test off, pixels at the raster position) on, the
@@ -47,6 +48,9 @@ struct SceneFacts {
     // are overlays. If that first draw writes depth instead, the object was not the scene.
     GLuint scene_framebuffer = 0;
     bool presented = false;
+    // ... by a draw whose viewport, or a blit whose destination, covers the whole window: the
+    // frame is a new picture, as one that clears its window whole is (window_cleared).
+    bool shown_whole = false;
     // That target has neither the window's size nor its shape: the scene is shown in part of the
     // window (a content suite's 3D viewport), by the first flat draw to the window that samples
     // `scene_texture` (its colour texture, or the one a resolve or a post-processing draw of its

@@ -20,6 +20,18 @@ ContextScene& SceneRecorder::scene(const SlaveContext& ctx) {
 
 void SceneRecorder::follow(SlaveContext& ctx, const Call& c) { scene(ctx).followed.follow(c, ctx.names); }
 
+namespace {
+
+// The rectangle x0, y0, x1, y1 (master window coordinates, either way round) covers the program's
+// whole window.
+bool covers_window(const SlaveContext& ctx, const int32_t r[4]) {
+    return std::min(r[0], r[2]) <= 0 && std::min(r[1], r[3]) <= 0 &&
+           std::max(int64_t(r[0]), int64_t(r[2])) >= ctx.master_width &&
+           std::max(int64_t(r[1]), int64_t(r[3])) >= ctx.master_height;
+}
+
+}  // namespace
+
 ClassifierSettings SceneRecorder::settings(const SlaveContext& ctx) const {
     return ClassifierSettings{core_.options().view.program_fov_y_deg != 0, core_.options().effects.redraws(),
                               ctx.master_width, ctx.master_height};
@@ -88,8 +100,11 @@ void SceneRecorder::record(SlaveContext& ctx, const Call& c, const uint8_t* tupl
         for (int k = 0; k < 4; ++k)
             destination[k] = core_.value<GLint>(c, sem.window_params[k]),
             source[k] = core_.value<GLint>(c, sem.window_params[4 + k]);
+        const bool shown_before = facts.presented;
         if (window_blit(facts, state, source, destination) == WindowDrawMeaning::ShowsInPart)
             lending_.show_own_scene(ctx, sc, source, destination);
+        else if (!shown_before && facts.presented)
+            facts.shown_whole = covers_window(ctx, destination);
         return;
     }
     if (sc.loan.borrowed_from && to_window && opens && state.writes_depth()) {
@@ -99,7 +114,15 @@ void SceneRecorder::record(SlaveContext& ctx, const Call& c, const uint8_t* tupl
         facts.overlay = false;
     }
     if (facts.main_known && !facts.overlay && !rec.in_begin_end && to_window) {
-        switch (window_draw(facts, state, kind)) {
+        const bool shown_before = facts.presented;
+        const WindowDrawMeaning meaning = window_draw(facts, state, kind);
+        if (!shown_before && facts.presented && !facts.in_part) {
+            int32_t v[4];
+            state.viewport(v);
+            const int32_t r[4] = {v[0], v[1], int32_t(int64_t(v[0]) + v[2]), int32_t(int64_t(v[1]) + v[3])};
+            facts.shown_whole = covers_window(ctx, r);
+        }
+        switch (meaning) {
         case WindowDrawMeaning::Scene: break;
         case WindowDrawMeaning::StartsOverlays:
             if (on_overlays_start) on_overlays_start(ctx);

@@ -35,6 +35,8 @@
  * texture + DEPTH_COMPONENT24 renderbuffer, as post-processing engines do), which a full-window
  * triangle with the depth test off then copies to the window (nearest texels: the same pixels);
  * a HUD panel (HUD_X, HUD_Y, HUD_W, HUD_H, solid HUD_COLOR) follows with the depth test off.
+ * With --offscreen --dim a full-window black triangle of alpha 0.27 is blended over the shown
+ * scene before the panel (a menu dims the scene behind it so).
  *
  * Prints to stdout:
  *   core_scene: GL_RENDERER <string>
@@ -626,7 +628,7 @@ static void upload_camera(GLuint ubo, const mat4 *view, const mat4 *proj, const 
 /* --painter: the window pass draws everything after the ground with the depth test off, in
  * order, as programs that paint their scene back to front do (glmark2's ideas scene). */
 static int painter;
-static int offscreen;
+static int offscreen, dim;
 
 /* Draws ground, boxes and the floating box; the monitor screen only when screen_tex != 0
  * (never in the pass that renders into that texture). */
@@ -746,6 +748,7 @@ int main(int argc, char **argv)
 
     painter = app_take_flag(&argc, &argv, "--painter");
     offscreen = app_take_flag(&argc, &argv, "--offscreen");
+    dim = offscreen && app_take_flag(&argc, &argv, "--dim");
     app_parse_args(PROG, argc, argv, &args);
 
     dpy = XOpenDisplay(NULL);
@@ -991,6 +994,13 @@ int main(int argc, char **argv)
             gl.Uniform4f(present_solid, 0.0f, 0.0f, 0.0f, 0.0f);
             glDrawArrays(GL_TRIANGLES, 0, 3);
             glBindTexture(GL_TEXTURE_2D, 0);
+            if (dim) {
+                glEnable(GL_BLEND);
+                glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+                gl.Uniform4f(present_solid, 0.0f, 0.0f, 0.0f, 0.27f);
+                glDrawArrays(GL_TRIANGLES, 0, 3);
+                glDisable(GL_BLEND);
+            }
             glViewport(HUD_X, HUD_Y, HUD_W, HUD_H);
             gl.Uniform4f(present_solid, HUD_COLOR);
             glDrawArrays(GL_TRIANGLES, 0, 3);

@@ -412,6 +412,7 @@ if __name__ == "__main__":
             shader_hud(headless)
         else:
             dimmed(headless)
+            dimmed(headless, "core_scene")
     else:
         main()
     print("PASS")
