@@ -66,6 +66,10 @@ EffectsRunner::EffectsRunner(Replayer& core, TileAdapter& tile) : core_(core), t
         copies.copy(ctx, copies.scene_image_fb, false);
         if (scenes_.scene(ctx).facts.depth_cleared) copies.keep_depth(ctx);
     };
+    // The scene's depth before an overlay engine's target that holds it gets its wire frames.
+    scenes_.on_scene_depth_shared = [this](SlaveContext& ctx) {
+        passes(ctx).copies.keep_scene_depth(ctx, scenes_.scene(ctx));
+    };
     // The scene's own target before the program's HUD is drawn into it.
     scenes_.on_target_overlays_start = [this](SlaveContext& ctx) {
         passes(ctx).copies.keep_scene_target(ctx, scenes_.scene(ctx), /*final=*/false);

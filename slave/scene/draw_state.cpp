@@ -129,6 +129,33 @@ GLenum DriverDrawState::depth_attachment_type() {
     return GLenum(type);
 }
 
+namespace {
+
+// The depth attachment of the framebuffer bound at `target`: its object type and name.
+std::pair<GLint, GLint> depth_attachment(const GlApi& gl, GLenum target) {
+    GLint type = GL_NONE, name = 0;
+    gl.glGetFramebufferAttachmentParameteriv(target, GL_DEPTH_ATTACHMENT, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE, &type);
+    if (type != GL_NONE)
+        gl.glGetFramebufferAttachmentParameteriv(target, GL_DEPTH_ATTACHMENT, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_NAME,
+                                                 &name);
+    return {type, name};
+}
+
+}  // namespace
+
+bool DriverDrawState::shares_depth_with(GLuint framebuffer) {
+    const GLuint drawn = draw_framebuffer();
+    if (!framebuffer || !drawn || drawn == framebuffer) return false;
+    const auto here = depth_attachment(gl_, GL_DRAW_FRAMEBUFFER);
+    if (here.first == GL_NONE) return false;
+    GLint read = 0;
+    gl_.glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &read);
+    gl_.glBindFramebuffer(GL_READ_FRAMEBUFFER, framebuffer);
+    const auto there = depth_attachment(gl_, GL_READ_FRAMEBUFFER);
+    gl_.glBindFramebuffer(GL_READ_FRAMEBUFFER, GLuint(read));
+    return here == there;
+}
+
 GLuint DriverDrawState::color_texture() {
     if (color_attachment_type() != GL_TEXTURE) return 0;
     GLint name = 0;

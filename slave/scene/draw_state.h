@@ -65,6 +65,9 @@ public:
     virtual GLenum depth_attachment_type() = 0;
     // Its first colour attachment's texture (the slave's name); 0 when it is none or a renderbuffer.
     virtual GLuint color_texture() = 0;
+    // It is not `framebuffer` (a framebuffer object) but holds the same depth attachment, the same
+    // texture or renderbuffer: an overlay engine's target over the scene's depth.
+    virtual bool shares_depth_with(GLuint framebuffer) = 0;
     // The draw about to run samples `texture`: it is bound as GL_TEXTURE_2D on one of units 0-7
     // (and, for fixed function, GL_TEXTURE_2D is enabled there).
     virtual bool samples_texture(GLuint texture) = 0;
@@ -95,6 +98,7 @@ public:
     GLenum color_attachment_type() override;
     GLenum depth_attachment_type() override;
     GLuint color_texture() override;
+    bool shares_depth_with(GLuint framebuffer) override;
     bool samples_texture(GLuint texture) override;
 
 private:

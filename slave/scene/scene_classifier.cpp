@@ -11,6 +11,7 @@ void found_view(SceneFacts& f, DrawState& s, GLuint framebuffer, const glm::dmat
                 const glm::dmat4& modelview, const ClassifierSettings& settings) {
     f.main_known = true;
     f.scene_framebuffer = framebuffer;
+    f.scene_depth_kept = false;  // (kept of another target)
     f.projection = projection;
     f.modelview = modelview;
     s.viewport(f.viewport);
@@ -24,6 +25,7 @@ void found_view(SceneFacts& f, DrawState& s, GLuint framebuffer, const glm::dmat
 void forget_view(SceneFacts& f) {
     f.main_known = false;
     f.scene_framebuffer = 0;
+    f.scene_depth_kept = false;
     f.target_overlay = false;
     f.in_part = false;
     f.scene_texture = 0;
@@ -204,6 +206,14 @@ bool scene_target_overlays_start(SceneFacts& f, DrawState& s, RedrawKind kind) {
     if (kind != RedrawKind::Draw && kind != RedrawKind::Begin) return false;
     f.target_overlay = starts_overlays(f, s, kind);
     return f.target_overlay;
+}
+
+bool scene_depth_overlay_starts(SceneFacts& f, DrawState& s) {
+    // (a scene shown already, or one drawn in the window, keeps what the window's rules say)
+    if (!f.main_known || !f.scene_framebuffer || f.presented || f.scene_depth_kept) return false;
+    if (!s.writes_depth() || !s.shares_depth_with(f.scene_framebuffer)) return false;
+    f.scene_depth_kept = true;
+    return true;
 }
 
 bool depth_clear_starts_overlays(SceneFacts& f, GLbitfield mask) {

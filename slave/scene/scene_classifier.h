@@ -63,6 +63,11 @@ struct SceneFacts {
     // text actors): from the first flat draw there (starts_overlays' rule) on, what the target
     // gets is the program's, as the window's overlays are.
     bool target_overlay = false;
+    // A draw that writes depth into another framebuffer object holding the scene's depth, after
+    // the main view (an overlay engine's wire frames and empties, drawn with the scene's camera
+    // into a colour target of their own over the scene's depth, as Blender's are): from the first,
+    // the passes read the scene's depth as it was before it (WindowCopies::keep_scene_depth).
+    bool scene_depth_kept = false;
     glm::dmat4 projection{1.0}, modelview{1.0};
     int32_t viewport[4] = {0, 0, 0, 0};  // the program's, master window coordinates
     effects::SceneLight light;
@@ -149,6 +154,11 @@ WindowDrawMeaning window_blit(SceneFacts& facts, DrawState& state, const int32_t
 // view is known and it has not been shown: true when it is the first flat one (starts_overlays),
 // which starts the overlays drawn into that target.
 bool scene_target_overlays_start(SceneFacts& facts, DrawState& state, RedrawKind kind);
+
+// A draw into a framebuffer object while the scene's main view is known in another one: true when
+// it is the first that writes the scene's depth from another target (SceneFacts::scene_depth_kept),
+// whose depth the passes must then take from before it.
+bool scene_depth_overlay_starts(SceneFacts& facts, DrawState& state);
 
 // glClear(mask) of the window while its main view is known and overlays have not started: a
 // clear of the depth alone (the colour kept) ends the scene, and what follows (a view model with

@@ -82,6 +82,8 @@ void SceneRecorder::record(SlaveContext& ctx, const Call& c, const uint8_t* tupl
     const bool opens = (kind == RedrawKind::Draw || kind == RedrawKind::Begin) && !rec.in_begin_end;
     if (opens && !to_window && later_scene_target(facts, state, ctx.master_width, ctx.master_height))
         for (RecordEntry& e : rec.entries) e.main = e.main && !e.offscreen;
+    if (opens && !to_window && on_scene_depth_shared && scene_depth_overlay_starts(facts, state))
+        on_scene_depth_shared(ctx);
     if (!to_window && !rec.in_begin_end &&
         (opens ? !offscreen_scene(facts, state, ctx.master_width, ctx.master_height, framebuffer)
                : kind != RedrawKind::State && kind != RedrawKind::ProgramState))

@@ -57,6 +57,9 @@ public:
     std::function<void(SlaveContext&)> on_overlays_start;
     // Called before the first overlay drawn into the scene's framebuffer object (SceneFacts::target_overlay).
     std::function<void(SlaveContext&)> on_target_overlays_start;
+    // Called before the first draw that writes the scene's depth from another target
+    // (SceneFacts::scene_depth_kept): the scene's depth is to be kept as it is now.
+    std::function<void(SlaveContext&)> on_scene_depth_shared;
 
     // Before each call the replay runs on the current context `ctx`.
     void record(SlaveContext& ctx, const Call& c, const uint8_t* tuple, size_t bytes);

@@ -127,10 +127,48 @@ GLuint WindowCopies::window_copy(SlaveContext& ctx, bool depth, ContextScene& sc
     return depth ? depth_texture_ : color_texture_;
 }
 
-GLuint WindowCopies::scene_depth_copy(SlaveContext& ctx, ContextScene& scene, const ContextScene& shown) {
+void WindowCopies::keep_scene_depth(SlaveContext& ctx, ContextScene& scene) {
     const GlApi& gl = core_.api();
     effects::StateGuard guard(gl);
     gl.glBindFramebuffer(GL_READ_FRAMEBUFFER, scene.facts.scene_framebuffer);
+    const GLenum format = depth_format(gl, GL_READ_FRAMEBUFFER);
+    // (the target's size: the window's, or its viewport's, what a copy or a loan reads of it; a
+    // viewport from the stream at most four times the window, as a scene target is: window_shaped)
+    int SW = 1, SH = 1;
+    scene_target_size(ctx, scene, SW, SH);
+    const int most = 4 * std::max({1, ctx.master_width, ctx.master_height});
+    SW = std::clamp(scene.facts.viewport[2], SW, std::max(SW, most));
+    SH = std::clamp(scene.facts.viewport[3], SH, std::max(SH, most));
+    if (!format) {
+        scene.facts.scene_depth_kept = false;
+        return;
+    }
+    if (format != kept_scene_depth_format_ || SW != kept_scene_depth_size_[0] || SH != kept_scene_depth_size_[1]) {
+        if (kept_scene_depth_) {
+            gl.glDeleteTextures(1, &kept_scene_depth_);
+            gl.glDeleteFramebuffers(1, &kept_scene_depth_fb_);
+        }
+        const bool packed = format == GL_DEPTH24_STENCIL8 || format == GL_DEPTH32F_STENCIL8;
+        kept_scene_depth_ = effects::make_texture(gl, format, SW, SH);
+        kept_scene_depth_fb_ = effects::make_framebuffer(gl, 0, kept_scene_depth_,
+                                                         packed ? GL_DEPTH_STENCIL_ATTACHMENT : GL_DEPTH_ATTACHMENT);
+        kept_scene_depth_format_ = format;
+        kept_scene_depth_size_[0] = SW, kept_scene_depth_size_[1] = SH;
+    }
+    gl.glBindFramebuffer(GL_READ_FRAMEBUFFER, scene.facts.scene_framebuffer);
+    gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, kept_scene_depth_fb_);
+    gl.glBlitFramebuffer(0, 0, SW, SH, 0, 0, SW, SH, GL_DEPTH_BUFFER_BIT, GL_NEAREST);
+    // A context that lends its scene lends this depth (the borrower attaches it as it is).
+    scene.loan.scene_depth_type = GL_TEXTURE;
+    scene.loan.scene_depth_name = kept_scene_depth_;
+}
+
+GLuint WindowCopies::scene_depth_copy(SlaveContext& ctx, ContextScene& scene, const ContextScene& shown) {
+    const GlApi& gl = core_.api();
+    effects::StateGuard guard(gl);
+    // (the scene's own target, or the copy of its depth made before an overlay engine drew into it)
+    const GLuint depth_source = scene.facts.scene_depth_kept ? kept_scene_depth_fb_ : scene.facts.scene_framebuffer;
+    gl.glBindFramebuffer(GL_READ_FRAMEBUFFER, depth_source);
     const GLenum format = depth_format(gl, GL_READ_FRAMEBUFFER);
     if (!format) {  // its depth went away since: the window's
         scene.facts.scene_framebuffer = 0;
@@ -164,7 +202,7 @@ GLuint WindowCopies::scene_depth_copy(SlaveContext& ctx, ContextScene& scene, co
     // Resolved at the program's size (a multisampled source may not be scaled; a depth blit
     // needs the same format on both sides), then this tile's rectangle of the program's window
     // (the canvas stretches it) drawn over the tile's size.
-    gl.glBindFramebuffer(GL_READ_FRAMEBUFFER, scene.facts.scene_framebuffer);
+    gl.glBindFramebuffer(GL_READ_FRAMEBUFFER, depth_source);
     gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, scene_depth_full_fb_);
     gl.glBlitFramebuffer(0, 0, SW, SH, 0, 0, SW, SH, GL_DEPTH_BUFFER_BIT, GL_NEAREST);
     glm::dvec4 source = tile_source(ctx, SW, SH);

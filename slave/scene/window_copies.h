@@ -51,6 +51,10 @@ public:
     // target's colour (its read buffer) before the first such draw (`final` false) and at the
     // frame's end, each copied at the target's size into scene_target_before / _final.
     void keep_scene_target(const SlaveContext& ctx, const ContextScene& scene, bool final);
+    // The depth of a scene drawn offscreen as it is now, at its target's size and format, before an
+    // overlay engine draws into it from another target (SceneFacts::scene_depth_kept): the depth
+    // window_copy gives for the frame, and the one the scene's loan lends (scene_lending.h).
+    void keep_scene_depth(SlaveContext& ctx, ContextScene& scene);
     // The rectangle of those copies' texels (x0, y0, x1, y1) that this tile shows over its size.
     glm::dvec4 scene_target_rect(const SlaveContext& ctx, const ContextScene& scene) const;
     GLuint scene_target_before = 0, scene_target_final = 0;
@@ -75,6 +79,9 @@ private:
     GLuint scene_depth_full_ = 0, scene_depth_full_fb_ = 0, scene_depth_ = 0, scene_depth_fb_ = 0;
     GLuint scene_depth_program_ = 0, scene_depth_vao_ = 0;
     GLenum scene_depth_format_ = 0;
+    GLuint kept_scene_depth_ = 0, kept_scene_depth_fb_ = 0;
+    GLenum kept_scene_depth_format_ = 0;
+    int kept_scene_depth_size_[2] = {0, 0};
     int scene_depth_sizes_[4] = {0, 0, 0, 0};  // full width, height; tile width, height
     GLuint pass_depth_ = 0, pass_depth_fb_ = 0, pass_depth_program_ = 0;
     int pass_depth_size_[2] = {0, 0};

@@ -92,6 +92,13 @@
  * scene's colour texture and no depth, as Blender's overlay engine draws its grid, outlines and
  * object centres into a colour-only target of the viewport's size over the engines' picture.
  *
+ * With --fbo --wire (fixed function, not --msaa, --region or --post) a wire-frame box (WIRE, lines 3
+ * pixels wide) with a filled lid floats over the floor, left of pillar 0, drawn after the pillars with the main
+ * view's camera into a second framebuffer object that holds a colour texture of its own (cleared
+ * transparent every frame) and the scene's depth, the depth test and depth writes on; the window
+ * shows the scene, then that texture blended over it: as Blender's overlay engine draws the camera's
+ * and the light's wire frames and composites them over its engines' picture.
+ *
  * With --reflection (not --mvp, --reversed or --foliage) the floor gets a reflection as neverball
  * draws its mirror: after the floor, with the depth test off and the main view's projection, a
  * quad in the floor's plane (the reflection's sky, REFLECTION's colour), then the floor again over
@@ -137,7 +144,7 @@
  * then use their configured light.
  *
  *   pillars [--shader | --builtins | --mvp] [--grow] [--fbo [--half | --region [--blit]] [--mrt | --msaa] [--depth-texture]] [--reversed] [--hud [--in-scene [--depth-on]]]
- *           [--hand] [--left-handed] [--mixed] [--foliage] [--post] [--grade] [--markers] [--cull] [--overlay] [--reflection] [--objects] [--fov DEG]
+ *           [--hand] [--left-handed] [--mixed] [--foliage] [--post] [--grade] [--markers] [--cull] [--overlay] [--wire] [--reflection] [--objects] [--fov DEG]
  *           [--fisheye] [--scale S] [--turn DEG] [--sun X,Y,Z | --gl-light X,Y,Z] [--frames N] [--size WxH]
  */
 #define GL_GLEXT_PROTOTYPES 1
@@ -179,6 +186,43 @@ static const char *take_value(int *argc, char ***argv, const char *option)
     *argv += 2;
     *argc -= 2;
     return value;
+}
+
+/* --wire: a box's twelve edges and its top face, centred at WIRE_CENTRE with half size WIRE_HALF,
+ * into `wire_fbo` (cleared transparent first) with the current camera; then `scene_fbo` is bound
+ * again. (Blender's camera has a filled triangle on its wire frame so.) */
+static const double WIRE_CENTRE[3] = {-1.0, -1.2, -3.5}, WIRE_HALF = 0.35;
+static const GLubyte WIRE[3] = {250, 250, 120};
+
+static void draw_wire_box(GLuint wire_fbo, GLuint scene_fbo)
+{
+    glBindFramebuffer(GL_FRAMEBUFFER, wire_fbo);
+    glClearColor(0, 0, 0, 0);
+    glClear(GL_COLOR_BUFFER_BIT);
+    glEnable(GL_DEPTH_TEST);
+    glLineWidth(3);
+    glColor3ub(WIRE[0], WIRE[1], WIRE[2]);
+    glBegin(GL_LINES);
+    for (int axis = 0; axis < 3; axis++)  /* the four edges along each axis */
+        for (int k = 0; k < 4; k++)
+            for (int end = -1; end <= 1; end += 2) {
+                double v[3];
+                v[axis] = end * WIRE_HALF;
+                v[(axis + 1) % 3] = (k & 1 ? 1 : -1) * WIRE_HALF;
+                v[(axis + 2) % 3] = (k & 2 ? 1 : -1) * WIRE_HALF;
+                glVertex3d(WIRE_CENTRE[0] + v[0], WIRE_CENTRE[1] + v[1], WIRE_CENTRE[2] + v[2]);
+            }
+    glEnd();
+    glBegin(GL_QUADS);  /* the lid */
+    glNormal3f(0, 1, 0);
+    glVertex3d(WIRE_CENTRE[0] - WIRE_HALF, WIRE_CENTRE[1] + WIRE_HALF, WIRE_CENTRE[2] + WIRE_HALF);
+    glVertex3d(WIRE_CENTRE[0] + WIRE_HALF, WIRE_CENTRE[1] + WIRE_HALF, WIRE_CENTRE[2] + WIRE_HALF);
+    glVertex3d(WIRE_CENTRE[0] + WIRE_HALF, WIRE_CENTRE[1] + WIRE_HALF, WIRE_CENTRE[2] - WIRE_HALF);
+    glVertex3d(WIRE_CENTRE[0] - WIRE_HALF, WIRE_CENTRE[1] + WIRE_HALF, WIRE_CENTRE[2] - WIRE_HALF);
+    glEnd();
+    glLineWidth(1);
+    glClearColor(0, 0, 0, 1);
+    glBindFramebuffer(GL_FRAMEBUFFER, scene_fbo);
 }
 
 /* --hud: a panel at window pixels 20..120 x y0..y0 + 60 of 400x300 (scaled to width x height), the
@@ -380,6 +424,7 @@ int main(int argc, char **argv)
     const int markers = app_take_flag(&argc, &argv, "--markers");
     const int cull = app_take_flag(&argc, &argv, "--cull");
     const int overlay = app_take_flag(&argc, &argv, "--overlay");
+    const int wire = fbo_mode && !shader && !msaa && !region && !post && app_take_flag(&argc, &argv, "--wire");
     const int reflection = app_take_flag(&argc, &argv, "--reflection");
     const int objects = shader && !builtins && !mvp && app_take_flag(&argc, &argv, "--objects");
     const int fisheye = shader && !builtins && !mvp && app_take_flag(&argc, &argv, "--fisheye");
@@ -620,6 +665,28 @@ int main(int argc, char **argv)
         }
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
     }
+    GLuint wire_fbo = 0, wire_color = 0;  /* --wire: a colour of its own, the scene's depth */
+    if (wire) {
+        GLint scene_depth = 0;
+        glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+        glGetFramebufferAttachmentParameteriv(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_NAME,
+                                              &scene_depth);
+        glGenTextures(1, &wire_color);
+        glBindTexture(GL_TEXTURE_2D, wire_color);
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, fw, fh, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        glGenFramebuffers(1, &wire_fbo);
+        glBindFramebuffer(GL_FRAMEBUFFER, wire_fbo);
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, wire_color, 0);
+        if (depth_texture) glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, (GLuint)scene_depth, 0);
+        else glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, (GLuint)scene_depth);
+        if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+            fprintf(stderr, "pillars: the wire frame's framebuffer object is not complete\n");
+            return 1;
+        }
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    }
     GLuint post_fbo = 0, post_color = 0;
     if (post && region) {  /* the region's size, the scene's depth */
         GLint scene_depth = 0;
@@ -747,6 +814,7 @@ int main(int argc, char **argv)
             if (overlay_fbo) glBindFramebuffer(GL_FRAMEBUFFER, fbo);
             if (overlay) glEnable(GL_DEPTH_TEST);
         }
+        if (wire) draw_wire_box(wire_fbo, fbo);
         if (markers) {
             if (mvp) upload(proj_location, proj);  /* the view is the identity: the points as modelled */
             else if (shader && mixed) glUseProgram(program);
@@ -798,6 +866,18 @@ int main(int argc, char **argv)
                 glTexCoord2f(1, 1); glVertex2f(1, 1);
                 glTexCoord2f(0, 1); glVertex2f(-1, 1);
                 glEnd();
+            }
+            if (wire) {
+                glBindTexture(GL_TEXTURE_2D, wire_color);
+                glEnable(GL_BLEND);
+                glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+                glBegin(GL_QUADS);
+                glTexCoord2f(0, 0); glVertex2f(-1, -1);
+                glTexCoord2f(1, 0); glVertex2f(1, -1);
+                glTexCoord2f(1, 1); glVertex2f(1, 1);
+                glTexCoord2f(0, 1); glVertex2f(-1, 1);
+                glEnd();
+                glDisable(GL_BLEND);
             }
             glDisable(GL_TEXTURE_2D);
             if (post) {

@@ -12,7 +12,9 @@ And a first-person weapon drawn with glDepthRange(0, 0.3) among the scene's draw
 --weapon) is left as the program drew it. And a scene dimmed whole before the HUD (ff_scene --hud --dim, a menu's way; `overlay_test.py
 dimmed`) is decorated under the dimming. And a HUD drawn by the scene's own shader program
 (pillars --shader --hud and its kin; `overlay_test.py shader_hud`) is untouched by the shadows'
-redraw that ran before it. And a scene another context draws into a texture only
+redraw that ran before it. And an overlay engine's wire frames drawn over the scene's depth from
+a target of their own (pillars --fbo --wire, as Blender's; `overlay_test.py overlay_engine`) are
+not the scene's depth. And a scene another context draws into a texture only
 every fourth frame, which the window's context shows in part of the window every frame (ff_scene
 --widget, as Qt's QOpenGLWidget does), is decorated in every frame, where it is shown, and nothing
 else is.
@@ -185,6 +187,46 @@ def shader_hud(headless):
                   f"{scene} pixels in all")
             check(touched == 0, f"{name}, {effects}: the passes changed {touched} of the panel's {len(hud)} pixels")
             check(scene > 500, f"{name}, {effects}: the passes changed only {scene} pixels")
+
+
+def overlay_engine(headless):
+    """pillars --fbo --wire: after the scene, a wire-frame box with a filled lid drawn with the
+    scene's camera into a second framebuffer object that holds a colour texture of its own and the
+    scene's depth, writing depth, then composited over the scene in the window (Blender's overlay
+    engine draws its cameras' and lights' wire frames so). The passes read the scene's depth from
+    before the box: every pixel outside the box's is what they make of the scene without it
+    (pillars --fbo --hud, the panel in both), within 2 levels. Before, the box's depth was the scene's: icicles hung from its
+    lid over the floor (238 pixels off with cover and icicles)."""
+    captures = {}
+    with Xvfb():
+        # (both with the HUD panel: both frames are then decorated under their overlays, the same way)
+        for name, extra in (("no-wire", ["--hud"]), ("wire", ["--hud", "--wire"])):
+            captures[name] = os.path.join(OUT, f"pillars_{name}.glcs")
+            r = subprocess.run([GLCAST, "capture", "-o", captures[name], "--", os.path.join(APPS, "pillars"), "--fbo",
+                                *extra, "--size", "400x300", "--frames", "2"], capture_output=True, text=True, timeout=300)
+            check(r.returncode == 0, f"capture {name} failed: {r.stderr[-2000:]}")
+    passes = {"plain": [], "cover": ["--effects", "cover,icicles"], "shadows": ["--effects", "shadows"],
+              "screen": ["--effects", "shadows", "--effect-param", "shadows.method=screen-space"]}
+    images = {}
+    for name, capture in captures.items():
+        for label, extra in passes.items():
+            out = os.path.join(OUT, f"pillars_{name}-{label}")
+            r = subprocess.run([GLCAST, "replay", capture, "--backend", "egl", "--out", out] + extra,
+                               capture_output=True, text=True, timeout=300, env=headless)
+            check(r.returncode == 0, f"replay {out} failed: {r.stderr[-2000:]}")
+            w, h, images[name, label] = read_png(os.path.join(out, "frame-000001.png"))
+    box = {(x, y) for y in range(h) for x in range(w) if images["wire", "plain"][y][x] != images["no-wire", "plain"][y][x]}
+    box |= {(x, y) for y in range(h) for x in range(w) if images["wire", "plain"][y][x] == (230, 50, 40)}  # the panel
+    check(len(box) > 1000, f"the wire-frame box is not where the test expects it ({len(box)} pixels)")
+    for label in ("cover", "shadows", "screen"):
+        a, b = images["wire", label], images["no-wire", label]
+        changed = sum(1 for y in range(h) for x in range(w) if a[y][x] != images["wire", "plain"][y][x])
+        off = sum(1 for y in range(h) for x in range(w)
+                  if (x, y) not in box and max(abs(p - q) for p, q in zip(a[y][x], b[y][x])) > 2)
+        print(f"overlay engine ({label}): {off} pixels outside the box's {len(box)} more than 2 levels off the "
+              f"scene without it; {changed} pixels decorated")
+        check(changed > 500, f"{label}: the passes changed only {changed} pixels")
+        check(off == 0, f"{label}: {off} pixels outside the wire-frame box differ from the scene without it")
 
 
 def dimmed(headless, app="ff_scene"):
@@ -401,7 +443,7 @@ def main():
 
 
 if __name__ == "__main__":
-    if sys.argv[1:] in (["widget_post"], ["dimmed"], ["shader_hud"]):  # (tests of their own, beside main's in ctest: own folders)
+    if sys.argv[1:] in (["widget_post"], ["dimmed"], ["shader_hud"], ["overlay_engine"]):  # (tests of their own, beside main's in ctest: own folders)
         OUT += "_" + sys.argv[1]
         shutil.rmtree(OUT, ignore_errors=True)
         os.makedirs(OUT)
@@ -410,6 +452,8 @@ if __name__ == "__main__":
             widget(headless, post=True)
         elif sys.argv[1] == "shader_hud":
             shader_hud(headless)
+        elif sys.argv[1] == "overlay_engine":
+            overlay_engine(headless)
         else:
             dimmed(headless)
             dimmed(headless, "core_scene")

@@ -59,6 +59,8 @@ struct Given final : DrawState {
     GLenum depth_attachment_type() override { return asked++, depth; }
     GLuint color_texture() override { return asked++, texture; }
     bool samples_texture(GLuint t) override { return asked++, t != 0 && t == sampled; }
+    bool shares_depth_with(GLuint f) override { return asked++, f != 0 && f != framebuffer && f == depth_of; }
+    GLuint depth_of = 0;  // the framebuffer whose depth the bound one holds
 };
 
 const ClassifierSettings kPasses{false, true};  // a pass redraws the scene
@@ -591,6 +593,37 @@ TEST(SceneClassifier, AFlatDrawIntoTheSceneTargetBeforeItIsShownStartsItsOverlay
     shown.presented = true;  // after the scene is shown, its target is no longer the picture's
     s.proj = kOrtho;
     EXPECT_FALSE(scene_target_overlays_start(shown, s, RedrawKind::Draw));
+}
+
+TEST(SceneClassifier, AnotherTargetWritingTheScenesDepthKeepsThatDepthOnce) {
+    // Blender's overlay engine draws wire frames with the scene's camera into a colour target of
+    // its own that holds the scene's depth texture, writing depth.
+    SceneFacts facts;
+    Given s;
+    s.framebuffer = 3;
+    classify_draw(facts, s, 3, kPasses);
+    ASSERT_TRUE(facts.main_known);
+    EXPECT_FALSE(scene_depth_overlay_starts(facts, s));  // the scene's own target
+    s.framebuffer = 5;
+    EXPECT_FALSE(scene_depth_overlay_starts(facts, s));  // a target with a depth of its own
+    s.depth_of = 3;
+    s.depth_mask = false;
+    EXPECT_FALSE(scene_depth_overlay_starts(facts, s));  // tests the depth, writes none
+    s.depth_mask = true;
+    EXPECT_TRUE(scene_depth_overlay_starts(facts, s));
+    EXPECT_TRUE(facts.scene_depth_kept);
+    EXPECT_FALSE(scene_depth_overlay_starts(facts, s));  // kept once
+    SceneFacts shown;
+    s.framebuffer = 3;
+    classify_draw(shown, s, 3, kPasses);
+    shown.presented = true;  // shown already: the window's rules
+    s.framebuffer = 5;
+    EXPECT_FALSE(scene_depth_overlay_starts(shown, s));
+    SceneFacts window;  // a scene drawn in the window has no target to share
+    s.framebuffer = 0;
+    classify_draw(window, s, 0, kPasses);
+    s.framebuffer = 5;
+    EXPECT_FALSE(scene_depth_overlay_starts(window, s));
 }
 
 TEST(SceneClassifier, AShaderDrawWithAnOrthographicMatrixIsFlatWithTheDepthTestOn) {
