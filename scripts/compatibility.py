@@ -385,8 +385,11 @@ KNOWN = """## What the table does not show
   swap (docs/effects.md, "A scene shown in part of the window"): the cube's top holds cover, snow
   falls in the viewport only, the toolbars, headers, timeline and properties keep every pixel.
   What the draw manager draws into the viewport's own textures is decorated with the scene: the
-  grid, the camera's and the light's wire frames (cover speckles their lines), the navigation
-  gizmo and the viewport's text. The default scene has no ground: shadows fall on the cube only.
+  grid, the camera's and the light's wire frames, the navigation gizmo and the viewport's text
+  (snow falls over them). The wire frames and markers are drawn over the scene's depth from a
+  target of their own, whose depth the passes no longer take for the scene's (docs/effects.md):
+  until this stop icicles hung from the camera and cover speckled its lines. The default scene
+  has no ground: shadows fall on the cube only.
   On the cylinder the whole viewport turns (docs/wall.md, "A scene shown in part of the window"):
   the front tile shows the cube, the camera's and the light's wire frames, the cursor and the
   gizmo where the program's view puts them, the interface on the program's screen (the viewport's

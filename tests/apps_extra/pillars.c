@@ -188,6 +188,42 @@ static const char *take_value(int *argc, char ***argv, const char *option)
     return value;
 }
 
+/* A framebuffer object over the depth attachment of `scene_fbo` (a texture with --depth-texture,
+ * else a renderbuffer) with an RGBA8 colour texture of its own, w x h, into *color; 0 when it is
+ * not complete. As Blender's overlay engine and its viewport's resolve draw over its engines' depth. */
+static GLuint over_scene_depth(GLuint scene_fbo, int depth_texture, int w, int h, GLuint *color)
+{
+    GLint scene_depth = 0;
+    GLuint fbo = 0;
+    glBindFramebuffer(GL_FRAMEBUFFER, scene_fbo);
+    glGetFramebufferAttachmentParameteriv(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_NAME,
+                                          &scene_depth);
+    glGenTextures(1, color);
+    glBindTexture(GL_TEXTURE_2D, *color);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glGenFramebuffers(1, &fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, *color, 0);
+    if (depth_texture) glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, (GLuint)scene_depth, 0);
+    else glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, (GLuint)scene_depth);
+    const int complete = glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    return complete ? fbo : 0;
+}
+
+/* The bound texture over the whole target (fixed function, identity matrices). */
+static void full_target_quad(void)
+{
+    glBegin(GL_QUADS);
+    glTexCoord2f(0, 0); glVertex2f(-1, -1);
+    glTexCoord2f(1, 0); glVertex2f(1, -1);
+    glTexCoord2f(1, 1); glVertex2f(1, 1);
+    glTexCoord2f(0, 1); glVertex2f(-1, 1);
+    glEnd();
+}
+
 /* --wire: a box's twelve edges and its top face, centred at WIRE_CENTRE with half size WIRE_HALF,
  * into `wire_fbo` (cleared transparent first) with the current camera; then `scene_fbo` is bound
  * again. (Blender's camera has a filled triangle on its wire frame so.) */
@@ -362,12 +398,7 @@ static void show_region(GLuint msaa_fbo, GLuint fbo, GLuint color, GLuint post_f
         glEnable(GL_TEXTURE_2D);
         glBindTexture(GL_TEXTURE_2D, color);
         glColor3ub(255, 255, 255);
-        glBegin(GL_QUADS);
-        glTexCoord2f(0, 0); glVertex2f(-1, -1);
-        glTexCoord2f(1, 0); glVertex2f(1, -1);
-        glTexCoord2f(1, 1); glVertex2f(1, 1);
-        glTexCoord2f(0, 1); glVertex2f(-1, 1);
-        glEnd();
+        full_target_quad();
         glDisable(GL_TEXTURE_2D);
     }
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
@@ -666,44 +697,13 @@ int main(int argc, char **argv)
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
     }
     GLuint wire_fbo = 0, wire_color = 0;  /* --wire: a colour of its own, the scene's depth */
-    if (wire) {
-        GLint scene_depth = 0;
-        glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-        glGetFramebufferAttachmentParameteriv(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_NAME,
-                                              &scene_depth);
-        glGenTextures(1, &wire_color);
-        glBindTexture(GL_TEXTURE_2D, wire_color);
-        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, fw, fh, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-        glGenFramebuffers(1, &wire_fbo);
-        glBindFramebuffer(GL_FRAMEBUFFER, wire_fbo);
-        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, wire_color, 0);
-        if (depth_texture) glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, (GLuint)scene_depth, 0);
-        else glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, (GLuint)scene_depth);
-        if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
-            fprintf(stderr, "pillars: the wire frame's framebuffer object is not complete\n");
-            return 1;
-        }
-        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    if (wire && !(wire_fbo = over_scene_depth(fbo, depth_texture, fw, fh, &wire_color))) {
+        fprintf(stderr, "pillars: the wire frame's framebuffer object is not complete\n");
+        return 1;
     }
     GLuint post_fbo = 0, post_color = 0;
     if (post && region) {  /* the region's size, the scene's depth */
-        GLint scene_depth = 0;
-        glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-        glGetFramebufferAttachmentParameteriv(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_NAME,
-                                              &scene_depth);
-        glGenTextures(1, &post_color);
-        glBindTexture(GL_TEXTURE_2D, post_color);
-        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, fw, fh, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-        glGenFramebuffers(1, &post_fbo);
-        glBindFramebuffer(GL_FRAMEBUFFER, post_fbo);
-        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, post_color, 0);
-        if (depth_texture) glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, (GLuint)scene_depth, 0);
-        else glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, (GLuint)scene_depth);
-        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        post_fbo = over_scene_depth(fbo, depth_texture, fw, fh, &post_color);
     } else if (post) {
         GLuint post_depth = 0;
         glGenTextures(1, &post_color);
@@ -860,23 +860,13 @@ int main(int argc, char **argv)
                     glDepthMask(GL_TRUE);
                 }
                 glBindTexture(GL_TEXTURE_2D, post && step == 1 ? post_color : color);
-                glBegin(GL_QUADS);
-                glTexCoord2f(0, 0); glVertex2f(-1, -1);
-                glTexCoord2f(1, 0); glVertex2f(1, -1);
-                glTexCoord2f(1, 1); glVertex2f(1, 1);
-                glTexCoord2f(0, 1); glVertex2f(-1, 1);
-                glEnd();
+                full_target_quad();
             }
             if (wire) {
                 glBindTexture(GL_TEXTURE_2D, wire_color);
                 glEnable(GL_BLEND);
                 glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
-                glBegin(GL_QUADS);
-                glTexCoord2f(0, 0); glVertex2f(-1, -1);
-                glTexCoord2f(1, 0); glVertex2f(1, -1);
-                glTexCoord2f(1, 1); glVertex2f(1, 1);
-                glTexCoord2f(0, 1); glVertex2f(-1, 1);
-                glEnd();
+                full_target_quad();
                 glDisable(GL_BLEND);
             }
             glDisable(GL_TEXTURE_2D);
