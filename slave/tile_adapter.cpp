@@ -288,9 +288,13 @@ void TileAdapter::after_call(const Call& c) {
 
 void TileAdapter::begin_redraw(const glm::dmat4& correction, bool programs) {
     saved_ = std::make_unique<State>(state());
+    saved_opening_begin_ = opening_begin_;
     GLint mode = GL_MODELVIEW;
     core_.api().glGetIntegerv(GL_MATRIX_MODE, &mode);
     state().matrix_mode = uint32_t(mode);
+    // A redraw may run just before the program's glBegin that opens its first overlay, which this
+    // adapter has already seen: the redraw's own draws open outside any glBegin/glEnd.
+    state().in_begin_end = false;
     redrawing_ = true;
     redraw_programs_ = programs;
     redraw_correction_ = correction;
@@ -302,6 +306,8 @@ void TileAdapter::end_redraw() {
         State& s = state();
         s.projection = saved_->projection;
         s.matrix_mode = saved_->matrix_mode;
+        s.in_begin_end = saved_->in_begin_end;
+        opening_begin_ = saved_opening_begin_;
         saved_.reset();
     }
     if (clips_before_redraw_.empty()) return;

@@ -12,7 +12,7 @@ And a first-person weapon drawn with glDepthRange(0, 0.3) among the scene's draw
 --weapon) is left as the program drew it. And a scene dimmed whole before the HUD (ff_scene --hud --dim, a menu's way; `overlay_test.py
 dimmed`) is decorated under the dimming. And a HUD drawn by the scene's own shader program
 (pillars --shader --hud and its kin; `overlay_test.py shader_hud`) is untouched by the shadows'
-redraw that ran before it. And an overlay engine's wire frames drawn over the scene's depth from
+redraw that ran before it, nor by the redraw's first draw when the HUD opens with glBegin. And an overlay engine's wire frames drawn over the scene's depth from
 a target of their own (pillars --fbo --wire, as Blender's; `overlay_test.py overlay_engine`) are
 not the scene's depth. And a scene another context draws into a texture only
 every fourth frame, which the window's context shows in part of the window every frame (ff_scene
@@ -187,6 +187,39 @@ def shader_hud(headless):
                   f"{scene} pixels in all")
             check(touched == 0, f"{name}, {effects}: the passes changed {touched} of the panel's {len(hud)} pixels")
             check(scene > 500, f"{name}, {effects}: the passes changed only {scene} pixels")
+
+
+def hud_after_glbegin(headless):
+    """pillars --hud against pillars (fixed function): the HUD panel's first draw is a glBegin,
+    and the passes that decorate the frame under its overlays run just before it. Outside the
+    panel, the decorated picture is the one without the HUD (cover with its normals from the
+    re-rendered triangles, and shadows). Before, the tile adapter still counted the program's
+    glBegin as open during the passes' redraw, so the redraw's first draw (the floor) went
+    uncorrected: the floor's row under each pillar's base stayed bare (146 pixels off)."""
+    images = {}
+    with Xvfb():
+        for name, extra in (("no-hud", []), ("hud", ["--hud"])):
+            capture = os.path.join(OUT, f"pillars_ff_{name}.glcs")
+            r = subprocess.run([GLCAST, "capture", "-o", capture, "--", os.path.join(APPS, "pillars"), *extra,
+                                "--size", "400x300", "--frames", "2"], capture_output=True, text=True, timeout=300)
+            check(r.returncode == 0, f"capture {name} failed: {r.stderr[-2000:]}")
+            images[name] = capture
+    pictures = {}
+    for name, capture in images.items():
+        for label, extra in (("plain", []), ("cover", ["--effects", "cover"]), ("shadows", ["--effects", "shadows"])):
+            out = os.path.join(OUT, f"pillars_ff_{name}-{label}")
+            r = subprocess.run([GLCAST, "replay", capture, "--backend", "egl", "--out", out] + extra,
+                               capture_output=True, text=True, timeout=300, env=headless)
+            check(r.returncode == 0, f"replay {out} failed: {r.stderr[-2000:]}")
+            w, h, pictures[name, label] = read_png(os.path.join(out, "frame-000001.png"))
+    hud = {(x, y) for y in range(h) for x in range(w) if pictures["hud", "plain"][y][x] != pictures["no-hud", "plain"][y][x]}
+    check(len(hud) >= 5000, f"the HUD panel is not where the test expects it ({len(hud)} pixels)")
+    for label in ("cover", "shadows"):
+        a, b = pictures["hud", label], pictures["no-hud", label]
+        off = sum(1 for y in range(h) for x in range(w)
+                  if (x, y) not in hud and max(abs(p - q) for p, q in zip(a[y][x], b[y][x])) > 2)
+        print(f"HUD opened by glBegin ({label}): {off} pixels outside the panel off the scene without it")
+        check(off == 0, f"{label}: {off} pixels outside the HUD differ from the scene without it")
 
 
 def overlay_engine(headless):
@@ -452,6 +485,7 @@ if __name__ == "__main__":
             widget(headless, post=True)
         elif sys.argv[1] == "shader_hud":
             shader_hud(headless)
+            hud_after_glbegin(headless)
         elif sys.argv[1] == "overlay_engine":
             overlay_engine(headless)
         else:
