@@ -189,6 +189,27 @@ def shader_hud(headless):
             check(scene > 500, f"{name}, {effects}: the passes changed only {scene} pixels")
 
 
+def pillars_pictures(prefix, variants, passes, headless):
+    """Captures pillars (400x300, 2 frames) with each variant's arguments and replays each capture
+    with each pass's: {(variant, pass): frame 1's pixels}, and the pictures' width and height."""
+    captures = {}
+    with Xvfb():
+        for name, extra in variants:
+            captures[name] = os.path.join(OUT, f"{prefix}_{name}.glcs")
+            r = subprocess.run([GLCAST, "capture", "-o", captures[name], "--", os.path.join(APPS, "pillars"), *extra,
+                                "--size", "400x300", "--frames", "2"], capture_output=True, text=True, timeout=300)
+            check(r.returncode == 0, f"capture {name} failed: {r.stderr[-2000:]}")
+    pictures = {}
+    for name, capture in captures.items():
+        for label, extra in passes.items():
+            out = os.path.join(OUT, f"{prefix}_{name}-{label}")
+            r = subprocess.run([GLCAST, "replay", capture, "--backend", "egl", "--out", out] + extra,
+                               capture_output=True, text=True, timeout=300, env=headless)
+            check(r.returncode == 0, f"replay {out} failed: {r.stderr[-2000:]}")
+            w, h, pictures[name, label] = read_png(os.path.join(out, "frame-000001.png"))
+    return pictures, w, h
+
+
 def hud_after_glbegin(headless):
     """pillars --hud against pillars (fixed function): the HUD panel's first draw is a glBegin,
     and the passes that decorate the frame under its overlays run just before it. Outside the
@@ -196,22 +217,9 @@ def hud_after_glbegin(headless):
     re-rendered triangles, and shadows). Before, the tile adapter still counted the program's
     glBegin as open during the passes' redraw, so the redraw's first draw (the floor) went
     uncorrected: the floor's row under each pillar's base stayed bare (146 pixels off)."""
-    images = {}
-    with Xvfb():
-        for name, extra in (("no-hud", []), ("hud", ["--hud"])):
-            capture = os.path.join(OUT, f"pillars_ff_{name}.glcs")
-            r = subprocess.run([GLCAST, "capture", "-o", capture, "--", os.path.join(APPS, "pillars"), *extra,
-                                "--size", "400x300", "--frames", "2"], capture_output=True, text=True, timeout=300)
-            check(r.returncode == 0, f"capture {name} failed: {r.stderr[-2000:]}")
-            images[name] = capture
-    pictures = {}
-    for name, capture in images.items():
-        for label, extra in (("plain", []), ("cover", ["--effects", "cover"]), ("shadows", ["--effects", "shadows"])):
-            out = os.path.join(OUT, f"pillars_ff_{name}-{label}")
-            r = subprocess.run([GLCAST, "replay", capture, "--backend", "egl", "--out", out] + extra,
-                               capture_output=True, text=True, timeout=300, env=headless)
-            check(r.returncode == 0, f"replay {out} failed: {r.stderr[-2000:]}")
-            w, h, pictures[name, label] = read_png(os.path.join(out, "frame-000001.png"))
+    pictures, w, h = pillars_pictures("pillars_ff", (("no-hud", []), ("hud", ["--hud"])),
+                                      {"plain": [], "cover": ["--effects", "cover"], "shadows": ["--effects", "shadows"]},
+                                      headless)
     hud = {(x, y) for y in range(h) for x in range(w) if pictures["hud", "plain"][y][x] != pictures["no-hud", "plain"][y][x]}
     check(len(hud) >= 5000, f"the HUD panel is not where the test expects it ({len(hud)} pixels)")
     for label in ("cover", "shadows"):
@@ -228,26 +236,13 @@ def overlay_engine(headless):
     scene's depth, writing depth, then composited over the scene in the window (Blender's overlay
     engine draws its cameras' and lights' wire frames so). The passes read the scene's depth from
     before the box: every pixel outside the box's is what they make of the scene without it
-    (pillars --fbo --hud, the panel in both), within 2 levels. Before, the box's depth was the scene's: icicles hung from its
-    lid over the floor (238 pixels off with cover and icicles)."""
-    captures = {}
-    with Xvfb():
-        # (both with the HUD panel: both frames are then decorated under their overlays, the same way)
-        for name, extra in (("no-wire", ["--hud"]), ("wire", ["--hud", "--wire"])):
-            captures[name] = os.path.join(OUT, f"pillars_{name}.glcs")
-            r = subprocess.run([GLCAST, "capture", "-o", captures[name], "--", os.path.join(APPS, "pillars"), "--fbo",
-                                *extra, "--size", "400x300", "--frames", "2"], capture_output=True, text=True, timeout=300)
-            check(r.returncode == 0, f"capture {name} failed: {r.stderr[-2000:]}")
+    (pillars --fbo --hud, the panel in both), within 2 levels. Before, the box's depth was the
+    scene's: icicles hung from its lid over the floor (238 pixels off with cover and icicles)."""
     passes = {"plain": [], "cover": ["--effects", "cover,icicles"], "shadows": ["--effects", "shadows"],
               "screen": ["--effects", "shadows", "--effect-param", "shadows.method=screen-space"]}
-    images = {}
-    for name, capture in captures.items():
-        for label, extra in passes.items():
-            out = os.path.join(OUT, f"pillars_{name}-{label}")
-            r = subprocess.run([GLCAST, "replay", capture, "--backend", "egl", "--out", out] + extra,
-                               capture_output=True, text=True, timeout=300, env=headless)
-            check(r.returncode == 0, f"replay {out} failed: {r.stderr[-2000:]}")
-            w, h, images[name, label] = read_png(os.path.join(out, "frame-000001.png"))
+    # (both with the HUD panel: both frames are then decorated under their overlays, the same way)
+    images, w, h = pillars_pictures("pillars", (("no-wire", ["--fbo", "--hud"]), ("wire", ["--fbo", "--hud", "--wire"])),
+                                    passes, headless)
     box = {(x, y) for y in range(h) for x in range(w) if images["wire", "plain"][y][x] != images["no-wire", "plain"][y][x]}
     box |= {(x, y) for y in range(h) for x in range(w) if images["wire", "plain"][y][x] == (230, 50, 40)}  # the panel
     check(len(box) > 1000, f"the wire-frame box is not where the test expects it ({len(box)} pixels)")
