@@ -135,7 +135,7 @@ private:
     bool opening_begin_ = false;  // the draw being opened is glBegin's
     glm::dmat4 redraw_correction_{1.0};
     std::unique_ptr<State> saved_;  // the tracking state a redraw started from
-    bool saved_opening_begin_ = false;
+    bool saved_opening_begin_ = false;  // ... and whether the draw it interrupted opened with glBegin
     std::vector<std::pair<uint32_t, glm::mat4>> clips_before_redraw_;  // program, its glcast_clip
 };
 

@@ -11,8 +11,6 @@
 #include "slave/replayer.h"
 #include "slave/scene/scene_classifier.h"
 #include "slave/tile_adapter.h"
-
-#include <algorithm>
 #include "slave/tile_adapter_state.h"
 
 namespace glcast::slave {

@@ -132,6 +132,10 @@ void WindowCopies::keep_scene_depth(SlaveContext& ctx, ContextScene& scene) {
     effects::StateGuard guard(gl);
     gl.glBindFramebuffer(GL_READ_FRAMEBUFFER, scene.facts.scene_framebuffer);
     const GLenum format = depth_format(gl, GL_READ_FRAMEBUFFER);
+    if (!format) {
+        scene.facts.scene_depth_kept = false;
+        return;
+    }
     // (the target's size: the window's, or its viewport's, what a copy or a loan reads of it; a
     // viewport from the stream at most four times the window, as a scene target is: window_shaped)
     int SW = 1, SH = 1;
@@ -139,10 +143,6 @@ void WindowCopies::keep_scene_depth(SlaveContext& ctx, ContextScene& scene) {
     const int most = 4 * std::max({1, ctx.master_width, ctx.master_height});
     SW = std::clamp(scene.facts.viewport[2], SW, std::max(SW, most));
     SH = std::clamp(scene.facts.viewport[3], SH, std::max(SH, most));
-    if (!format) {
-        scene.facts.scene_depth_kept = false;
-        return;
-    }
     if (format != kept_scene_depth_format_ || SW != kept_scene_depth_size_[0] || SH != kept_scene_depth_size_[1]) {
         if (kept_scene_depth_) {
             gl.glDeleteTextures(1, &kept_scene_depth_);
