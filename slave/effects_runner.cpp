@@ -173,6 +173,7 @@ void EffectsRunner::decorate(SlaveContext& ctx, bool under_overlays) {
         const bool target_overlays = scene.facts.target_overlay && scene.facts.scene_framebuffer &&
                                      !scene.loan.borrowed_from && copies.scene_target_before;
         if (target_overlays) copies.keep_scene_target(ctx, scene, /*final=*/true);
+        const bool engine = engine_overlays(ctx) != 0 && sized;
         const bool view_model = scene.facts.view_model_far > 0 && sized;
         // A borrowed scene covers part of the window: the rest is the program's.
         const bool placed = scene.loan.borrowed_from != 0 && sized;
@@ -182,7 +183,7 @@ void EffectsRunner::decorate(SlaveContext& ctx, bool under_overlays) {
         const bool report = !opt.scene_report_dir.empty() && view.frame >= opt.first_frame && view.frame <= opt.last_frame;
         std::string error;
         const GLenum window = ctx.double_buffered ? GL_BACK : GL_FRONT;
-        if (under_overlays && (view_model || target_overlays)) {
+        if (under_overlays && (view_model || target_overlays || engine)) {
             // The program's pixels to put back over the passes (not to give back after present).
             copies.copy(ctx, copies.program_image_fb, false);
         }
@@ -196,7 +197,7 @@ void EffectsRunner::decorate(SlaveContext& ctx, bool under_overlays) {
         if (!st.depth.standard) set_depth_state(gl, ProgramDepthState{});
         st.pipeline->run(view);
         if (!st.depth.standard) set_depth_state(gl, st.depth.program);
-        const bool kept = overlays || view_model || placed || target_overlays;
+        const bool kept = overlays || view_model || placed || target_overlays || engine;
         if (kept) put_overlays_back(ctx, overlays, target_overlays);
         if (under_overlays) {
             // The program draws its overlays over this: for the report, what differs from it at
@@ -335,12 +336,13 @@ void EffectsRunner::frame_view(SlaveContext& ctx, effects::FrameView& v) {
     // does not share: only fixed-function scenes are re-rendered from another context.
     const ContextScene& shown = scenes_.scene_shown(ctx);
     const bool borrowed = &shown != &scene;
-    if (facts.main_known && !shown.record.overflow && !(borrowed && shown.facts.shader_draws) &&
-        (shown.facts.shader_draws ? core_.options().effects.redraws() : compatibility_profile(gl))) {
+    const bool programs = shown.facts.main_shader_draws;
+    if (facts.main_known && !shown.record.overflow && !(borrowed && programs) &&
+        (programs ? core_.options().effects.redraws() : compatibility_profile(gl))) {
         v.redraw = [this, c, st](const glm::dmat4& correction) {
             redraw_main_view(*c, st->depth.standard ? correction : correction * st->depth.pass_from_program);
         };
-        v.redraw_binds_programs = shown.facts.shader_draws;
+        v.redraw_binds_programs = programs;
     }
 }
 
@@ -387,7 +389,7 @@ void EffectsRunner::redraw_main_view(SlaveContext& ctx, const glm::dmat4& correc
     const FrameRecord& rec = shown.record;
     const GlApi& gl = core_.api();
     const bool compatibility = compatibility_profile(gl);
-    if (rec.entries.empty() || (!compatibility && !shown.facts.shader_draws)) return;
+    if (rec.entries.empty() || (!compatibility && !shown.facts.main_shader_draws)) return;
     const uint32_t saved_list_base = ctx.list_base;
     const uint64_t saved_program_stream = ctx.current_program;
     const PendingClientArrays pending(ctx);
@@ -405,7 +407,7 @@ void EffectsRunner::redraw_main_view(SlaveContext& ctx, const glm::dmat4& correc
     gl.glActiveTexture(GLenum(st.program_active_texture));
     // A frame of fixed-function draws keeps the caller's program (a pass's own shading);
     // shader draws bring theirs, from the one current when the frame began.
-    const bool programs = shown.facts.shader_draws;
+    const bool programs = shown.facts.main_shader_draws;
     if (programs) {
         gl.glUseProgram(GLuint(rec.start_program));
         ctx.current_program = rec.start_program_stream;
@@ -490,9 +492,19 @@ void EffectsRunner::put_overlays_back(SlaveContext& ctx, bool overlays, bool tar
     gl.glUniform1i(effects::uniform(gl, st.overlay_program, "target_before"), 3);
     gl.glUniform1i(effects::uniform(gl, st.overlay_program, "target_final"), 4);
     gl.glUniform1i(effects::uniform(gl, st.overlay_program, "target_overlays"), target_overlays);
-    const glm::vec4 target_rect(target_overlays ? st.copies.scene_target_rect(ctx, scene) : glm::dvec4(0.0));
-    gl.glUniform4f(effects::uniform(gl, st.overlay_program, "target_rect"), target_rect.x, target_rect.y, target_rect.z,
-                   target_rect.w);
+    // (an overlay engine's colour has the scene's texels: its target holds the scene's depth)
+    GLuint engine = engine_overlays(ctx);
+    gl.glActiveTexture(GL_TEXTURE6);
+    gl.glBindTexture(GL_TEXTURE_2D, 0);
+    if (engine) gl.glBindTexture(GL_TEXTURE_2D, engine);
+    GLint bound = 0;
+    gl.glGetIntegerv(GL_TEXTURE_BINDING_2D, &bound);
+    if (GLuint(bound) != engine) engine = 0;  // (not a 2D texture: a multisampled one is not read)
+    gl.glUniform1i(effects::uniform(gl, st.overlay_program, "engine_overlay"), 6);
+    gl.glUniform1i(effects::uniform(gl, st.overlay_program, "engine_overlays"), engine != 0);
+    int scene_size[2];
+    const glm::vec4 texels(st.copies.scene_texels_on_tile(ctx, scene, scenes_.scene_shown(ctx), scene_size));
+    gl.glUniform4f(effects::uniform(gl, st.overlay_program, "target_rect"), texels.x, texels.y, texels.z, texels.w);
     gl.glUniform2f(effects::uniform(gl, st.overlay_program, "tile_size"), GLfloat(ctx.width), GLfloat(ctx.height));
     gl.glUniform1i(effects::uniform(gl, st.overlay_program, "final_image"), 0);
     gl.glUniform1i(effects::uniform(gl, st.overlay_program, "scene_image"), 1);
@@ -504,6 +516,12 @@ void EffectsRunner::put_overlays_back(SlaveContext& ctx, bool overlays, bool tar
     gl.glUniform4f(effects::uniform(gl, st.overlay_program, "scene_rect"), GLfloat(rect[0]), GLfloat(rect[1]),
                    GLfloat(rect[2]), GLfloat(rect[3]));
     effects::draw_fullscreen(gl, st.overlay_vao);
+}
+
+GLuint EffectsRunner::engine_overlays(SlaveContext& ctx) {
+    const SceneFacts& shown = scenes_.scene_shown(ctx).facts;
+    if (!shown.main_known || !shown.scene_depth_kept || !shown.overlay_texture) return 0;
+    return core_.api().glIsTexture(shown.overlay_texture) ? shown.overlay_texture : 0;  // (deleted since)
 }
 
 // The same pixels put back into a mask, then the frame's depth and view, for measurements.

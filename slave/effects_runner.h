@@ -90,6 +90,9 @@ private:
     void put_overlays_back(SlaveContext& ctx, bool overlays, bool target_overlays, GLuint target = 0);
     void report_scene(SlaveContext& ctx, const effects::FrameView& view, bool overlays, bool target_overlays, bool kept);
     void scene_rect(SlaveContext& ctx, int32_t out[4]);  // where the scene is, tile pixels
+    // The colour texture an overlay engine composited over the frame's scene before it was shown
+    // (SceneFacts::overlay_texture, the lender's for a borrowed scene); 0: none.
+    GLuint engine_overlays(SlaveContext& ctx);
 
     Replayer& core_;
     TileAdapter& tile_;

@@ -12,6 +12,7 @@ void found_view(SceneFacts& f, DrawState& s, GLuint framebuffer, const glm::dmat
     f.main_known = true;
     f.scene_framebuffer = framebuffer;
     f.scene_depth_kept = false;  // (kept of another target)
+    f.overlay_texture = 0;
     f.projection = projection;
     f.modelview = modelview;
     s.viewport(f.viewport);
@@ -26,6 +27,7 @@ void forget_view(SceneFacts& f) {
     f.main_known = false;
     f.scene_framebuffer = 0;
     f.scene_depth_kept = false;
+    f.overlay_texture = 0;
     f.target_overlay = false;
     f.in_part = false;
     f.scene_texture = 0;
@@ -94,6 +96,7 @@ DrawVerdict classify_draw(SceneFacts& f, DrawState& s, GLuint framebuffer, const
         v.main = fixed_function_draw_is_main(f, s, framebuffer, settings, v.found_view);
     }
     if (v.main) v.cull = s.cull(), v.alpha = s.alpha_test();
+    if (v.main && s.program()) f.main_shader_draws = true;
     return v;
 }
 
@@ -213,6 +216,7 @@ bool scene_depth_overlay_starts(SceneFacts& f, DrawState& s) {
     if (!f.main_known || !f.scene_framebuffer || f.presented || f.scene_depth_kept) return false;
     if (!s.writes_depth() || !s.shares_depth_with(f.scene_framebuffer)) return false;
     f.scene_depth_kept = true;
+    f.overlay_texture = s.color_texture();
     return true;
 }
 

@@ -18,6 +18,9 @@ namespace glcast::slave {
 // What one context's frame has shown of its scene so far; a new frame starts from SceneFacts{}.
 struct SceneFacts {
     bool shader_draws = false;  // some draw to the window used a shader program
+    // ... some draw of the main view did: its redraw binds the programs the frame used. (A
+    // fixed-function scene shown by a GLSL blit or composite is redrawn as fixed function.)
+    bool main_shader_draws = false;
     // The window's colour was cleared whole (clears_whole_colour) before the main view: the
     // frame is a new picture (so is one whose offscreen scene is shown_whole), and the passes
     // may decorate its scene when the overlays start, under them (the program's translucent
@@ -68,6 +71,11 @@ struct SceneFacts {
     // into a colour target of their own over the scene's depth, as Blender's are): from the first,
     // the passes read the scene's depth as it was before it (WindowCopies::keep_scene_depth).
     bool scene_depth_kept = false;
+    // That target's colour texture (the slave's name; 0: a renderbuffer). What the engine draws
+    // into it is composited over the scene before the scene is shown (Blender mixes it in by its
+    // alpha in the draw that shows its viewport): its covered texels are the program's overlays,
+    // kept as drawn under every pass (EffectsRunner::engine_overlays).
+    GLuint overlay_texture = 0;
     glm::dmat4 projection{1.0}, modelview{1.0};
     int32_t viewport[4] = {0, 0, 0, 0};  // the program's, master window coordinates
     effects::SceneLight light;

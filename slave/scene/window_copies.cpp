@@ -134,6 +134,7 @@ void WindowCopies::keep_scene_depth(SlaveContext& ctx, ContextScene& scene) {
     const GLenum format = depth_format(gl, GL_READ_FRAMEBUFFER);
     if (!format) {
         scene.facts.scene_depth_kept = false;
+        scene.facts.overlay_texture = 0;
         return;
     }
     // (the target's size: the window's, or its viewport's, what a copy or a loan reads of it; a
@@ -155,9 +156,14 @@ void WindowCopies::keep_scene_depth(SlaveContext& ctx, ContextScene& scene) {
         kept_scene_depth_format_ = format;
         kept_scene_depth_size_[0] = SW, kept_scene_depth_size_[1] = SH;
     }
+    // Only what the scene's viewport reaches: a blit that reads beyond its source's edge (a target of
+    // a region's size under a copy of the window's) is no copy on llvmpipe: it scales, and moves
+    // depths by a step, so that the floor's row at a pillar's foot lost its cover to the pillar.
+    const int32_t* v = scene.facts.viewport;
+    const int RW = std::clamp(v[0] + v[2], 1, SW), RH = std::clamp(v[1] + v[3], 1, SH);
     gl.glBindFramebuffer(GL_READ_FRAMEBUFFER, scene.facts.scene_framebuffer);
     gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, kept_scene_depth_fb_);
-    gl.glBlitFramebuffer(0, 0, SW, SH, 0, 0, SW, SH, GL_DEPTH_BUFFER_BIT, GL_NEAREST);
+    gl.glBlitFramebuffer(0, 0, RW, RH, 0, 0, RW, RH, GL_DEPTH_BUFFER_BIT, GL_NEAREST);
     // A context that lends its scene lends this depth (the borrower attaches it as it is).
     scene.loan.scene_depth_type = GL_TEXTURE;
     scene.loan.scene_depth_name = kept_scene_depth_;
@@ -174,15 +180,13 @@ GLuint WindowCopies::scene_depth_copy(SlaveContext& ctx, ContextScene& scene, co
         scene.facts.scene_framebuffer = 0;
         return window_copy(ctx, true, scene, shown);
     }
-    const int W = std::max(1, ctx.master_width), H = std::max(1, ctx.master_height);
     // A scene drawn at another size than the window's and shown stretched over it, or a borrowed
     // one placed in part of the window (on a rotated tile: over all of it), is copied at its own
     // size, and stretched by the interpolating draw below (a nearest blit would make steps of its
     // depth, and surfaces of steps have no normal; a multisampled depth cannot be scaled at all).
-    const bool placed = scene.loan.borrowed_from != 0;
-    int SW = W, SH = H;
-    scene_target_size(ctx, scene, SW, SH);
-    if (placed) SW = std::max(1, shown.loan.scene_size[0]), SH = std::max(1, shown.loan.scene_size[1]);
+    int scene_size[2];
+    const glm::dvec4 source = scene_texels_on_tile(ctx, scene, shown, scene_size);
+    const int SW = scene_size[0], SH = scene_size[1];
     const int sizes[4] = {SW, SH, ctx.width, ctx.height};
     if (format != scene_depth_format_ || !std::equal(sizes, sizes + 4, scene_depth_sizes_)) {
         if (scene_depth_full_) {
@@ -205,13 +209,6 @@ GLuint WindowCopies::scene_depth_copy(SlaveContext& ctx, ContextScene& scene, co
     gl.glBindFramebuffer(GL_READ_FRAMEBUFFER, depth_source);
     gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, scene_depth_full_fb_);
     gl.glBlitFramebuffer(0, 0, SW, SH, 0, 0, SW, SH, GL_DEPTH_BUFFER_BIT, GL_NEAREST);
-    glm::dvec4 source = tile_source(ctx, SW, SH);
-    if (placed) {  // the tile's rectangle of the window, in the scene's texels (beyond them: the far plane)
-        const int32_t* p = scene.loan.placement;
-        const glm::dvec4 window = tile_source(ctx, W, H);
-        const double sx = SW / std::max(1.0, double(p[2]) - p[0]), sy = SH / std::max(1.0, double(p[3]) - p[1]);
-        source = {(window.x - p[0]) * sx, (window.y - p[1]) * sy, (window.z - p[0]) * sx, (window.w - p[1]) * sy};
-    }
     if (!scene_depth_program_) {
         scene_depth_program_ = effects::build_program(gl, "fullscreen.vert", "scene_depth.frag");
         gl.glGenVertexArrays(1, &scene_depth_vao_);
@@ -256,10 +253,20 @@ void WindowCopies::keep_scene_target(const SlaveContext& ctx, const ContextScene
     gl.glBlitFramebuffer(0, 0, SW, SH, 0, 0, SW, SH, GL_COLOR_BUFFER_BIT, GL_NEAREST);
 }
 
-glm::dvec4 WindowCopies::scene_target_rect(const SlaveContext& ctx, const ContextScene& scene) const {
+glm::dvec4 WindowCopies::scene_texels_on_tile(const SlaveContext& ctx, const ContextScene& scene,
+                                               const ContextScene& shown, int size[2]) const {
     int SW = 1, SH = 1;
     scene_target_size(ctx, scene, SW, SH);
-    return tile_source(ctx, SW, SH);
+    const bool placed = scene.loan.borrowed_from != 0;
+    if (placed) SW = std::max(1, shown.loan.scene_size[0]), SH = std::max(1, shown.loan.scene_size[1]);
+    size[0] = SW, size[1] = SH;
+    if (!placed) return tile_source(ctx, SW, SH);
+    // the tile's rectangle of the window, in the scene's texels (beyond them: outside the scene)
+    const int W = std::max(1, ctx.master_width), H = std::max(1, ctx.master_height);
+    const int32_t* p = scene.loan.placement;
+    const glm::dvec4 window = tile_source(ctx, W, H);
+    const double sx = SW / std::max(1.0, double(p[2]) - p[0]), sy = SH / std::max(1.0, double(p[3]) - p[1]);
+    return {(window.x - p[0]) * sx, (window.y - p[1]) * sy, (window.z - p[0]) * sx, (window.w - p[1]) * sy};
 }
 
 GLuint WindowCopies::pass_depth(SlaveContext& ctx, GLuint program_depth, const DepthConvention& c,

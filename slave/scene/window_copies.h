@@ -55,8 +55,11 @@ public:
     // overlay engine draws into it from another target (SceneFacts::scene_depth_kept): the depth
     // window_copy gives for the frame, and the one the scene's loan lends (scene_lending.h).
     void keep_scene_depth(SlaveContext& ctx, ContextScene& scene);
-    // The rectangle of those copies' texels (x0, y0, x1, y1) that this tile shows over its size.
-    glm::dvec4 scene_target_rect(const SlaveContext& ctx, const ContextScene& scene) const;
+    // The rectangle of the scene's texels (x0, y0, x1, y1) that this tile shows over its size: of
+    // its target (as those copies are), or of a borrowed scene (`shown`: the lender's) where the
+    // draw that showed it put it (beyond its texels: outside the scene). `size`: its SW x SH texels.
+    glm::dvec4 scene_texels_on_tile(const SlaveContext& ctx, const ContextScene& scene, const ContextScene& shown,
+                                    int size[2]) const;
     GLuint scene_target_before = 0, scene_target_final = 0;
     void new_frame() { color_copied_ = depth_copied_ = pass_depth_done_ = false; }
     void end_frame() { depth_kept_ = false; }

@@ -92,12 +92,14 @@
  * scene's colour texture and no depth, as Blender's overlay engine draws its grid, outlines and
  * object centres into a colour-only target of the viewport's size over the engines' picture.
  *
- * With --fbo --wire (fixed function, not --msaa, --region or --post) a wire-frame box (WIRE, lines 3
+ * With --fbo --wire (fixed function, not --msaa or --post) a wire-frame box (WIRE, lines 3
  * pixels wide) with a filled lid floats over the floor, left of pillar 0, drawn after the pillars with the main
  * view's camera into a second framebuffer object that holds a colour texture of its own (cleared
  * transparent every frame) and the scene's depth, the depth test and depth writes on; the window
  * shows the scene, then that texture blended over it: as Blender's overlay engine draws the camera's
- * and the light's wire frames and composites them over its engines' picture.
+ * and the light's wire frames and composites them over its engines' picture. With --region (not
+ * --blit) the viewport is shown by one GLSL draw that samples both textures and mixes the box over
+ * the scene by its alpha, as Blender's window composites its viewport's colour and overlay textures.
  *
  * With --reflection (not --mvp, --reversed or --foliage) the floor gets a reflection as neverball
  * draws its mirror: after the floor, with the depth test off and the main view's projection, a
@@ -379,7 +381,8 @@ static void flat_rect(double x0, double y0, double x1, double y1, GLubyte r, GLu
  * not 0, copied into post_fbo's `post_color` first if that is not 0) shown at x rx..width, y 0..rh
  * of the window between a toolbar and a header, as a content suite composites its regions */
 static void show_region(GLuint msaa_fbo, GLuint fbo, GLuint color, GLuint post_fbo, GLuint post_color, GLuint blit,
-                        int by_blit, int fw, int fh, int width, int height, int rx, int rh, int gizmo)
+                        GLuint overlay_color, int by_blit, int fw, int fh, int width, int height, int rx, int rh,
+                        int gizmo)
 {
     if (msaa_fbo && !by_blit) {
         glBindFramebuffer(GL_READ_FRAMEBUFFER, msaa_fbo);
@@ -412,6 +415,11 @@ static void show_region(GLuint msaa_fbo, GLuint fbo, GLuint color, GLuint post_f
     } else {
     if (blit) glUseProgram(blit);
     else glEnable(GL_TEXTURE_2D);
+    if (overlay_color) {  /* (--wire: the blit program mixes it over the scene) */
+        glActiveTexture(GL_TEXTURE1);
+        glBindTexture(GL_TEXTURE_2D, overlay_color);
+        glActiveTexture(GL_TEXTURE0);
+    }
     glBindTexture(GL_TEXTURE_2D, post_fbo ? post_color : color);
     glColor3ub(255, 255, 255);
     glBegin(GL_QUADS);
@@ -455,7 +463,7 @@ int main(int argc, char **argv)
     const int markers = app_take_flag(&argc, &argv, "--markers");
     const int cull = app_take_flag(&argc, &argv, "--cull");
     const int overlay = app_take_flag(&argc, &argv, "--overlay");
-    const int wire = fbo_mode && !shader && !msaa && !region && !post && app_take_flag(&argc, &argv, "--wire");
+    const int wire = fbo_mode && !shader && !msaa && !by_blit && !post && app_take_flag(&argc, &argv, "--wire");
     const int reflection = app_take_flag(&argc, &argv, "--reflection");
     const int objects = shader && !builtins && !mvp && app_take_flag(&argc, &argv, "--objects");
     const int fisheye = shader && !builtins && !mvp && app_take_flag(&argc, &argv, "--fisheye");
@@ -595,7 +603,21 @@ int main(int argc, char **argv)
         }
     }
     GLuint blit = 0;  /* --region with a shader program: the viewport shown by a GLSL texture blit */
-    if (region && shader) {
+    if (region && wire) {  /* ... or with --wire: the box's texture (unit 1) mixed over the scene's */
+        const char *cvs = "#version 120\nvoid main() { gl_TexCoord[0] = gl_MultiTexCoord0;"
+                          " gl_Position = gl_ModelViewProjectionMatrix * gl_Vertex; }\n";
+        const char *cfs = "#version 120\nuniform sampler2D picture, overlay;\n"
+                          "void main() { vec4 o = texture2D(overlay, gl_TexCoord[0].st);\n"
+                          "  gl_FragColor = vec4(mix(texture2D(picture, gl_TexCoord[0].st).rgb, o.rgb, o.a), 1.0); }\n";
+        blit = link_program(cvs, cfs);
+        if (!blit) {
+            fprintf(stderr, "pillars: the composite program does not link\n");
+            return 1;
+        }
+        glUseProgram(blit);
+        glUniform1i(glGetUniformLocation(blit, "overlay"), 1);
+        glUseProgram(0);
+    } else if (region && shader) {
         const char *bvs = "#version 120\nvoid main() { gl_TexCoord[0] = gl_MultiTexCoord0;"
                           " gl_Position = gl_ModelViewProjectionMatrix * gl_Vertex; }\n";
         const char *bfs = "#version 120\nuniform sampler2D picture;\n"
@@ -834,8 +856,8 @@ int main(int argc, char **argv)
         }
         if (hud_in_scene) draw_hud(shader ? program : 0, proj_location, builtins, fw, fh, 40, hud_depth);
         if (region) {
-            show_region(msaa ? msaa_fbo : 0, fbo, color, post_fbo, post_color, blit, by_blit, fw, fh, a.width, a.height,
-                        rx, rh, hud);
+            show_region(msaa ? msaa_fbo : 0, fbo, color, post_fbo, post_color, blit, wire_color, by_blit, fw, fh,
+                        a.width, a.height, rx, rh, hud);
         } else if (fbo_mode) {  /* the scene shown in the window, as a last post-processing pass does */
             if (msaa) {
                 glBindFramebuffer(GL_READ_FRAMEBUFFER, msaa_fbo);

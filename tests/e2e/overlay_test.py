@@ -14,7 +14,7 @@ dimmed`) is decorated under the dimming. And a HUD drawn by the scene's own shad
 (pillars --shader --hud and its kin; `overlay_test.py shader_hud`) is untouched by the shadows'
 redraw that ran before it, nor by the redraw's first draw when the HUD opens with glBegin. And an overlay engine's wire frames drawn over the scene's depth from
 a target of their own (pillars --fbo --wire, as Blender's; `overlay_test.py overlay_engine`) are
-not the scene's depth. And a scene another context draws into a texture only
+not the scene's depth, and stay as drawn, also where one draw composites them with the scene. And a scene another context draws into a texture only
 every fourth frame, which the window's context shows in part of the window every frame (ff_scene
 --widget, as Qt's QOpenGLWidget does), is decorated in every frame, where it is shown, and nothing
 else is.
@@ -237,24 +237,34 @@ def overlay_engine(headless):
     engine draws its cameras' and lights' wire frames so). The passes read the scene's depth from
     before the box: every pixel outside the box's is what they make of the scene without it
     (pillars --fbo --hud, the panel in both), within 2 levels. Before, the box's depth was the
-    scene's: icicles hung from its lid over the floor (238 pixels off with cover and icicles)."""
+    scene's: icicles hung from its lid over the floor (238 pixels off with cover and icicles).
+    And the box is the program's overlay: every one of its pixels stays as drawn under every pass,
+    also with --region, where one GLSL draw mixes the box's texture over the scene's as it shows
+    the viewport (Blender's window composites its viewport's colour and overlay textures so):
+    before, cover whitened all of the box's 1,774 pixels there and snow fell over 1,156 of them."""
     passes = {"plain": [], "cover": ["--effects", "cover,icicles"], "shadows": ["--effects", "shadows"],
-              "screen": ["--effects", "shadows", "--effect-param", "shadows.method=screen-space"]}
+              "screen": ["--effects", "shadows", "--effect-param", "shadows.method=screen-space"],
+              "snow": ["--effects", "snow"]}
     # (both with the HUD panel: both frames are then decorated under their overlays, the same way)
-    images, w, h = pillars_pictures("pillars", (("no-wire", ["--fbo", "--hud"]), ("wire", ["--fbo", "--hud", "--wire"])),
-                                    passes, headless)
-    box = {(x, y) for y in range(h) for x in range(w) if images["wire", "plain"][y][x] != images["no-wire", "plain"][y][x]}
-    box |= {(x, y) for y in range(h) for x in range(w) if images["wire", "plain"][y][x] == (230, 50, 40)}  # the panel
-    check(len(box) > 1000, f"the wire-frame box is not where the test expects it ({len(box)} pixels)")
-    for label in ("cover", "shadows", "screen"):
-        a, b = images["wire", label], images["no-wire", label]
-        changed = sum(1 for y in range(h) for x in range(w) if a[y][x] != images["wire", "plain"][y][x])
-        off = sum(1 for y in range(h) for x in range(w)
-                  if (x, y) not in box and max(abs(p - q) for p, q in zip(a[y][x], b[y][x])) > 2)
-        print(f"overlay engine ({label}): {off} pixels outside the box's {len(box)} more than 2 levels off the "
-              f"scene without it; {changed} pixels decorated")
-        check(changed > 500, f"{label}: the passes changed only {changed} pixels")
-        check(off == 0, f"{label}: {off} pixels outside the wire-frame box differ from the scene without it")
+    for layout, extra in (("window", []), ("region", ["--region"])):
+        images, w, h = pillars_pictures(f"pillars_{layout}",
+                                        (("no-wire", ["--fbo", *extra, "--hud"]), ("wire", ["--fbo", *extra, "--hud", "--wire"])),
+                                        passes, headless)
+        plain = images["wire", "plain"]
+        box = {(x, y) for y in range(h) for x in range(w) if plain[y][x] != images["no-wire", "plain"][y][x]}
+        check(len(box) > 1000, f"{layout}: the wire-frame box is not where the test expects it ({len(box)} pixels)")
+        box |= {(x, y) for y in range(h) for x in range(w) if plain[y][x] == (230, 50, 40)}  # the panel or gizmo
+        for label in ("cover", "shadows", "screen", "snow"):
+            a, b = images["wire", label], images["no-wire", label]
+            changed = sum(1 for y in range(h) for x in range(w) if a[y][x] != plain[y][x])
+            touched = sum(1 for x, y in box if a[y][x] != plain[y][x])
+            off = sum(1 for y in range(h) for x in range(w)
+                      if (x, y) not in box and max(abs(p - q) for p, q in zip(a[y][x], b[y][x])) > 2)
+            print(f"overlay engine ({layout}, {label}): {touched} of the box's and the panel's {len(box)} pixels changed; "
+                  f"{off} pixels outside them more than 2 levels off the scene without the box; {changed} pixels decorated")
+            check(changed > 500, f"{layout}, {label}: the passes changed only {changed} pixels")
+            check(touched == 0, f"{layout}, {label}: {touched} of the box's and the panel's pixels changed")
+            check(off == 0, f"{layout}, {label}: {off} pixels outside the wire-frame box differ from the scene without it")
 
 
 def dimmed(headless, app="ff_scene"):

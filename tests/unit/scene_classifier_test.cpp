@@ -263,10 +263,27 @@ TEST(SceneClassifier, AShaderDrawWhoseMatricesHoldACameraIsTheMainView) {
     s.has_camera = true;
     s.cam.projection = s.proj;
     s.cam.modelview = s.mv;
+    EXPECT_FALSE(facts.main_shader_draws);
     const DrawVerdict v = classify_draw(facts, s, 0, kPasses);
     EXPECT_TRUE(v.main);
     EXPECT_TRUE(v.found_view);
     EXPECT_EQ(facts.projection, s.proj);
+    EXPECT_TRUE(facts.main_shader_draws);  // its redraw binds the programs
+}
+
+TEST(SceneClassifier, AFixedFunctionSceneShownByAShaderProgramIsRedrawnAsFixedFunction) {
+    // pillars --fbo --region --wire: the scene by fixed function into its target, then one GLSL
+    // draw to the window mixes the scene's texture and the overlay engine's.
+    SceneFacts facts;
+    Given s;
+    s.framebuffer = 3;
+    ASSERT_TRUE(classify_draw(facts, s, 3, kPasses).main);
+    s.framebuffer = 0;
+    s.current_program = 4;
+    s.depth_on = false;
+    EXPECT_FALSE(classify_draw(facts, s, 0, kPasses).main);
+    EXPECT_TRUE(facts.shader_draws);
+    EXPECT_FALSE(facts.main_shader_draws);
 }
 
 TEST(SceneClassifier, AShaderProgramPaintingInOrderWithTheViewsCameraIsScene) {
@@ -610,9 +627,18 @@ TEST(SceneClassifier, AnotherTargetWritingTheScenesDepthKeepsThatDepthOnce) {
     s.depth_mask = false;
     EXPECT_FALSE(scene_depth_overlay_starts(facts, s));  // tests the depth, writes none
     s.depth_mask = true;
+    s.texture = 12;  // its colour: the overlays composited over the scene
     EXPECT_TRUE(scene_depth_overlay_starts(facts, s));
     EXPECT_TRUE(facts.scene_depth_kept);
+    EXPECT_EQ(facts.overlay_texture, 12u);
+    s.texture = 13;
     EXPECT_FALSE(scene_depth_overlay_starts(facts, s));  // kept once
+    EXPECT_EQ(facts.overlay_texture, 12u);
+    s.framebuffer = 3;
+    s.texture = 0;
+    facts.main_known = false;  // a new main view forgets it
+    classify_draw(facts, s, 3, kPasses);
+    EXPECT_EQ(facts.overlay_texture, 0u);
     SceneFacts shown;
     s.framebuffer = 3;
     classify_draw(shown, s, 3, kPasses);
