@@ -1,5 +1,7 @@
 #include "common/gl_state.h"
 
+#include <algorithm>
+
 namespace glcast {
 namespace {
 
@@ -36,7 +38,10 @@ GlStateGuard::GlStateGuard(const GlApi& gl, uint32_t groups) : gl_(gl), groups_(
     if (has(kGuardFramebuffers)) {
         gl.glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &draw_fb_);
         gl.glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &read_fb_);
-        gl.glGetIntegerv(GL_DRAW_BUFFER, &draw_buffer_);
+        GLint most = 1;
+        if (draw_fb_ && gl.has(OP_glDrawBuffers)) gl.glGetIntegerv(GL_MAX_DRAW_BUFFERS, &most);
+        draw_buffer_count_ = std::clamp(int(most), 1, kDrawBuffers);
+        for (int i = 0; i < draw_buffer_count_; ++i) gl.glGetIntegerv(GLenum(GL_DRAW_BUFFER0 + i), &draw_buffers_[i]);
         gl.glGetIntegerv(GL_READ_BUFFER, &read_buffer_);
     }
     if (has(kGuardWindowRead)) {  // GL 1.x has no framebuffer objects: the window is all there is
@@ -206,7 +211,13 @@ GlStateGuard::~GlStateGuard() {
     if (has(kGuardFramebuffers)) {
         gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(draw_fb_));
         gl.glBindFramebuffer(GL_READ_FRAMEBUFFER, GLuint(read_fb_));
-        gl.glDrawBuffer(GLenum(draw_buffer_));
+        if (draw_buffer_count_ > 1) {  // (a framebuffer object's; the window's buffer is one: GL_BACK)
+            GLenum buffers[kDrawBuffers];
+            for (int i = 0; i < draw_buffer_count_; ++i) buffers[i] = GLenum(draw_buffers_[i]);
+            gl.glDrawBuffers(draw_buffer_count_, buffers);
+        } else {
+            gl.glDrawBuffer(GLenum(draw_buffers_[0]));
+        }
         gl.glReadBuffer(GLenum(read_buffer_));
     }
     if (has(kGuardWindowRead)) {  // the window's read buffer while it is bound, then the program's

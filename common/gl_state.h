@@ -63,7 +63,12 @@ private:
     const GlApi& gl_;
     uint32_t groups_;
     bool compatibility_ = false;
-    GLint draw_fb_ = 0, read_fb_ = 0, draw_buffer_ = 0, read_buffer_ = 0, viewport_[4] = {}, scissor_[4] = {};
+    // A framebuffer object's draw buffers, all of them (GL_DRAW_BUFFERi): restoring the first alone
+    // would send the program's later draws into one attachment of several.
+    static constexpr int kDrawBuffers = 8;
+    GLint draw_fb_ = 0, read_fb_ = 0, draw_buffers_[kDrawBuffers] = {}, read_buffer_ = 0, viewport_[4] = {},
+          scissor_[4] = {};
+    int draw_buffer_count_ = 1;
     std::vector<std::pair<GLenum, GLboolean>> enables_;
     GLint blend_src_rgb_ = 0, blend_dst_rgb_ = 0, blend_src_a_ = 0, blend_dst_a_ = 0, blend_eq_rgb_ = 0,
           blend_eq_a_ = 0;

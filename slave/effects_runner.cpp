@@ -68,7 +68,7 @@ EffectsRunner::EffectsRunner(Replayer& core, TileAdapter& tile) : core_(core), t
     };
     // The scene's depth before an overlay engine's target that holds it gets its wire frames.
     scenes_.on_scene_depth_shared = [this](SlaveContext& ctx) {
-        passes(ctx).copies.keep_scene_depth(ctx, scenes_.scene(ctx));
+        passes(ctx).copies.keep_scene_depth(scenes_.scene(ctx));
     };
     // The scene's own target before the program's HUD is drawn into it.
     scenes_.on_target_overlays_start = [this](SlaveContext& ctx) {

@@ -66,6 +66,31 @@ GLenum depth_format(const GlApi& gl, GLenum target) {
     return GL_DEPTH_COMPONENT32;
 }
 
+bool depth_size(const GlApi& gl, GLenum target, int& width, int& height) {
+    GLint type = GL_NONE, name = 0, w = 0, h = 0;
+    gl.glGetFramebufferAttachmentParameteriv(target, GL_DEPTH_ATTACHMENT, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE, &type);
+    gl.glGetFramebufferAttachmentParameteriv(target, GL_DEPTH_ATTACHMENT, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_NAME, &name);
+    GLint bound = 0;
+    if (type == GL_RENDERBUFFER) {
+        gl.glGetIntegerv(GL_RENDERBUFFER_BINDING, &bound);
+        gl.glBindRenderbuffer(GL_RENDERBUFFER, GLuint(name));
+        gl.glGetRenderbufferParameteriv(GL_RENDERBUFFER, GL_RENDERBUFFER_WIDTH, &w);
+        gl.glGetRenderbufferParameteriv(GL_RENDERBUFFER, GL_RENDERBUFFER_HEIGHT, &h);
+        gl.glBindRenderbuffer(GL_RENDERBUFFER, GLuint(bound));
+    } else if (type == GL_TEXTURE) {  // a 2D texture's level 0 (what the program's depth attachments are)
+        GLint level = 0;
+        gl.glGetFramebufferAttachmentParameteriv(target, GL_DEPTH_ATTACHMENT, GL_FRAMEBUFFER_ATTACHMENT_TEXTURE_LEVEL,
+                                                 &level);
+        gl.glGetIntegerv(GL_TEXTURE_BINDING_2D, &bound);
+        gl.glBindTexture(GL_TEXTURE_2D, GLuint(name));
+        gl.glGetTexLevelParameteriv(GL_TEXTURE_2D, level, GL_TEXTURE_WIDTH, &w);
+        gl.glGetTexLevelParameteriv(GL_TEXTURE_2D, level, GL_TEXTURE_HEIGHT, &h);
+        gl.glBindTexture(GL_TEXTURE_2D, GLuint(bound));
+    }
+    width = int(w), height = int(h);
+    return w > 0 && h > 0;
+}
+
 bool WindowCopies::sized(const SlaveContext& ctx) const { return width_ == ctx.width && height_ == ctx.height; }
 
 void WindowCopies::size(SlaveContext& ctx) {
@@ -127,7 +152,7 @@ GLuint WindowCopies::window_copy(SlaveContext& ctx, bool depth, ContextScene& sc
     return depth ? depth_texture_ : color_texture_;
 }
 
-void WindowCopies::keep_scene_depth(SlaveContext& ctx, ContextScene& scene) {
+void WindowCopies::keep_scene_depth(ContextScene& scene) {
     const GlApi& gl = core_.api();
     effects::StateGuard guard(gl);
     gl.glBindFramebuffer(GL_READ_FRAMEBUFFER, scene.facts.scene_framebuffer);
@@ -137,13 +162,16 @@ void WindowCopies::keep_scene_depth(SlaveContext& ctx, ContextScene& scene) {
         scene.facts.overlay_texture = 0;
         return;
     }
-    // (the target's size: the window's, or its viewport's, what a copy or a loan reads of it; a
-    // viewport from the stream at most four times the window, as a scene target is: window_shaped)
+    // The depth attachment's own size: all that a copy or a loan may read of it. (Not the window's:
+    // the context that draws Blender's viewport presents to a hidden window of a few pixels. A
+    // blit that reads beyond its source's edge is no copy on llvmpipe either: it scales, and moves
+    // depths by a step.) The program allocated as much already.
     int SW = 1, SH = 1;
-    scene_target_size(ctx, scene, SW, SH);
-    const int most = 4 * std::max({1, ctx.master_width, ctx.master_height});
-    SW = std::clamp(scene.facts.viewport[2], SW, std::max(SW, most));
-    SH = std::clamp(scene.facts.viewport[3], SH, std::max(SH, most));
+    if (!depth_size(gl, GL_READ_FRAMEBUFFER, SW, SH)) {
+        scene.facts.scene_depth_kept = false;
+        scene.facts.overlay_texture = 0;
+        return;
+    }
     if (format != kept_scene_depth_format_ || SW != kept_scene_depth_size_[0] || SH != kept_scene_depth_size_[1]) {
         if (kept_scene_depth_) {
             gl.glDeleteTextures(1, &kept_scene_depth_);
@@ -156,14 +184,9 @@ void WindowCopies::keep_scene_depth(SlaveContext& ctx, ContextScene& scene) {
         kept_scene_depth_format_ = format;
         kept_scene_depth_size_[0] = SW, kept_scene_depth_size_[1] = SH;
     }
-    // Only what the scene's viewport reaches: a blit that reads beyond its source's edge (a target of
-    // a region's size under a copy of the window's) is no copy on llvmpipe: it scales, and moves
-    // depths by a step, so that the floor's row at a pillar's foot lost its cover to the pillar.
-    const int32_t* v = scene.facts.viewport;
-    const int RW = std::clamp(v[0] + v[2], 1, SW), RH = std::clamp(v[1] + v[3], 1, SH);
     gl.glBindFramebuffer(GL_READ_FRAMEBUFFER, scene.facts.scene_framebuffer);
     gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, kept_scene_depth_fb_);
-    gl.glBlitFramebuffer(0, 0, RW, RH, 0, 0, RW, RH, GL_DEPTH_BUFFER_BIT, GL_NEAREST);
+    gl.glBlitFramebuffer(0, 0, SW, SH, 0, 0, SW, SH, GL_DEPTH_BUFFER_BIT, GL_NEAREST);
     // A context that lends its scene lends this depth (the borrower attaches it as it is).
     scene.loan.scene_depth_type = GL_TEXTURE;
     scene.loan.scene_depth_name = kept_scene_depth_;

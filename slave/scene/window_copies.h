@@ -27,6 +27,8 @@ bool clears_whole_colour(const GlApi& gl, GLbitfield mask);
 // The depth format of the bound framebuffer's depth attachment at `target`, from what GL says of
 // it (a depth blit needs the same format on both sides); 0 when it has no depth.
 GLenum depth_format(const GlApi& gl, GLenum target);
+// ... and its size in pixels (a renderbuffer's, or a 2D texture's level); false when it has none.
+bool depth_size(const GlApi& gl, GLenum target, int& width, int& height);
 
 class WindowCopies {
 public:
@@ -54,7 +56,7 @@ public:
     // The depth of a scene drawn offscreen as it is now, at its target's size and format, before an
     // overlay engine draws into it from another target (SceneFacts::scene_depth_kept): the depth
     // window_copy gives for the frame, and the one the scene's loan lends (scene_lending.h).
-    void keep_scene_depth(SlaveContext& ctx, ContextScene& scene);
+    void keep_scene_depth(ContextScene& scene);
     // The rectangle of the scene's texels (x0, y0, x1, y1) that this tile shows over its size: of
     // its target (as those copies are), or of a borrowed scene (`shown`: the lender's) where the
     // draw that showed it put it (beyond its texels: outside the scene). `size`: its SW x SH texels.

@@ -61,6 +61,12 @@
  * post-processing targets before the window's context composites it.
  * --widget-swaps (implies --widget): the widget's context swaps its pbuffer once when it is made, as
  * Blender's draw manager's hidden window does; it never presents again.
+ * --widget-wire (implies --widget, not --widget-samples): after the scene, the widget's context
+ * draws a wire-frame box (yellow lines 3 pixels wide, beside the crates) with the scene's camera,
+ * the depth test on, into a framebuffer object with a colour texture of its own (cleared
+ * transparent) and the widget's depth; the window's context blends that texture over the widget's
+ * picture: as Blender's overlay engine draws its cameras' wire frames over its viewport's depth
+ * from a context that presents only to a hidden window of a pixel.
  * --preview (implies --widget): the window's context draws that texture small in the top left
  * corner of its sky, then its own scene over the window without clearing the colour: a picture
  * in the program's own scene, not the scene (docs/effects.md).
@@ -357,6 +363,7 @@ static int reflection;
 static int weapon;
 static int culled;
 static int widget;
+static GLfloat scene_view[16];  /* the modelview of draw_frame's camera (--widget-wire) */
 #define WIDGET_REDRAW 4
 /* --preview: the window's context draws the widget's texture small first, then its own scene */
 static int preview, preview_first;
@@ -425,6 +432,7 @@ static void draw_frame(int frame, int dolly, int w, int h, GLuint tex_ground, GL
         glRotatef(-orbit, 0.0f, 1.0f, 0.0f);
         glTranslatef(0.0f, -1.0f, 0.0f);
     }
+    glGetFloatv(GL_MODELVIEW_MATRIX, scene_view);
 
     /* light position is transformed by the current modelview: world space */
     glLightfv(GL_LIGHT0, GL_POSITION, light_pos);
@@ -581,6 +589,9 @@ struct widget_target {
     /* --widget-post: the picture copied into post_texture, which the window shows */
     int post;
     GLuint post_framebuffer, post_texture;
+    /* --widget-wire: the box's colour, over the scene's depth */
+    int wire;
+    GLuint wire_framebuffer, wire_texture;
     int x, y, width, height; /* where the window shows it */
 };
 
@@ -683,6 +694,17 @@ static int widget_create(Display *dpy, XVisualInfo *vi, GLXContext window_contex
     }
     if (t->samples && colour_framebuffer(t->texture, &t->resolved, "--widget: the resolve") != 0)
         return -1;
+    if (t->wire) {  /* (a texture of the widget's size over the widget's depth) */
+        t->wire_texture = widget_texture(t);
+        if (colour_framebuffer(t->wire_texture, &t->wire_framebuffer, "--widget-wire: the box's target") != 0)
+            return -1;
+        bind_framebuffer(GL_FRAMEBUFFER, t->wire_framebuffer);
+        framebuffer_renderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, t->depth);
+        if (check_status(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+            fprintf(stderr, "%s: --widget-wire: the box's framebuffer object is not complete\n", PROG);
+            return -1;
+        }
+    }
     if (t->post) {  /* (a texture of the widget's size, in a framebuffer object without depth) */
         t->post_texture = widget_texture(t);
         if (colour_framebuffer(t->post_texture, &t->post_framebuffer, "--widget-post: the copy") != 0)
@@ -722,6 +744,40 @@ static void widget_copy(const struct widget_target *t)
     glPopAttrib();
 }
 
+/* --widget-wire: the box's twelve edges into the box's target with the scene's camera. */
+
+static void widget_wire_box(const struct widget_target *t)
+{
+    static const float centre[3] = {2.5f, 0.8f, 1.5f}, half = 0.6f;
+    bind_framebuffer(GL_FRAMEBUFFER, t->wire_framebuffer);
+    glPushAttrib(GL_ALL_ATTRIB_BITS);
+    glClearColor(0, 0, 0, 0);
+    glClear(GL_COLOR_BUFFER_BIT);
+    glDisable(GL_LIGHTING);
+    glDisable(GL_TEXTURE_2D);
+    glDisable(GL_FOG);
+    glEnable(GL_DEPTH_TEST);
+    glDepthMask(GL_TRUE);
+    glLineWidth(3);
+    glColor3ub(250, 250, 120);
+    glMatrixMode(GL_MODELVIEW);
+    glPushMatrix();
+    glLoadMatrixf(scene_view);
+    glBegin(GL_LINES);
+    for (int axis = 0; axis < 3; axis++)
+        for (int k = 0; k < 4; k++)
+            for (int end = -1; end <= 1; end += 2) {
+                float v[3];
+                v[axis] = (float)end * half;
+                v[(axis + 1) % 3] = (k & 1 ? 1.0f : -1.0f) * half;
+                v[(axis + 2) % 3] = (k & 2 ? 1.0f : -1.0f) * half;
+                glVertex3f(centre[0] + v[0], centre[1] + v[1], centre[2] + v[2]);
+            }
+    glEnd();
+    glPopMatrix();
+    glPopAttrib();
+}
+
 /* Before the scene (bind), after it (unbind; multisampled: its colour resolved into the texture). */
 static void widget_bind(const struct widget_target *t, int bind)
 {
@@ -730,6 +786,8 @@ static void widget_bind(const struct widget_target *t, int bind)
         bind_framebuffer(GL_DRAW_FRAMEBUFFER, t->resolved);
         blit_framebuffer(0, 0, t->width, t->height, 0, 0, t->width, t->height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
     }
+    if (!bind && t->wire)
+        widget_wire_box(t);
     if (!bind && t->post)
         widget_copy(t);
     bind_framebuffer(GL_FRAMEBUFFER, bind ? t->framebuffer : 0);
@@ -763,6 +821,13 @@ static void widget_composite(const struct widget_target *t, int w, int h)
     /* placed by the viewport: a quad over all of it */
     glViewport(t->x, t->y, t->width, t->height);
     draw_viewport_quad();
+    if (t->wire) {
+        glBindTexture(GL_TEXTURE_2D, t->wire_texture);
+        glEnable(GL_BLEND);
+        glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+        draw_viewport_quad();
+        glDisable(GL_BLEND);
+    }
     glBindTexture(GL_TEXTURE_2D, 0);
     glDisable(GL_TEXTURE_2D);
     glViewport(0, 0, w, h);
@@ -887,7 +952,8 @@ int main(int argc, char **argv)
     preview = app_take_flag(&argc, &argv, "--preview");
     target.post = widget && app_take_flag(&argc, &argv, "--widget-post");
     const int widget_swaps = app_take_flag(&argc, &argv, "--widget-swaps");
-    widget = widget || preview || widget_swaps;
+    target.wire = app_take_flag(&argc, &argv, "--widget-wire");
+    widget = widget || preview || widget_swaps || target.wire;
     target.samples = 0;
     for (int i = 1; i + 1 < argc; i++)
         if (strcmp(argv[i], "--widget-samples") == 0) {
@@ -897,6 +963,10 @@ int main(int argc, char **argv)
             widget = 1;
             break;
         }
+    if (target.wire && target.samples) {
+        fprintf(stderr, "%s: --widget-wire draws over a single-sampled depth: not with --widget-samples\n", PROG);
+        return 2;
+    }
     app_parse_args(PROG, argc, argv, &args);
 
     dpy = XOpenDisplay(NULL);

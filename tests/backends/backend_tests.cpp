@@ -28,6 +28,7 @@
 #include <thread>
 #include <vector>
 
+#include "common/gl_state.h"
 #include "common/image.h"
 #include "slave/backend.h"
 #include "tests/backends/x11_grab.h"
@@ -654,6 +655,54 @@ TEST_P(Headless, Errors) {
     backend_->present();  // headless: nothing
     backend_->destroy_context(1);
     backend_->destroy_context(1);  // unknown: ignored
+}
+
+// What glcast does inside a program's frame (a depth copy before an overlay engine's draw, a
+// pass) runs under GlStateGuard, and the program draws on with what it left: a framebuffer object
+// with several draw buffers keeps every one (Blender's overlay engine draws its wires into a
+// colour and a line-data attachment at once; restoring only the first left its anti-aliasing
+// pass without line data, and its wires drawn aliased).
+TEST_P(Headless, StateGuardKeepsEveryDrawBuffer) {
+    start(1, core33());
+    glcast::GlApi api;
+    std::string error;
+    ASSERT_TRUE(api.load([this](const char* name) { return backend_->proc_address(name); }, error)) << error;
+    GLuint fb = 0, colour[3] = {};
+    api.glGenFramebuffers(1, &fb);
+    api.glBindFramebuffer(GL_FRAMEBUFFER, fb);
+    api.glGenRenderbuffers(3, colour);
+    for (int i = 0; i < 3; ++i) {
+        api.glBindRenderbuffer(GL_RENDERBUFFER, colour[i]);
+        api.glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, 16, 16);
+        api.glFramebufferRenderbuffer(GL_FRAMEBUFFER, GLenum(GL_COLOR_ATTACHMENT0 + i), GL_RENDERBUFFER, colour[i]);
+    }
+    const GLenum program_buffers[] = {GL_COLOR_ATTACHMENT2, GL_NONE, GL_COLOR_ATTACHMENT0};
+    api.glDrawBuffers(3, program_buffers);
+    ASSERT_EQ(api.glCheckFramebufferStatus(GL_FRAMEBUFFER), GLenum(GL_FRAMEBUFFER_COMPLETE));
+    {
+        glcast::GlStateGuard guard(api, glcast::kGuardPass);
+        api.glBindFramebuffer(GL_FRAMEBUFFER, 0);  // (what runs inside draws elsewhere)
+    }
+    GLint bound = 0;
+    api.glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &bound);
+    EXPECT_EQ(GLuint(bound), fb);
+    for (int i = 0; i < 3; ++i) {
+        GLint buffer = -1;
+        api.glGetIntegerv(GLenum(GL_DRAW_BUFFER0 + i), &buffer);
+        EXPECT_EQ(GLenum(buffer), program_buffers[i]) << "draw buffer " << i;
+    }
+    {  // and the window's single buffer, as before
+        api.glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        GLint window_buffer = 0;
+        api.glGetIntegerv(GL_DRAW_BUFFER, &window_buffer);
+        { glcast::GlStateGuard guard(api, glcast::kGuardPass); }
+        GLint after = 0;
+        api.glGetIntegerv(GL_DRAW_BUFFER, &after);
+        EXPECT_EQ(after, window_buffer);
+    }
+    EXPECT_EQ(api.glGetError(), GLenum(GL_NO_ERROR));
+    api.glDeleteRenderbuffers(3, colour);
+    api.glDeleteFramebuffers(1, &fb);
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, Headless, ::testing::Values("egl", "osmesa"),
