@@ -384,12 +384,18 @@ KNOWN = """## What the table does not show
   left it as drawn; now the window's context borrows the viewport's scene two frames after that
   swap (docs/effects.md, "A scene shown in part of the window"): the cube's top holds cover, snow
   falls in the viewport only, the toolbars, headers, timeline and properties keep every pixel.
-  What the draw manager draws into the viewport's own textures is decorated with the scene: the
-  grid, the camera's and the light's wire frames, the navigation gizmo and the viewport's text
-  (snow falls over them). The wire frames and markers are drawn over the scene's depth from a
-  target of their own, whose depth the passes no longer take for the scene's (docs/effects.md):
-  until this stop icicles hung from the camera and cover speckled its lines. The default scene
-  has no ground: shadows fall on the cube only.
+  What its overlay engine draws (the grid, the camera's and the light's wire frames, the object
+  centres, the navigation gizmo, the viewport's text) goes into a texture of its own, drawn over
+  the scene's depth, which the window's composite mixes over the scene: wherever that texture
+  covers the scene, the pixels are kept as drawn (docs/effects.md, the overlay engine; the kept
+  pixels went from 140,464 to about 219,000 of the 307,200), where before snow fell over them.
+  Three faults hid behind that, each reproduced by a test of our own: the scene's depth kept
+  before the overlay engine draws over it was sized by the draw manager's hidden window (4x4
+  texels: the passes read garbage beyond); the passes' state guard put back one of the overlay
+  engine's two draw buffers, so its anti-aliasing pass got no line data and its wires were drawn
+  aliased whenever a pass was on; and earlier, the wires' depth was taken for the scene's
+  (icicles hung from the camera). The default scene has no ground: shadows fall on the cube
+  only.
   On the cylinder the whole viewport turns (docs/wall.md, "A scene shown in part of the window"):
   the front tile shows the cube, the camera's and the light's wire frames, the cursor and the
   gizmo where the program's view puts them, the interface on the program's screen (the viewport's
