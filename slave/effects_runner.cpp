@@ -349,7 +349,9 @@ void EffectsRunner::frame_view(SlaveContext& ctx, effects::FrameView& v) {
 void EffectsRunner::convert_depth(SlaveContext& ctx, effects::FrameView& v, const glm::dmat4& planar) {
     ContextPasses& st = passes(ctx);
     const glm::dmat4 program = v.projection;
-    st.depth = depth_convention(program, program_depth_state(core_.api()));
+    ProgramDepthState state = program_depth_state(core_.api());
+    state.shown_mirrored = scenes_.scene(ctx).facts.shown_mirrored;
+    st.depth = depth_convention(program, state);
     if (st.depth.standard) return;
     if (!said_depth_convention_) {
         said_depth_convention_ = true;
@@ -359,13 +361,14 @@ void EffectsRunner::convert_depth(SlaveContext& ctx, effects::FrameView& v, cons
                              "(docs/effects.md, \"Depth conventions\")\n",
                      s.zero_to_one ? "clip depth 0..1" : "clip depth -1..1",
                      st.depth.reversed ? ", reversed" : "",
-                     s.upper_left ? ", origin upper left" : "", s.range_near, s.range_far, s.clear_depth,
+                     s.upper_left ? ", origin upper left" : s.shown_mirrored ? ", shown upside down" : "",
+                     s.range_near, s.range_far, s.clear_depth,
                      st.depth.near, st.depth.far);
     }
     const ReplayOptions& options = core_.options();
     // The program's tile clip space as its window shows it (origin flipped after its turn).
     glm::dmat4 flip(1.0);
-    if (st.depth.program.upper_left) flip[1][1] = -1;
+    if (st.depth.program.flipped()) flip[1][1] = -1;
     const glm::dmat4 program_turn = options.view.enabled ? options.view.correction(program) : glm::dmat4(1.0);
     const glm::dmat4 pass_turn = options.view.enabled ? options.view.correction(st.depth.pass_projection) : glm::dmat4(1.0);
     v.projection = st.depth.pass_projection;

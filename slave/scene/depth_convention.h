@@ -20,6 +20,10 @@ struct ProgramDepthState {
     bool upper_left = false;    // glClipControl's origin GL_UPPER_LEFT
     double range_near = 0, range_far = 1;  // glDepthRange
     double clear_depth = 1;     // glClearDepth: the background's window depth
+    // Not GL state: the scene drawn offscreen is shown upside down (SceneFacts::shown_mirrored),
+    // which the window's picture has as an upper-left origin would give it.
+    bool shown_mirrored = false;
+    bool flipped() const { return upper_left != shown_mirrored; }  // the window's rows run top down
 };
 
 struct DepthConvention {

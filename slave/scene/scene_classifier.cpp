@@ -190,6 +190,7 @@ WindowDrawMeaning window_blit(SceneFacts& f, DrawState& s, const int32_t source[
     if (!f.scene_framebuffer || f.presented) return WindowDrawMeaning::Scene;
     if (!f.in_part) {
         f.presented = true;  // the scene's image copied over the window
+        f.shown_mirrored = (destination[1] > destination[3]) != (source[1] > source[3]);
         return WindowDrawMeaning::Scene;
     }
     const GLuint read = s.read_framebuffer();

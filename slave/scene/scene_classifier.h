@@ -54,6 +54,10 @@ struct SceneFacts {
     // ... by a draw whose viewport, or a blit whose destination, covers the whole window: the
     // frame is a new picture, as one that clears its window whole is (window_cleared).
     bool shown_whole = false;
+    // ... by a blit that swaps its rows (destination y0 above y1, the source not): the window's
+    // picture is the target's upside down, as a program drawing with an upper-left origin
+    // (Direct3D's, under Wine) presents; the passes read it as glClipControl(GL_UPPER_LEFT)'s.
+    bool shown_mirrored = false;
     // That target has neither the window's size nor its shape: the scene is shown in part of the
     // window (a content suite's 3D viewport), by the first flat draw to the window that samples
     // `scene_texture` (its colour texture, or the one a resolve or a post-processing draw of its

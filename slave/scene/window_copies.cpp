@@ -283,7 +283,11 @@ glm::dvec4 WindowCopies::scene_texels_on_tile(const SlaveContext& ctx, const Con
     const bool placed = scene.loan.borrowed_from != 0;
     if (placed) SW = std::max(1, shown.loan.scene_size[0]), SH = std::max(1, shown.loan.scene_size[1]);
     size[0] = SW, size[1] = SH;
-    if (!placed) return tile_source(ctx, SW, SH);
+    if (!placed) {
+        glm::dvec4 texels = tile_source(ctx, SW, SH);
+        if (scene.facts.shown_mirrored) texels.y = SH - texels.y, texels.w = SH - texels.w;  // (shown upside down)
+        return texels;
+    }
     // the tile's rectangle of the window, in the scene's texels (beyond them: outside the scene)
     const int W = std::max(1, ctx.master_width), H = std::max(1, ctx.master_height);
     const int32_t* p = scene.loan.placement;

@@ -101,6 +101,11 @@
  * --blit) the viewport is shown by one GLSL draw that samples both textures and mixes the box over
  * the scene by its alpha, as Blender's window composites its viewport's colour and overlay textures.
  *
+ * With --fbo --mirror (fixed function, not --msaa, --region, --post or --wire) the scene is drawn
+ * upside down into its target (glFrustum with its bottom and top swapped) and shown by a
+ * glBlitFramebuffer into the window whose destination's rows are swapped, so that the picture is
+ * the upright one: as a Direct3D program under Wine draws (its origin top left) and presents.
+ *
  * With --reflection (not --mvp, --reversed or --foliage) the floor gets a reflection as neverball
  * draws its mirror: after the floor, with the depth test off and the main view's projection, a
  * quad in the floor's plane (the reflection's sky, REFLECTION's colour), then the floor again over
@@ -146,7 +151,7 @@
  * then use their configured light.
  *
  *   pillars [--shader | --builtins | --mvp] [--grow] [--fbo [--half | --region [--blit]] [--mrt | --msaa] [--depth-texture]] [--reversed] [--hud [--in-scene [--depth-on]]]
- *           [--hand] [--left-handed] [--mixed] [--foliage] [--post] [--grade] [--markers] [--cull] [--overlay] [--wire] [--reflection] [--objects] [--fov DEG]
+ *           [--hand] [--left-handed] [--mixed] [--foliage] [--post] [--grade] [--markers] [--cull] [--overlay] [--wire] [--mirror] [--reflection] [--objects] [--fov DEG]
  *           [--fisheye] [--scale S] [--turn DEG] [--sun X,Y,Z | --gl-light X,Y,Z] [--frames N] [--size WxH]
  */
 #define GL_GLEXT_PROTOTYPES 1
@@ -464,6 +469,7 @@ int main(int argc, char **argv)
     const int cull = app_take_flag(&argc, &argv, "--cull");
     const int overlay = app_take_flag(&argc, &argv, "--overlay");
     const int wire = fbo_mode && !shader && !msaa && !by_blit && !post && app_take_flag(&argc, &argv, "--wire");
+    const int mirror = fbo_mode && !shader && !msaa && !region && !post && !wire && app_take_flag(&argc, &argv, "--mirror");
     const int reflection = app_take_flag(&argc, &argv, "--reflection");
     const int objects = shader && !builtins && !mvp && app_take_flag(&argc, &argv, "--objects");
     const int fisheye = shader && !builtins && !mvp && app_take_flag(&argc, &argv, "--fisheye");
@@ -770,6 +776,7 @@ int main(int argc, char **argv)
         for (int i = 0; i < 16; i++) left[i] = i >= 8 && i < 12 ? -standard[i] : standard[i];
         const double *proj = reversed ? reverse_infinite : left_handed ? left : standard;
         if (reversed || left_handed) glLoadMatrixd(proj);
+        else if (mirror) glFrustum(-half * scale, half * scale, top * scale, -top * scale, n * scale, fa * scale);
         else glFrustum(-half * scale, half * scale, -top * scale, top * scale, n * scale, fa * scale);
         if (shader && !mixed) glUseProgram(program);
         if (shader && !builtins && !mvp) {
@@ -882,7 +889,13 @@ int main(int argc, char **argv)
                     glDepthMask(GL_TRUE);
                 }
                 glBindTexture(GL_TEXTURE_2D, post && step == 1 ? post_color : color);
-                full_target_quad();
+                if (mirror) {  /* (the scene upside down in its target: shown mirrored) */
+                    glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo);
+                    glBlitFramebuffer(0, 0, fw, fh, 0, a.height, a.width, 0, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+                    glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+                } else {
+                    full_target_quad();
+                }
             }
             if (wire) {
                 glBindTexture(GL_TEXTURE_2D, wire_color);

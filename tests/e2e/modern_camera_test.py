@@ -37,6 +37,10 @@ A reflection drawn into the floor with the depth test off under the main view's 
 floor then drawn again over it (pillars --reflection, as neverball draws its mirror), is the
 scene's: the pillars drawn after it cast their shadows and get their cover as without it (before,
 the fixed-function program's reflection started the overlays: 0 floor pixels shadowed of 3,214).
+A scene drawn upside down into its target and shown by a blit that swaps its rows (pillars --fbo
+--mirror, as a Direct3D program under Wine presents) is decorated as the upright one: the passes
+read it as an upper-left origin (before: its depth was read unmirrored, and the cover whitened
+the sky above the floor's mirror image and left the floor bare).
 
     modern_camera_test.py     with GLCAST, GLCAST_SHIM, APPS_DIR, OUT_DIR in the environment
 """
@@ -90,7 +94,8 @@ def main():
              "fbo_hud_depth_shader": ["--shader", "--fbo", "--hud", "--in-scene", "--depth-on"],
              "fbo_hud_depth_builtins": ["--builtins", "--fbo", "--hud", "--in-scene", "--depth-on"],
              "scaled": ["--scale", "10"], "scaled_builtins": ["--builtins", "--scale", "10"],
-             "reflection": ["--reflection"], "reflection_builtins": ["--builtins", "--reflection"]}
+             "reflection": ["--reflection"], "reflection_builtins": ["--builtins", "--reflection"],
+             "fbo_mirror": ["--fbo", "--mirror"]}
     for mode, flags in modes.items():
         capture = os.path.join(OUT, f"{mode}.glcs")
         with Xvfb():
@@ -179,7 +184,7 @@ def main():
     # before, the flakes were tested against the window's depth, which a scene drawn offscreen
     # leaves as it was, and none was drawn).
     frame = "frame-000001.png"
-    for mode in ("reversed", "reversed_builtins", "fbo", "fbo_mvp"):
+    for mode in ("reversed", "reversed_builtins", "fbo", "fbo_mvp", "fbo_mirror"):
         w, h, a = read_png(os.path.join(OUT, "fixed-snow", frame))
         _, _, b = read_png(os.path.join(OUT, f"{mode}-snow", frame))
         _, _, plain = read_png(os.path.join(OUT, "fixed-plain", frame))

@@ -29,7 +29,7 @@ glm::dvec3 program_window(const glm::dmat4& p, const ProgramDepthState& s, const
     const glm::dvec4 c = p * glm::dvec4(eye, 1.0);
     const glm::dvec3 ndc = glm::dvec3(c) / c.w;
     const double t = s.zero_to_one ? ndc.z : ndc.z * 0.5 + 0.5;
-    return {ndc.x, s.upper_left ? -ndc.y : ndc.y, s.range_near + t * (s.range_far - s.range_near)};
+    return {ndc.x, s.flipped() ? -ndc.y : ndc.y, s.range_near + t * (s.range_far - s.range_near)};
 }
 
 // The window depth the passes' standard projection gives it.
@@ -95,6 +95,21 @@ TEST(DepthConvention, ReversedFiniteAndDepthRangesAndOriginsAreConverted) {
     // The passes' picture is the window's: y flipped with the origin.
     const DepthConvention c = depth_convention(reversed_infinite(), upper);
     EXPECT_EQ(c.pass_projection[1][1], -reversed_infinite()[1][1]);
+}
+
+TEST(DepthConvention, AStandardSceneShownUpsideDownIsReadAsAnUpperLeftOrigin) {
+    // Drawn with GL's own convention into a target, shown by a blit that swaps its rows (pillars
+    // --fbo --mirror; Wine's way): the window's picture is the target's upside down.
+    const glm::dmat4 p = glm::frustum(-0.29, 0.29, -0.22, 0.22, kNear, 100.0);
+    ProgramDepthState mirrored;
+    mirrored.shown_mirrored = true;
+    expect_converted(p, mirrored);
+    const DepthConvention c = depth_convention(p, mirrored);
+    EXPECT_EQ(c.pass_projection[1][1], -p[1][1]);
+    EXPECT_NEAR(c.near, kNear, 1e-9);
+    ProgramDepthState both = mirrored;  // an upper-left origin shown upside down: upright again
+    both.upper_left = true;
+    EXPECT_TRUE(depth_convention(p, both).standard);
 }
 
 TEST(DepthConvention, ARedrawCorrectedByPassFromProgramLandsAsThePassesProjectionPutsIt) {

@@ -529,6 +529,24 @@ TEST(SceneClassifier, ABlitFromASceneShownInPartAtTheViewsSizeShowsIt) {
     s.framebuffer = 0, s.read = 9;
     EXPECT_EQ(window_blit(whole, s, half, at), WindowDrawMeaning::Scene);
     EXPECT_TRUE(whole.presented);
+    EXPECT_FALSE(whole.shown_mirrored);
+    // ... upside down too (a scene drawn with Direct3D's origin, Wine's present): the window's
+    // picture is the target's with its rows swapped.
+    SceneFacts flipped;
+    s.framebuffer = 3;
+    classify_draw(flipped, s, 3, ClassifierSettings{false, true, 400, 300});
+    s.framebuffer = 0;
+    const int32_t window[4] = {0, 0, 400, 300}, window_flipped[4] = {0, 300, 400, 0};
+    EXPECT_EQ(window_blit(flipped, s, window, window_flipped), WindowDrawMeaning::Scene);
+    EXPECT_TRUE(flipped.presented);
+    EXPECT_TRUE(flipped.shown_mirrored);
+    SceneFacts both;  // source and destination swapped: upright
+    s.framebuffer = 3;
+    classify_draw(both, s, 3, ClassifierSettings{false, true, 400, 300});
+    s.framebuffer = 0;
+    const int32_t source_flipped[4] = {0, 300, 400, 0};
+    window_blit(both, s, source_flipped, window_flipped);
+    EXPECT_FALSE(both.shown_mirrored);
 }
 
 TEST(SceneClassifier, ALaterTargetOfTheWindowsShapeReplacesASceneFoundInPart) {
