@@ -231,6 +231,10 @@ bool TileAdapter::replace_call(const Call& c) {
             destination[k] = core_.value<GLint>(c, arg(k)), source[k] = core_.value<GLint>(c, arg(4 + k));
         const auto mask = GLbitfield(core_.value<GLuint>(c, arg(8)));
         if (shows_scene_by_blit(source, destination, mask)) return true;  // (a rotated tile)
+        // A blit of the scene's view into the window shows it, as its first flat draw would: what
+        // the window gets after it (a HUD) lies on the program's screen.
+        if (State& s = state(); core_.options().view.enabled && s.scene_view && (mask & GL_COLOR_BUFFER_BIT))
+            s.scene_shown = true;
         // The call as the program made it but for the mapped rectangle, replayed as any call is
         // (whatever the command's other parameters are).
         Call mapped = c;

@@ -53,6 +53,9 @@ struct TileAdapter::State {
     glm::dmat4 window_projection{1.0};  // that view's projection (the program's, unturned)
     bool scene_view = false;          // this frame drew a perspective view into the scene target
     glm::dmat4 scene_projection{1.0};  // that view's projection
+    // ... as the window shows it, upright: a scene drawn upside down into its target is shown
+    // flipped (Wine's way), and the window's flat draws after it (a HUD) lie on an upright screen.
+    glm::dmat4 scene_screen{1.0};
     bool scene_shown = false;         // ... and the window's first flat draw, which shows it, went by
     bool frame_shaped_view = false;   // this frame drew a view into a target of the window's shape
 

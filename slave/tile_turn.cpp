@@ -114,6 +114,10 @@ void TileAdapter::saw_view(SlaveContext& ctx, const glm::dmat4& projection) {
     (ctx.drawing_to_window ? s.window_view : s.scene_view) = true;
     (ctx.drawing_to_window ? s.window_projection : s.scene_projection) = projection;
     if (ctx.drawing_to_window) return;
+    s.scene_screen = projection;
+    for (int axis = 0; axis < 2; ++axis)
+        if (projection[axis][axis] < 0)
+            for (int c = 0; c < 4; ++c) s.scene_screen[c][axis] = -projection[c][axis];
     if (window_shaped(s.viewport[0], ctx.master_width, ctx.master_height)) {
         if (drew_window_this_frame(s)) return;
         s.frame_scene_target = s.draw_framebuffer;
@@ -335,7 +339,7 @@ const glm::dmat4* TileAdapter::screen_of_flat_draw(const SlaveContext& ctx) {
         s.scene_shown = true;
         return nullptr;
     }
-    return &s.scene_projection;
+    return &s.scene_screen;
 }
 
 bool TileAdapter::awaits_shown_scene(const SlaveContext& ctx) {

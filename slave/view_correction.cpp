@@ -98,6 +98,13 @@ glm::dmat4 ViewCorrection::correction(const glm::dmat4& app) const {
         tile[2][3] = -1;
         tile[3][2] = -2 * f * n / (f - n);
     }
+    // A program that draws its picture upside down (or mirrored) into a target it shows flipped
+    // (glFrustum with bottom above top, Wine's way): the tile's frustum flipped the same way, so
+    // that the blit that shows it turns it upright.
+    if (app[1][1] < 0)
+        for (int c = 0; c < 4; ++c) tile[c][1] = -tile[c][1];
+    if (app[0][0] < 0)
+        for (int c = 0; c < 4; ++c) tile[c][0] = -tile[c][0];
     glm::dmat4 view = cam.view;
     if (left_handed) {  // the same camera written in left-handed coordinates (z mirrored)
         glm::dmat4 mirror(1.0);

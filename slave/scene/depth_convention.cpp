@@ -31,7 +31,9 @@ DepthConvention depth_convention(const glm::dmat4& projection, const ProgramDept
     const double scale = glm::length(wv);
     if (scale < 1e-12 || std::abs(w.w) > 1e-9 * scale) return c;  // not perspective
     const double a = glm::dot(glm::dvec3(z), wv) / (scale * scale), b = z.w;
-    if (std::abs(b) < 1e-12 || glm::length(glm::dvec3(z) - a * wv) > 1e-9 * (std::abs(a) + 1) * scale)
+    // (1e-6: on a rotated tile the projection is read back through the tile's correction in
+    // single precision, with 1e-8s where a perspective projection has zeros)
+    if (std::abs(b) < 1e-12 || glm::length(glm::dvec3(z) - a * wv) > 1e-6 * (std::abs(a) + 1) * scale)
         return c;  // depth does not follow 1 / w: not one the passes can read
     // Reversed: NDC z falls as w grows (b > 0), the near plane at NDC 1.
     const bool reversed = b > 0;

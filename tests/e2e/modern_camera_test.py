@@ -95,7 +95,8 @@ def main():
              "fbo_hud_depth_builtins": ["--builtins", "--fbo", "--hud", "--in-scene", "--depth-on"],
              "scaled": ["--scale", "10"], "scaled_builtins": ["--builtins", "--scale", "10"],
              "reflection": ["--reflection"], "reflection_builtins": ["--builtins", "--reflection"],
-             "fbo_mirror": ["--fbo", "--mirror"]}
+             "fbo_mirror": ["--fbo", "--mirror"], "fbo_hud_window": ["--fbo", "--hud"],
+             "fbo_hud_mirror": ["--fbo", "--hud", "--mirror"]}
     for mode, flags in modes.items():
         capture = os.path.join(OUT, f"{mode}.glcs")
         with Xvfb():
@@ -197,21 +198,33 @@ def main():
     config = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "display_configs", "cylinder-360.json")
     # (the cover's patches and grain lie in world coordinates, mirrored in a left-handed world:
     # that one is compared by its shadows)
+    # A scene shown upside down turns as the upright one, and its HUD lies on the program's screen
+    # on the front tile (before: the turned tiles showed the world on its head, the HUD over the
+    # yaw060 tile, and the passes found no depth convention there).
     tiles = {}
-    for mode, effects in (("fixed", "shadows,cover"), ("reversed", "shadows,cover"), ("fixed", "shadows"),
-                          ("left_handed", "shadows")):
-        out = os.path.join(OUT, f"{mode}-cylinder-{effects.replace(',', '-')}")
+    for mode, tile, effects in (("fixed", "yaw060", "shadows,cover"), ("reversed", "yaw060", "shadows,cover"),
+                                ("fixed", "yaw060", "shadows"), ("left_handed", "yaw060", "shadows"),
+                                ("fbo", "yaw060", "shadows,cover"), ("fbo_mirror", "yaw060", "shadows,cover"),
+                                ("fbo_hud_window", "yaw000", ""), ("fbo_hud_mirror", "yaw000", ""),
+                                ("fbo_hud_window", "yaw060", ""), ("fbo_hud_mirror", "yaw060", "")):
+        out = os.path.join(OUT, f"{mode}-cylinder-{tile}-{effects.replace(',', '-')}")
         r = subprocess.run([GLCAST, "replay", os.path.join(OUT, f"{mode}.glcs"), "--backend", "egl", "--config", config,
-                            "--tile", "yaw060", "--frames", "1:1", "--out", out, "--effects", effects],
+                            "--tile", tile, "--frames", "1:1", "--out", out] + (["--effects", effects] if effects else []),
                            capture_output=True, text=True, timeout=300, env=headless)
         check(r.returncode == 0, f"cylinder replay {mode} failed: {r.stderr[-2000:]}")
-        tiles[mode, effects] = read_png(os.path.join(out, frame))
-    for mode, effects in (("reversed", "shadows,cover"), ("left_handed", "shadows")):
-        w, h, a = tiles["fixed", effects]
-        b = tiles[mode, effects][2]
+        tiles[mode, tile, effects] = read_png(os.path.join(out, frame))
+    for reference, mode, tile, effects in (("fixed", "reversed", "yaw060", "shadows,cover"),
+                                           ("fixed", "left_handed", "yaw060", "shadows"),
+                                           ("fbo", "fbo_mirror", "yaw060", "shadows,cover"),
+                                           ("fbo_hud_window", "fbo_hud_mirror", "yaw000", ""),
+                                           ("fbo_hud_window", "fbo_hud_mirror", "yaw060", "")):
+        w, h, a = tiles[reference, tile, effects]
+        b = tiles[mode, tile, effects][2]
         differ = sum(1 for y in range(h) for x in range(w) if max(abs(a[y][x][i] - b[y][x][i]) for i in range(3)) > 8)
-        print(f"cylinder tile yaw060 with {effects}: {mode} differs from fixed in {differ} of {w * h} pixels")
-        check(differ <= w * h // 10000, f"on the cylinder the {mode} program's passes differ in {differ} pixels")
+        print(f"cylinder tile {tile} with {effects or 'no pass'}: {mode} differs from {reference} in {differ} of "
+              f"{w * h} pixels")
+        check(differ <= w * h // 10000, f"on the cylinder's {tile} the {mode} program differs from {reference} in "
+                                        f"{differ} pixels")
     print("modern cameras: every shader program's floor is covered and shadowed as the fixed-function one's, "
           "whatever its depth convention")
 

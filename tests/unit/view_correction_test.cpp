@@ -46,6 +46,24 @@ TEST(ViewCorrection, APointAtTheTilesYawLandsAtItsCentreColumn) {
     }
 }
 
+TEST(ViewCorrection, AnUpsideDownProjectionTurnsUpsideDown) {
+    // pillars --fbo --mirror, Wine's way: drawn upside down into a target the program shows
+    // flipped. The tile's picture must be upside down in that target too, its rows flipped back
+    // by the program's blit; else the tile shows the world on its head.
+    const glm::dmat4 upright = glm::frustum(-0.5, 0.5, -0.375, 0.375, 0.5, 100.0);
+    const glm::dmat4 flipped = glm::frustum(-0.5, 0.5, 0.375, -0.375, 0.5, 100.0);
+    for (double yaw : {0.0, 60.0}) {
+        const ViewCorrection v = tile(yaw);
+        for (const glm::dvec3 eye : {at_yaw(yaw + 10, 6) + glm::dvec3(0, 1, 0), at_yaw(yaw - 20, 9) - glm::dvec3(0, 2, 0)}) {
+            const glm::dvec3 a = ndc(v.correction(upright) * upright, eye);
+            const glm::dvec3 b = ndc(v.correction(flipped) * flipped, eye);
+            EXPECT_NEAR(b.x, a.x, 1e-9) << yaw;
+            EXPECT_NEAR(b.y, -a.y, 1e-9) << yaw;
+            EXPECT_NEAR(b.z, a.z, 1e-9) << yaw;
+        }
+    }
+}
+
 TEST(ViewCorrection, TheProgramsDepthMappingIsKept) {
     // glFrustum's: the same depths as the program's own for a point straight ahead.
     const glm::dmat4 standard = glm::frustum(-0.5, 0.5, -0.375, 0.375, 0.5, 100.0);
