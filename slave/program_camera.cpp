@@ -217,7 +217,8 @@ bool ProgramCameras::light(uint32_t program, const ProgramCamera& camera, effect
         if (!value(program, u, f)) continue;
         glm::dvec4 v(f[0], f[1], f[2], u.components == 4 ? f[3] : (u.meaning.position ? 1.0 : 0.0));
         if (glm::length(glm::dvec3(v)) < 1e-12 && v.w == 0) continue;
-        if (!u.meaning.eye_space) v = camera.modelview * v;  // (the identity when no view was found)
+        if (!u.meaning.eye_space && !camera.lights_in_eye_space)
+            v = camera.modelview * v;  // (the identity when no view was found)
         out = effects::SceneLight{true, v};
         out.sign_from_up = v.w == 0;
         return true;
@@ -271,6 +272,7 @@ bool ProgramCameras::find(uint32_t program, ProgramCamera& out) {
                 if (k == i || !read[k] || !is_rigid(values[k]) || name.find("view") == std::string::npos) continue;
                 out.modelview = values[k];
                 out.modelview_known = true;
+                out.lights_in_eye_space = name.find("model") != std::string::npos;
                 break;
             }
         }

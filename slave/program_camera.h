@@ -42,6 +42,10 @@ bool mirrored(const glm::dmat4& modelview);
 struct ProgramCamera {
     glm::dmat4 projection{1.0}, modelview{1.0};
     bool modelview_known = false;  // false: the program's view transform is not among its matrices
+    // That transform is a model-view matrix (its name says "model" and "view"): the program's
+    // shaders have no world space, and the lights it uploads are in the eye's (Castle Game
+    // Engine's castle_LightSource0Position), whatever their names say.
+    bool lights_in_eye_space = false;
 };
 
 // What a vec3 or vec4 uniform's name says it holds: an engine's sun or light, as a direction or a

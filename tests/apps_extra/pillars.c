@@ -148,9 +148,12 @@
  * 0.55 + 0.45 |N . sun|, as engines keep their sun. With --gl-light X,Y,Z (--builtins) the sun is
  * fixed-function light 0 instead (glLightfv(GL_POSITION) under the view, w = 0, GL_LIGHTING off),
  * which the shader reads through gl_LightSource[0]. The fixed-function program is unlit: the passes
- * then use their configured light.
+ * then use their configured light. With --mvp --modelview the program keeps its camera as an engine
+ * that lights in the eye's space does (Castle Game Engine's view3dscene): `uniform mat4 projection`
+ * (alone) and `modelView` (view * model, per draw), and --sun's X,Y,Z is `uniform vec3
+ * u_lightDirection` in the eye's space, as uploaded, each face lit by the eye-space normal.
  *
- *   pillars [--shader | --builtins | --mvp] [--grow] [--fbo [--half | --region [--blit]] [--mrt | --msaa] [--depth-texture]] [--reversed] [--hud [--in-scene [--depth-on]]]
+ *   pillars [--shader | --builtins | --mvp [--modelview]] [--grow] [--fbo [--half | --region [--blit]] [--mrt | --msaa] [--depth-texture]] [--reversed] [--hud [--in-scene [--depth-on]]]
  *           [--hand] [--left-handed] [--mixed] [--foliage] [--post] [--grade] [--markers] [--cull] [--overlay] [--wire] [--mirror] [--reflection] [--objects] [--fov DEG]
  *           [--fisheye] [--scale S] [--turn DEG] [--sun X,Y,Z | --gl-light X,Y,Z] [--frames N] [--size WxH]
  */
@@ -298,14 +301,17 @@ static int parse_vector(const char *text, double v[3])
 /* --mvp: the floor and each pillar under projection * view * model, one uniform per draw. The
  * view turns the world by 0 degrees (the pictures match the other modes) and is a rigid matrix
  * the stream never shows alone. */
-static void draw_mvp(GLint location, const double *proj, double turn_deg)
+static void draw_mvp(GLint location, const double *proj, double turn_deg, GLint modelview_location)
 {
     /* glRotated(turn, 0, 1, 0) */
     const double t = turn_deg * M_PI / 180.0, ct = cos(t), st = sin(t);
     const double view[16] = {ct, 0, -st, 0, 0, 1, 0, 0, st, 0, ct, 0, 0, 0, 0, 1};
     double pv[16], m[16], model[16];
-    mul(pv, proj, view);
-    upload(location, pv);
+    /* --modelview: the projection alone in `location`, view * model in `modelview_location` */
+    const int split = modelview_location >= 0;
+    if (split) upload(location, proj);
+    mul(pv, split ? view : proj, split ? (const double[16]){1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1} : view);
+    upload(split ? modelview_location : location, pv);
     glBegin(GL_QUADS);  /* the floor, modelled in place */
     glColor3ub(90, 90, 90);
     glNormal3f(0, 1, 0);
@@ -317,7 +323,7 @@ static void draw_mvp(GLint location, const double *proj, double turn_deg)
         const double place[16] = {c, 0, s, 0, 0, 1, 0, 0, -s, 0, c, 0, 6 * s, 0, -6 * c, 1};
         memcpy(model, place, sizeof place);
         mul(m, pv, model);
-        upload(location, m);
+        upload(split ? modelview_location : location, m);
         glColor3ub((GLubyte)(40 + 16 * k), (GLubyte)(200 - 12 * k), (GLubyte)(255 - 20 * k));
         glNormal3d(-s, 0, c);  /* (the world's: --sun lights in the world's space) */
         glBegin(GL_QUADS);  /* the pillar at the origin, facing +z */
@@ -446,6 +452,7 @@ int main(int argc, char **argv)
     struct app_args a;
     const int builtins = app_take_flag(&argc, &argv, "--builtins");
     const int mvp = app_take_flag(&argc, &argv, "--mvp");
+    const int modelview = mvp && app_take_flag(&argc, &argv, "--modelview");
     const int grow = app_take_flag(&argc, &argv, "--grow");
     const int shader = app_take_flag(&argc, &argv, "--shader") || builtins || mvp;
     const int fbo_mode = app_take_flag(&argc, &argv, "--fbo");
@@ -538,9 +545,14 @@ int main(int argc, char **argv)
         usleep(150000);  /* past the shim's 100 ms between two looks at the window's size */
     }
     GLuint program = 0;
-    GLint proj_location = -1;
+    GLint proj_location = -1, modelview_location = -1;
     if (shader) {
-        const char *vs = sun_text && mvp
+        const char *vs = sun_text && modelview
+                             ? "#version 120\nuniform mat4 projection, modelView;\nuniform vec3 u_lightDirection;\n"
+                               "void main() { float lit = 0.55 + 0.45 * abs(dot(mat3(modelView) * gl_Normal,"
+                               " normalize(u_lightDirection)));"
+                               " gl_FrontColor = vec4(gl_Color.rgb * lit, 1.0); gl_Position = projection * modelView * gl_Vertex; }\n"
+                         : sun_text && mvp
                              ? "#version 120\nuniform mat4 mvp;\nuniform vec3 sun_direction;\n"
                                "void main() { float lit = 0.55 + 0.45 * abs(dot(gl_Normal, normalize(sun_direction)));"
                                " gl_FrontColor = vec4(gl_Color.rgb * lit, 1.0); gl_Position = mvp * gl_Vertex; }\n"
@@ -581,7 +593,8 @@ int main(int argc, char **argv)
             fprintf(stderr, "pillars: shader program does not link\n");
             return 1;
         }
-        proj_location = glGetUniformLocation(program, mvp ? "mvp" : "proj");
+        proj_location = glGetUniformLocation(program, modelview ? "projection" : mvp ? "mvp" : "proj");
+        if (modelview) modelview_location = glGetUniformLocation(program, "modelView");
         if (objects) {  /* block bindings 1 (the objects) and 2 (the view) */
             GLuint ubo[2];
             glGenBuffers(2, ubo);
@@ -604,7 +617,8 @@ int main(int argc, char **argv)
         }
         if (sun_text) {
             glUseProgram(program);
-            glUniform3f(glGetUniformLocation(program, "sun_direction"), (GLfloat)sun[0], (GLfloat)sun[1], (GLfloat)sun[2]);
+            glUniform3f(glGetUniformLocation(program, modelview ? "u_lightDirection" : "sun_direction"), (GLfloat)sun[0],
+                        (GLfloat)sun[1], (GLfloat)sun[2]);
             glUseProgram(0);
         }
     }
@@ -794,7 +808,7 @@ int main(int argc, char **argv)
             glLightfv(GL_LIGHT0, GL_POSITION, position);
         }
         if (mvp) {
-            draw_mvp(proj_location, proj, turn);
+            draw_mvp(proj_location, proj, turn, modelview_location);
         } else {
             if (foliage) {
                 glBindTexture(GL_TEXTURE_2D, leaves);

@@ -5,7 +5,11 @@ The ring of pillars (tests/apps_extra/pillars.c), its camera turned 40 degrees s
 world's space and the eye's differ, lit by its shader program from a sun given in the world's
 space: a `sun_direction` uniform (towards the sun), the same uniform with its sign flipped (the
 way the light travels, as minetest's v_LightDirection goes), and fixed-function light 0 read
-through gl_LightSource[0] with GL_LIGHTING off. The ground truth is the unlit fixed-function
+through gl_LightSource[0] with GL_LIGHTING off, and a program that keeps a projection and a
+model-view matrix (no world space in its shaders) with its light in the eye's space under a name
+that does not say so (`u_lightDirection`, as Castle Game Engine's view3dscene keeps its
+`castle_LightSource0Position`): before, that light was taken for the world's and turned through
+the view. The ground truth is the unlit fixed-function
 program with the passes' light set by parameters to that sun in the eye's space (the turn applied
 by the test): the floor pixels it shadows are the pixels the sun's shadows cover. Every sun
 program must shadow at least 90% of them and few others, with both shadow methods; the passes'
@@ -63,7 +67,8 @@ def main():
     against = tuple(-c for c in sun)
     programs = {"fixed": [], "sun_builtins": ["--builtins", "--turn", str(TURN), "--sun", vector(sun)],
                 "sun_travel_mvp": ["--mvp", "--turn", str(TURN), "--sun", vector(against)],
-                "gl_light_builtins": ["--builtins", "--turn", str(TURN), "--gl-light", vector(sun)]}
+                "gl_light_builtins": ["--builtins", "--turn", str(TURN), "--gl-light", vector(sun)],
+                "eye_light_modelview": ["--mvp", "--modelview", "--turn", str(TURN), "--sun", vector(EYE_LIGHT)]}
     programs["fixed"] = ["--turn", str(TURN)]
     frame = "frame-000001.png"
 
