@@ -344,6 +344,40 @@ void EffectsRunner::frame_view(SlaveContext& ctx, effects::FrameView& v) {
         };
         v.redraw_binds_programs = programs;
     }
+    st->painter_depth_done = false;
+    if (v.redraw && shown.facts.painter_draws && v.view_known) {
+        // (snow then tests its flakes against this depth, not the window's)
+        v.window_depth_matches = false;
+        const glm::dmat4 correction = v.tile_clip_from_eye * glm::inverse(v.projection);
+        v.depth_texture = [this, c, st, base = v.depth_texture, view = v, correction] {
+            const GLuint depth = base();
+            if (!st->painter_depth_done) complete_painter_depth(*c, view, depth, correction);
+            st->painter_depth_done = true;
+            return depth;
+        };
+    }
+}
+
+void EffectsRunner::complete_painter_depth(SlaveContext& ctx, const effects::FrameView& v, GLuint depth,
+                                           const glm::dmat4& correction) {
+    ContextPasses& st = passes(ctx);
+    const GlApi& gl = core_.api();
+    effects::StateGuard guard(gl);
+    if (!st.painter_depth_fb) gl.glGenFramebuffers(1, &st.painter_depth_fb);
+    gl.glBindFramebuffer(GL_FRAMEBUFFER, st.painter_depth_fb);
+    gl.glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, depth, 0);
+    gl.glDrawBuffer(GL_NONE);
+    gl.glReadBuffer(GL_NONE);
+    if (gl.glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) return;
+    gl.glViewport(0, 0, ctx.width, ctx.height);
+    gl.glDisable(GL_BLEND);
+    gl.glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    gl.glEnable(GL_DEPTH_TEST);
+    gl.glDepthFunc(GL_LEQUAL);
+    gl.glDepthMask(GL_TRUE);
+    if (!v.redraw_binds_programs) gl.glUseProgram(0);  // (fixed function: the program's own transform)
+    v.redraw(correction);
+    gl.glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, 0, 0);
 }
 
 void EffectsRunner::convert_depth(SlaveContext& ctx, effects::FrameView& v, const glm::dmat4& planar) {

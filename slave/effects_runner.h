@@ -70,6 +70,8 @@ private:
         DepthConvention depth;  // this frame's: the program's depth as the passes read it
         glm::dmat4 pass_clip_from_program_clip{1.0};  // the depth conversion's, with the tile's map
         GLuint report_mask = 0, report_mask_fb = 0;   // --scene-report: the kept pixels
+        GLuint painter_depth_fb = 0;  // the passes' depth completed by a painter's draws, once a frame
+        bool painter_depth_done = false;
         int report_size[2] = {0, 0};
         UnderOverlays under_overlays;
     };
@@ -86,6 +88,11 @@ private:
     // projection, the window's depth converted, redraws corrected.
     void convert_depth(SlaveContext& ctx, effects::FrameView& v, const glm::dmat4& planar);
     void redraw_main_view(SlaveContext& ctx, const glm::dmat4& correction);
+    // A frame with draws of the main view made with the depth test off (SceneFacts::painter_draws):
+    // `depth` (the passes' depth texture, this tile's size) gets their surfaces from a depth-only
+    // redraw of the main view with the depth test on, `correction` putting it on the tile.
+    void complete_painter_depth(SlaveContext& ctx, const effects::FrameView& v, GLuint depth,
+                                const glm::dmat4& correction);
     // Draws the program's own pixels back over the passes' into `target` (0: the window).
     void put_overlays_back(SlaveContext& ctx, bool overlays, bool target_overlays, GLuint target = 0);
     void report_scene(SlaveContext& ctx, const effects::FrameView& view, bool overlays, bool target_overlays, bool kept);

@@ -36,9 +36,11 @@ void forget_view(SceneFacts& f) {
 
 // A fixed-function draw: the first with a perspective projection that writes depth, unless
 // its modelview is mirrored, is the main view; later ones with the same projection into the
-// same target belong to it. A backdrop drawn first without depth writes (a star field) is
-// neither the main view nor, after it, the start of the overlays; the window's depth does
-// not have it, and the redraw leaves it out.
+// same target belong to it, those that write depth and those drawn in a painter's order with
+// the depth test off (pillars --overlay), whose surfaces the window's depth lacks: redrawn, they
+// cast their shadows and give their own normals. A backdrop drawn first without depth writes (a
+// star field) is neither the main view nor, after it, the start of the overlays; the window's
+// depth does not have it, and the redraw leaves it out.
 bool fixed_function_draw_is_main(SceneFacts& f, DrawState& s, GLuint framebuffer, const ClassifierSettings& settings,
                                   bool& found) {
     const glm::dmat4 app = s.projection();
@@ -52,14 +54,16 @@ bool fixed_function_draw_is_main(SceneFacts& f, DrawState& s, GLuint framebuffer
             found = true;
         }
     }
-    return f.main_known && !f.overlay && app == f.projection && depth && framebuffer == f.scene_framebuffer;
+    return f.main_known && !f.overlay && app == f.projection && (depth || !s.depth_test()) &&
+           framebuffer == f.scene_framebuffer;
 }
 
 // A shader program's draw belongs to the main view when its camera (found from its matrices,
 // program_camera.h) has the main view's projection, the first such draw making the main view;
 // with a configured projection, every draw to the window before the overlays does. Only draws
-// that write depth with the depth test on: a sky drawn without depth is no caster, and the
-// window's depth does not have it either.
+// that write depth with the depth test on, or, after the main view, draw in a painter's order
+// with it off: a sky drawn without depth writes (the test on) is no caster, and the window's
+// depth does not have it either.
 bool shader_draw_is_main(SceneFacts& f, DrawState& s, GLuint program, GLuint framebuffer,
                          const ClassifierSettings& settings, bool& found) {
     if (f.main_known && !settings.redraws) return false;  // no pass re-renders: the camera is all we need
@@ -75,7 +79,7 @@ bool shader_draw_is_main(SceneFacts& f, DrawState& s, GLuint program, GLuint fra
         f.light = s.program_light(program, camera);
         found = true;
     }
-    return !f.overlay && same_projection(camera.projection, f.projection) && s.writes_depth() &&
+    return !f.overlay && same_projection(camera.projection, f.projection) && (s.writes_depth() || !s.depth_test()) &&
            framebuffer == f.scene_framebuffer;
 }
 
@@ -97,6 +101,7 @@ DrawVerdict classify_draw(SceneFacts& f, DrawState& s, GLuint framebuffer, const
     }
     if (v.main) v.cull = s.cull(), v.alpha = s.alpha_test();
     if (v.main && s.program()) f.main_shader_draws = true;
+    if (v.main && !s.depth_test()) f.painter_draws = true;
     return v;
 }
 

@@ -21,6 +21,9 @@ struct SceneFacts {
     // ... some draw of the main view did: its redraw binds the programs the frame used. (A
     // fixed-function scene shown by a GLSL blit or composite is redrawn as fixed function.)
     bool main_shader_draws = false;
+    // ... some draw of the main view had the depth test off (a painter's order): the window's
+    // depth lacks its surfaces, which the passes' depth gets from a redraw (EffectsRunner).
+    bool painter_draws = false;
     // The window's colour was cleared whole (clears_whole_colour) before the main view: the
     // frame is a new picture (so is one whose offscreen scene is shown_whole), and the passes
     // may decorate its scene when the overlays start, under them (the program's translucent

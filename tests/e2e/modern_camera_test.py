@@ -37,6 +37,11 @@ A reflection drawn into the floor with the depth test off under the main view's 
 floor then drawn again over it (pillars --reflection, as neverball draws its mirror), is the
 scene's: the pillars drawn after it cast their shadows and get their cover as without it (before,
 the fixed-function program's reflection started the overlays: 0 floor pixels shadowed of 3,214).
+Pillars drawn after the floor with the depth test off (pillars --overlay, a painter's order: the
+same picture) are the scene's: they cast their shadows, with both methods, and keep no cover, as
+with the depth test; the passes' depth gets them from a depth-only redraw (before, they were no
+part of the main view: no shadow fell, and the cover took the floor's depth behind them for
+theirs and whitened their lower halves: 17,350 pixels off with the built-ins).
 A scene drawn upside down into its target and shown by a blit that swaps its rows (pillars --fbo
 --mirror, as a Direct3D program under Wine presents) is decorated as the upright one: the passes
 read it as an upper-left origin (before: its depth was read unmirrored, and the cover whitened
@@ -96,7 +101,8 @@ def main():
              "scaled": ["--scale", "10"], "scaled_builtins": ["--builtins", "--scale", "10"],
              "reflection": ["--reflection"], "reflection_builtins": ["--builtins", "--reflection"],
              "fbo_mirror": ["--fbo", "--mirror"], "fbo_hud_window": ["--fbo", "--hud"],
-             "fbo_hud_mirror": ["--fbo", "--hud", "--mirror"]}
+             "fbo_hud_mirror": ["--fbo", "--hud", "--mirror"], "painter": ["--overlay"],
+             "painter_builtins": ["--builtins", "--overlay"]}
     for mode, flags in modes.items():
         capture = os.path.join(OUT, f"{mode}.glcs")
         with Xvfb():
@@ -141,6 +147,13 @@ def main():
               f"{mode}: {c} floor pixels covered, the fixed-function program {covered}")
         check(abs(s - shadowed) <= max(10, shadowed // 10),
               f"{mode}: {s} floor pixels shadowed, the fixed-function program {shadowed}")
+    # The painter's pillars keep no cover: the whole picture is the depth-tested one's.
+    for mode, reference in (("painter", "fixed"), ("painter_builtins", "builtins")):
+        w, h, a = read_png(os.path.join(OUT, f"{reference}-cover", "frame-000001.png"))
+        _, _, b = read_png(os.path.join(OUT, f"{mode}-cover", "frame-000001.png"))
+        differ = sum(1 for y in range(h) for x in range(w) if max(abs(a[y][x][i] - b[y][x][i]) for i in range(3)) > 8)
+        print(f"{mode} cover: {differ} of {w * h} pixels off {reference}'s")
+        check(differ <= w * h // 1000, f"{mode}: the cover differs from {reference}'s in {differ} pixels")
     # What the slave reports of the frame (glcast replay --scene-report, which the compatibility
     # table measures with): the pixels it keeps are the hand's, and the depth the passes read
     # is the scene's under it (the floor at the bottom, the sky's far plane under the hand).

@@ -271,6 +271,29 @@ TEST(SceneClassifier, AShaderDrawWhoseMatricesHoldACameraIsTheMainView) {
     EXPECT_TRUE(facts.main_shader_draws);  // its redraw binds the programs
 }
 
+TEST(SceneClassifier, APaintersDrawAfterTheViewIsTheViewsToo) {
+    // pillars --overlay: the pillars drawn after the floor with the depth test off.
+    SceneFacts facts;
+    Given s;
+    s.depth_on = false;
+    EXPECT_FALSE(classify_draw(facts, s, 0, kPasses).main);  // a backdrop before the view: no part of it
+    EXPECT_FALSE(facts.main_known);
+    s.depth_on = true;
+    ASSERT_TRUE(classify_draw(facts, s, 0, kPasses).main);
+    EXPECT_FALSE(facts.painter_draws);
+    s.depth_on = false;
+    EXPECT_TRUE(classify_draw(facts, s, 0, kPasses).main);
+    EXPECT_TRUE(facts.painter_draws);
+    s.depth_on = true, s.depth_mask = false;  // the test on, no writes (a translucent draw): not a caster
+    SceneFacts glass;
+    classify_draw(glass, s, 0, kPasses);
+    s.depth_mask = true;
+    classify_draw(glass, s, 0, kPasses);
+    s.depth_mask = false;
+    EXPECT_FALSE(classify_draw(glass, s, 0, kPasses).main);
+    EXPECT_FALSE(glass.painter_draws);
+}
+
 TEST(SceneClassifier, AFixedFunctionSceneShownByAShaderProgramIsRedrawnAsFixedFunction) {
     // pillars --fbo --region --wire: the scene by fixed function into its target, then one GLSL
     // draw to the window mixes the scene's texture and the overlay engine's.
