@@ -43,6 +43,10 @@ bool DriverDrawState::depth_test() {
     return known_or(known_.depth_test, [&] { return gl_.glIsEnabled(GL_DEPTH_TEST) != 0; });
 }
 
+bool DriverDrawState::blends() {
+    return known_or(known_.blend, [&] { return gl_.glIsEnabled(GL_BLEND) != 0; });
+}
+
 bool DriverDrawState::depth_always() {
     return known_or(known_.depth_func, [&] { return GLenum(integer(gl_, GL_DEPTH_FUNC)); }) == GL_ALWAYS;
 }

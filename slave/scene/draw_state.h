@@ -45,6 +45,7 @@ public:
     virtual bool depth_test() = 0;
     virtual bool writes_depth() = 0;        // the depth test on and depth writes enabled
     virtual bool depth_always() = 0;        // the depth function passes everything (GL_ALWAYS)
+    virtual bool blends() = 0;              // GL_BLEND is on: the draw is translucent
     // glDepthRange(0, f) with f < 1, a draw kept in front of the world (a view model); else 0.
     virtual double view_model_far() = 0;
     virtual glm::dmat4 projection() = 0;    // the program's own fixed-function projection now
@@ -84,6 +85,7 @@ public:
     bool depth_test() override;
     bool writes_depth() override;
     bool depth_always() override;
+    bool blends() override;
     double view_model_far() override;
     glm::dmat4 projection() override;
     glm::dmat4 modelview() override;

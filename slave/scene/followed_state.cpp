@@ -66,6 +66,7 @@ void FollowedState::follow(const Call& c, ContextNames& names) {
         const bool on = sem.twin == OP_glEnable;
         if (u32(c, 0) == GL_DEPTH_TEST) depth_test = on;
         if (u32(c, 0) == GL_CULL_FACE) cull_face = on;
+        if (u32(c, 0) == GL_BLEND) blend = on;
         if (u32(c, 0) == GL_ALPHA_TEST) alpha_test = on;
         return;
     }

@@ -18,7 +18,7 @@ namespace glcast::slave {
 
 struct FollowedState {
     std::optional<GLuint> draw_framebuffer, read_framebuffer;  // the slave's names
-    std::optional<bool> depth_test, depth_mask, cull_face;
+    std::optional<bool> depth_test, depth_mask, cull_face, blend;
     std::optional<GLenum> cull_face_mode, front_face, depth_func;
     std::optional<std::pair<double, double>> depth_range;
     // Alpha test (compatibility profile): a value no call set counts as GL's initial one.

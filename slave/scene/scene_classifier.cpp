@@ -34,6 +34,11 @@ void forget_view(SceneFacts& f) {
     f.light = effects::SceneLight{};
 }
 
+// A blended draw after the view is translucent (minetest's cloud layer, drawn last, writing
+// depth): no part of the view's redraw, so it casts no hard shadow over the world under it; the
+// window's depth still has it. (The draw that finds the view is the view's whatever it does.)
+bool translucent_after_view(const SceneFacts& f, DrawState& s, bool found) { return !found && f.main_known && s.blends(); }
+
 // A fixed-function draw: the first with a perspective projection that writes depth, unless
 // its modelview is mirrored, is the main view; later ones with the same projection into the
 // same target belong to it, those that write depth and those drawn in a painter's order with
@@ -55,7 +60,7 @@ bool fixed_function_draw_is_main(SceneFacts& f, DrawState& s, GLuint framebuffer
         }
     }
     return f.main_known && !f.overlay && app == f.projection && (depth || !s.depth_test()) &&
-           framebuffer == f.scene_framebuffer;
+           framebuffer == f.scene_framebuffer && !translucent_after_view(f, s, found);
 }
 
 // A shader program's draw belongs to the main view when its camera (found from its matrices,
@@ -80,7 +85,7 @@ bool shader_draw_is_main(SceneFacts& f, DrawState& s, GLuint program, GLuint fra
         found = true;
     }
     return !f.overlay && same_projection(camera.projection, f.projection) && (s.writes_depth() || !s.depth_test()) &&
-           framebuffer == f.scene_framebuffer;
+           framebuffer == f.scene_framebuffer && !translucent_after_view(f, s, found);
 }
 
 }  // namespace

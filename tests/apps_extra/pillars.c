@@ -106,6 +106,10 @@
  * glBlitFramebuffer into the window whose destination's rows are swapped, so that the picture is
  * the upright one: as a Direct3D program under Wine draws (its origin top left) and presents.
  *
+ * With --canopy (fixed function) a translucent white sheet (alpha 60/255) spans the sky at y = 8,
+ * above the pillars' tops, drawn last with blending and the depth test and writes on, as minetest
+ * draws its cloud layer.
+ *
  * With --reflection (not --mvp, --reversed or --foliage) the floor gets a reflection as neverball
  * draws its mirror: after the floor, with the depth test off and the main view's projection, a
  * quad in the floor's plane (the reflection's sky, REFLECTION's colour), then the floor again over
@@ -154,7 +158,7 @@
  * u_lightDirection` in the eye's space, as uploaded, each face lit by the eye-space normal.
  *
  *   pillars [--shader | --builtins | --mvp [--modelview]] [--grow] [--fbo [--half | --region [--blit]] [--mrt | --msaa] [--depth-texture]] [--reversed] [--hud [--in-scene [--depth-on]]]
- *           [--hand] [--left-handed] [--mixed] [--foliage] [--post] [--grade] [--markers] [--cull] [--overlay] [--wire] [--mirror] [--reflection] [--objects] [--fov DEG]
+ *           [--hand] [--left-handed] [--mixed] [--foliage] [--post] [--grade] [--markers] [--cull] [--overlay] [--wire] [--mirror] [--reflection] [--canopy] [--objects] [--fov DEG]
  *           [--fisheye] [--scale S] [--turn DEG] [--sun X,Y,Z | --gl-light X,Y,Z] [--frames N] [--size WxH]
  */
 #define GL_GLEXT_PROTOTYPES 1
@@ -478,6 +482,7 @@ int main(int argc, char **argv)
     const int wire = fbo_mode && !shader && !msaa && !by_blit && !post && app_take_flag(&argc, &argv, "--wire");
     const int mirror = fbo_mode && !shader && !msaa && !region && !post && !wire && app_take_flag(&argc, &argv, "--mirror");
     const int reflection = app_take_flag(&argc, &argv, "--reflection");
+    const int canopy = !shader && app_take_flag(&argc, &argv, "--canopy");
     const int objects = shader && !builtins && !mvp && app_take_flag(&argc, &argv, "--objects");
     const int fisheye = shader && !builtins && !mvp && app_take_flag(&argc, &argv, "--fisheye");
     double fov = 60;
@@ -858,6 +863,15 @@ int main(int argc, char **argv)
             if (overlay) glEnable(GL_DEPTH_TEST);
         }
         if (wire) draw_wire_box(wire_fbo, fbo);
+        if (canopy) {  /* a translucent sheet over everything, drawn last, writing depth */
+            glEnable(GL_BLEND);
+            glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+            glColor4ub(255, 255, 255, 60);
+            glBegin(GL_QUADS);
+            glVertex3d(-50, 8, 50); glVertex3d(50, 8, 50); glVertex3d(50, 8, -50); glVertex3d(-50, 8, -50);
+            glEnd();
+            glDisable(GL_BLEND);
+        }
         if (markers) {
             if (mvp) upload(proj_location, proj);  /* the view is the identity: the points as modelled */
             else if (shader && mixed) glUseProgram(program);

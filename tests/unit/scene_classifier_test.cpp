@@ -26,6 +26,7 @@ struct Given final : DrawState {
     CullState culling{true, GL_BACK, GL_CCW};
     AlphaTest alpha;
     bool always = false;
+    bool blending = false;
     int32_t vp[4] = {0, 0, 640, 480};
     bool has_camera = false;
     ProgramCamera cam;
@@ -39,6 +40,7 @@ struct Given final : DrawState {
     GLuint program() override { return asked++, current_program; }
     bool depth_test() override { return asked++, depth_on; }
     bool writes_depth() override { return asked++, depth_on && depth_mask; }
+    bool blends() override { return asked++, blending; }
     double view_model_far() override { return asked++, far; }
     glm::dmat4 projection() override { return asked++, proj; }
     glm::dmat4 modelview() override { return asked++, mv; }
@@ -292,6 +294,17 @@ TEST(SceneClassifier, APaintersDrawAfterTheViewIsTheViewsToo) {
     s.depth_mask = false;
     EXPECT_FALSE(classify_draw(glass, s, 0, kPasses).main);
     EXPECT_FALSE(glass.painter_draws);
+}
+
+TEST(SceneClassifier, ABlendedDrawAfterTheViewIsNoPartOfIt) {
+    // minetest's cloud layer: drawn last, blended, writing depth: no caster.
+    SceneFacts facts;
+    Given s;
+    s.blending = true;
+    EXPECT_TRUE(classify_draw(facts, s, 0, kPasses).found_view);  // the view's first draw, whatever it does
+    EXPECT_FALSE(classify_draw(facts, s, 0, kPasses).main);
+    s.blending = false;
+    EXPECT_TRUE(classify_draw(facts, s, 0, kPasses).main);
 }
 
 TEST(SceneClassifier, AFixedFunctionSceneShownByAShaderProgramIsRedrawnAsFixedFunction) {
