@@ -363,10 +363,10 @@ KNOWN = """## What the table does not show
   distances (about 12 nodes; a fixed 60 eye units, six nodes, before), so its hill's face, turned
   away from the configured light, is shadowed as far; the wheat shadows the ground in front.
   Its shaders keep no sun glcast recognises (`v_LightDirection` only with its dynamic shadows on).
-  The table's newest capture (stop 48) looks at the hill with the cloud layer overhead: the
-  clouds are drawn last, blended, writing depth, and the shadow map takes them for a caster, so
-  the whole field and the hill lie in their shadow (68.9% of the lit pixels darkened, where the
-  earlier capture, under open sky, had 2.7%). Translucent casters are not told apart yet.
+  Its cloud layer is drawn last, blended, writing depth: until this stop the shadow map took it
+  for a caster, and in a capture that looks at the hill with the clouds overhead the whole field
+  and the hill lay in their shadow (68.9% of the lit pixels darkened); a blended draw after the
+  view is no caster now (docs/effects.md).
 - **stellarium** draws the sky with its own projection in its shaders (not a linear one a tile
   can turn) and its interface with the same pipeline: no camera is found, the slave says so,
   and every tile shows the program's picture unturned. Every pass, snow included, leaves it as it
