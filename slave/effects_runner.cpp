@@ -349,17 +349,18 @@ void EffectsRunner::frame_view(SlaveContext& ctx, effects::FrameView& v) {
         // (snow then tests its flakes against this depth, not the window's)
         v.window_depth_matches = false;
         const glm::dmat4 correction = v.tile_clip_from_eye * glm::inverse(v.projection);
-        v.depth_texture = [this, c, st, base = v.depth_texture, view = v, correction] {
+        v.depth_texture = [this, c, st, base = v.depth_texture, redraw = v.redraw,
+                           programs = v.redraw_binds_programs, correction] {
             const GLuint depth = base();
-            if (!st->painter_depth_done) complete_painter_depth(*c, view, depth, correction);
+            if (!st->painter_depth_done) complete_painter_depth(*c, redraw, programs, depth, correction);
             st->painter_depth_done = true;
             return depth;
         };
     }
 }
 
-void EffectsRunner::complete_painter_depth(SlaveContext& ctx, const effects::FrameView& v, GLuint depth,
-                                           const glm::dmat4& correction) {
+void EffectsRunner::complete_painter_depth(SlaveContext& ctx, const std::function<void(const glm::dmat4&)>& redraw,
+                                           bool binds_programs, GLuint depth, const glm::dmat4& correction) {
     ContextPasses& st = passes(ctx);
     const GlApi& gl = core_.api();
     effects::StateGuard guard(gl);
@@ -375,8 +376,8 @@ void EffectsRunner::complete_painter_depth(SlaveContext& ctx, const effects::Fra
     gl.glEnable(GL_DEPTH_TEST);
     gl.glDepthFunc(GL_LEQUAL);
     gl.glDepthMask(GL_TRUE);
-    if (!v.redraw_binds_programs) gl.glUseProgram(0);  // (fixed function: the program's own transform)
-    v.redraw(correction);
+    if (!binds_programs) gl.glUseProgram(0);  // (fixed function: the program's own transform)
+    redraw(correction);
     gl.glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, 0, 0);
 }
 

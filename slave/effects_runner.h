@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <stdexcept>
 #include <unordered_map>
@@ -90,9 +91,10 @@ private:
     void redraw_main_view(SlaveContext& ctx, const glm::dmat4& correction);
     // A frame with draws of the main view made with the depth test off (SceneFacts::painter_draws):
     // `depth` (the passes' depth texture, this tile's size) gets their surfaces from a depth-only
-    // redraw of the main view with the depth test on, `correction` putting it on the tile.
-    void complete_painter_depth(SlaveContext& ctx, const effects::FrameView& v, GLuint depth,
-                                const glm::dmat4& correction);
+    // `redraw` of the main view (FrameView::redraw) with the depth test on, `correction` putting
+    // it on the tile.
+    void complete_painter_depth(SlaveContext& ctx, const std::function<void(const glm::dmat4&)>& redraw,
+                                bool binds_programs, GLuint depth, const glm::dmat4& correction);
     // Draws the program's own pixels back over the passes' into `target` (0: the window).
     void put_overlays_back(SlaveContext& ctx, bool overlays, bool target_overlays, GLuint target = 0);
     void report_scene(SlaveContext& ctx, const effects::FrameView& view, bool overlays, bool target_overlays, bool kept);
