@@ -134,6 +134,10 @@ class Semantics:
         redraw = s["redraw"]
         kind = "draw" if p.draw else next((k for k in REDRAW_KINDS if self.find(cmd, redraw.get(k, []))[0]), None)
         sem["redraw"] = kind
+        # A draw's primitive mode, from gl.xml's group (lines and points are drawn over a scene's
+        # surfaces, not surfaces: slave/scene/scene_classifier.h, marks); -1: none, or an array.
+        sem["primitive_param"] = next((i for i, q in enumerate(cmd.params) if q.group == "PrimitiveType" and not q.stars),
+                                      -1) if kind in ("draw", "begin") else -1
         pat, _ = self.find(cmd, redraw.get("state_if_first_is") or {})
         sem["redraw_first_values"] = []
         if pat:

@@ -107,6 +107,7 @@ struct CommandSemantics {
     uint8_t flags;              // SemanticFlags
     uint8_t redraw_first_count; // > 0: kept for redraw only when the first parameter is one of
     const uint32_t* redraw_first_values;
+    int8_t primitive_param;     // a draw's primitive mode (gl.xml group PrimitiveType), or -1
 };
 
 struct CommandInfo {

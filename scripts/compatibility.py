@@ -284,16 +284,19 @@ KNOWN = """## What the table does not show
   (X3D for view3dscene; OSG's `.rot` pseudo-loader for osgviewer; `$vp*` for openscad): before,
   they looked straight down at it, where the default light hid each shadow under its box.
   view3dscene projects with an infinite far plane (for its shadow volumes); the shadow map's
-  frustum was then NaN and no shadow was drawn: now its boxes cast contact shadows (and its green
-  bounding-box lines thin ones). osgviewer lights with a headlight (GL_LIGHT0 along the view
-  axis), whose shadows all lie behind their casters: a headlight gives way to the default light
-  (docs/shadows.md), and the boxes' shadows show. view3dscene's light (Castle Game Engine's
+  frustum was then NaN and no shadow was drawn: now its boxes cast contact shadows. osgviewer
+  lights with a headlight (GL_LIGHT0 along the view axis), whose shadows all lie behind their
+  casters: a headlight gives way to the default light (docs/shadows.md), and the boxes' shadows
+  show. view3dscene's light (Castle Game Engine's
   `castle_LightSource0Position`, its headlight) is in the eye's space beside a model-view matrix;
-  until this stop it was turned through the view as a world position, a point light under the
-  floor: the cover was lit from below, grey-blue (9% of the upward pixels whiter, now 97%), and
-  the shadows came from under the boxes (0.5% of the lit pixels, now 5.3% with the default
-  light). Its green bounding-box lines get icicles and cast thin shadows: lines are drawn with the
-  scene's camera and depth, and the passes take them for geometry.
+  it was first turned through the view as a world position, a point light under the
+  floor: the cover was lit from below, grey-blue (9% of the upward pixels whiter, then 97%), and
+  the shadows came from under the boxes (0.5% of the lit pixels, then 5.3% with the default
+  light). Its green bounding-box lines, drawn last with the scene's camera and depth, were taken
+  for geometry until this stop: the cover whitened them and hung icicles from them over the plate,
+  and they cast thin shadows across it (the 5.3% had them). Lines and points drawn after the
+  view's surfaces are marks now (docs/effects.md, "Marks"): kept as drawn, no casters, not in the
+  passes' depth; the shadows are the boxes' alone (4.0%).
 - **openscad** (Qt, `QOpenGLWidget`) draws its 3D view with a context of its own (current on a
   1x1 pbuffer, never presenting) into a framebuffer object of the widget's size, and only when
   the view changes (frames 0 and 7 of 60 here); each shown frame, the window's context only

@@ -61,10 +61,30 @@ EffectsRunner::EffectsRunner(Replayer& core, TileAdapter& tile) : core_(core), t
             decorate(ctx, /*under_overlays=*/true);
             return;
         }
+        const SceneFacts& facts = scenes_.scene(ctx).facts;
+        if (facts.marks && !facts.scene_framebuffer) return;  // kept before the marks
         WindowCopies& copies = passes(ctx).copies;
         copies.size(ctx);
         copies.copy(ctx, copies.scene_image_fb, false);
-        if (scenes_.scene(ctx).facts.depth_cleared) copies.keep_depth(ctx);
+        if (facts.depth_cleared) copies.keep_depth(ctx);
+    };
+    // The scene before the main view's lines and points, which are no part of it; a surface
+    // after them says they were.
+    scenes_.on_marks = [this](SlaveContext& ctx, bool start) {
+        ContextScene& scene = scenes_.scene(ctx);
+        WindowCopies& copies = passes(ctx).copies;
+        if (scene.facts.scene_framebuffer) {  // (ended: the classifier dropped the target's copies)
+            if (start) {
+                copies.keep_scene_target(ctx, scene, /*final=*/false);
+                copies.keep_scene_depth(scene);
+            }
+        } else if (!start) {
+            copies.forget_kept_depth();
+        } else {
+            copies.size(ctx);
+            copies.copy(ctx, copies.scene_image_fb, false);
+            copies.keep_depth(ctx);
+        }
     };
     // The scene's depth before an overlay engine's target that holds it gets its wire frames.
     scenes_.on_scene_depth_shared = [this](SlaveContext& ctx) {
@@ -162,12 +182,16 @@ void EffectsRunner::decorate(SlaveContext& ctx, bool under_overlays) {
         frame_view(ctx, view);
         WindowCopies& copies = st.copies;
         copies.size(ctx);
-        if (!under_overlays) {  // (a frame decorated under its overlays is a new picture: nothing to give back)
-            copies.copy(ctx, copies.program_image_fb, false);
-            copies.program_image_saved = true;
-        }
         const bool sized = copies.sized(ctx);
-        const bool overlays = !under_overlays && scene.facts.overlay && sized;
+        // The main view's lines and points in the window: scene_image holds the scene before them
+        // (on_marks), what differs from it is the program's, as its overlays are.
+        const bool window_marks = scene.facts.marks && !scene.facts.scene_framebuffer && sized;
+        if (!under_overlays || window_marks) {
+            copies.copy(ctx, copies.program_image_fb, false);
+            // (a frame decorated under its overlays is a new picture: nothing to give back)
+            if (!under_overlays) copies.program_image_saved = true;
+        }
+        const bool overlays = ((!under_overlays && scene.facts.overlay) || window_marks) && sized;
         if (overlays) copies.copy(ctx, copies.scene_image_fb, false, /*back=*/true);  // the scene alone
         // (a borrowed scene's target is another context's)
         const bool target_overlays = scene.facts.target_overlay && scene.facts.scene_framebuffer &&
@@ -183,7 +207,7 @@ void EffectsRunner::decorate(SlaveContext& ctx, bool under_overlays) {
         const bool report = !opt.scene_report_dir.empty() && view.frame >= opt.first_frame && view.frame <= opt.last_frame;
         std::string error;
         const GLenum window = ctx.double_buffered ? GL_BACK : GL_FRONT;
-        if (under_overlays && (view_model || target_overlays || engine)) {
+        if (under_overlays && !window_marks && (view_model || target_overlays || engine)) {
             // The program's pixels to put back over the passes (not to give back after present).
             copies.copy(ctx, copies.program_image_fb, false);
         }

@@ -124,6 +124,15 @@ class DeclaredSemantics(unittest.TestCase):
         self.assertEqual([e for _, e in sem("glBindBuffer")["redraw_first_values"]],
                          ["GL_ARRAY_BUFFER", "GL_ELEMENT_ARRAY_BUFFER"])
 
+    def test_primitive_modes_of_draws(self):
+        # (gl.xml's group PrimitiveType: which draws draw lines or points)
+        self.assertEqual(sem("glDrawElements")["primitive_param"], 0)
+        self.assertEqual(sem("glBegin")["primitive_param"], 0)
+        self.assertEqual(sem("glMultiDrawElementsBaseVertex")["primitive_param"], 0)
+        self.assertEqual(sem("glMultiModeDrawArraysIBM")["primitive_param"], -1)  # one mode per draw, an array
+        self.assertEqual(sem("glCallList")["primitive_param"], -1)
+        self.assertEqual(sem("glBeginTransformFeedback")["primitive_param"], -1)  # not a draw
+
     def test_state_writes_and_contexts(self):
         self.assertEqual((sem("glEnable")["state"], sem("glEnable")["state_key"]), ("enable", [0]))
         self.assertEqual((sem("glLightfv")["state"], sem("glLightfv")["state_key"]), ("lighting", [0, 1]))

@@ -72,13 +72,17 @@ public:
     // The draw about to run samples `texture`: it is bound as GL_TEXTURE_2D on one of units 0-7
     // (and, for fixed function, GL_TEXTURE_2D is enabled there).
     virtual bool samples_texture(GLuint texture) = 0;
+    // The draw's primitive mode (the call's argument: GL_LINES, GL_POINTS...); GL_TRIANGLES for a
+    // call that names none (a display list, a rectangle).
+    virtual GLenum primitive() = 0;
 };
 
 // The followed state, the tile adapter's tracking and the slave's driver, asked lazily. Lives for
 // one call; what it asks the driver of the followed values it keeps in `known`.
 class DriverDrawState final : public DrawState {
 public:
-    DriverDrawState(const GlApi& gl, TileAdapter& tile, FollowedState& known) : gl_(gl), tile_(tile), known_(known) {}
+    DriverDrawState(const GlApi& gl, TileAdapter& tile, FollowedState& known, GLenum primitive = GL_TRIANGLES)
+        : gl_(gl), tile_(tile), known_(known), primitive_(primitive) {}
     GLuint draw_framebuffer() override;
     GLuint read_framebuffer() override;
     GLuint program() override;
@@ -102,11 +106,13 @@ public:
     GLuint color_texture() override;
     bool shares_depth_with(GLuint framebuffer) override;
     bool samples_texture(GLuint texture) override;
+    GLenum primitive() override { return primitive_; }
 
 private:
     const GlApi& gl_;
     TileAdapter& tile_;
     FollowedState& known_;
+    GLenum primitive_;
 };
 
 }  // namespace glcast::slave

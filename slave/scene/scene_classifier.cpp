@@ -25,6 +25,7 @@ void found_view(SceneFacts& f, DrawState& s, GLuint framebuffer, const glm::dmat
 // What was taken for the main view was not it: the facts know no view again.
 void forget_view(SceneFacts& f) {
     f.main_known = false;
+    f.surfaces = f.marks = false;
     f.scene_framebuffer = 0;
     f.scene_depth_kept = false;
     f.overlay_texture = 0;
@@ -88,6 +89,43 @@ bool shader_draw_is_main(SceneFacts& f, DrawState& s, GLuint program, GLuint fra
            framebuffer == f.scene_framebuffer && !translucent_after_view(f, s, found);
 }
 
+bool lines_or_points(GLenum primitive) {
+    switch (primitive) {
+    case GL_POINTS: case GL_LINES: case GL_LINE_LOOP: case GL_LINE_STRIP: case GL_LINES_ADJACENCY:
+    case GL_LINE_STRIP_ADJACENCY: return true;
+    default: return false;
+    }
+}
+
+// The draw has the main view's camera (its projection: fixed function's, or a shader program's
+// found from its matrices; with a configured projection, any shader draw to the window).
+bool views_camera(const SceneFacts& f, DrawState& s, const ClassifierSettings& settings) {
+    const GLuint program = s.program();
+    if (!program) return s.projection() == f.projection;
+    if (settings.configured_projection) return !f.scene_framebuffer;
+    ProgramCamera camera;
+    return s.camera(program, camera) && same_projection(camera.projection, f.projection);
+}
+
+// Lines or points over the view's surfaces, drawn into its target with its camera and the depth test on.
+bool is_mark(const SceneFacts& f, DrawState& s, GLuint framebuffer, const ClassifierSettings& settings) {
+    // (not after a HUD drawn into the target, nor over an overlay engine's depth kept already)
+    const bool target_free = f.marks || (!f.target_overlay && !f.scene_depth_kept);
+    return f.main_known && f.surfaces && !f.overlay && target_free && lines_or_points(s.primitive()) &&
+           framebuffer == f.scene_framebuffer && s.depth_test() && views_camera(f, s, settings);
+}
+
+// The marks start: the scene's target (a framebuffer object's) is kept as it is before them.
+void start_marks(SceneFacts& f) {
+    f.marks = true;
+    if (f.scene_framebuffer) f.target_overlay = f.scene_depth_kept = true;
+}
+
+void end_marks(SceneFacts& f) {
+    f.marks = false;
+    if (f.scene_framebuffer) f.target_overlay = f.scene_depth_kept = false;
+}
+
 }  // namespace
 
 DrawVerdict classify_draw(SceneFacts& f, DrawState& s, GLuint framebuffer, const ClassifierSettings& settings) {
@@ -98,12 +136,28 @@ DrawVerdict classify_draw(SceneFacts& f, DrawState& s, GLuint framebuffer, const
         if (s.program()) f.shader_draws = true;
         return v;
     }
+    if (is_mark(f, s, framebuffer, settings)) {
+        if (s.program()) f.shader_draws = true;
+        v.marks_start = !f.marks;
+        if (!f.marks) start_marks(f);
+        return v;
+    }
+    const bool marks_before = f.marks;
     if (const GLuint program = s.program()) {
         f.shader_draws = true;
         v.main = shader_draw_is_main(f, s, program, framebuffer, settings, v.found_view);
     } else {
         v.main = fixed_function_draw_is_main(f, s, framebuffer, settings, v.found_view);
     }
+    // (with no pass redrawing, a shader program's later draws are not asked for their camera: the
+    // marks' end is)
+    if (marks_before && !f.overlay && framebuffer == f.scene_framebuffer && !lines_or_points(s.primitive()) &&
+        s.writes_depth() &&
+        (v.main || (!settings.redraws && s.program() && !s.blends() && views_camera(f, s, settings)))) {
+        end_marks(f);
+        v.marks_end = true;
+    }
+    if (v.main && !lines_or_points(s.primitive())) f.surfaces = true;
     if (v.main) v.cull = s.cull(), v.alpha = s.alpha_test();
     if (v.main && s.program()) f.main_shader_draws = true;
     if (v.main && !s.depth_test()) f.painter_draws = true;

@@ -83,6 +83,16 @@ struct SceneFacts {
     // alpha in the draw that shows its viewport): its covered texels are the program's overlays,
     // kept as drawn under every pass (EffectsRunner::engine_overlays).
     GLuint overlay_texture = 0;
+    // Some draw of the main view drew surfaces (not lines or points).
+    bool surfaces = false;
+    // Marks: lines and points drawn with the main view's camera and the depth test on after its
+    // surfaces (view3dscene's bounding box, a wire frame, a grid, a selection's outline, marker
+    // points), which are no surfaces: not redrawn (they cast no shadow and give no normal), and
+    // from the first the passes take the scene as it was before them: the window's colour and
+    // depth then (or the scene's target's: target_overlay and scene_depth_kept), the marks' pixels
+    // kept as drawn, as overlays are. A surface of the view after them ends them: they were among
+    // its objects, and the window's depth keeps them (the copies are forgotten).
+    bool marks = false;
     glm::dmat4 projection{1.0}, modelview{1.0};
     int32_t viewport[4] = {0, 0, 0, 0};  // the program's, master window coordinates
     effects::SceneLight light;
@@ -108,6 +118,8 @@ struct DrawVerdict {
     bool found_view = false;  // ... and is its first: the main view was found with it
     CullState cull;           // a main draw's face culling
     AlphaTest alpha;          // ... and alpha test
+    bool marks_start = false;  // the first of the view's marks (SceneFacts::marks): keep the scene now
+    bool marks_end = false;    // a surface of the view after its marks: they were the scene's
 };
 
 // What a draw to the window after the main view means for the overlays.

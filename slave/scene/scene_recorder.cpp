@@ -45,7 +45,8 @@ void SceneRecorder::record(SlaveContext& ctx, const Call& c, const uint8_t* tupl
     const GlApi& gl = core_.api();
     if (sc.loan.placement_pending && !rec.in_begin_end && rec.entries.size() > sc.loan.placement_from)
         lending_.place_borrowed_scene(ctx, sc);  // the draw that shows a borrowed scene has run
-    DriverDrawState state(gl, tile_, sc.followed);
+    const int mode = c.info ? c.info->sem.primitive_param : -1;
+    DriverDrawState state(gl, tile_, sc.followed, mode >= 0 ? GLenum(c.args[mode].bits) : GLenum(GL_TRIANGLES));
     if (sc.loan.complete && !ctx.drawing_to_window && state.draw_framebuffer() == facts.scene_framebuffer)
         sc.next_frame();  // a lent scene is kept until its next
     if (!rec.started) {
@@ -151,6 +152,8 @@ void SceneRecorder::record(SlaveContext& ctx, const Call& c, const uint8_t* tupl
         e.draw = e.opens = true;
         const DrawVerdict verdict = classify_draw(facts, state, framebuffer, settings(ctx));
         if (verdict.found_view) lending_.note_lendable_scene(ctx, sc);
+        if ((verdict.marks_start || verdict.marks_end) && on_marks) on_marks(ctx, verdict.marks_start);
+        if (verdict.marks_end) lending_.note_lendable_scene(ctx, sc);  // (its own depth again, not the kept)
         e.main = verdict.main;
         if (e.main) {
             e.cull = verdict.cull.enabled;

@@ -60,6 +60,10 @@ public:
     // Called before the first draw that writes the scene's depth from another target
     // (SceneFacts::scene_depth_kept): the scene's depth is to be kept as it is now.
     std::function<void(SlaveContext&)> on_scene_depth_shared;
+    // Called before the first of the main view's marks (SceneFacts::marks; `start` true): the
+    // scene (the window's colour and depth, or its target's) is to be kept as it is now; and
+    // when a surface after them ends them (false): what was kept is no longer the scene.
+    std::function<void(SlaveContext&, bool start)> on_marks;
 
     // Before each call the replay runs on the current context `ctx`.
     void record(SlaveContext& ctx, const Call& c, const uint8_t* tuple, size_t bytes);

@@ -49,6 +49,7 @@ public:
     // The window's depth now, before the program clears it for a view model: window_copy's
     // depth until end_frame.
     void keep_depth(SlaveContext& ctx);
+    void forget_kept_depth() { depth_kept_ = false; }  // the window's depth is the scene's again
     // A scene drawn offscreen may get the program's HUD in its own target (VTK's text actors): that
     // target's colour (its read buffer) before the first such draw (`final` false) and at the
     // frame's end, each copied at the target's size into scene_target_before / _final.

@@ -106,6 +106,12 @@
  * glBlitFramebuffer into the window whose destination's rows are swapped, so that the picture is
  * the upright one: as a Direct3D program under Wine draws (its origin top left) and presents.
  *
+ * With --bbox (fixed function, --builtins or --mvp; not --left-handed or --scale) a bounding box's twelve
+ * edges (BBOX, lines 2 pixels wide) around pillar 0, x -2..2, y -1.9..0.5, z -9..-5.5, are
+ * drawn after the pillars with the main view's camera by the program that drew them, the depth test
+ * and depth writes on, as view3dscene draws its scene's bounding box: lines over the floor, in front
+ * of pillar 0 and across the sky.
+ *
  * With --canopy (fixed function) a translucent white sheet (alpha 60/255) spans the sky at y = 8,
  * above the pillars' tops, drawn last with blending and the depth test and writes on, as minetest
  * draws its cloud layer.
@@ -158,7 +164,7 @@
  * u_lightDirection` in the eye's space, as uploaded, each face lit by the eye-space normal.
  *
  *   pillars [--shader | --builtins | --mvp [--modelview]] [--grow] [--fbo [--half | --region [--blit]] [--mrt | --msaa] [--depth-texture]] [--reversed] [--hud [--in-scene [--depth-on]]]
- *           [--hand] [--left-handed] [--mixed] [--foliage] [--post] [--grade] [--markers] [--cull] [--overlay] [--wire] [--mirror] [--reflection] [--canopy] [--objects] [--fov DEG]
+ *           [--hand] [--left-handed] [--mixed] [--foliage] [--post] [--grade] [--markers] [--cull] [--overlay] [--wire] [--mirror] [--reflection] [--bbox] [--canopy] [--objects] [--fov DEG]
  *           [--fisheye] [--scale S] [--turn DEG] [--sun X,Y,Z | --gl-light X,Y,Z] [--frames N] [--size WxH]
  */
 #define GL_GLEXT_PROTOTYPES 1
@@ -275,6 +281,27 @@ static void draw_wire_box(GLuint wire_fbo, GLuint scene_fbo)
     glBindFramebuffer(GL_FRAMEBUFFER, scene_fbo);
 }
 
+/* --bbox: the box's edges, with the current camera (inside glBegin(GL_LINES) by the caller's program) */
+static const double BBOX_LOW[3] = {-2.0, -1.9, -9.0}, BBOX_HIGH[3] = {2.0, 0.5, -5.5};
+static const GLubyte BBOX[3] = {0, 255, 0};
+
+static void draw_bbox(void)
+{
+    glLineWidth(2);
+    glColor3ub(BBOX[0], BBOX[1], BBOX[2]);
+    glBegin(GL_LINES);
+    for (int axis = 0; axis < 3; axis++)  /* the four edges along each axis */
+        for (int k = 0; k < 4; k++)
+            for (int end = 0; end < 2; end++) {
+                const int at[3] = {axis == 0 ? end : k & 1, axis == 1 ? end : axis == 0 ? k & 1 : k >> 1,
+                                   axis == 2 ? end : k >> 1};
+                glVertex3d(at[0] ? BBOX_HIGH[0] : BBOX_LOW[0], at[1] ? BBOX_HIGH[1] : BBOX_LOW[1],
+                           at[2] ? BBOX_HIGH[2] : BBOX_LOW[2]);
+            }
+    glEnd();
+    glLineWidth(1);
+}
+
 /* --hud: a panel at window pixels 20..120 x y0..y0 + 60 of 400x300 (scaled to width x height), the
  * depth test off, under an orthographic projection: fixed function, or the shader program with the
  * matrix in its uniform or (builtins) in GL_PROJECTION */
@@ -305,7 +332,7 @@ static int parse_vector(const char *text, double v[3])
 /* --mvp: the floor and each pillar under projection * view * model, one uniform per draw. The
  * view turns the world by 0 degrees (the pictures match the other modes) and is a rigid matrix
  * the stream never shows alone. */
-static void draw_mvp(GLint location, const double *proj, double turn_deg, GLint modelview_location)
+static void draw_mvp(GLint location, const double *proj, double turn_deg, GLint modelview_location, int bbox)
 {
     /* glRotated(turn, 0, 1, 0) */
     const double t = turn_deg * M_PI / 180.0, ct = cos(t), st = sin(t);
@@ -333,6 +360,10 @@ static void draw_mvp(GLint location, const double *proj, double turn_deg, GLint 
         glBegin(GL_QUADS);  /* the pillar at the origin, facing +z */
         glVertex3d(-0.6, -2, 0); glVertex3d(0.6, -2, 0); glVertex3d(0.6, 6, 0); glVertex3d(-0.6, 6, 0);
         glEnd();
+    }
+    if (bbox) {  /* modelled in place, as the floor */
+        upload(split ? modelview_location : location, pv);
+        draw_bbox();
     }
 }
 
@@ -482,6 +513,7 @@ int main(int argc, char **argv)
     const int wire = fbo_mode && !shader && !msaa && !by_blit && !post && app_take_flag(&argc, &argv, "--wire");
     const int mirror = fbo_mode && !shader && !msaa && !region && !post && !wire && app_take_flag(&argc, &argv, "--mirror");
     const int reflection = app_take_flag(&argc, &argv, "--reflection");
+    const int bbox = (!shader || builtins || mvp) && app_take_flag(&argc, &argv, "--bbox");
     const int canopy = !shader && app_take_flag(&argc, &argv, "--canopy");
     const int objects = shader && !builtins && !mvp && app_take_flag(&argc, &argv, "--objects");
     const int fisheye = shader && !builtins && !mvp && app_take_flag(&argc, &argv, "--fisheye");
@@ -813,7 +845,7 @@ int main(int argc, char **argv)
             glLightfv(GL_LIGHT0, GL_POSITION, position);
         }
         if (mvp) {
-            draw_mvp(proj_location, proj, turn, modelview_location);
+            draw_mvp(proj_location, proj, turn, modelview_location, bbox);
         } else {
             if (foliage) {
                 glBindTexture(GL_TEXTURE_2D, leaves);
@@ -863,6 +895,7 @@ int main(int argc, char **argv)
             if (overlay) glEnable(GL_DEPTH_TEST);
         }
         if (wire) draw_wire_box(wire_fbo, fbo);
+        if (bbox && !mvp) draw_bbox();
         if (canopy) {  /* a translucent sheet over everything, drawn last, writing depth */
             glEnable(GL_BLEND);
             glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);

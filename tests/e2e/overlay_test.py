@@ -14,7 +14,9 @@ dimmed`) is decorated under the dimming. And a HUD drawn by the scene's own shad
 (pillars --shader --hud and its kin; `overlay_test.py shader_hud`) is untouched by the shadows'
 redraw that ran before it, nor by the redraw's first draw when the HUD opens with glBegin. And an overlay engine's wire frames drawn over the scene's depth from
 a target of their own (pillars --fbo --wire, as Blender's; `overlay_test.py overlay_engine`) are
-not the scene's depth, and stay as drawn, also where one draw composites them with the scene. And a scene another context draws into a texture only
+not the scene's depth, and stay as drawn, also where one draw composites them with the scene. And
+lines drawn with the scene's camera after its surfaces (pillars --bbox, as view3dscene draws its
+bounding box; `overlay_test.py marks`) are no surfaces: kept as drawn, neither covered nor casting. And a scene another context draws into a texture only
 every fourth frame, which the window's context shows in part of the window every frame (ff_scene
 --widget, as Qt's QOpenGLWidget does), is decorated in every frame, where it is shown, and nothing
 else is.
@@ -276,6 +278,41 @@ def overlay_engine(headless):
             check(off == 0, f"{layout}, {label}: {off} pixels outside the wire-frame box differ from the scene without it")
 
 
+def marks(headless):
+    """pillars --bbox: a bounding box's edges (GL_LINES, 2 pixels wide) drawn after the pillars with
+    the main view's camera, the depth test and writes on, as view3dscene draws its scene's bounding
+    box: by fixed function, with and without a HUD after it, by a shader program reading the
+    built-in matrices, by one that keeps a projection and a model-view matrix (view3dscene's own
+    way), and into the scene's framebuffer object. Lines are no surfaces: every one of their pixels
+    stays as drawn under every pass, and every other pixel is what the pass makes of the scene
+    without them, within 2 levels. Before, they were the scene's: the cover whitened them and hung
+    icicles from them, and they cast thin shadows across the floor and the pillar behind them."""
+    passes = {"plain": [], "cover": ["--effects", "cover,icicles"], "shadows": ["--effects", "shadows"],
+              "screen": ["--effects", "shadows", "--effect-param", "shadows.method=screen-space"],
+              "snow": ["--effects", "snow"]}
+    sun = ["--sun", "0.3,1,0.2"]
+    layouts = (("window", ["--hud"], ["--hud", "--bbox"]), ("window_alone", [], ["--bbox"]),
+               ("builtins", ["--builtins", "--hud"], ["--builtins", "--hud", "--bbox"]),
+               ("modelview", ["--mvp", "--modelview"] + sun, ["--mvp", "--modelview", "--bbox"] + sun),
+               ("fbo", ["--fbo", "--hud"], ["--fbo", "--hud", "--bbox"]))
+    for layout, base, boxed in layouts:
+        images, w, h = pillars_pictures(f"marks_{layout}", (("no-box", base), ("box", boxed)), passes, headless)
+        plain = images["box", "plain"]
+        box = {(x, y) for y in range(h) for x in range(w) if plain[y][x] != images["no-box", "plain"][y][x]}
+        check(len(box) > 1000, f"{layout}: the bounding box is not where the test expects it ({len(box)} pixels)")
+        for label in ("cover", "shadows", "screen", "snow"):
+            a, b = images["box", label], images["no-box", label]
+            changed = sum(1 for y in range(h) for x in range(w) if a[y][x] != plain[y][x])
+            touched = sum(1 for x, y in box if a[y][x] != plain[y][x])
+            off = sum(1 for y in range(h) for x in range(w)
+                      if (x, y) not in box and max(abs(p - q) for p, q in zip(a[y][x], b[y][x])) > 2)
+            print(f"marks ({layout}, {label}): {touched} of the box's {len(box)} pixels changed; {off} pixels "
+                  f"outside it more than 2 levels off the scene without it; {changed} pixels decorated")
+            check(changed > 500, f"{layout}, {label}: the passes changed only {changed} pixels")
+            check(touched == 0, f"{layout}, {label}: {touched} of the box's pixels changed")
+            check(off == 0, f"{layout}, {label}: {off} pixels outside the box differ from the scene without it")
+
+
 def dimmed(headless, app="ff_scene"):
     """ff_scene --hud --dim: a menu dims the whole scene with a black quad of alpha 0.27 before its
     HUD panel, as neverball's title screen does. With every pass the scene is decorated under it and
@@ -490,7 +527,7 @@ def main():
 
 
 if __name__ == "__main__":
-    if sys.argv[1:] in (["widget_post"], ["dimmed"], ["shader_hud"], ["overlay_engine"]):  # (tests of their own, beside main's in ctest: own folders)
+    if sys.argv[1:] in (["widget_post"], ["dimmed"], ["shader_hud"], ["overlay_engine"], ["marks"]):  # (tests of their own, beside main's in ctest: own folders)
         OUT += "_" + sys.argv[1]
         shutil.rmtree(OUT, ignore_errors=True)
         os.makedirs(OUT)
@@ -502,6 +539,8 @@ if __name__ == "__main__":
             hud_after_glbegin(headless)
         elif sys.argv[1] == "overlay_engine":
             overlay_engine(headless)
+        elif sys.argv[1] == "marks":
+            marks(headless)
         else:
             dimmed(headless)
             dimmed(headless, "core_scene")

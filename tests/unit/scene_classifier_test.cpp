@@ -62,7 +62,9 @@ struct Given final : DrawState {
     GLuint color_texture() override { return asked++, texture; }
     bool samples_texture(GLuint t) override { return asked++, t != 0 && t == sampled; }
     bool shares_depth_with(GLuint f) override { return asked++, f != 0 && f != framebuffer && f == depth_of; }
+    GLenum primitive() override { return drawn; }  // (the call's argument: nothing to ask)
     GLuint depth_of = 0;  // the framebuffer whose depth the bound one holds
+    GLenum drawn = GL_TRIANGLES;
 };
 
 const ClassifierSettings kPasses{false, true};  // a pass redraws the scene
@@ -780,4 +782,92 @@ TEST(SceneClassifier, TheMainViewsShaderProgramGivesItsSun) {
     ASSERT_TRUE(classify_draw(facts, s, 0, kPasses).found_view);
     EXPECT_TRUE(facts.light.known);
     EXPECT_EQ(facts.light.eye_position, glm::dvec4(0.2, 1, 0.1, 0));
+}
+
+TEST(SceneClassifier, LinesDrawnWithTheViewsCameraAfterItsSurfacesAreMarks) {
+    // view3dscene's bounding box: GL_LINE_STRIPs with the scene's camera, the depth test on, after
+    // its surfaces. Not redrawn (no shadow, no normals); from the first, the passes read the scene
+    // as it was before them.
+    SceneFacts facts;
+    Given s;
+    ASSERT_TRUE(classify_draw(facts, s, 0, kPasses).found_view);
+    s.drawn = GL_LINE_STRIP;
+    DrawVerdict v = classify_draw(facts, s, 0, kPasses);
+    EXPECT_FALSE(v.main);
+    EXPECT_TRUE(v.marks_start);
+    EXPECT_TRUE(facts.marks);
+    s.drawn = GL_POINTS;  // marker points too; the marks go on
+    v = classify_draw(facts, s, 0, kPasses);
+    EXPECT_FALSE(v.main);
+    EXPECT_FALSE(v.marks_start);
+    // A surface after them: they were among the scene's objects, which the window's depth keeps.
+    s.drawn = GL_TRIANGLES;
+    v = classify_draw(facts, s, 0, kPasses);
+    EXPECT_TRUE(v.main);
+    EXPECT_TRUE(v.marks_end);
+    EXPECT_FALSE(facts.marks);
+    EXPECT_FALSE(facts.overlay);
+}
+
+TEST(SceneClassifier, AShaderProgramsLinesAreMarksAlsoWhenNoPassRedraws) {
+    // (snow and screen-space shadows read the depth only: the lines must not be in it)
+    SceneFacts facts;
+    Given s;
+    s.current_program = 4;
+    s.has_camera = true;
+    s.cam.projection = s.proj;
+    const ClassifierSettings depth_only{false, false};
+    ASSERT_TRUE(classify_draw(facts, s, 0, depth_only).found_view);
+    s.drawn = GL_LINES;
+    EXPECT_TRUE(classify_draw(facts, s, 0, depth_only).marks_start);
+    s.drawn = GL_TRIANGLE_STRIP;
+    const DrawVerdict v = classify_draw(facts, s, 0, depth_only);
+    EXPECT_FALSE(v.main);  // (nothing is redrawn)
+    EXPECT_TRUE(v.marks_end);
+    // Lines under another camera (a HUD's, a gizmo's) are no marks of this view.
+    s.drawn = GL_LINES;
+    s.cam.projection = kOrtho;
+    EXPECT_FALSE(classify_draw(facts, s, 0, depth_only).marks_start);
+    EXPECT_FALSE(facts.marks);
+}
+
+TEST(SceneClassifier, LinesThatAreNoMarks) {
+    SceneFacts facts;
+    Given s;
+    s.drawn = GL_LINES;  // a wire-frame program: its first lines find the view, as any draw's
+    EXPECT_TRUE(classify_draw(facts, s, 0, kPasses).found_view);
+    DrawVerdict v = classify_draw(facts, s, 0, kPasses);  // no surface before them: the view's own
+    EXPECT_TRUE(v.main);
+    EXPECT_FALSE(v.marks_start);
+    s.drawn = GL_TRIANGLES;
+    classify_draw(facts, s, 0, kPasses);
+    s.drawn = GL_LINES;
+    EXPECT_TRUE(classify_draw(facts, s, 0, kPasses).marks_start);  // over its first surface
+    SceneFacts flat;
+    s.drawn = GL_TRIANGLES;
+    classify_draw(flat, s, 0, kPasses);
+    s.drawn = GL_LINES;
+    s.depth_on = false;  // drawn in a painter's order: the scene's (or, flat, the overlays')
+    EXPECT_FALSE(classify_draw(flat, s, 0, kPasses).marks_start);
+    s.depth_on = true;
+    s.proj = kOrtho;  // another projection
+    EXPECT_FALSE(classify_draw(flat, s, 0, kPasses).marks_start);
+    EXPECT_FALSE(flat.marks);
+}
+
+TEST(SceneClassifier, MarksInTheScenesTargetKeepItsColourAndDepth) {
+    // A scene drawn offscreen: its target's picture and depth from before the marks are the scene's.
+    SceneFacts facts;
+    Given s;
+    s.framebuffer = 3;
+    ASSERT_TRUE(classify_draw(facts, s, 3, kPasses).found_view);
+    s.drawn = GL_LINE_LOOP;
+    EXPECT_TRUE(classify_draw(facts, s, 3, kPasses).marks_start);
+    EXPECT_TRUE(facts.target_overlay);
+    EXPECT_TRUE(facts.scene_depth_kept);
+    EXPECT_EQ(facts.overlay_texture, 0u);  // (no overlay engine's)
+    s.drawn = GL_TRIANGLES;
+    EXPECT_TRUE(classify_draw(facts, s, 3, kPasses).marks_end);
+    EXPECT_FALSE(facts.target_overlay);
+    EXPECT_FALSE(facts.scene_depth_kept);
 }
