@@ -25,7 +25,7 @@ void found_view(SceneFacts& f, DrawState& s, GLuint framebuffer, const glm::dmat
 // What was taken for the main view was not it: the facts know no view again.
 void forget_view(SceneFacts& f) {
     f.main_known = false;
-    f.surfaces = f.marks = false;
+    f.surfaces = f.opaque_surfaces = f.marks = false;
     f.scene_framebuffer = 0;
     f.scene_depth_kept = false;
     f.overlay_texture = 0;
@@ -35,10 +35,14 @@ void forget_view(SceneFacts& f) {
     f.light = effects::SceneLight{};
 }
 
-// A blended draw after the view is translucent (minetest's cloud layer, drawn last, writing
-// depth): no part of the view's redraw, so it casts no hard shadow over the world under it; the
-// window's depth still has it. (The draw that finds the view is the view's whatever it does.)
-bool translucent_after_view(const SceneFacts& f, DrawState& s, bool found) { return !found && f.main_known && s.blends(); }
+// A blended draw after the view's opaque surfaces is translucent (minetest's cloud layer, drawn
+// last, writing depth): no part of the view's redraw, so it casts no hard shadow over the world
+// under it; the window's depth still has it. A program that blends every draw (openscad leaves
+// GL_BLEND on) says nothing by it: until a surface of the view is drawn without blending, blended
+// draws are the view's. (The draw that finds the view is the view's whatever it does.)
+bool translucent_after_view(const SceneFacts& f, DrawState& s, bool found) {
+    return !found && f.main_known && f.opaque_surfaces && s.blends();
+}
 
 // A fixed-function draw: the first with a perspective projection that writes depth, unless
 // its modelview is mirrored, is the main view; later ones with the same projection into the
@@ -157,7 +161,14 @@ DrawVerdict classify_draw(SceneFacts& f, DrawState& s, GLuint framebuffer, const
         end_marks(f);
         v.marks_end = true;
     }
-    if (v.main && !lines_or_points(s.primitive())) f.surfaces = true;
+    if (v.main && lines_or_points(s.primitive())) {
+        // Lines and points are no surfaces wherever they come (openscad draws its axes first): the
+        // view's (they may find it), never redrawn, so no casters and no normals.
+        v.main = false;
+    } else if (v.main) {
+        f.surfaces = true;
+        if (!f.opaque_surfaces && !s.blends()) f.opaque_surfaces = true;
+    }
     if (v.main) v.cull = s.cull(), v.alpha = s.alpha_test();
     if (v.main && s.program()) f.main_shader_draws = true;
     if (v.main && !s.depth_test()) f.painter_draws = true;

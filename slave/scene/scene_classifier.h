@@ -83,8 +83,8 @@ struct SceneFacts {
     // alpha in the draw that shows its viewport): its covered texels are the program's overlays,
     // kept as drawn under every pass (EffectsRunner::engine_overlays).
     GLuint overlay_texture = 0;
-    // Some draw of the main view drew surfaces (not lines or points).
-    bool surfaces = false;
+    // Some draw of the main view drew surfaces (not lines or points); ... one with blending off.
+    bool surfaces = false, opaque_surfaces = false;
     // Marks: lines and points drawn with the main view's camera and the depth test on after its
     // surfaces (view3dscene's bounding box, a wire frame, a grid, a selection's outline, marker
     // points), which are no surfaces: not redrawn (they cast no shadow and give no normal), and

@@ -116,6 +116,9 @@
  * above the pillars' tops, drawn last with blending and the depth test and writes on, as minetest
  * draws its cloud layer.
  *
+ * With --blended every draw is made with blending on (GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA) and opaque
+ * colours, as openscad leaves GL_BLEND on for its whole scene: the picture is the one without it.
+ *
  * With --reflection (not --mvp, --reversed or --foliage) the floor gets a reflection as neverball
  * draws its mirror: after the floor, with the depth test off and the main view's projection, a
  * quad in the floor's plane (the reflection's sky, REFLECTION's colour), then the floor again over
@@ -164,7 +167,7 @@
  * u_lightDirection` in the eye's space, as uploaded, each face lit by the eye-space normal.
  *
  *   pillars [--shader | --builtins | --mvp [--modelview]] [--grow] [--fbo [--half | --region [--blit]] [--mrt | --msaa] [--depth-texture]] [--reversed] [--hud [--in-scene [--depth-on]]]
- *           [--hand] [--left-handed] [--mixed] [--foliage] [--post] [--grade] [--markers] [--cull] [--overlay] [--wire] [--mirror] [--reflection] [--bbox] [--canopy] [--objects] [--fov DEG]
+ *           [--hand] [--left-handed] [--mixed] [--foliage] [--post] [--grade] [--markers] [--cull] [--overlay] [--wire] [--mirror] [--reflection] [--bbox] [--canopy] [--blended] [--objects] [--fov DEG]
  *           [--fisheye] [--scale S] [--turn DEG] [--sun X,Y,Z | --gl-light X,Y,Z] [--frames N] [--size WxH]
  */
 #define GL_GLEXT_PROTOTYPES 1
@@ -515,6 +518,7 @@ int main(int argc, char **argv)
     const int reflection = app_take_flag(&argc, &argv, "--reflection");
     const int bbox = (!shader || builtins || mvp) && app_take_flag(&argc, &argv, "--bbox");
     const int canopy = !shader && app_take_flag(&argc, &argv, "--canopy");
+    const int blended = app_take_flag(&argc, &argv, "--blended");
     const int objects = shader && !builtins && !mvp && app_take_flag(&argc, &argv, "--objects");
     const int fisheye = shader && !builtins && !mvp && app_take_flag(&argc, &argv, "--fisheye");
     double fov = 60;
@@ -813,6 +817,10 @@ int main(int argc, char **argv)
             glDepthFunc(GL_GREATER);
         }
         glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+        if (blended) {
+            glEnable(GL_BLEND);
+            glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+        }
         glEnable(GL_DEPTH_TEST);
         glMatrixMode(GL_PROJECTION);
         glLoadIdentity();

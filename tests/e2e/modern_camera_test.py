@@ -45,6 +45,9 @@ theirs and whitened their lower halves: 17,350 pixels off with the built-ins).
 A translucent sheet over everything, drawn last with blending and depth writes (pillars --canopy,
 as minetest draws its cloud layer), casts no shadow: the floor is shadowed as without it (before,
 all of it lay in the sheet's shadow).
+A program that draws its whole scene with blending on and opaque colours (pillars --blended, as
+openscad leaves GL_BLEND on) is covered and shadowed as without it: blending says a draw is
+translucent only after opaque surfaces of the view (before, none of its pillars cast a shadow).
 A scene drawn upside down into its target and shown by a blit that swaps its rows (pillars --fbo
 --mirror, as a Direct3D program under Wine presents) is decorated as the upright one: the passes
 read it as an upper-left origin (before: its depth was read unmirrored, and the cover whitened
@@ -105,7 +108,8 @@ def main():
              "reflection": ["--reflection"], "reflection_builtins": ["--builtins", "--reflection"],
              "fbo_mirror": ["--fbo", "--mirror"], "fbo_hud_window": ["--fbo", "--hud"],
              "fbo_hud_mirror": ["--fbo", "--hud", "--mirror"], "painter": ["--overlay"],
-             "painter_builtins": ["--builtins", "--overlay"], "canopy": ["--canopy"]}
+             "painter_builtins": ["--builtins", "--overlay"], "canopy": ["--canopy"],
+             "blended": ["--blended"], "blended_builtins": ["--builtins", "--blended"]}
     for mode, flags in modes.items():
         capture = os.path.join(OUT, f"{mode}.glcs")
         with Xvfb():

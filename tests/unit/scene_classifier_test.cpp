@@ -302,11 +302,25 @@ TEST(SceneClassifier, ABlendedDrawAfterTheViewIsNoPartOfIt) {
     // minetest's cloud layer: drawn last, blended, writing depth: no caster.
     SceneFacts facts;
     Given s;
+    EXPECT_TRUE(classify_draw(facts, s, 0, kPasses).found_view);  // the world, opaque
     s.blending = true;
-    EXPECT_TRUE(classify_draw(facts, s, 0, kPasses).found_view);  // the view's first draw, whatever it does
     EXPECT_FALSE(classify_draw(facts, s, 0, kPasses).main);
     s.blending = false;
     EXPECT_TRUE(classify_draw(facts, s, 0, kPasses).main);
+}
+
+TEST(SceneClassifier, BlendingOnForTheWholeSceneSaysNothing) {
+    // openscad leaves GL_BLEND on for every draw: its surfaces are opaque and cast their shadows.
+    // Blending says a draw is translucent only after an opaque surface of the view.
+    SceneFacts facts;
+    Given s;
+    s.blending = true;
+    EXPECT_TRUE(classify_draw(facts, s, 0, kPasses).found_view);
+    EXPECT_TRUE(classify_draw(facts, s, 0, kPasses).main);
+    s.blending = false;  // an opaque surface ...
+    EXPECT_TRUE(classify_draw(facts, s, 0, kPasses).main);
+    s.blending = true;  // ... then a blended one is translucent
+    EXPECT_FALSE(classify_draw(facts, s, 0, kPasses).main);
 }
 
 TEST(SceneClassifier, AFixedFunctionSceneShownByAShaderProgramIsRedrawnAsFixedFunction) {
@@ -834,10 +848,12 @@ TEST(SceneClassifier, AShaderProgramsLinesAreMarksAlsoWhenNoPassRedraws) {
 TEST(SceneClassifier, LinesThatAreNoMarks) {
     SceneFacts facts;
     Given s;
-    s.drawn = GL_LINES;  // a wire-frame program: its first lines find the view, as any draw's
-    EXPECT_TRUE(classify_draw(facts, s, 0, kPasses).found_view);
-    DrawVerdict v = classify_draw(facts, s, 0, kPasses);  // no surface before them: the view's own
-    EXPECT_TRUE(v.main);
+    s.drawn = GL_LINES;  // openscad's axes, drawn first: they find the view, as any draw does ...
+    DrawVerdict v = classify_draw(facts, s, 0, kPasses);
+    EXPECT_TRUE(v.found_view);
+    EXPECT_FALSE(v.main);  // ... but are never redrawn: no casters, no normals
+    v = classify_draw(facts, s, 0, kPasses);  // no surface before them: no marks either
+    EXPECT_FALSE(v.main);
     EXPECT_FALSE(v.marks_start);
     s.drawn = GL_TRIANGLES;
     classify_draw(facts, s, 0, kPasses);
