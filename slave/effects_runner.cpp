@@ -68,22 +68,20 @@ EffectsRunner::EffectsRunner(Replayer& core, TileAdapter& tile) : core_(core), t
         copies.copy(ctx, copies.scene_image_fb, false);
         if (facts.depth_cleared) copies.keep_depth(ctx);
     };
-    // The scene before the main view's lines and points, which are no part of it; a surface
-    // after them says they were.
-    scenes_.on_marks = [this](SlaveContext& ctx, bool start) {
+    // The scene before the main view's lines and points, which are no part of it, and before a
+    // translucent draw that writes depth; a surface after them says they were.
+    scenes_.on_over_scene = [this](SlaveContext& ctx, const DrawVerdict& v) {
         ContextScene& scene = scenes_.scene(ctx);
         WindowCopies& copies = passes(ctx).copies;
         if (scene.facts.scene_framebuffer) {  // (ended: the classifier dropped the target's copies)
-            if (start) {
-                copies.keep_scene_target(ctx, scene, /*final=*/false);
-                copies.keep_scene_depth(scene);
-            }
-        } else if (!start) {
+            if (v.marks_start) copies.keep_scene_target(ctx, scene, /*final=*/false);
+            if (v.keeps_depth) copies.keep_scene_depth(scene);
+        } else if (v.over_end) {
             copies.forget_kept_depth();
         } else {
             copies.size(ctx);
-            copies.copy(ctx, copies.scene_image_fb, false);
-            copies.keep_depth(ctx);
+            if (v.marks_start) copies.copy(ctx, copies.scene_image_fb, false);
+            if (v.keeps_depth) copies.keep_depth(ctx);
         }
     };
     // The scene's depth before an overlay engine's target that holds it gets its wire frames.
@@ -184,7 +182,7 @@ void EffectsRunner::decorate(SlaveContext& ctx, bool under_overlays) {
         copies.size(ctx);
         const bool sized = copies.sized(ctx);
         // The main view's lines and points in the window: scene_image holds the scene before them
-        // (on_marks), what differs from it is the program's, as its overlays are.
+        // (on_over_scene), what differs from it is the program's, as its overlays are.
         const bool window_marks = scene.facts.marks && !scene.facts.scene_framebuffer && sized;
         if (!under_overlays || window_marks) {
             copies.copy(ctx, copies.program_image_fb, false);

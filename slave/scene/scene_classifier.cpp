@@ -25,7 +25,7 @@ void found_view(SceneFacts& f, DrawState& s, GLuint framebuffer, const glm::dmat
 // What was taken for the main view was not it: the facts know no view again.
 void forget_view(SceneFacts& f) {
     f.main_known = false;
-    f.surfaces = f.opaque_surfaces = f.marks = false;
+    f.surfaces = f.opaque_surfaces = f.marks = f.translucent = false;
     f.scene_framebuffer = 0;
     f.scene_depth_kept = false;
     f.overlay_texture = 0;
@@ -111,23 +111,39 @@ bool views_camera(const SceneFacts& f, DrawState& s, const ClassifierSettings& s
     return s.camera(program, camera) && same_projection(camera.projection, f.projection);
 }
 
+// Nothing but the view's surfaces is over the scene yet in its target: no HUD drawn into it, no
+// overlay engine's depth kept (those keep what they need themselves).
+bool target_free(const SceneFacts& f) {
+    return f.marks || f.translucent || (!f.target_overlay && !f.scene_depth_kept);
+}
+
 // Lines or points over the view's surfaces, drawn into its target with its camera and the depth test on.
 bool is_mark(const SceneFacts& f, DrawState& s, GLuint framebuffer, const ClassifierSettings& settings) {
-    // (not after a HUD drawn into the target, nor over an overlay engine's depth kept already)
-    const bool target_free = f.marks || (!f.target_overlay && !f.scene_depth_kept);
-    return f.main_known && f.surfaces && !f.overlay && target_free && lines_or_points(s.primitive()) &&
+    return f.main_known && f.surfaces && !f.overlay && target_free(f) && lines_or_points(s.primitive()) &&
            framebuffer == f.scene_framebuffer && s.depth_test() && views_camera(f, s, settings);
 }
 
-// The marks start: the scene's target (a framebuffer object's) is kept as it is before them.
-void start_marks(SceneFacts& f) {
-    f.marks = true;
-    if (f.scene_framebuffer) f.target_overlay = f.scene_depth_kept = true;
+// A translucent draw (translucent_after_view) that writes depth into the view's target with its camera.
+bool translucent_over_view(const SceneFacts& f, DrawState& s, GLuint framebuffer, const DrawVerdict& v,
+                           const ClassifierSettings& settings) {
+    return !v.main && !v.found_view && f.main_known && f.opaque_surfaces && !f.overlay && target_free(f) &&
+           framebuffer == f.scene_framebuffer && s.blends() && s.writes_depth() && views_camera(f, s, settings);
 }
 
-void end_marks(SceneFacts& f) {
-    f.marks = false;
-    if (f.scene_framebuffer) f.target_overlay = f.scene_depth_kept = false;
+// The scene's depth is kept from before the first draw over it (a scene target's: scene_depth_kept).
+void keep_depth_before(SceneFacts& f, DrawVerdict& v) {
+    v.keeps_depth = !f.marks && !f.translucent;
+    if (f.scene_framebuffer) f.scene_depth_kept = true;
+}
+
+// A surface of the view after marks or translucent draws: they were among its objects.
+void scene_again(SceneFacts& f, DrawVerdict& v) {
+    if (f.scene_framebuffer) {
+        if (f.marks) f.target_overlay = false;
+        f.scene_depth_kept = false;
+    }
+    f.marks = f.translucent = false;
+    v.over_end = true;
 }
 
 }  // namespace
@@ -142,11 +158,15 @@ DrawVerdict classify_draw(SceneFacts& f, DrawState& s, GLuint framebuffer, const
     }
     if (is_mark(f, s, framebuffer, settings)) {
         if (s.program()) f.shader_draws = true;
-        v.marks_start = !f.marks;
-        if (!f.marks) start_marks(f);
+        if (!f.marks) {  // (the colour too: the marks' pixels go back as drawn)
+            v.marks_start = true;
+            keep_depth_before(f, v);
+            f.marks = true;
+            if (f.scene_framebuffer) f.target_overlay = true;
+        }
         return v;
     }
-    const bool marks_before = f.marks;
+    const bool over_before = f.marks || f.translucent;
     if (const GLuint program = s.program()) {
         f.shader_draws = true;
         v.main = shader_draw_is_main(f, s, program, framebuffer, settings, v.found_view);
@@ -154,12 +174,14 @@ DrawVerdict classify_draw(SceneFacts& f, DrawState& s, GLuint framebuffer, const
         v.main = fixed_function_draw_is_main(f, s, framebuffer, settings, v.found_view);
     }
     // (with no pass redrawing, a shader program's later draws are not asked for their camera: the
-    // marks' end is)
-    if (marks_before && !f.overlay && framebuffer == f.scene_framebuffer && !lines_or_points(s.primitive()) &&
+    // end of what is over the scene is)
+    if (over_before && !f.overlay && framebuffer == f.scene_framebuffer && !lines_or_points(s.primitive()) &&
         s.writes_depth() &&
-        (v.main || (!settings.redraws && s.program() && !s.blends() && views_camera(f, s, settings)))) {
-        end_marks(f);
-        v.marks_end = true;
+        (v.main || (!settings.redraws && s.program() && !s.blends() && views_camera(f, s, settings))))
+        scene_again(f, v);
+    else if (!f.translucent && translucent_over_view(f, s, framebuffer, v, settings)) {
+        keep_depth_before(f, v);
+        f.translucent = true;
     }
     if (v.main && lines_or_points(s.primitive())) {
         // Lines and points are no surfaces wherever they come (openscad draws its axes first): the

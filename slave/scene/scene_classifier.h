@@ -93,6 +93,12 @@ struct SceneFacts {
     // kept as drawn, as overlays are. A surface of the view after them ends them: they were among
     // its objects, and the window's depth keeps them (the copies are forgotten).
     bool marks = false;
+    // A translucent draw after the view's opaque surfaces that writes depth into its target with its
+    // camera (minetest's cloud layer; translucent_after_view: no caster): from the first the passes
+    // read the scene's depth as it was before it (the window's kept, or the target's:
+    // scene_depth_kept), so that screen-space shadows march no cloud; its colour is the scene's,
+    // decorated with it. A surface of the view after it ends it, as it ends marks.
+    bool translucent = false;
     glm::dmat4 projection{1.0}, modelview{1.0};
     int32_t viewport[4] = {0, 0, 0, 0};  // the program's, master window coordinates
     effects::SceneLight light;
@@ -118,8 +124,9 @@ struct DrawVerdict {
     bool found_view = false;  // ... and is its first: the main view was found with it
     CullState cull;           // a main draw's face culling
     AlphaTest alpha;          // ... and alpha test
-    bool marks_start = false;  // the first of the view's marks (SceneFacts::marks): keep the scene now
-    bool marks_end = false;    // a surface of the view after its marks: they were the scene's
+    bool marks_start = false;  // the first of the view's marks (SceneFacts::marks): keep its colour now
+    bool keeps_depth = false;  // the first draw over the scene (marks or translucent): keep its depth now
+    bool over_end = false;     // a surface of the view after them: what was kept is not the scene
 };
 
 // What a draw to the window after the main view means for the overlays.

@@ -152,8 +152,8 @@ void SceneRecorder::record(SlaveContext& ctx, const Call& c, const uint8_t* tupl
         e.draw = e.opens = true;
         const DrawVerdict verdict = classify_draw(facts, state, framebuffer, settings(ctx));
         if (verdict.found_view) lending_.note_lendable_scene(ctx, sc);
-        if ((verdict.marks_start || verdict.marks_end) && on_marks) on_marks(ctx, verdict.marks_start);
-        if (verdict.marks_end) lending_.note_lendable_scene(ctx, sc);  // (its own depth again, not the kept)
+        if ((verdict.marks_start || verdict.keeps_depth || verdict.over_end) && on_over_scene) on_over_scene(ctx, verdict);
+        if (verdict.over_end) lending_.note_lendable_scene(ctx, sc);  // (its own depth again, not the kept)
         e.main = verdict.main;
         if (e.main) {
             e.cull = verdict.cull.enabled;

@@ -60,10 +60,12 @@ public:
     // Called before the first draw that writes the scene's depth from another target
     // (SceneFacts::scene_depth_kept): the scene's depth is to be kept as it is now.
     std::function<void(SlaveContext&)> on_scene_depth_shared;
-    // Called before the first of the main view's marks (SceneFacts::marks; `start` true): the
-    // scene (the window's colour and depth, or its target's) is to be kept as it is now; and
-    // when a surface after them ends them (false): what was kept is no longer the scene.
-    std::function<void(SlaveContext&, bool start)> on_marks;
+    // Called before the first draw over the main view's surfaces (its marks, SceneFacts::marks, or
+    // a translucent draw, ::translucent), as DrawVerdict says: the scene's depth (`keeps_depth`)
+    // and, for marks, colour (`marks_start`), the window's or its target's, are to be kept as they
+    // are now; and when a surface of the view ends them (`over_end`): what was kept is no longer
+    // the scene.
+    std::function<void(SlaveContext&, const DrawVerdict&)> on_over_scene;
 
     // Before each call the replay runs on the current context `ctx`.
     void record(SlaveContext& ctx, const Call& c, const uint8_t* tuple, size_t bytes);

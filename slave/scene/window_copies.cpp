@@ -130,6 +130,7 @@ void WindowCopies::copy(SlaveContext& ctx, GLuint copy_fb, bool depth, bool back
 }
 
 void WindowCopies::keep_depth(SlaveContext& ctx) {
+    if (depth_kept_) return;  // (the first is the scene's: what came after is over it)
     size(ctx);
     copy(ctx, depth_fb_, true);
     depth_kept_ = true;

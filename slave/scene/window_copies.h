@@ -46,8 +46,9 @@ public:
     // DEPTH_COMPONENT32F texture of the window's size, made once a frame.
     GLuint pass_depth(SlaveContext& ctx, GLuint program_depth, const DepthConvention& convention,
                       const glm::dmat4& pass_clip_from_program_clip);
-    // The window's depth now, before the program clears it for a view model: window_copy's
-    // depth until end_frame.
+    // The window's depth now, before the program clears it for a view model or draws over the
+    // scene (marks, a translucent draw): window_copy's depth until end_frame (or
+    // forget_kept_depth); the first kept stays.
     void keep_depth(SlaveContext& ctx);
     void forget_kept_depth() { depth_kept_ = false; }  // the window's depth is the scene's again
     // A scene drawn offscreen may get the program's HUD in its own target (VTK's text actors): that

@@ -309,6 +309,33 @@ TEST(SceneClassifier, ABlendedDrawAfterTheViewIsNoPartOfIt) {
     EXPECT_TRUE(classify_draw(facts, s, 0, kPasses).main);
 }
 
+TEST(SceneClassifier, ATranslucentDrawWritingDepthKeepsTheScenesDepthBeforeIt) {
+    // minetest's cloud layer writes depth: screen-space shadows must not march it.
+    SceneFacts facts;
+    Given s;
+    ASSERT_TRUE(classify_draw(facts, s, 0, kPasses).found_view);
+    s.blending = true;
+    DrawVerdict v = classify_draw(facts, s, 0, kPasses);
+    EXPECT_FALSE(v.main);
+    EXPECT_TRUE(v.keeps_depth);
+    EXPECT_FALSE(v.marks_start);  // its colour is the scene's
+    EXPECT_TRUE(facts.translucent);
+    EXPECT_FALSE(classify_draw(facts, s, 0, kPasses).keeps_depth);  // the first only
+    s.drawn = GL_LINES;  // marks after it keep the colour; the depth is kept already
+    v = classify_draw(facts, s, 0, kPasses);
+    EXPECT_TRUE(v.marks_start);
+    EXPECT_FALSE(v.keeps_depth);
+    s.drawn = GL_TRIANGLES;
+    s.blending = false;  // an opaque surface: all of it was the scene
+    v = classify_draw(facts, s, 0, kPasses);
+    EXPECT_TRUE(v.main);
+    EXPECT_TRUE(v.over_end);
+    EXPECT_FALSE(facts.translucent || facts.marks);
+    s.blending = true;
+    s.depth_mask = false;  // translucent without depth writes: the depth is the scene's as it is
+    EXPECT_FALSE(classify_draw(facts, s, 0, kPasses).keeps_depth);
+}
+
 TEST(SceneClassifier, BlendingOnForTheWholeSceneSaysNothing) {
     // openscad leaves GL_BLEND on for every draw: its surfaces are opaque and cast their shadows.
     // Blending says a draw is translucent only after an opaque surface of the view.
@@ -818,7 +845,7 @@ TEST(SceneClassifier, LinesDrawnWithTheViewsCameraAfterItsSurfacesAreMarks) {
     s.drawn = GL_TRIANGLES;
     v = classify_draw(facts, s, 0, kPasses);
     EXPECT_TRUE(v.main);
-    EXPECT_TRUE(v.marks_end);
+    EXPECT_TRUE(v.over_end);
     EXPECT_FALSE(facts.marks);
     EXPECT_FALSE(facts.overlay);
 }
@@ -837,7 +864,7 @@ TEST(SceneClassifier, AShaderProgramsLinesAreMarksAlsoWhenNoPassRedraws) {
     s.drawn = GL_TRIANGLE_STRIP;
     const DrawVerdict v = classify_draw(facts, s, 0, depth_only);
     EXPECT_FALSE(v.main);  // (nothing is redrawn)
-    EXPECT_TRUE(v.marks_end);
+    EXPECT_TRUE(v.over_end);
     // Lines under another camera (a HUD's, a gizmo's) are no marks of this view.
     s.drawn = GL_LINES;
     s.cam.projection = kOrtho;
@@ -883,7 +910,7 @@ TEST(SceneClassifier, MarksInTheScenesTargetKeepItsColourAndDepth) {
     EXPECT_TRUE(facts.scene_depth_kept);
     EXPECT_EQ(facts.overlay_texture, 0u);  // (no overlay engine's)
     s.drawn = GL_TRIANGLES;
-    EXPECT_TRUE(classify_draw(facts, s, 3, kPasses).marks_end);
+    EXPECT_TRUE(classify_draw(facts, s, 3, kPasses).over_end);
     EXPECT_FALSE(facts.target_overlay);
     EXPECT_FALSE(facts.scene_depth_kept);
 }
