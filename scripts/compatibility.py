@@ -366,10 +366,12 @@ KNOWN = """## What the table does not show
   distances (about 12 nodes; a fixed 60 eye units, six nodes, before), so its hill's face, turned
   away from the configured light, is shadowed as far; the wheat shadows the ground in front.
   Its shaders keep no sun glcast recognises (`v_LightDirection` only with its dynamic shadows on).
-  Its cloud layer is drawn last, blended, writing depth: until this stop the shadow map took it
-  for a caster, and in a capture that looks at the hill with the clouds overhead the whole field
-  and the hill lay in their shadow (68.9% of the lit pixels darkened); a blended draw after the
-  view is no caster now (docs/effects.md).
+  Its cloud layer is drawn last, blended, writing depth: the shadow map once took it for a
+  caster, and in a capture that looks at the hill with the clouds overhead the whole field and
+  the hill lay in their shadow (68.9% of the lit pixels darkened); a blended draw after the
+  view's opaque surfaces is no caster (docs/effects.md). Its water is drawn so too: until this
+  stop the cover whitened the sea at the horizon (the water's depth was the scene's); the passes
+  now read the depth from before the first such draw, and the sea stays blue.
 - **stellarium** draws the sky with its own projection in its shaders (not a linear one a tile
   can turn) and its interface with the same pipeline: no camera is found, the slave says so,
   and every tile shows the program's picture unturned. Every pass, snow included, leaves it as it
