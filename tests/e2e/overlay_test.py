@@ -234,6 +234,25 @@ def hud_after_glbegin(headless):
         check(off == 0, f"{label}: {off} pixels outside the HUD differ from the scene without it")
 
 
+def kept_as_drawn(what, images, variants, kept, w, h):
+    """Under each pass (cover, shadows by both methods, snow) of pillars_pictures' `images`: none of
+    the `kept` pixels changed from the plain picture of variants[0] (the program's with them), and
+    every other pixel within 2 levels of what the pass makes of variants[1] (the scene without them)."""
+    with_them, without = variants
+    plain = images[with_them, "plain"]
+    for label in ("cover", "shadows", "screen", "snow"):
+        a, b = images[with_them, label], images[without, label]
+        changed = sum(1 for y in range(h) for x in range(w) if a[y][x] != plain[y][x])
+        touched = sum(1 for x, y in kept if a[y][x] != plain[y][x])
+        off = sum(1 for y in range(h) for x in range(w)
+                  if (x, y) not in kept and max(abs(p - q) for p, q in zip(a[y][x], b[y][x])) > 2)
+        print(f"{what}, {label}: {touched} of the {len(kept)} pixels kept as drawn changed; {off} others more "
+              f"than 2 levels off the scene without them; {changed} pixels decorated")
+        check(changed > 500, f"{what}, {label}: the passes changed only {changed} pixels")
+        check(touched == 0, f"{what}, {label}: {touched} of the pixels to keep as drawn changed")
+        check(off == 0, f"{what}, {label}: {off} other pixels differ from the scene without them")
+
+
 def overlay_engine(headless):
     """pillars --fbo --wire: after the scene, a wire-frame box with a filled lid drawn with the
     scene's camera into a second framebuffer object that holds a colour texture of its own and the
@@ -265,17 +284,7 @@ def overlay_engine(headless):
         box = {(x, y) for y in range(h) for x in range(w) if plain[y][x] != images["no-wire", "plain"][y][x]}
         check(len(box) > 300, f"{layout}: the wire-frame box is not where the test expects it ({len(box)} pixels)")
         box |= {(x, y) for y in range(h) for x in range(w) if plain[y][x] == (230, 50, 40)}  # the panel or gizmo
-        for label in ("cover", "shadows", "screen", "snow"):
-            a, b = images["wire", label], images["no-wire", label]
-            changed = sum(1 for y in range(h) for x in range(w) if a[y][x] != plain[y][x])
-            touched = sum(1 for x, y in box if a[y][x] != plain[y][x])
-            off = sum(1 for y in range(h) for x in range(w)
-                      if (x, y) not in box and max(abs(p - q) for p, q in zip(a[y][x], b[y][x])) > 2)
-            print(f"overlay engine ({layout}, {label}): {touched} of the box's and the panel's {len(box)} pixels changed; "
-                  f"{off} pixels outside them more than 2 levels off the scene without the box; {changed} pixels decorated")
-            check(changed > 500, f"{layout}, {label}: the passes changed only {changed} pixels")
-            check(touched == 0, f"{layout}, {label}: {touched} of the box's and the panel's pixels changed")
-            check(off == 0, f"{layout}, {label}: {off} pixels outside the wire-frame box differ from the scene without it")
+        kept_as_drawn(f"overlay engine ({layout})", images, ("wire", "no-wire"), box, w, h)
 
 
 def marks(headless):
@@ -300,17 +309,7 @@ def marks(headless):
         plain = images["box", "plain"]
         box = {(x, y) for y in range(h) for x in range(w) if plain[y][x] != images["no-box", "plain"][y][x]}
         check(len(box) > 1000, f"{layout}: the bounding box is not where the test expects it ({len(box)} pixels)")
-        for label in ("cover", "shadows", "screen", "snow"):
-            a, b = images["box", label], images["no-box", label]
-            changed = sum(1 for y in range(h) for x in range(w) if a[y][x] != plain[y][x])
-            touched = sum(1 for x, y in box if a[y][x] != plain[y][x])
-            off = sum(1 for y in range(h) for x in range(w)
-                      if (x, y) not in box and max(abs(p - q) for p, q in zip(a[y][x], b[y][x])) > 2)
-            print(f"marks ({layout}, {label}): {touched} of the box's {len(box)} pixels changed; {off} pixels "
-                  f"outside it more than 2 levels off the scene without it; {changed} pixels decorated")
-            check(changed > 500, f"{layout}, {label}: the passes changed only {changed} pixels")
-            check(touched == 0, f"{layout}, {label}: {touched} of the box's pixels changed")
-            check(off == 0, f"{layout}, {label}: {off} pixels outside the box differ from the scene without it")
+        kept_as_drawn(f"marks ({layout})", images, ("box", "no-box"), box, w, h)
 
 
 def dimmed(headless, app="ff_scene"):
