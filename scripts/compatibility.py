@@ -443,11 +443,11 @@ KNOWN = """## What the table does not show
   cut capture's (loading screens only: under llvmpipe it compressed and mipmapped its textures for
   many minutes). With `--disable-texture-compression --disable-hd-textures` (the table's command
   now) it races at once: 240 frames captured in 45 s (frame 25 on is the race), replayed on EGL in
-  27 s. But not with the program's own frames kept (`GLCAST_SNAPSHOT_DIR`, as the table captures):
-  then it logs "kartDirt shader is missing, fallback to solid", and its first race frame takes
-  minutes to draw, in the capture (25 frames in 9 minutes) and in the replay (frame 25 not done
-  after 12 CPU-minutes). Not traced: the shim's read-back at each swap changes something the
-  program then does. Measured by hand on the capture without it (frame 239, the lighthouse track;
+  27 s. Not so in the two runs with the program's own frames kept (`GLCAST_SNAPSHOT_DIR`, as the
+  table captures; the fast run was without): there it logged "kartDirt shader is missing, fallback
+  to solid", and its first race frame took minutes to draw, in the capture (25 frames in 9
+  minutes) and in the replay (frame 25 not done after 12 CPU-minutes). Not traced (the read-back
+  at each swap guards the read framebuffer and the pack state). Measured by hand on the capture without it (frame 239, the lighthouse track;
   [plain](images/compatibility/supertuxkart-race-plain.png),
   [shadows](images/compatibility/supertuxkart-race-shadows.png),
   [cover](images/compatibility/supertuxkart-race-cover.png),
