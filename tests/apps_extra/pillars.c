@@ -307,14 +307,18 @@ static void draw_bbox(void)
 
 /* --hud: a panel at window pixels 20..120 x y0..y0 + 60 of 400x300 (scaled to width x height), the
  * depth test off, under an orthographic projection: fixed function, or the shader program with the
- * matrix in its uniform or (builtins) in GL_PROJECTION */
-static void draw_hud(GLuint program, GLint proj_location, int builtins, int width, int height, double y0, int depth)
+ * matrix in its uniform (and, --modelview, the identity in `modelview_location`) or (builtins) in
+ * GL_PROJECTION */
+static void draw_hud(GLuint program, GLint proj_location, GLint modelview_location, int builtins, int width, int height,
+                     double y0, int depth)
 {
+    static const double identity[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
     const double ortho[16] = {2.0 / width, 0, 0, 0, 0, 2.0 / height, 0, 0, 0, 0, -1, 0, -1, -1, 0, 1};
     const double sx = width / 400.0, sy = height / 300.0;
     if (!depth) glDisable(GL_DEPTH_TEST);
     if (program) glUseProgram(program);
     if (program && !builtins) upload(proj_location, ortho);
+    if (program && modelview_location >= 0) upload(modelview_location, identity);
     glMatrixMode(GL_PROJECTION);
     glLoadMatrixd(ortho);
     glMatrixMode(GL_MODELVIEW);
@@ -930,7 +934,7 @@ int main(int argc, char **argv)
             glEnable(GL_DEPTH_TEST);
             glUseProgram(0);
         }
-        if (hud_in_scene) draw_hud(shader ? program : 0, proj_location, builtins, fw, fh, 40, hud_depth);
+        if (hud_in_scene) draw_hud(shader ? program : 0, proj_location, modelview_location, builtins, fw, fh, 40, hud_depth);
         if (region) {
             show_region(msaa ? msaa_fbo : 0, fbo, color, post_fbo, post_color, blit, wire_color, by_blit, fw, fh,
                         a.width, a.height, rx, rh, hud);
@@ -996,7 +1000,7 @@ int main(int argc, char **argv)
             glEnd();
         }
         if (fisheye) glUseProgram(0);  /* (its HUD by fixed function) */
-        if (hud && !hud_in_scene && !region) draw_hud(shader && !fisheye ? program : 0, proj_location, builtins, a.width, a.height, 220, 0);
+        if (hud && !hud_in_scene && !region) draw_hud(shader && !fisheye ? program : 0, proj_location, modelview_location, builtins, a.width, a.height, 220, 0);
         glXSwapBuffers(dpy, win);
         if (glGetError() != GL_NO_ERROR) {
             fprintf(stderr, "pillars: GL error\n");

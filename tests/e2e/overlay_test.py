@@ -302,7 +302,7 @@ def marks(headless):
     sun = ["--sun", "0.3,1,0.2"]
     layouts = (("window", ["--hud"], ["--hud", "--bbox"]), ("window_alone", [], ["--bbox"]),
                ("builtins", ["--builtins", "--hud"], ["--builtins", "--hud", "--bbox"]),
-               ("modelview", ["--mvp", "--modelview"] + sun, ["--mvp", "--modelview", "--bbox"] + sun),
+               ("modelview", ["--mvp", "--modelview", "--hud"] + sun, ["--mvp", "--modelview", "--hud", "--bbox"] + sun),
                ("fbo", ["--fbo", "--hud"], ["--fbo", "--hud", "--bbox"]))
     for layout, base, boxed in layouts:
         images, w, h = pillars_pictures(f"marks_{layout}", (("no-box", base), ("box", boxed)), passes, headless)
