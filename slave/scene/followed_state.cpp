@@ -70,6 +70,10 @@ void FollowedState::follow(const Call& c, ContextNames& names) {
         if (u32(c, 0) == GL_ALPHA_TEST) alpha_test = on;
         return;
     }
+    case OP_glEnablei:
+    case OP_glDisablei:  // (blending per draw buffer: the driver says what glIsEnabled sees)
+        if (u32(c, 0) == GL_BLEND) blend.reset();
+        return;
     case OP_glAlphaFunc: alpha_func = u32(c, 0), alpha_ref = f64(c, 1, true); return;
     case OP_glDepthMask: depth_mask = u32(c, 0) != 0; return;
     case OP_glDepthFunc: depth_func = u32(c, 0); return;

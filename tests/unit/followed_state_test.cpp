@@ -106,3 +106,38 @@ TEST(FollowedState, AfterGlPopAttribTheDriverIsAskedOnceAgain) {
     const size_t asked = size_t(std::count(after.begin(), after.end(), "glIsEnabled(GL_DEPTH_TEST)"));
     EXPECT_EQ(asked, 1u) << "the depth test after glPopAttrib is asked of the driver once, then kept";
 }
+
+TEST(FollowedState, AnIndexedBlendSwitchMakesTheDriverAskedAgain) {
+    // Deferred renderers switch blending per draw buffer (glDisablei(GL_BLEND, 0)): what glEnable
+    // said of GL_BLEND is no longer all of it, and the translucent-draw rule must not act on it.
+    ReplayHarness h;
+    passes_build(h);
+    // (the recording driver answers the fixed-function projection as set_state's frustum: a view
+    // is found, and its surfaces ask whether they blend)
+    const auto build = h.gl->answer;
+    h.gl->answer = [build](slave::RecordedCall& c) {
+        build(c);
+        if (std::string(c.name()) == "glGetDoublev" && c.args[0] == GL_PROJECTION_MATRIX) {
+            const double frustum[16] = {1, 0, 0, 0, 0, 1.0 / 0.75, 0, 0, 0, 0, -101.0 / 99, -1, 0, 0, -200.0 / 99, 0};
+            std::copy(frustum, frustum + 16, c.pointer<double>(1));
+        }
+    };
+    set_state(h);
+    GL(glEnable, GL_BLEND);
+    triangle(h, -5.0f);
+    GL(glDisablei, GL_BLEND, 0u);
+    for (int i = 0; i < 3; ++i) triangle(h, -6.0f - float(i));
+    h.swap();
+    h.replay();
+    // (the three triangles' calls: the passes' own queries follow them)
+    std::vector<std::string> after = h.calls_from("glDisablei(");
+    const auto third_end = std::find_if(after.begin(), after.end(), [n = 0](const std::string& c) mutable {
+        return c == "glEnd()" && ++n == 3;
+    });
+    ASSERT_NE(third_end, after.end());
+    after.erase(third_end + 1, after.end());
+    const size_t asked = size_t(std::count(after.begin(), after.end(), "glIsEnabled(GL_BLEND)"));
+    std::string seen;
+    for (const std::string& c : after) seen += "\n  " + c;
+    EXPECT_EQ(asked, 1u) << "blending after glDisablei is asked of the driver once, then kept:" << seen;
+}
