@@ -17,6 +17,7 @@
 #include "protocol/draw_range.h"
 #include "protocol/size_queries.h"
 #include "slave/name_map.h"
+#include "slave/shader_patch.h"
 
 namespace glcast::slave {
 
@@ -40,9 +41,9 @@ public:
     virtual void* proc(uint32_t opcode) = 0;  // throws ReplayError when the slave's driver lacks it
     virtual SlaveContext& current() = 0;      // throws ReplayError when no context is current
     virtual const ReplayLimits& limits() const = 0;
-    // A rotated tile turns this shader's vertex positions (slave/tile_adapter.h): its source is
-    // patched before it reaches the driver.
-    virtual bool turns_vertex_shader(uint64_t master_shader) = 0;
+    // How this shader's source is patched before it reaches the driver: a rotated tile turns its
+    // vertex positions, a tile maps its fragments' window coordinates (slave/tile_adapter.h).
+    virtual ShaderPatch shader_patch(uint64_t master_shader) = 0;
 
     // -- values and names ------------------------------------------------------------
     template <class T>

@@ -82,7 +82,7 @@ void* Replayer::proc(uint32_t opcode) {
     return p;
 }
 
-bool Replayer::turns_vertex_shader(uint64_t master_shader) { return tile_->patches_vertex_shader(master_shader); }
+ShaderPatch Replayer::shader_patch(uint64_t master_shader) { return tile_->shader_patch(master_shader); }
 
 void Replayer::report(const std::string& what) {
     stats_.errors++;

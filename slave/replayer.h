@@ -123,7 +123,7 @@ public:
     bool move_head(const HeadPose& head);
     const GlApi& api() const override { return api_; }
     const ReplayLimits& limits() const override { return options_.limits; }
-    bool turns_vertex_shader(uint64_t master_shader) override;
+    ShaderPatch shader_patch(uint64_t master_shader) override;
 
     // -- CallReplay: what generated and hand-written replay functions use (slave/call_replay.h)
     void* proc(uint32_t opcode) override;

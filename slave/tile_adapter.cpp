@@ -49,14 +49,17 @@ bool TileAdapter::wants(uint32_t, const CommandInfo* info) const {
     if (!info) return false;
     const CommandSemantics& s = info->sem;
     const bool view = patching();
+    const bool draw = s.redraw == RedrawKind::Draw || s.redraw == RedrawKind::Begin;
     return s.window != WindowMapping::Nothing || s.shader_type >= 0 || (s.flags & kSemLinksProgram) ||
-           (view && (s.matrix != MatrixOp::Nothing || s.redraw == RedrawKind::Draw || s.redraw == RedrawKind::Begin ||
+           (draw && maps_fragments()) || (view && (s.matrix != MatrixOp::Nothing || s.redraw == RedrawKind::Draw || s.redraw == RedrawKind::Begin ||
                      s.redraw == RedrawKind::End || s.writes_ns == Ns::framebuffer || (s.flags & kSemDeletes)));
 }
 
 bool TileAdapter::patching() const {
     return core_.options().view.enabled || core_.options().effects.redraws();
 }
+
+bool TileAdapter::maps_fragments() const { return core_.options().tile.enabled || patching(); }
 
 bool TileAdapter::mapping() { return core_.options().tile.enabled && core_.current().drawing_to_window; }
 
@@ -137,13 +140,41 @@ void TileAdapter::apply_window_rects() {
 void TileAdapter::before_call(const Call& c, const uint8_t*, size_t) {
     redraw_refused_ = false;
     const RedrawKind k = c.info->sem.redraw;
-    if (!redrawing_ && !patching()) return;
     if (k != RedrawKind::Draw && k != RedrawKind::Begin && k != RedrawKind::End) return;
     State& s = state();
-    opening_begin_ = k == RedrawKind::Begin;
-    if (k == RedrawKind::End) s.in_begin_end = false;
-    else if (!s.in_begin_end) correct_projection();
-    if (k == RedrawKind::Begin) s.in_begin_end = true;
+    const bool opens = k != RedrawKind::End && !s.in_begin_end;
+    if (redrawing_ || patching()) {
+        opening_begin_ = k == RedrawKind::Begin;
+        if (k == RedrawKind::End) s.in_begin_end = false;
+        else if (opens) correct_projection();
+        if (k == RedrawKind::Begin) s.in_begin_end = true;
+    }
+    // (after the projection's correction, which may redirect the draw: shown_scene.h)
+    if (opens && maps_fragments()) correct_fragcoord(program_in_use());
+}
+
+// A fragment shader that reads gl_FragCoord (a post-processing pass that samples its input at the
+// fragment's window position over the window's size) drawn with another viewport than the
+// program's, on a tile of a wall or a canvas, reads where its fragment lies in the program's
+// viewport. Into the program's own framebuffer objects the viewport is the program's: the identity.
+void TileAdapter::correct_fragcoord(uint32_t program) {
+    if (!program) return;
+    Shared& group = shared();
+    const GlApi& gl = core_.api();
+    auto it = group.fragcoord_uniforms.find(program);
+    if (it == group.fragcoord_uniforms.end())
+        it = group.fragcoord_uniforms.emplace(program, Shared::FragCoord{gl.glGetUniformLocation(program, "glcast_fragcoord")})
+                 .first;
+    if (it->second.location < 0) return;
+    GLint actual[4] = {0, 0, 0, 0};
+    gl.glGetIntegerv(GL_VIEWPORT, actual);
+    const State& s = state();
+    const double drawn[4] = {double(actual[0]), double(actual[1]), double(actual[2]), double(actual[3])};
+    float value[4];
+    window_fragcoord(s.viewport[0], drawn, value);
+    if (std::memcmp(value, it->second.value, sizeof value) == 0) return;
+    gl.glUniform4fv(it->second.location, 1, value);
+    std::memcpy(it->second.value, value, sizeof value);
 }
 
 // Window coordinates of the program in the tile's framebuffer, pixel sizes scaled with the
@@ -285,6 +316,7 @@ void TileAdapter::after_call(const Call& c) {
     if (sem.shader_type >= 0) shared().shader_types[c.ret.bits] = uint32_t(c.args[size_t(sem.shader_type)].bits);
     if (sem.flags & kSemLinksProgram) {  // linking resets uniforms, and may change which there are
         shared().clip_uniforms.clear();
+        shared().fragcoord_uniforms.clear();
         shared().cameras.forget();
     }
     if (sem.matrix != MatrixOp::Nothing && (redrawing_ || core_.options().view.enabled)) track_matrix(c);

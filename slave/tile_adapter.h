@@ -20,6 +20,7 @@
 
 #include "slave/program_camera.h"
 #include "slave/replay_observer.h"
+#include "slave/shader_patch.h"
 
 namespace glcast::slave {
 
@@ -75,8 +76,10 @@ public:
     // rotated tile: shown_scene.h): the mask of the tile's pixels that show it (the rest is the
     // program's interface); 0 where it was not.
     GLuint scene_over_tile();
-    // Whether the vertex shader of master name `shader` gets the clip-space correction.
-    bool patches_vertex_shader(uint64_t shader);
+    // How the shader of master name `shader` is patched (slave/shader_patch.h): vertex shaders get
+    // the clip-space correction where tiles turn or passes redraw; fragment shaders that read
+    // gl_FragCoord the master window's coordinates wherever the slave may draw them elsewhere.
+    ShaderPatch shader_patch(uint64_t shader);
 
     // The tile's camera moved (a tracked head, the eye separation): projections it corrected are
     // corrected again at their next draw.
@@ -122,6 +125,10 @@ private:
     bool shows_scene_by_blit(const int32_t source[4], const int32_t destination[4], GLbitfield mask);
     void show_over_tile(const int32_t rect[4], const std::function<GLuint()>& picture);
     bool correct_shader_program(uint32_t program);  // false: not patched
+    // Before a draw by `program` (the slave's name): glcast_fragcoord for the viewport the driver
+    // draws with now against the one the program set.
+    void correct_fragcoord(uint32_t program);
+    bool maps_fragments() const;  // fragment shaders get glcast_fragcoord
     // Vertex shaders get glcast_clip: for rotated tiles, and for passes that redraw the scene.
     bool patching() const;
     bool mapping();

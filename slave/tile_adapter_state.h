@@ -94,6 +94,12 @@ struct TileAdapter::Shared {
         glm::mat4 value{0.0f};
     };
     std::unordered_map<uint32_t, Clip> clip_uniforms;
+    // glcast_fragcoord's location in each slave program (-1: none) and what it holds now.
+    struct FragCoord {
+        int32_t location = -1;
+        float value[4] = {0, 0, 0, 0};
+    };
+    std::unordered_map<uint32_t, FragCoord> fragcoord_uniforms;
     explicit Shared(const GlApi& gl) : cameras(gl) {}
     ProgramCameras cameras;  // shader programs' projections, without program_projection
 };

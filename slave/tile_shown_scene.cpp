@@ -132,7 +132,10 @@ void TileAdapter::finish_shown_scene(const Call& c) {
         int32_t program[4];
         program_viewport(program);
         return s.shown->draw_stretched(gl, rect, program, ctx.width, ctx.height,
-                                       [this, &c] { kReplay[c.opcode](core_, c); });
+                                       [this, &c] {
+                                           correct_fragcoord(program_in_use());  // (the stretched viewport)
+                                           kReplay[c.opcode](core_, c);
+                                       });
     });
 }
 

@@ -370,11 +370,13 @@ bool TileAdapter::shader_light(uint32_t program, const ProgramCamera& camera, ef
     return shared().cameras.light(program, camera, out);
 }
 
-bool TileAdapter::patches_vertex_shader(uint64_t shader) {
-    if (!patching()) return false;
+ShaderPatch TileAdapter::shader_patch(uint64_t shader) {
     const auto& types = shared().shader_types;
     const auto type = types.find(shader);
-    return type != types.end() && type->second == GL_VERTEX_SHADER;
+    if (type == types.end()) return ShaderPatch::Untouched;
+    if (type->second == GL_VERTEX_SHADER && patching()) return ShaderPatch::Clip;
+    if (type->second == GL_FRAGMENT_SHADER && maps_fragments()) return ShaderPatch::WindowFragCoord;
+    return ShaderPatch::Untouched;
 }
 
 }  // namespace glcast::slave

@@ -1,11 +1,11 @@
 // Uniform locations: the master's reply of glGetUniformLocation is mapped to the slave's own
 // answer, per program, so glUniform* calls address the same variable on both.
-#include <regex>
 #include <string>
 
 #include "common/gl_headers.h"
 #include "slave/call_replay.h"
 #include "slave/replay_limits.h"
+#include "slave/shader_patch.h"
 #include "slave/slave_context.h"
 
 namespace glcast::slave::replay_special {
@@ -18,9 +18,10 @@ void glGetUniformLocation(CallReplay& r, const Call& c) {
     if (master >= 0 && slave >= 0) r.set_uniform_location(c.args[0].bits, master, slave);
 }
 
-// Rotated tiles with a program projection from the display config (docs/wall.md): vertex
-// shaders get a last step, gl_Position = glcast_clip * gl_Position, the program's main renamed.
-// glcast_clip is set before draws (TileAdapter::correct_shader_program).
+// Shaders a tile or a pass draws elsewhere than the master did (slave/shader_patch.h): vertex
+// shaders get a last step, gl_Position = glcast_clip * gl_Position (set before draws by
+// TileAdapter::correct_shader_program); fragment shaders that read gl_FragCoord read the master
+// window's coordinates (TileAdapter::correct_fragcoord).
 void glShaderSource(CallReplay& r, const Call& c) {
     const GLuint shader = r.name<GLuint>(Ns::program, c, 0);
     const GLsizei count = r.value<GLsizei>(c, 1);
@@ -31,25 +32,17 @@ void glShaderSource(CallReplay& r, const Call& c) {
     r.need(c, 3, count);
     const char* const* strings = r.strings(c, 2);
     const auto* lengths = static_cast<const GLint*>(r.in(c, 3));
-    auto source = [&r](GLuint s, GLsizei n, const char* const* text, const GLint* lengths) {
-        r.api().glShaderSource(s, n, text, lengths);
-    };
-    if (!r.turns_vertex_shader(c.args[0].bits)) {
-        source(shader, count, strings, lengths);
-        return;
-    }
+    const ShaderPatch patch = r.shader_patch(c.args[0].bits);
     std::string text;
-    for (GLsizei i = 0; i < count; ++i)
-        if (strings[i]) text += lengths && lengths[i] >= 0 ? std::string(strings[i], size_t(lengths[i])) : std::string(strings[i]);
-    static const std::regex main_function(R"(\bvoid\s+main\s*\()");
-    if (!std::regex_search(text, main_function)) {
-        source(shader, count, strings, lengths);
+    if (patch != ShaderPatch::Untouched)
+        for (GLsizei i = 0; i < count; ++i)
+            if (strings[i]) text += lengths && lengths[i] >= 0 ? std::string(strings[i], size_t(lengths[i])) : std::string(strings[i]);
+    if (patch == ShaderPatch::Untouched || !patch_shader(text, patch)) {
+        r.api().glShaderSource(shader, count, strings, lengths);
         return;
     }
-    text = std::regex_replace(text, main_function, "void glcast_program_main(", std::regex_constants::format_first_only);
-    text += "\nuniform mat4 glcast_clip;\nvoid main() { glcast_program_main(); gl_Position = glcast_clip * gl_Position; }\n";
     const char* patched = text.c_str();
-    source(shader, 1, &patched, nullptr);
+    r.api().glShaderSource(shader, 1, &patched, nullptr);
 }
 
 // Attribute locations index the context's vertex-array state, which every program shares, so

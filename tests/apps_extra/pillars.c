@@ -28,6 +28,11 @@
  * width and height (an engine's render scale), stretched to the window (nearest texels, so
  * colours stay exact).
  *
+ * With --fbo --fragcoord (not --region or --mirror) the quad that shows the scene (and --post's
+ * copy) is drawn by a GLSL program that reads the scene's texture at gl_FragCoord.xy divided by
+ * the window's size, a uniform (SuperTuxKart's last pass does so): where a fragment lands in the
+ * window says which texel it shows.
+ *
  * With --reversed the depth is reversed, as engines since 2015 keep it for precision: clip
  * control GL_ZERO_TO_ONE, a projection with an infinite far plane that maps the near plane to
  * depth 1 and infinity to 0 (loaded with glLoadMatrixd), depth cleared to 0 and tested
@@ -166,7 +171,7 @@
  * (alone) and `modelView` (view * model, per draw), and --sun's X,Y,Z is `uniform vec3
  * u_lightDirection` in the eye's space, as uploaded, each face lit by the eye-space normal.
  *
- *   pillars [--shader | --builtins | --mvp [--modelview]] [--grow] [--fbo [--half | --region [--blit]] [--mrt | --msaa] [--depth-texture]] [--reversed] [--hud [--in-scene [--depth-on]]]
+ *   pillars [--shader | --builtins | --mvp [--modelview]] [--grow] [--fbo [--half | --region [--blit]] [--mrt | --msaa] [--depth-texture] [--fragcoord]] [--reversed] [--hud [--in-scene [--depth-on]]]
  *           [--hand] [--left-handed] [--mixed] [--foliage] [--post] [--grade] [--markers] [--cull] [--overlay] [--wire] [--mirror] [--reflection] [--bbox] [--canopy] [--blended] [--objects] [--fov DEG]
  *           [--fisheye] [--scale S] [--turn DEG] [--sun X,Y,Z | --gl-light X,Y,Z] [--frames N] [--size WxH]
  */
@@ -504,6 +509,7 @@ int main(int argc, char **argv)
     const int mrt = fbo_mode && app_take_flag(&argc, &argv, "--mrt");
     const int msaa = fbo_mode && app_take_flag(&argc, &argv, "--msaa");
     const int depth_texture = fbo_mode && app_take_flag(&argc, &argv, "--depth-texture");
+    const int fragcoord = fbo_mode && !region && app_take_flag(&argc, &argv, "--fragcoord");
     const int reversed = app_take_flag(&argc, &argv, "--reversed");
     const int hud = app_take_flag(&argc, &argv, "--hud");
     const int hud_in_scene = hud && fbo_mode && app_take_flag(&argc, &argv, "--in-scene");
@@ -518,7 +524,7 @@ int main(int argc, char **argv)
     const int cull = app_take_flag(&argc, &argv, "--cull");
     const int overlay = app_take_flag(&argc, &argv, "--overlay");
     const int wire = fbo_mode && !shader && !msaa && !by_blit && !post && app_take_flag(&argc, &argv, "--wire");
-    const int mirror = fbo_mode && !shader && !msaa && !region && !post && !wire && app_take_flag(&argc, &argv, "--mirror");
+    const int mirror = fbo_mode && !shader && !msaa && !region && !post && !wire && !fragcoord && app_take_flag(&argc, &argv, "--mirror");
     const int reflection = app_take_flag(&argc, &argv, "--reflection");
     const int bbox = (!shader || builtins || mvp) && app_take_flag(&argc, &argv, "--bbox");
     const int canopy = !shader && app_take_flag(&argc, &argv, "--canopy");
@@ -703,6 +709,19 @@ int main(int argc, char **argv)
             fprintf(stderr, "pillars: the grade program does not link\n");
             return 1;
         }
+    }
+    GLuint fragcoord_program = 0;  /* --fragcoord: the scene's texel where the fragment lands */
+    GLint fragcoord_size = -1;
+    if (fragcoord) {
+        const char *fvs = "#version 120\nvoid main() { gl_Position = ftransform(); }\n";
+        const char *ffs = "#version 120\nuniform sampler2D scene;\nuniform vec2 size;\n"
+                          "void main() { gl_FragColor = texture2D(scene, gl_FragCoord.xy / size); }\n";
+        fragcoord_program = link_program(fvs, ffs);
+        if (!fragcoord_program) {
+            fprintf(stderr, "pillars: the fragcoord program does not link\n");
+            return 1;
+        }
+        fragcoord_size = glGetUniformLocation(fragcoord_program, "size");
     }
     GLuint leaves = 0;
     if (foliage) {  /* opaque white, then transparent */
@@ -962,7 +981,12 @@ int main(int argc, char **argv)
                     glDepthMask(GL_TRUE);
                 }
                 glBindTexture(GL_TEXTURE_2D, post && step == 1 ? post_color : color);
-                if (mirror) {  /* (the scene upside down in its target: shown mirrored) */
+                if (fragcoord) {
+                    glUseProgram(fragcoord_program);
+                    glUniform2f(fragcoord_size, (GLfloat)a.width, (GLfloat)a.height);
+                    full_target_quad();
+                    glUseProgram(0);
+                } else if (mirror) {  /* (the scene upside down in its target: shown mirrored) */
                     glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo);
                     glBlitFramebuffer(0, 0, fw, fh, 0, a.height, a.width, 0, GL_COLOR_BUFFER_BIT, GL_NEAREST);
                     glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);

@@ -144,6 +144,17 @@ def case_mosaic_grow():
     mosaic([os.path.join(APPS, "pillars"), "--grow", "--size", "320x240", "--frames", "100"], probes, "grow")
 
 
+def case_mosaic_fragcoord():
+    # The scene in a framebuffer object shown by a fragment shader that reads it at gl_FragCoord
+    # divided by the window's size (SuperTuxKart's last pass): each tile's fragments are the
+    # master window's. Before, every tile (and the canvas) showed the whole scene in its part.
+    def probes(frame):  # tests/apps_extra/pillars.c: pillar 0 straight ahead, above the horizon
+        return [(*window_to_canvas(160, 150), (40, 200, 255), 3, "pillar 0"),
+                (*window_to_canvas(80, 200), (0, 0, 0), 3, "the sky left of pillar 0")]
+    mosaic([os.path.join(APPS, "pillars"), "--fbo", "--fragcoord", "--size", "320x240", "--frames", "100"], probes,
+           "fragcoord")
+
+
 def case_mosaic_msaa_blit():
     # A multisampled scene resolved into the window by glBlitFramebuffer at its own size: each
     # tile (and the canvas) scales it. GL resolves samples only at the same size: before, every
@@ -326,6 +337,13 @@ def case_cylinder_fbo_msaa():
 def case_cylinder_fbo_mrt():
     # ... into a framebuffer object with two colour attachments, both written.
     cylinder("cylinder_fbo_mrt", os.path.join(CONFIGS, "cylinder-360.json"), ["--fbo", "--mrt"])
+
+
+def case_cylinder_fbo_fragcoord():
+    # ... shown (and post-processed) by fragment shaders that read the scene at gl_FragCoord over
+    # the window's size: before, the tiles (1600x1200) repeated the scene in a grid.
+    cylinder("cylinder_fbo_fragcoord", os.path.join(CONFIGS, "cylinder-360.json"),
+             ["--builtins", "--fbo", "--fragcoord", "--post"], frames=3)
 
 
 def case_cylinder_reversed():
