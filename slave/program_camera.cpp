@@ -41,7 +41,13 @@ bool split_perspective(const glm::dmat4& m, glm::dmat4& projection, glm::dmat4& 
     glm::dmat4 v(1.0);
     for (int col = 0; col < 4; ++col) v[col][0] = v0[col], v[col][1] = v1[col], v[col][2] = v2[col];
     v[0][3] = v[1][3] = v[2][3] = 0, v[3][3] = 1;
-    if (!(f != 0) || !std::isfinite(f) || glm::determinant(glm::dmat3(v)) <= 0) return false;
+    if (!(f != 0) || !std::isfinite(f)) return false;
+    if (glm::determinant(glm::dmat3(v)) <= 0) {
+        // A left-handed eye space (w = +z, Irrlicht's): V's third row and P's third column change
+        // sign, and P keeps w = +z, as such a program's own projection does (view_correction.h).
+        for (int col = 0; col < 4; ++col) v[col][2] = -v[col][2];
+        p[2][0] = -b, p[2][1] = -d, p[2][2] = -e, p[2][3] = 1;
+    }
     projection = p;
     view = v;
     return true;
@@ -140,6 +146,7 @@ const ProgramCameras::Uniforms& ProgramCameras::uniforms(uint32_t program) {
             gl_.glGetActiveUniformsiv(program, 1, &i, GL_UNIFORM_MATRIX_STRIDE, &stride);
             gl_.glGetActiveUniformsiv(program, 1, &i, GL_UNIFORM_IS_ROW_MAJOR, &row_major);
         }
+        if (block >= 0 && u.columns == 4 && !vertex_stages_read(program, u.name)) continue;
         if (block >= 0) {
             u.block = uint32_t(block), u.offset = uint32_t(std::max(offset, 0)), u.stride = uint32_t(std::max(stride, 16));
             u.row_major = row_major != 0 && u.columns == 4;
@@ -183,6 +190,68 @@ bool ProgramCameras::value(uint32_t program, const Uniform& u, float f[16]) {
     for (int i = 0; i < 4 * u.columns; ++i)
         if (!std::isfinite(f[i])) return false;
     return true;
+}
+
+std::unordered_set<std::string> names_read(const std::string& glsl) {
+    std::unordered_map<std::string, int> count;
+    for (size_t i = 0; i < glsl.size();) {
+        const char c = glsl[i];
+        if (c == '/' && i + 1 < glsl.size() && glsl[i + 1] == '/') {
+            i = glsl.find('\n', i);
+        } else if (c == '/' && i + 1 < glsl.size() && glsl[i + 1] == '*') {
+            i = glsl.find("*/", i + 2);
+            if (i != std::string::npos) i += 2;
+        } else if (std::isalpha(static_cast<unsigned char>(c)) || c == '_') {
+            size_t end = i + 1;
+            while (end < glsl.size() && (std::isalnum(static_cast<unsigned char>(glsl[end])) || glsl[end] == '_')) ++end;
+            ++count[glsl.substr(i, end - i)];
+            i = end;
+        } else {
+            ++i;
+        }
+    }
+    std::unordered_set<std::string> read;
+    for (const auto& [name, n] : count)
+        if (n >= 2) read.insert(name);
+    return read;
+}
+
+void ProgramCameras::linked(uint32_t program) {
+    // (bounded: a stream that links without end keeps as many entries as this)
+    constexpr size_t kMostPrograms = 4096;
+    constexpr GLsizei kMostShaders = 16;
+    vertex_reads_.erase(program);
+    if (!program || !gl_.has(OP_glGetAttachedShaders) || !gl_.has(OP_glGetShaderSource)) return;
+    GLuint shaders[kMostShaders] = {};
+    GLsizei count = 0;
+    gl_.glGetAttachedShaders(program, kMostShaders, &count, shaders);
+    std::string text;
+    for (GLsizei i = 0; i < std::clamp(count, 0, kMostShaders); ++i) {
+        GLint type = 0, length = 0;
+        gl_.glGetShaderiv(shaders[i], GL_SHADER_TYPE, &type);
+        if (type == GL_FRAGMENT_SHADER || type == GL_COMPUTE_SHADER) continue;
+        gl_.glGetShaderiv(shaders[i], GL_SHADER_SOURCE_LENGTH, &length);
+        if (length <= 0) return;  // (a shader whose source is not known: nothing to go by)
+        std::string source(size_t(length), '\0');
+        GLsizei written = 0;
+        gl_.glGetShaderSource(shaders[i], length, &written, source.data());
+        source.resize(size_t(std::clamp(written, 0, length)));
+        text += source;
+        text += '\n';
+    }
+    if (text.empty()) return;
+    if (vertex_reads_.size() >= kMostPrograms) vertex_reads_.clear();
+    vertex_reads_[program] = names_read(text);
+}
+
+// A block member's name as the driver lists it: "Block.member[0]" or "member".
+bool ProgramCameras::vertex_stages_read(uint32_t program, const std::string& name) const {
+    const auto it = vertex_reads_.find(program);
+    if (it == vertex_reads_.end()) return true;
+    const size_t dot = name.rfind('.');
+    std::string member = name.substr(dot == std::string::npos ? 0 : dot + 1);
+    member = member.substr(0, member.find('['));
+    return it->second.count(member) > 0;
 }
 
 bool ProgramCameras::orthographic(uint32_t program) {

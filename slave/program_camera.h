@@ -8,6 +8,8 @@
 #include <cstdint>
 #include <map>
 #include <string>
+#include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -18,7 +20,9 @@
 namespace glcast::slave {
 
 // Splits m = P * V (column-major, as GL stores it); false when m is no such product (an
-// orthographic projection, a model or normal matrix). P may be off-centre (b, d below), so a
+// orthographic projection, a model or normal matrix). A product whose view would come out
+// mirrored splits as a left-handed camera (P with w = +z, V a rotation): the two write one
+// frustum, and the picture cannot tell a mirrored view from a left-handed one. P may be off-centre (b, d below), so a
 // model matrix with a non-uniform scale inside P * V splits too, with a skewed P: the stream
 // cannot tell the two apart; programs put such scales in a model matrix of their own.
 bool split_perspective(const glm::dmat4& m, glm::dmat4& projection, glm::dmat4& view);
@@ -60,6 +64,11 @@ struct LightUniform {
 };
 LightUniform light_uniform(const std::string& name);
 
+// The identifiers a GLSL text reads: those it names twice or more outside comments (a uniform
+// block member the text only declares, as engines declare one block of every matrix in each
+// shader, is named once).
+std::unordered_set<std::string> names_read(const std::string& glsl);
+
 // Reads the 4x4 matrices of a linked program as they are now (default-block uniforms, and
 // members of uniform blocks from the buffers bound to them) and finds its camera: the first
 // matrix that splits as a perspective product; when that one is a projection alone, the
@@ -85,6 +94,11 @@ public:
     // program with none places its vertices itself (a full-target pass by gl_VertexID).
     bool places_by_matrix(uint32_t program);
     void forget() { uniforms_.clear(); }
+    // The program was linked: what its vertex stages read, from the sources of the shaders
+    // attached now (engines detach them after linking). A matrix in a uniform block that they do
+    // not read places no vertex (the driver lists every member of a std140 block as active:
+    // SuperTuxKart's HUD and full-screen programs declare its block of camera matrices too).
+    void linked(uint32_t program);
 
 private:
     struct Uniform {
@@ -103,8 +117,12 @@ private:
     const Uniforms& uniforms(uint32_t program);
     bool value(uint32_t program, const Uniform& u, float out[16]);
 
+    bool vertex_stages_read(uint32_t program, const std::string& name) const;
+
     const GlApi& gl_;
     std::map<uint32_t, Uniforms> uniforms_;  // by program, read once
+    // By program: the names its vertex stages read (no entry: not known, every name read).
+    std::unordered_map<uint32_t, std::unordered_set<std::string>> vertex_reads_;
 };
 
 }  // namespace glcast::slave

@@ -42,10 +42,17 @@ struct TileAdapter::State {
     // before showing it: the last such target drawn with a perspective view before the window
     // in a frame (not a post-processing target its full-screen quads fill after it) held the
     // scene, unless the window itself got a perspective view (then none did), and from the next
-    // frame on only it is turned (until then, every one).
+    // frame on only it is turned (until then, every one); with it, the targets of the window's
+    // shape drawn with the same projection that frame (a deferred renderer draws its geometry,
+    // its lights and its colours into several: SuperTuxKart).
     uint64_t scene_target = 0;  // 0: the window
+    std::vector<uint64_t> scene_targets;  // ... and those drawn with its projection
     bool scene_target_known = false;
     uint64_t frame_scene_target = 0;  // this frame's, so far
+    // This frame's targets of the window's shape drawn with a perspective view, and its projection
+    // (the last), at most kFrameViews.
+    static constexpr size_t kFrameViews = 16;
+    std::vector<std::pair<uint64_t, glm::dmat4>> frame_views;
     bool presented = false;           // the context presented a frame (its frames end)
     uint64_t presented_frame = 0;     // ... the last
     bool window_drawn = false;        // this frame has drawn to the window

@@ -61,7 +61,9 @@ glm::dmat4 TileAdapter::program_projection_now() {
 bool TileAdapter::draws_scene_target(SlaveContext& ctx) {
     State& s = state();
     if (window_shaped(s.viewport[0], ctx.master_width, ctx.master_height))
-        return holds_colour_and_depth() && (!s.scene_target_known || s.draw_framebuffer == s.scene_target);
+        return holds_colour_and_depth() &&
+               (!s.scene_target_known || s.draw_framebuffer == s.scene_target ||
+                std::find(s.scene_targets.begin(), s.scene_targets.end(), s.draw_framebuffer) != s.scene_targets.end());
     // (and the others of its size: Blender's viewport draws its engines' colour and its overlays
     // into targets of the region's size, which the draw that shows it blends; its overlay engine
     // draws the grid and the object centres into one that holds colour only, and tests depth in
@@ -122,6 +124,10 @@ void TileAdapter::saw_view(SlaveContext& ctx, const glm::dmat4& projection) {
         if (drew_window_this_frame(s)) return;
         s.frame_scene_target = s.draw_framebuffer;
         s.frame_shaped_view = true;
+        auto seen = std::find_if(s.frame_views.begin(), s.frame_views.end(),
+                                 [&](const auto& view) { return view.first == s.draw_framebuffer; });
+        if (seen != s.frame_views.end()) seen->second = projection;
+        else if (s.frame_views.size() < State::kFrameViews) s.frame_views.emplace_back(s.draw_framebuffer, projection);
         return;
     }
     // (shown in part of the window, it may be drawn after other parts were: Blender draws each
@@ -148,6 +154,13 @@ void TileAdapter::end_frame(SlaveContext& ctx) {
         refuse(*lender);
     if (s.frame_scene_target || s.window_view) {
         s.scene_target = s.window_view ? 0 : s.frame_scene_target;
+        s.scene_targets.clear();
+        const auto last = std::find_if(s.frame_views.begin(), s.frame_views.end(),
+                                       [&](const auto& view) { return view.first == s.scene_target; });
+        for (const auto& [target, projection] : s.frame_views)
+            if (s.scene_target && last != s.frame_views.end() && target != s.scene_target &&
+                same_projection(projection, last->second))
+                s.scene_targets.push_back(target);
         s.scene_in_part = s.scene_target && !s.frame_shaped_view;
         s.scene_target_known = true;
     } else if (s.frame_part_target && !s.part_refused) {
@@ -157,6 +170,7 @@ void TileAdapter::end_frame(SlaveContext& ctx) {
     s.presented = true;
     s.presented_frame = core_.frame();
     s.frame_scene_target = s.frame_part_target = 0;
+    s.frame_views.clear();
     s.window_drawn = s.window_view = s.scene_view = s.scene_shown = s.frame_shaped_view = false;
     s.part_turned = s.part_found = false;
 }

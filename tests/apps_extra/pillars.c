@@ -31,7 +31,13 @@
  * With --fbo --fragcoord (not --region or --mirror) the quad that shows the scene (and --post's
  * copy) is drawn by a GLSL program that reads the scene's texture at gl_FragCoord.xy divided by
  * the window's size, a uniform (SuperTuxKart's last pass does so): where a fragment lands in the
- * window says which texel it shows.
+ * window says which texel it shows. With --shader --objects its vertex shader declares the view's
+ * uniform block (bound, std140) and reads none of it.
+ *
+ * With --mvp --fbo --gbuffer the scene is drawn twice with one camera, as deferred renderers
+ * (SuperTuxKart) draw theirs: first into a framebuffer object of its own (colour and depth) at the
+ * window's size, then into the scene's by a program that takes each fragment's colour from the
+ * first at gl_FragCoord over the window's size (a light buffer's lookup).
  *
  * With --reversed the depth is reversed, as engines since 2015 keep it for precision: clip
  * control GL_ZERO_TO_ONE, a projection with an infinite far plane that maps the near plane to
@@ -65,6 +71,9 @@
  * With --left-handed the world and the eye space are left-handed, as Irrlicht's (minetest's) are:
  * every z is negated in the vertices and the projection has w = +z (glLoadMatrixd of the
  * standard one with its third column negated), so the picture is the standard one's. With
+ * --mvp, the product of that projection and the view and model matrices written in left-handed
+ * coordinates (S V S, S M S with S mirroring z) is uploaded: SuperTuxKart's u_projection_view_matrix,
+ * with the floor's and pillars' vertices as they are (symmetric in z, or at z = 0). With
  * --builtins --mixed the floor is drawn by fixed function and the pillars by the shader program
  * (a sky or a cloud layer by fixed function, the terrain by built-ins, as minetest draws).
  *
@@ -171,7 +180,7 @@
  * (alone) and `modelView` (view * model, per draw), and --sun's X,Y,Z is `uniform vec3
  * u_lightDirection` in the eye's space, as uploaded, each face lit by the eye-space normal.
  *
- *   pillars [--shader | --builtins | --mvp [--modelview]] [--grow] [--fbo [--half | --region [--blit]] [--mrt | --msaa] [--depth-texture] [--fragcoord]] [--reversed] [--hud [--in-scene [--depth-on]]]
+ *   pillars [--shader | --builtins | --mvp [--modelview]] [--grow] [--fbo [--half | --region [--blit]] [--mrt | --msaa] [--depth-texture] [--fragcoord] [--gbuffer]] [--reversed] [--hud [--in-scene [--depth-on]]]
  *           [--hand] [--left-handed] [--mixed] [--foliage] [--post] [--grade] [--markers] [--cull] [--overlay] [--wire] [--mirror] [--reflection] [--bbox] [--canopy] [--blended] [--objects] [--fov DEG]
  *           [--fisheye] [--scale S] [--turn DEG] [--sun X,Y,Z | --gl-light X,Y,Z] [--frames N] [--size WxH]
  */
@@ -344,11 +353,20 @@ static int parse_vector(const char *text, double v[3])
 /* --mvp: the floor and each pillar under projection * view * model, one uniform per draw. The
  * view turns the world by 0 degrees (the pictures match the other modes) and is a rigid matrix
  * the stream never shows alone. */
-static void draw_mvp(GLint location, const double *proj, double turn_deg, GLint modelview_location, int bbox)
+/* S m S with S = diag(1, 1, -1, 1): a right-handed transform written in left-handed coordinates */
+static void mirror_z(double *m)
+{
+    for (int col = 0; col < 4; col++)
+        for (int row = 0; row < 4; row++)
+            if ((col == 2) != (row == 2)) m[col * 4 + row] = -m[col * 4 + row];
+}
+
+static void draw_mvp(GLint location, const double *proj, double turn_deg, GLint modelview_location, int bbox, int left)
 {
     /* glRotated(turn, 0, 1, 0) */
     const double t = turn_deg * M_PI / 180.0, ct = cos(t), st = sin(t);
-    const double view[16] = {ct, 0, -st, 0, 0, 1, 0, 0, st, 0, ct, 0, 0, 0, 0, 1};
+    double view[16] = {ct, 0, -st, 0, 0, 1, 0, 0, st, 0, ct, 0, 0, 0, 0, 1};
+    if (left) mirror_z(view);
     double pv[16], m[16], model[16];
     /* --modelview: the projection alone in `location`, view * model in `modelview_location` */
     const int split = modelview_location >= 0;
@@ -365,6 +383,7 @@ static void draw_mvp(GLint location, const double *proj, double turn_deg, GLint 
         /* rotate by -yaw about y (the pillar's face towards the viewer), then move it out to 6 units */
         const double place[16] = {c, 0, s, 0, 0, 1, 0, 0, -s, 0, c, 0, 6 * s, 0, -6 * c, 1};
         memcpy(model, place, sizeof place);
+        if (left) mirror_z(model);  /* (the pillar's own vertices have z = 0) */
         mul(m, pv, model);
         upload(split ? modelview_location : location, m);
         glColor3ub((GLubyte)(40 + 16 * k), (GLubyte)(200 - 12 * k), (GLubyte)(255 - 20 * k));
@@ -510,6 +529,7 @@ int main(int argc, char **argv)
     const int msaa = fbo_mode && app_take_flag(&argc, &argv, "--msaa");
     const int depth_texture = fbo_mode && app_take_flag(&argc, &argv, "--depth-texture");
     const int fragcoord = fbo_mode && !region && app_take_flag(&argc, &argv, "--fragcoord");
+    const int gbuffer = fbo_mode && mvp && !region && !half && !msaa && app_take_flag(&argc, &argv, "--gbuffer");
     const int reversed = app_take_flag(&argc, &argv, "--reversed");
     const int hud = app_take_flag(&argc, &argv, "--hud");
     const int hud_in_scene = hud && fbo_mode && app_take_flag(&argc, &argv, "--in-scene");
@@ -562,8 +582,8 @@ int main(int argc, char **argv)
         return 2;
     }
     const double zs = left_handed ? -1 : 1;  /* the world's z as the program keeps it */
-    if (left_handed && (mvp || reversed)) {
-        fprintf(stderr, "pillars: --left-handed is not for --mvp or --reversed\n");
+    if (left_handed && (reversed || (mvp && (bbox || sun_text)))) {
+        fprintf(stderr, "pillars: --left-handed is not for --reversed, nor for --mvp with --bbox or --sun\n");
         return 2;
     }
     if (region && (hud_in_scene || hand)) {
@@ -713,7 +733,12 @@ int main(int argc, char **argv)
     GLuint fragcoord_program = 0;  /* --fragcoord: the scene's texel where the fragment lands */
     GLint fragcoord_size = -1;
     if (fragcoord) {
-        const char *fvs = "#version 120\nvoid main() { gl_Position = ftransform(); }\n";
+        /* (with --objects its vertex shader declares the view's block, and reads none of it: as
+         * SuperTuxKart's every shader declares its block of camera matrices) */
+        const char *fvs = objects ? "#version 140\n#extension GL_ARB_compatibility : enable\n"
+                                    "layout(std140) uniform view_block { mat4 winmat; };\n"
+                                    "void main() { gl_Position = ftransform(); }\n"
+                                  : "#version 120\nvoid main() { gl_Position = ftransform(); }\n";
         const char *ffs = "#version 120\nuniform sampler2D scene;\nuniform vec2 size;\n"
                           "void main() { gl_FragColor = texture2D(scene, gl_FragCoord.xy / size); }\n";
         fragcoord_program = link_program(fvs, ffs);
@@ -722,6 +747,39 @@ int main(int argc, char **argv)
             return 1;
         }
         fragcoord_size = glGetUniformLocation(fragcoord_program, "size");
+        if (objects) glUniformBlockBinding(fragcoord_program, glGetUniformBlockIndex(fragcoord_program, "view_block"), 2);
+    }
+    GLuint gbuffer_program = 0, gbuffer_fbo = 0, gbuffer_color = 0;  /* --gbuffer: the first pass's target */
+    GLint gbuffer_mvp = -1, gbuffer_size = -1;
+    if (gbuffer) {
+        const char *gvs = "#version 120\nuniform mat4 mvp;\nvoid main() { gl_Position = mvp * gl_Vertex; }\n";
+        const char *gfs = "#version 120\nuniform sampler2D lit;\nuniform vec2 size;\n"
+                          "void main() { gl_FragColor = texture2D(lit, gl_FragCoord.xy / size); }\n";
+        gbuffer_program = link_program(gvs, gfs);
+        if (!gbuffer_program) {
+            fprintf(stderr, "pillars: the gbuffer program does not link\n");
+            return 1;
+        }
+        gbuffer_mvp = glGetUniformLocation(gbuffer_program, "mvp");
+        gbuffer_size = glGetUniformLocation(gbuffer_program, "size");
+        GLuint depth = 0;
+        glGenTextures(1, &gbuffer_color);
+        glBindTexture(GL_TEXTURE_2D, gbuffer_color);
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, a.width, a.height, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        glGenRenderbuffers(1, &depth);
+        glBindRenderbuffer(GL_RENDERBUFFER, depth);
+        glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, a.width, a.height);
+        glGenFramebuffers(1, &gbuffer_fbo);
+        glBindFramebuffer(GL_FRAMEBUFFER, gbuffer_fbo);
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, gbuffer_color, 0);
+        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
+        if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+            fprintf(stderr, "pillars: the gbuffer target is not complete\n");
+            return 1;
+        }
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
     }
     GLuint leaves = 0;
     if (foliage) {  /* opaque white, then transparent */
@@ -875,8 +933,19 @@ int main(int argc, char **argv)
             const GLfloat position[4] = {(GLfloat)sun[0], (GLfloat)sun[1], (GLfloat)sun[2], 0};
             glLightfv(GL_LIGHT0, GL_POSITION, position);
         }
-        if (mvp) {
-            draw_mvp(proj_location, proj, turn, modelview_location, bbox);
+        if (mvp && gbuffer) {
+            glBindFramebuffer(GL_FRAMEBUFFER, gbuffer_fbo);
+            glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+            draw_mvp(proj_location, proj, turn, modelview_location, bbox, left_handed);
+            glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+            glUseProgram(gbuffer_program);
+            glBindTexture(GL_TEXTURE_2D, gbuffer_color);
+            glUniform2f(gbuffer_size, (GLfloat)a.width, (GLfloat)a.height);
+            draw_mvp(gbuffer_mvp, proj, turn, -1, 0, left_handed);
+            glBindTexture(GL_TEXTURE_2D, 0);
+            glUseProgram(program);
+        } else if (mvp) {
+            draw_mvp(proj_location, proj, turn, modelview_location, bbox, left_handed);
         } else {
             if (foliage) {
                 glBindTexture(GL_TEXTURE_2D, leaves);

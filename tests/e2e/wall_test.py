@@ -305,6 +305,12 @@ def case_cylinder_mvp():
     cylinder("cylinder_mvp", os.path.join(CONFIGS, "cylinder-360.json"), ["--mvp"])
 
 
+def case_cylinder_mvp_left_handed():
+    # ... written in left-handed coordinates (w = +z, SuperTuxKart's u_projection_view_matrix):
+    # before, the product did not split (its view came out mirrored) and no tile turned.
+    cylinder("cylinder_mvp_left_handed", os.path.join(CONFIGS, "cylinder-360.json"), ["--mvp", "--left-handed"])
+
+
 def case_cylinder_fbo():
     # The scene drawn into a framebuffer object and shown by a full-window quad (engines since
     # 2010): what is drawn into the scene's target is turned as what the window gets is.
@@ -344,6 +350,23 @@ def case_cylinder_fbo_fragcoord():
     # the window's size: before, the tiles (1600x1200) repeated the scene in a grid.
     cylinder("cylinder_fbo_fragcoord", os.path.join(CONFIGS, "cylinder-360.json"),
              ["--builtins", "--fbo", "--fragcoord", "--post"], frames=3)
+
+
+def case_cylinder_fbo_fragcoord_objects():
+    # ... with the camera in a uniform block that the window's program declares too and does not
+    # read (std140 keeps it active): before, that program's draw was taken for a view into the
+    # window, the window for the scene's target, and the scene no longer turned.
+    cylinder("cylinder_fbo_fragcoord_objects", os.path.join(CONFIGS, "cylinder-360.json"),
+             ["--shader", "--fbo", "--fragcoord", "--objects"], frames=3)
+
+
+def case_cylinder_fbo_gbuffer():
+    # ... drawn twice with one camera, as deferred renderers draw it (SuperTuxKart): into a target
+    # of its own, then into the scene's by a program that reads the first at gl_FragCoord. Before,
+    # only the last target drawn with the view was turned, and the second pass read the first
+    # unturned.
+    cylinder("cylinder_fbo_gbuffer", os.path.join(CONFIGS, "cylinder-360.json"),
+             ["--mvp", "--fbo", "--gbuffer"], frames=3)
 
 
 def case_cylinder_reversed():

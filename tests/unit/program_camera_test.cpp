@@ -39,6 +39,35 @@ TEST(ProgramCamera, AnOffCentreProjectionTimesAViewSplitsIntoBoth) {
     expect_near(view, v, 1e-4);
 }
 
+// SuperTuxKart's u_projection_view_matrix (Irrlicht's left-handed camera: w = +z, its view a
+// rotation of left-handed coordinates): it splits as that camera, not as a mirrored view.
+TEST(ProgramCamera, ALeftHandedProductSplitsAsALeftHandedCamera) {
+    glm::dmat4 left_p = glm::perspective(glm::radians(60.0), 4.0 / 3.0, 1.0, 1000.0);
+    left_p[2] = -left_p[2];  // (S mirrors z: P S is the same frustum written for z forward)
+    const glm::dmat4 s = glm::scale(glm::dmat4(1.0), glm::dvec3(1, 1, -1));
+    const glm::dmat4 right_v = glm::lookAt(glm::dvec3(3, 2, 5), glm::dvec3(0, 1, 0), glm::dvec3(0, 1, 0));
+    const glm::dmat4 left_v = s * right_v * s;
+    glm::dmat4 projection, view;
+    ASSERT_TRUE(split_perspective(as_float(left_p * left_v), projection, view));
+    EXPECT_NEAR(projection[2][3], 1.0, 1e-9);  // w = +z
+    expect_near(projection, left_p, 1e-4);
+    expect_near(view, left_v, 1e-4);
+    EXPECT_GT(glm::determinant(glm::dmat3(view)), 0);
+}
+
+// What a shader's text reads: a block member it only declares is named once (std140 keeps it
+// active all the same).
+TEST(ProgramCamera, TheNamesAShaderReadsAreThoseItNamesTwice) {
+    const auto read = glcast::slave::names_read(
+        "#version 330\nlayout (std140) uniform Matrices { mat4 u_view_matrix; mat4 u_projection_matrix; };\n"
+        "// u_view_matrix in a comment\n/* u_projection_matrix\n u_view_matrix */\n"
+        "in vec2 Position;\nvoid main() { gl_Position = u_projection_matrix * vec4(Position, 0.0, 1.0); }\n");
+    EXPECT_TRUE(read.count("u_projection_matrix"));
+    EXPECT_FALSE(read.count("u_view_matrix"));
+    EXPECT_TRUE(read.count("Position"));
+    EXPECT_FALSE(read.count("Matrices"));
+}
+
 TEST(ProgramCamera, OrthographicAndModelMatricesAreNoCamera) {
     glm::dmat4 projection, view;
     EXPECT_FALSE(split_perspective(glm::ortho(0.0, 640.0, 0.0, 480.0, -1.0, 1.0), projection, view));
