@@ -155,6 +155,23 @@ void EffectsRunner::run_effects(SlaveContext& ctx) {
     }
     st.copies.end_frame();
     scene.next_frame();
+    keep_frame_start(ctx);
+}
+
+// The vertex array and the textures bound as the next frame's record starts (the passes put back
+// what they change): a redraw starts from them. The state when the passes run is another, the
+// first overlay's (a vertex-array object of its own), which the frame's calls before their first
+// glBindVertexArray would otherwise change (an element buffer bound into the scene's).
+void EffectsRunner::keep_frame_start(SlaveContext& ctx) {
+    ContextPasses& st = passes(ctx);
+    const GlApi& gl = core_.api();
+    gl.glGetIntegerv(GL_VERTEX_ARRAY_BINDING, &st.program_vao);
+    gl.glGetIntegerv(GL_ACTIVE_TEXTURE, &st.program_active_texture);
+    for (int unit = 0; unit < 8; ++unit) {
+        gl.glActiveTexture(GLenum(GL_TEXTURE0 + unit));
+        gl.glGetIntegerv(GL_TEXTURE_BINDING_2D, &st.program_textures[unit]);
+    }
+    gl.glActiveTexture(GLenum(st.program_active_texture));
 }
 
 bool EffectsRunner::decorates_under_overlays(SlaveContext& ctx) {
@@ -338,13 +355,6 @@ void EffectsRunner::frame_view(SlaveContext& ctx, effects::FrameView& v) {
     ContextPasses* st = &passes(ctx);
     st->copies.new_frame();
     const GlApi& gl = core_.api();
-    gl.glGetIntegerv(GL_VERTEX_ARRAY_BINDING, &st->program_vao);
-    gl.glGetIntegerv(GL_ACTIVE_TEXTURE, &st->program_active_texture);
-    for (int unit = 0; unit < 8; ++unit) {
-        gl.glActiveTexture(GLenum(GL_TEXTURE0 + unit));
-        gl.glGetIntegerv(GL_TEXTURE_BINDING_2D, &st->program_textures[unit]);
-    }
-    gl.glActiveTexture(GLenum(st->program_active_texture));
     SlaveContext* c = &ctx;
     ContextScene* sc = &scene;
     v.color_texture = [this, c, st, sc] { return st->copies.window_copy(*c, false, *sc, scenes_.scene_shown(*c)); };

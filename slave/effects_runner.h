@@ -67,6 +67,7 @@ private:
         WindowCopies copies;
         GLuint overlay_program = 0, overlay_vao = 0;
         GLuint view_model_depth = 0;  // the depth the passes saw, for the view model's pixels
+        // The vertex array and textures bound as this frame's record started (a redraw starts there).
         GLint program_vao = 0, program_active_texture = GL_TEXTURE0, program_textures[8] = {};
         DepthConvention depth;  // this frame's: the program's depth as the passes read it
         glm::dmat4 pass_clip_from_program_clip{1.0};  // the depth conversion's, with the tile's map
@@ -78,6 +79,7 @@ private:
     };
     ContextPasses& passes(const SlaveContext& ctx);
     void run_effects(SlaveContext& ctx);  // at the frame's end
+    void keep_frame_start(SlaveContext& ctx);
     // The frame's passes, run over the window as it is (under_overlays: when its overlays start)
     // and the program's own pixels put back.
     void decorate(SlaveContext& ctx, bool under_overlays);

@@ -4,6 +4,8 @@
 #include <cctype>
 #include <cmath>
 #include <cstring>
+#include <regex>
+#include <sstream>
 
 namespace glcast::slave {
 
@@ -146,7 +148,9 @@ const ProgramCameras::Uniforms& ProgramCameras::uniforms(uint32_t program) {
             gl_.glGetActiveUniformsiv(program, 1, &i, GL_UNIFORM_MATRIX_STRIDE, &stride);
             gl_.glGetActiveUniformsiv(program, 1, &i, GL_UNIFORM_IS_ROW_MAJOR, &row_major);
         }
-        if (block >= 0 && u.columns == 4 && !vertex_stages_read(program, u.name)) continue;
+        // (a light in a block no stage reads may be bound to another block's buffer: SuperTuxKart
+        // leaves its geometry programs' LightingData at binding 0, its camera's)
+        if (block >= 0 && !read(program, u.name, /*by_vertex_stages=*/u.columns == 4)) continue;
         if (block >= 0) {
             u.block = uint32_t(block), u.offset = uint32_t(std::max(offset, 0)), u.stride = uint32_t(std::max(stride, 16));
             u.row_major = row_major != 0 && u.columns == 4;
@@ -192,7 +196,63 @@ bool ProgramCameras::value(uint32_t program, const Uniform& u, float f[16]) {
     return true;
 }
 
-std::unordered_set<std::string> names_read(const std::string& glsl) {
+namespace {
+
+// A preprocessor condition as far as it can be told without the driver's macros: 0, 1, and
+// defined(NAME) (or !defined) of the text's own #defines; anything else counts as true.
+bool condition_holds(const std::string& expression, const std::unordered_set<std::string>& defined) {
+    static const std::regex is_defined(R"(^\s*(!?)\s*defined\s*\(?\s*(\w+)\s*\)?\s*$)");
+    std::smatch m;
+    if (std::regex_match(expression, m, is_defined)) return (defined.count(m[2].str()) > 0) != (m[1].length() > 0);
+    static const std::regex number(R"(^\s*(\d+)\s*$)");
+    if (std::regex_match(expression, m, number)) return std::stol(m[1].str()) != 0;
+    return true;
+}
+
+// The lines of `glsl` its own #if, #ifdef, #ifndef, #elif, #else and #endif leave in (those
+// lines themselves left out; #define kept: a macro's body names what its uses read).
+std::string active_text(const std::string& glsl) {
+    std::unordered_set<std::string> defined;
+    struct Branch {
+        bool outer = true, taken = false, active = true;
+    };
+    std::vector<Branch> stack;
+    auto active = [&] { return stack.empty() || stack.back().active; };
+    std::string out;
+    std::istringstream lines(glsl);
+    static const std::regex directive(R"(^\s*#\s*(\w+)\s*(.*)$)");
+    for (std::string line; std::getline(lines, line);) {
+        std::smatch m;
+        if (!std::regex_match(line, m, directive)) {
+            if (active()) out += line + '\n';
+            continue;
+        }
+        const std::string word = m[1].str(), rest = m[2].str();
+        if (word == "if" || word == "ifdef" || word == "ifndef") {
+            const bool holds = word == "if" ? condition_holds(rest, defined)
+                                            : (defined.count(rest.substr(0, rest.find_first_of(" \t/"))) > 0) == (word == "ifdef");
+            const bool outer = active();
+            stack.push_back({outer, holds, outer && holds});
+        } else if ((word == "elif" || word == "else") && !stack.empty()) {
+            Branch& b = stack.back();
+            const bool holds = !b.taken && (word == "else" || condition_holds(rest, defined));
+            b.active = b.outer && holds;
+            b.taken = b.taken || holds;
+        } else if (word == "endif" && !stack.empty()) {
+            stack.pop_back();
+        } else if (active()) {
+            if (word == "define") defined.insert(rest.substr(0, rest.find_first_of(" \t(")));
+            else if (word == "undef") defined.erase(rest.substr(0, rest.find_first_of(" \t")));
+            out += line + '\n';
+        }
+    }
+    return out;
+}
+
+}  // namespace
+
+std::unordered_set<std::string> names_read(const std::string& source) {
+    const std::string glsl = active_text(source);
     std::unordered_map<std::string, int> count;
     for (size_t i = 0; i < glsl.size();) {
         const char c = glsl[i];
@@ -220,38 +280,40 @@ void ProgramCameras::linked(uint32_t program) {
     // (bounded: a stream that links without end keeps as many entries as this)
     constexpr size_t kMostPrograms = 4096;
     constexpr GLsizei kMostShaders = 16;
-    vertex_reads_.erase(program);
+    reads_.erase(program);
     if (!program || !gl_.has(OP_glGetAttachedShaders) || !gl_.has(OP_glGetShaderSource)) return;
     GLuint shaders[kMostShaders] = {};
     GLsizei count = 0;
     gl_.glGetAttachedShaders(program, kMostShaders, &count, shaders);
-    std::string text;
+    Reads reads;
+    // (each shader's own: every stage declares the blocks of a shared header once)
     for (GLsizei i = 0; i < std::clamp(count, 0, kMostShaders); ++i) {
         GLint type = 0, length = 0;
         gl_.glGetShaderiv(shaders[i], GL_SHADER_TYPE, &type);
-        if (type == GL_FRAGMENT_SHADER || type == GL_COMPUTE_SHADER) continue;
         gl_.glGetShaderiv(shaders[i], GL_SHADER_SOURCE_LENGTH, &length);
         if (length <= 0) return;  // (a shader whose source is not known: nothing to go by)
         std::string source(size_t(length), '\0');
         GLsizei written = 0;
         gl_.glGetShaderSource(shaders[i], length, &written, source.data());
         source.resize(size_t(std::clamp(written, 0, length)));
-        text += source;
-        text += '\n';
+        for (const std::string& name : names_read(source)) {
+            if (type != GL_FRAGMENT_SHADER && type != GL_COMPUTE_SHADER) reads.vertex.insert(name);
+            reads.any.insert(name);
+        }
     }
-    if (text.empty()) return;
-    if (vertex_reads_.size() >= kMostPrograms) vertex_reads_.clear();
-    vertex_reads_[program] = names_read(text);
+    if (count <= 0) return;
+    if (reads_.size() >= kMostPrograms) reads_.clear();
+    reads_[program] = std::move(reads);
 }
 
 // A block member's name as the driver lists it: "Block.member[0]" or "member".
-bool ProgramCameras::vertex_stages_read(uint32_t program, const std::string& name) const {
-    const auto it = vertex_reads_.find(program);
-    if (it == vertex_reads_.end()) return true;
+bool ProgramCameras::read(uint32_t program, const std::string& name, bool by_vertex_stages) const {
+    const auto it = reads_.find(program);
+    if (it == reads_.end()) return true;
     const size_t dot = name.rfind('.');
     std::string member = name.substr(dot == std::string::npos ? 0 : dot + 1);
     member = member.substr(0, member.find('['));
-    return it->second.count(member) > 0;
+    return (by_vertex_stages ? it->second.vertex : it->second.any).count(member) > 0;
 }
 
 bool ProgramCameras::orthographic(uint32_t program) {

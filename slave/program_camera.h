@@ -94,10 +94,11 @@ public:
     // program with none places its vertices itself (a full-target pass by gl_VertexID).
     bool places_by_matrix(uint32_t program);
     void forget() { uniforms_.clear(); }
-    // The program was linked: what its vertex stages read, from the sources of the shaders
-    // attached now (engines detach them after linking). A matrix in a uniform block that they do
-    // not read places no vertex (the driver lists every member of a std140 block as active:
-    // SuperTuxKart's HUD and full-screen programs declare its block of camera matrices too).
+    // The program was linked: what its stages read, from the sources of the shaders attached now
+    // (engines detach them after linking). A matrix in a uniform block that its vertex stages do
+    // not read places no vertex, a light in one that no stage reads lights nothing (the driver
+    // lists every member of a std140 block as active: SuperTuxKart's HUD and full-screen programs
+    // declare its block of camera matrices too).
     void linked(uint32_t program);
 
 private:
@@ -117,12 +118,16 @@ private:
     const Uniforms& uniforms(uint32_t program);
     bool value(uint32_t program, const Uniform& u, float out[16]);
 
-    bool vertex_stages_read(uint32_t program, const std::string& name) const;
+    bool read(uint32_t program, const std::string& name, bool by_vertex_stages) const;
 
     const GlApi& gl_;
     std::map<uint32_t, Uniforms> uniforms_;  // by program, read once
-    // By program: the names its vertex stages read (no entry: not known, every name read).
-    std::unordered_map<uint32_t, std::unordered_set<std::string>> vertex_reads_;
+    // By program: the names its vertex stages and all its stages read (no entry: not known,
+    // every name read).
+    struct Reads {
+        std::unordered_set<std::string> vertex, any;
+    };
+    std::unordered_map<uint32_t, Reads> reads_;
 };
 
 }  // namespace glcast::slave

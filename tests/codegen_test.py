@@ -121,8 +121,9 @@ class DeclaredSemantics(unittest.TestCase):
         self.assertEqual(sem("glMultiTexCoord2fARB")["redraw"], "state")
         self.assertIsNone(sem("glVertexAttribLPointer")["redraw"])
         self.assertIsNone(sem("glTexImage2D")["redraw"])            # uploads are never redrawn
+        # (and the uniform buffer a glBufferSubData of the frame uploads into)
         self.assertEqual([e for _, e in sem("glBindBuffer")["redraw_first_values"]],
-                         ["GL_ARRAY_BUFFER", "GL_ELEMENT_ARRAY_BUFFER"])
+                         ["GL_ARRAY_BUFFER", "GL_ELEMENT_ARRAY_BUFFER", "GL_UNIFORM_BUFFER"])
 
     def test_primitive_modes_of_draws(self):
         # (gl.xml's group PrimitiveType: which draws draw lines or points)

@@ -35,6 +35,10 @@
  * texture + DEPTH_COMPONENT24 renderbuffer, as post-processing engines do), which a full-window
  * triangle with the depth test off then copies to the window (nearest texels: the same pixels);
  * a HUD panel (HUD_X, HUD_Y, HUD_W, HUD_H, solid HUD_COLOR) follows with the depth test off.
+ * With --offscreen --hud-vao the panel is drawn by glDrawElements from a vertex-array object of its
+ * own, whose element buffer holds {9, 9, 9, 0, 1, 2} (the draw takes the last three: gl_VertexID
+ * 0, 1, 2), and every frame starts by binding the scene's element buffer with the vertex-array
+ * object 0 bound (which holds it then), as SuperTuxKart leaves its element buffer bound.
  * With --offscreen --dim a full-window black triangle of alpha 0.27 is blended over the shown
  * scene before the panel (a menu dims the scene behind it so).
  *
@@ -628,7 +632,7 @@ static void upload_camera(GLuint ubo, const mat4 *view, const mat4 *proj, const 
 /* --painter: the window pass draws everything after the ground with the depth test off, in
  * order, as programs that paint their scene back to front do (glmark2's ideas scene). */
 static int painter;
-static int offscreen, dim;
+static int offscreen, dim, hud_vao_mode;
 
 /* Draws ground, boxes and the floating box; the monitor screen only when screen_tex != 0
  * (never in the pass that renders into that texture). */
@@ -722,7 +726,7 @@ int main(int argc, char **argv)
     int (*old_handler)(Display *, XErrorEvent *);
     int glx_major = 0, glx_minor = 0, nconfigs = 0, frame;
     GLuint prog, bufs[4], vaos[2], tex, rbo, fbo, block;
-    GLuint scene_tex = 0, scene_depth = 0, scene_fbo = 0, present = 0, empty_vao = 0;
+    GLuint scene_tex = 0, scene_depth = 0, scene_fbo = 0, present = 0, empty_vao = 0, hud_vao = 0, hud_ebo = 0;
     GLint present_solid = -1;
     GLint block_size = 0;
     GLenum status;
@@ -749,6 +753,7 @@ int main(int argc, char **argv)
     painter = app_take_flag(&argc, &argv, "--painter");
     offscreen = app_take_flag(&argc, &argv, "--offscreen");
     dim = offscreen && app_take_flag(&argc, &argv, "--dim");
+    hud_vao_mode = offscreen && app_take_flag(&argc, &argv, "--hud-vao");
     app_parse_args(PROG, argc, argv, &args);
 
     dpy = XOpenDisplay(NULL);
@@ -920,6 +925,15 @@ int main(int argc, char **argv)
         present = build_present_program();
         present_solid = uniform_location(present, "u_solid");
         gl.GenVertexArrays(1, &empty_vao);
+        if (hud_vao_mode) {
+            static const GLushort hud_indices[6] = {9, 9, 9, 0, 1, 2};
+            gl.GenVertexArrays(1, &hud_vao);
+            gl.BindVertexArray(hud_vao);
+            gl.GenBuffers(1, &hud_ebo);
+            gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, hud_ebo);
+            gl.BufferData(GL_ELEMENT_ARRAY_BUFFER, sizeof hud_indices, hud_indices, GL_STATIC_DRAW);
+            gl.BindVertexArray(0);
+        }
         gl.UseProgram(prog);
     }
 
@@ -946,6 +960,8 @@ int main(int argc, char **argv)
         while (XPending(dpy) > 0)
             XNextEvent(dpy, &ev);
 
+        if (hud_vao_mode)  /* (into the vertex-array object 0: bound now) */
+            gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, bufs[1]);
         /* floating box vertices for this frame, through a mapped range */
         build_floating_box(frame, floating);
         gl.BindBuffer(GL_ARRAY_BUFFER, bufs[2]);
@@ -1003,7 +1019,12 @@ int main(int argc, char **argv)
             }
             glViewport(HUD_X, HUD_Y, HUD_W, HUD_H);
             gl.Uniform4f(present_solid, HUD_COLOR);
-            glDrawArrays(GL_TRIANGLES, 0, 3);
+            if (hud_vao_mode) {
+                gl.BindVertexArray(hud_vao);
+                glDrawElements(GL_TRIANGLES, 3, GL_UNSIGNED_SHORT, (const void *)(3 * sizeof(GLushort)));
+            } else {
+                glDrawArrays(GL_TRIANGLES, 0, 3);
+            }
             gl.BindVertexArray(0);
             gl.UseProgram(prog);
             glEnable(GL_DEPTH_TEST);

@@ -39,6 +39,10 @@
  * window's size, then into the scene's by a program that takes each fragment's colour from the
  * first at gl_FragCoord over the window's size (a light buffer's lookup).
  *
+ * With --hud --hud-vao (not --mvp) the HUD is drawn from a vertex-array object of its own, whose
+ * vertex pointer is set once (as SuperTuxKart's 2D quads are), and the floor from a buffer with the
+ * vertex-array object 0 bound, its vertex pointer set and its array enabled and disabled each frame.
+ *
  * With --reversed the depth is reversed, as engines since 2015 keep it for precision: clip
  * control GL_ZERO_TO_ONE, a projection with an infinite far plane that maps the near plane to
  * depth 1 and infinity to 0 (loaded with glLoadMatrixd), depth cleared to 0 and tested
@@ -143,6 +147,9 @@
  * of 512 per-object matrix pairs (model and its inverse; the first the identity, the rest zero), as
  * Blender's draw manager keeps its view and its objects: std140 makes every one of the 1,024
  * per-object matrices an active uniform of the program, and Mesa lists the later block's first.
+ * Each frame the view's buffer is bound to GL_UNIFORM_BUFFER, its projection uploaded with
+ * glBufferSubData, and the objects' bound to its binding point again by glBindBufferBase (which
+ * binds GL_UNIFORM_BUFFER to it too), as SuperTuxKart updates its camera's block.
  *
  * With --fbo --grade a colour grade follows the scene in its target: a full-target triangle whose
  * vertex shader places it by gl_VertexID with no matrix at all, halving every pixel's colour by
@@ -180,7 +187,7 @@
  * (alone) and `modelView` (view * model, per draw), and --sun's X,Y,Z is `uniform vec3
  * u_lightDirection` in the eye's space, as uploaded, each face lit by the eye-space normal.
  *
- *   pillars [--shader | --builtins | --mvp [--modelview]] [--grow] [--fbo [--half | --region [--blit]] [--mrt | --msaa] [--depth-texture] [--fragcoord] [--gbuffer]] [--reversed] [--hud [--in-scene [--depth-on]]]
+ *   pillars [--shader | --builtins | --mvp [--modelview]] [--grow] [--fbo [--half | --region [--blit]] [--mrt | --msaa] [--depth-texture] [--fragcoord] [--gbuffer]] [--reversed] [--hud [--in-scene [--depth-on]] [--hud-vao]]
  *           [--hand] [--left-handed] [--mixed] [--foliage] [--post] [--grade] [--markers] [--cull] [--overlay] [--wire] [--mirror] [--reflection] [--bbox] [--canopy] [--blended] [--objects] [--fov DEG]
  *           [--fisheye] [--scale S] [--turn DEG] [--sun X,Y,Z | --gl-light X,Y,Z] [--frames N] [--size WxH]
  */
@@ -323,6 +330,9 @@ static void draw_bbox(void)
  * depth test off, under an orthographic projection: fixed function, or the shader program with the
  * matrix in its uniform (and, --modelview, the identity in `modelview_location`) or (builtins) in
  * GL_PROJECTION */
+/* --hud-vao: the HUD's vertex-array object (its vertex pointer set once) and buffer */
+static GLuint hud_vao = 0, hud_vbo = 0;
+
 static void draw_hud(GLuint program, GLint proj_location, GLint modelview_location, int builtins, int width, int height,
                      double y0, int depth)
 {
@@ -338,10 +348,21 @@ static void draw_hud(GLuint program, GLint proj_location, GLint modelview_locati
     glMatrixMode(GL_MODELVIEW);
     glLoadIdentity();
     glColor3ub(230, 50, 40);
-    glBegin(GL_QUADS);
-    glVertex2d(20 * sx, y0 * sy); glVertex2d(120 * sx, y0 * sy);
-    glVertex2d(120 * sx, (y0 + 60) * sy); glVertex2d(20 * sx, (y0 + 60) * sy);
-    glEnd();
+    if (hud_vao) {
+        const GLfloat quad[8] = {(GLfloat)(20 * sx), (GLfloat)(y0 * sy), (GLfloat)(120 * sx), (GLfloat)(y0 * sy),
+                                 (GLfloat)(120 * sx), (GLfloat)((y0 + 60) * sy), (GLfloat)(20 * sx), (GLfloat)((y0 + 60) * sy)};
+        glBindVertexArray(hud_vao);
+        glBindBuffer(GL_ARRAY_BUFFER, hud_vbo);
+        glBufferData(GL_ARRAY_BUFFER, sizeof quad, quad, GL_STREAM_DRAW);
+        glBindBuffer(GL_ARRAY_BUFFER, 0);
+        glDrawArrays(GL_QUADS, 0, 4);
+        glBindVertexArray(0);
+    } else {
+        glBegin(GL_QUADS);
+        glVertex2d(20 * sx, y0 * sy); glVertex2d(120 * sx, y0 * sy);
+        glVertex2d(120 * sx, (y0 + 60) * sy); glVertex2d(20 * sx, (y0 + 60) * sy);
+        glEnd();
+    }
     if (program) glUseProgram(0);
 }
 
@@ -532,6 +553,7 @@ int main(int argc, char **argv)
     const int gbuffer = fbo_mode && mvp && !region && !half && !msaa && app_take_flag(&argc, &argv, "--gbuffer");
     const int reversed = app_take_flag(&argc, &argv, "--reversed");
     const int hud = app_take_flag(&argc, &argv, "--hud");
+    const int with_hud_vao = hud && !mvp && app_take_flag(&argc, &argv, "--hud-vao");
     const int hud_in_scene = hud && fbo_mode && app_take_flag(&argc, &argv, "--in-scene");
     const int hud_depth = hud_in_scene && app_take_flag(&argc, &argv, "--depth-on");
     const int hand = app_take_flag(&argc, &argv, "--hand");
@@ -617,6 +639,7 @@ int main(int argc, char **argv)
     }
     GLuint program = 0;
     GLint proj_location = -1, modelview_location = -1;
+    GLuint ubo[2] = {0, 0};  /* --objects: the objects' block and the view's */
     if (shader) {
         const char *vs = sun_text && modelview
                              ? "#version 120\nuniform mat4 projection, modelView;\nuniform vec3 u_lightDirection;\n"
@@ -667,7 +690,6 @@ int main(int argc, char **argv)
         proj_location = glGetUniformLocation(program, modelview ? "projection" : mvp ? "mvp" : "proj");
         if (modelview) modelview_location = glGetUniformLocation(program, "modelView");
         if (objects) {  /* block bindings 1 (the objects) and 2 (the view) */
-            GLuint ubo[2];
             glGenBuffers(2, ubo);
             GLfloat *block = calloc(512 * 32, sizeof(GLfloat));
             for (int i = 0; i < 4; i++) block[i * 5] = block[16 + i * 5] = 1;  /* object 0: the identity */
@@ -780,6 +802,23 @@ int main(int argc, char **argv)
             return 1;
         }
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    }
+    GLuint floor_vbo = 0;
+    if (with_hud_vao) {
+        const GLfloat floor[12] = {-50, -2, (GLfloat)(-50 * zs), 50, -2, (GLfloat)(-50 * zs),
+                                   50, -2, (GLfloat)(50 * zs), -50, -2, (GLfloat)(50 * zs)};
+        glGenBuffers(1, &floor_vbo);
+        glBindBuffer(GL_ARRAY_BUFFER, floor_vbo);
+        glBufferData(GL_ARRAY_BUFFER, sizeof floor, floor, GL_STATIC_DRAW);
+        glGenBuffers(1, &hud_vbo);
+        glGenVertexArrays(1, &hud_vao);
+        glBindVertexArray(hud_vao);
+        glBindBuffer(GL_ARRAY_BUFFER, hud_vbo);
+        glBufferData(GL_ARRAY_BUFFER, 8 * sizeof(GLfloat), NULL, GL_STREAM_DRAW);
+        glVertexPointer(2, GL_FLOAT, 0, NULL);
+        glEnableClientState(GL_VERTEX_ARRAY);
+        glBindVertexArray(0);
+        glBindBuffer(GL_ARRAY_BUFFER, 0);
     }
     GLuint leaves = 0;
     if (foliage) {  /* opaque white, then transparent */
@@ -922,7 +961,11 @@ int main(int argc, char **argv)
         if (shader && !builtins && !mvp) {
             GLfloat m[16];
             for (int i = 0; i < 16; i++) m[i] = (GLfloat)proj[i];
-            if (objects) glBufferSubData(GL_UNIFORM_BUFFER, 0, sizeof m, m);  /* (the view's block stays bound) */
+            if (objects) {  /* each frame, as engines do (SuperTuxKart) */
+                glBindBuffer(GL_UNIFORM_BUFFER, ubo[1]);
+                glBufferSubData(GL_UNIFORM_BUFFER, 0, sizeof m, m);
+                glBindBufferBase(GL_UNIFORM_BUFFER, 1, ubo[0]);  /* (which binds GL_UNIFORM_BUFFER to it too) */
+            }
             else glUniformMatrix4fv(proj_location, 1, GL_FALSE, m);
         }
         glMatrixMode(GL_MODELVIEW);
@@ -952,12 +995,23 @@ int main(int argc, char **argv)
                 glEnable(GL_ALPHA_TEST);
                 glAlphaFunc(GL_GREATER, 0.5f);
             }
-            glBegin(GL_QUADS);  /* the floor */
-            glColor3ub(90, 90, 90);
-            glNormal3f(0, 1, 0);
-            glTexCoord2f(0.25f, 0.5f);  /* (--foliage: the opaque texel) */
-            floor_vertices(zs);
-            glEnd();
+            if (floor_vbo) {  /* --hud-vao: from a buffer, with the vertex-array object 0 bound */
+                glColor3ub(90, 90, 90);
+                glNormal3f(0, 1, 0);
+                glBindBuffer(GL_ARRAY_BUFFER, floor_vbo);
+                glVertexPointer(3, GL_FLOAT, 0, NULL);
+                glEnableClientState(GL_VERTEX_ARRAY);
+                glDrawArrays(GL_QUADS, 0, 4);
+                glDisableClientState(GL_VERTEX_ARRAY);
+                glBindBuffer(GL_ARRAY_BUFFER, 0);
+            } else {
+                glBegin(GL_QUADS);  /* the floor */
+                glColor3ub(90, 90, 90);
+                glNormal3f(0, 1, 0);
+                glTexCoord2f(0.25f, 0.5f);  /* (--foliage: the opaque texel) */
+                floor_vertices(zs);
+                glEnd();
+            }
             if (reflection) {
                 glDisable(GL_DEPTH_TEST);
                 glBegin(GL_QUADS);

@@ -110,7 +110,8 @@ def main():
              "fbo_mirror": ["--fbo", "--mirror"], "fbo_hud_window": ["--fbo", "--hud"],
              "fbo_hud_mirror": ["--fbo", "--hud", "--mirror"], "painter": ["--overlay"],
              "painter_builtins": ["--builtins", "--overlay"], "canopy": ["--canopy"], "fbo_canopy": ["--fbo", "--canopy"],
-             "blended": ["--blended"], "blended_builtins": ["--builtins", "--blended"]}
+             "blended": ["--blended"], "blended_builtins": ["--builtins", "--blended"],
+             "objects": ["--shader", "--objects"], "fbo_objects": ["--shader", "--fbo", "--objects"]}
     for mode, flags in modes.items():
         capture = os.path.join(OUT, f"{mode}.glcs")
         with Xvfb():

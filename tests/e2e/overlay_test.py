@@ -103,9 +103,14 @@ def offscreen(headless):
     object and copied to the window (then a HUD panel), once drawn in the window. With every
     pass, both come out alike (the main view, the redraw and the depth are the offscreen
     scene's), and the panel is untouched. Before, the passes found no main view in the window
-    (the copy and the panel are flat draws): shadows and cover did nothing."""
+    (the copy and the panel are flat draws): shadows and cover did nothing.
+    With --hud-vao the panel is drawn from a vertex-array object of its own by glDrawElements, and
+    each frame starts by binding the scene's element buffer into the vertex-array object 0: the same
+    pictures. Before, the shadows' redraw started from the panel's object, bound when the passes
+    ran, and bound the scene's element buffer into it: the panel was no longer drawn."""
     hud = [(x, H - 1 - y) for y in range(8, 8 + 24) for x in range(8, 8 + 96)]  # HUD_X, HUD_Y, HUD_W, HUD_H
-    images = plain_and_decorated("core_scene", (("direct", []), ("offscreen", ["--offscreen"])), headless)
+    images = plain_and_decorated("core_scene", (("direct", []), ("offscreen", ["--offscreen"]),
+                                                ("hud_vao", ["--offscreen", "--hud-vao"])), headless)
     outside = [(x, y) for y in range(H) for x in range(W) if (x, y) not in set(hud)]
 
     def off(a, b, points):
@@ -123,6 +128,11 @@ def offscreen(headless):
     check(touched == 0, f"the passes changed {touched} of the HUD's pixels")
     check(changed > len(outside) // 2, f"the passes changed only {changed} pixels of the offscreen scene")
     check(unlike <= len(outside) // 100, f"decorated, the offscreen scene differs from the direct one in {unlike} pixels")
+    same = sum(1 for y in range(H) for x in range(W) if images["hud_vao", True][y][x] == decorated[y][x])
+    print(f"offscreen, the panel from a vertex-array object of its own: {same} of {W * H} pixels as the other's "
+          f"decorated, plain {'the same' if images['hud_vao', False] == plain else 'not the same'}")
+    check(images["hud_vao", False] == plain, "the panel from a vertex-array object of its own draws another picture")
+    check(same == W * H, f"decorated, the panel from a vertex-array object of its own: {W * H - same} pixels differ")
 
 
 def view_model(headless):

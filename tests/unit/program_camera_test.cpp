@@ -66,6 +66,15 @@ TEST(ProgramCamera, TheNamesAShaderReadsAreThoseItNamesTwice) {
     EXPECT_FALSE(read.count("u_view_matrix"));
     EXPECT_TRUE(read.count("Position"));
     EXPECT_FALSE(read.count("Matrices"));
+    // SuperTuxKart's header declares its sun twice, once in each branch of an #ifdef the text
+    // does not define: one declaration is left, and nothing reads it.
+    const auto header = glcast::slave::names_read(
+        "#version 450\n#ifdef UBO_DISABLED\nuniform vec3 sun_direction;\n#else\n"
+        "layout (std140) uniform LightingData { vec3 sun_direction; float sun_angle; };\n#endif\n"
+        "#define USES_ANGLE 1\n#if defined(USES_ANGLE)\nfloat a() { return sun_angle; }\n#endif\n"
+        "#if 0\nvec3 s() { return sun_direction; }\n#endif\n");
+    EXPECT_FALSE(header.count("sun_direction"));
+    EXPECT_TRUE(header.count("sun_angle"));
 }
 
 TEST(ProgramCamera, OrthographicAndModelMatricesAreNoCamera) {
