@@ -439,30 +439,34 @@ KNOWN = """## What the table does not show
   from the program's own frames by 1 level of green or blue in 24 pixels of one row (window row
   458, from the timeline's playhead to its right, drawn by a blended fan over the window after the
   regions are blitted), the rest equal, in 57 of 60 frames: not found.
-- **supertuxkart** (a GL 3 renderer in framebuffer objects, reversed depth). Its row is an older
-  cut capture's (loading screens only: under llvmpipe it compressed and mipmapped its textures for
-  many minutes). With `--disable-texture-compression --disable-hd-textures` (the table's command
-  now) it races at once: 240 frames captured in 45 s (frame 25 on is the race), replayed on EGL in
-  27 s. Not so in the two runs with the program's own frames kept (`GLCAST_SNAPSHOT_DIR`, as the
-  table captures; the fast run was without): there it logged "kartDirt shader is missing, fallback
-  to solid", and its first race frame took minutes to draw, in the capture (25 frames in 9
-  minutes) and in the replay (frame 25 not done after 12 CPU-minutes). Not traced (the read-back
-  at each swap guards the read framebuffer and the pack state). Measured by hand on the capture without it (frame 239, the lighthouse track;
+- **supertuxkart** (a deferred GL 3 renderer: geometry, lights and lit colours in three targets,
+  post-processing, a left-handed camera in a std140 block every shader declares). Its row is an
+  older cut capture's (loading screens only). With `--disable-texture-compression
+  --disable-hd-textures` (the table's command now) it races at once: 240 frames captured in 45 s
+  (frame 25 on is the race), replayed on EGL in 27 s. Not so with the program's own frames kept
+  (`GLCAST_SNAPSHOT_DIR`, as the table captures, also with `GLCAST_SNAPSHOT_FROM=200`): it then
+  logs "kartDirt shader is missing, fallback to solid" and sits in llvmpipe's `glGenerateMipmap`
+  under `SP::SPTextureManager::checkForGLCommand` (a backtrace), 25 frames in 9 minutes. Not
+  traced further. Measured by hand on the capture without it, frame 239 of the lighthouse track,
+  with the table's own functions (`measure`, `cylinder`, `mosaic`;
   [plain](images/compatibility/supertuxkart-race-plain.png),
   [shadows](images/compatibility/supertuxkart-race-shadows.png),
   [cover](images/compatibility/supertuxkart-race-cover.png),
   [snow](images/compatibility/supertuxkart-race-snow.png),
-  [yaw000 and yaw060](images/compatibility/supertuxkart-race-cylinder.png),
-  [2x2 wall](images/compatibility/supertuxkart-race-mosaic.png)), the passes are not
-  right on it: shadows darken 12,105 pixels, among them the minimap and the speedometer (its HUD),
-  and a dark shape at the right; the cover whitens nothing and hangs icicles in mid-air along the
-  track's edges; snow falls over the minimap; the cylinder's tiles show the scene repeated in a
-  grid (yaw000) and skewed (yaw060), where an unturned picture is what a tile without a camera
-  must show. The slave says "a shader program draws to the window with no perspective projection
-  among its matrices". On the 2x2 wall every tile took 12-13 s and the mosaic equals the
-  1280x960 canvas (0 px off), but both are wrong: each quarter shows the whole scene, the HUD in
-  its place; the mosaic column compares tiles with the canvas, not the canvas with the program's
-  picture, and would say pass.
+  [the six tiles of cylinder-360.json](images/compatibility/supertuxkart-race-cylinder.png),
+  [2x2 wall](images/compatibility/supertuxkart-race-mosaic.png)): shadows 8.5% of 184,462 lit px
+  shadowed (the house's front under its roof, the ground under the kart), cover 99% of 176,721 upward px, snow
+  98% of 237,261 scene px, each under the overlays with 0 of its 18,147-18,267 kept px (minimap,
+  icons, timer, speedometer) changed; cylinder turned (the track runs on across every seam, the
+  HUD on the program's screen on the front tiles); 2x2 wall 0 px off the canvas, tiles 20-21 s,
+  and the canvas is the program's picture. Before this round's work: shadows darkened 12,105
+  pixels including its HUD, the cover whitened nothing, snow fell over the minimap, the cylinder's
+  tiles showed a grid and a skew, each quarter of the wall the whole scene (docs/wall.md,
+  "Fragment coordinates"; docs/effects.md, "What the program's shaders read"). Its light is the
+  default one: its sun (`sundirection`) is a uniform of its lighting pass, not of the programs that
+  draw the view. Left: a few icicles hang from the track's edges where track and terrain
+  alternate in depth pixel by pixel (steps of 0.2% of the depth: the normals taken from the depth
+  there turn at random), and the tyre marks, decals drawn after the ground, lie over the snow.
 """
 TILES = ["top-left", "top-right", "bottom-left", "bottom-right"]
 
