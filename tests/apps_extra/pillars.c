@@ -232,6 +232,28 @@ static const char *take_value(int *argc, char ***argv, const char *option)
     return value;
 }
 
+/* A framebuffer object of w x h: a colour texture (nearest texels), returned in `color`, and a
+ * depth renderbuffer of its own; 0 when it is not complete. The window is bound again after. */
+static GLuint colour_and_depth_target(int w, int h, GLuint *color)
+{
+    GLuint depth = 0, fbo = 0;
+    glGenTextures(1, color);
+    glBindTexture(GL_TEXTURE_2D, *color);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glGenRenderbuffers(1, &depth);
+    glBindRenderbuffer(GL_RENDERBUFFER, depth);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, w, h);
+    glGenFramebuffers(1, &fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, *color, 0);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
+    const int complete = glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    return complete ? fbo : 0;
+}
+
 /* A framebuffer object over the depth attachment of `scene_fbo` (a texture with --depth-texture,
  * else a renderbuffer) with an RGBA8 colour texture of its own, w x h, into *color; 0 when it is
  * not complete. As Blender's overlay engine and its viewport's resolve draw over its engines' depth. */
@@ -784,24 +806,10 @@ int main(int argc, char **argv)
         }
         gbuffer_mvp = glGetUniformLocation(gbuffer_program, "mvp");
         gbuffer_size = glGetUniformLocation(gbuffer_program, "size");
-        GLuint depth = 0;
-        glGenTextures(1, &gbuffer_color);
-        glBindTexture(GL_TEXTURE_2D, gbuffer_color);
-        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, a.width, a.height, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-        glGenRenderbuffers(1, &depth);
-        glBindRenderbuffer(GL_RENDERBUFFER, depth);
-        glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, a.width, a.height);
-        glGenFramebuffers(1, &gbuffer_fbo);
-        glBindFramebuffer(GL_FRAMEBUFFER, gbuffer_fbo);
-        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, gbuffer_color, 0);
-        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
-        if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+        if (!(gbuffer_fbo = colour_and_depth_target(a.width, a.height, &gbuffer_color))) {
             fprintf(stderr, "pillars: the gbuffer target is not complete\n");
             return 1;
         }
-        glBindFramebuffer(GL_FRAMEBUFFER, 0);
     }
     GLuint floor_vbo = 0;
     if (with_hud_vao) {
@@ -908,20 +916,7 @@ int main(int argc, char **argv)
     if (post && region) {  /* the region's size, the scene's depth */
         post_fbo = over_scene_depth(fbo, depth_texture, fw, fh, &post_color);
     } else if (post) {
-        GLuint post_depth = 0;
-        glGenTextures(1, &post_color);
-        glBindTexture(GL_TEXTURE_2D, post_color);
-        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, a.width, a.height, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-        glGenRenderbuffers(1, &post_depth);
-        glBindRenderbuffer(GL_RENDERBUFFER, post_depth);
-        glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, a.width, a.height);
-        glGenFramebuffers(1, &post_fbo);
-        glBindFramebuffer(GL_FRAMEBUFFER, post_fbo);
-        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, post_color, 0);
-        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, post_depth);
-        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        post_fbo = colour_and_depth_target(a.width, a.height, &post_color);
     }
     for (int f = 0; f < a.frames; f++) {
         if (fbo_mode) {
