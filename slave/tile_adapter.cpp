@@ -318,8 +318,10 @@ void TileAdapter::after_call(const Call& c) {
         shared().clip_uniforms.clear();
         shared().fragcoord_uniforms.clear();
         shared().cameras.forget();
+        // (what its shaders read, for finding its camera: not read where no tile turns and no pass runs)
         uint64_t program = 0;
-        if (core_.current().names.map(Ns::program).find(c.args[size_t(sem.subject_params[0])].bits, program))
+        if ((patching() || core_.options().effects.any()) &&
+            core_.current().names.map(Ns::program).find(c.args[size_t(sem.subject_params[0])].bits, program))
             shared().cameras.linked(uint32_t(program));
     }
     if (sem.matrix != MatrixOp::Nothing && (redrawing_ || core_.options().view.enabled)) track_matrix(c);
