@@ -147,6 +147,9 @@
  * of 512 per-object matrix pairs (model and its inverse; the first the identity, the rest zero), as
  * Blender's draw manager keeps its view and its objects: std140 makes every one of the 1,024
  * per-object matrices an active uniform of the program, and Mesa lists the later block's first.
+ * Its shader also declares a block LightingData holding a sun_direction that no stage reads, left
+ * at binding 0, where the objects' buffer is bound too (SuperTuxKart's geometry programs declare
+ * its lighting block so: what it holds there is another block's data, no light).
  * Each frame the view's buffer is bound to GL_UNIFORM_BUFFER, its projection uploaded with
  * glBufferSubData, and the objects' bound to its binding point again by glBindBufferBase (which
  * binds GL_UNIFORM_BUFFER to it too), as SuperTuxKart updates its camera's block.
@@ -695,6 +698,7 @@ int main(int argc, char **argv)
                                      "struct Object { mat4 model; mat4 model_inverse; };\n"
                                      "layout(std140) uniform view_block { mat4 winmat; };\n"
                                      "layout(std140) uniform objects_block { Object object[512]; };\n"
+                                     "layout(std140) uniform LightingData { vec3 sun_direction; };\n"
                                      "void main() { gl_FrontColor = gl_Color;"
                                      " gl_Position = winmat * (object[0].model * gl_Vertex); }\n"
                          : mvp ? "#version 120\nuniform mat4 mvp;\n"
@@ -720,6 +724,7 @@ int main(int argc, char **argv)
             free(block);
             glBindBuffer(GL_UNIFORM_BUFFER, ubo[1]);
             glBufferData(GL_UNIFORM_BUFFER, 16 * sizeof(GLfloat), NULL, GL_DYNAMIC_DRAW);
+            glBindBufferBase(GL_UNIFORM_BUFFER, 0, ubo[0]);  /* (what LightingData, left at 0, finds) */
             glBindBufferBase(GL_UNIFORM_BUFFER, 1, ubo[0]);
             glBindBufferBase(GL_UNIFORM_BUFFER, 2, ubo[1]);
             glUniformBlockBinding(program, glGetUniformBlockIndex(program, "objects_block"), 1);

@@ -53,6 +53,14 @@ A scene drawn upside down into its target and shown by a blit that swaps its row
 --mirror, as a Direct3D program under Wine presents) is decorated as the upright one: the passes
 read it as an upper-left origin (before: its depth was read unmirrored, and the cover whitened
 the sky above the floor's mirror image and left the floor bare).
+A camera in a uniform block updated each frame by glBindBuffer(GL_UNIFORM_BUFFER) and
+glBufferSubData, with another block bound by glBindBufferBase after it (pillars --shader --objects,
+as SuperTuxKart updates its camera), is decorated as the fixed-function program is: redraws bind
+GL_UNIFORM_BUFFER as the frame did before each upload (before, the upload went into the buffer the
+last glBindBufferBase bound, another block's, and every later frame drew with it: no shadow). Its
+shader declares a lighting block it never reads, left at binding 0 where another buffer is bound:
+the program has no light of its own (before, the passes took that buffer's first vector for the
+sun: no shadow, 1.3% less cover).
 
     modern_camera_test.py     with GLCAST, GLCAST_SHIM, APPS_DIR, OUT_DIR in the environment
 """
