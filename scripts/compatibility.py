@@ -443,11 +443,13 @@ KNOWN = """## What the table does not show
   post-processing, a left-handed camera in a std140 block every shader declares). Its row is an
   older cut capture's (loading screens only). With `--disable-texture-compression
   --disable-hd-textures` (the table's command now) it races at once: 240 frames captured in 45 s
-  (frame 25 on is the race), replayed on EGL in 27 s. Not so with the program's own frames kept
-  (`GLCAST_SNAPSHOT_DIR`, as the table captures, also with `GLCAST_SNAPSHOT_FROM=200`): it then
-  logs "kartDirt shader is missing, fallback to solid" and sits in llvmpipe's `glGenerateMipmap`
-  under `SP::SPTextureManager::checkForGLCommand` (a backtrace), 25 frames in 9 minutes. Not
-  traced further. Measured by hand on the capture without it, frame 239 of the lighthouse track,
+  (frame 25 on is the race), replayed on EGL in 27 s, once. Every run since stalls at the race's
+  first frame, sitting in llvmpipe's `glGenerateMipmap` under
+  `SP::SPTextureManager::checkForGLCommand` (a backtrace; 25 frames in 2 to 9 minutes): with the
+  program's own frames kept (`GLCAST_SNAPSHOT_DIR`, as the table captures, also from frame 200 on),
+  and also without them (a copy of the fast run's home), and with them in a fresh, empty home. So
+  not the snapshots; not traced further. Measured by hand on the fast run's capture, frame 239 of
+  the lighthouse track,
   with the table's own functions (`measure`, `cylinder`, `mosaic`;
   [plain](images/compatibility/supertuxkart-race-plain.png),
   [shadows](images/compatibility/supertuxkart-race-shadows.png),
