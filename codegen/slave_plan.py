@@ -104,6 +104,8 @@ class SlavePlanner:
             p.replay_params.append({"role": role, "ns": ns, "ctype": q.ctype, "name": q.name, "base": q.base,
                                     "use": use, "source": w.source, "need": self.need(role, w),
                                     "count": w.count, "lengths": w.lengths,
+                                    "lengths_index": ([x.name for x in cmd.params].index(w.lengths)
+                                                      if w.lengths in [x.name for x in cmd.params] else -1),
                                     "null_ok": self.null_ok(cmd.name, twin, q.name)})
         p.replay_limits = self.limits_of(p)
         p.replay_store = self.store_of(p)

@@ -85,7 +85,10 @@ public:
     // stream's count): scratch memory of that size, or a range of the bound buffer.
     virtual void* out(const Call& c, int i, uint32_t binding, int64_t elements) = 0;
     virtual const char* string(const Call& c, int i) = 0;
-    virtual const char* const* strings(const Call& c, int i) = 0;
+    // Parameter i's strings, each NUL-terminated (null where the stream shipped none). With
+    // `lengths` (the parameter of their lengths, or -1), a length over what the stream holds
+    // of its string is refused (ReplayError): the driver would read that far.
+    virtual const char* const* strings(const Call& c, int i, int lengths) = 0;
     virtual const void* const* index_arrays(const Call& c, int i) = 0;
     virtual const void* deferred(const Call& c, int i) = 0;
 

@@ -201,6 +201,8 @@ namespace {
 // A preprocessor condition as far as it can be told without the driver's macros: 0, 1, and
 // defined(NAME) (or !defined) of the text's own #defines; anything else counts as true.
 bool condition_holds(const std::string& expression, const std::unordered_set<std::string>& defined) {
+    // (std::regex recurses per character: a stream's line of any length must not reach it)
+    if (expression.size() > 256) return true;
     static const std::regex is_defined(R"(^\s*(!?)\s*defined\s*\(?\s*(\w+)\s*\)?\s*$)");
     std::smatch m;
     if (std::regex_match(expression, m, is_defined)) return (defined.count(m[2].str()) > 0) != (m[1].length() > 0);
@@ -220,14 +222,19 @@ std::string active_text(const std::string& glsl) {
     auto active = [&] { return stack.empty() || stack.back().active; };
     std::string out;
     std::istringstream lines(glsl);
-    static const std::regex directive(R"(^\s*#\s*(\w+)\s*(.*)$)");
     for (std::string line; std::getline(lines, line);) {
-        std::smatch m;
-        if (!std::regex_match(line, m, directive)) {
+        // A directive: '#', its word, the rest (read by hand: a line may be of any length).
+        const size_t hash = line.find_first_not_of(" \t\r");
+        if (hash == std::string::npos || line[hash] != '#') {
             if (active()) out += line + '\n';
             continue;
         }
-        const std::string word = m[1].str(), rest = m[2].str();
+        const size_t word_at = std::min(line.find_first_not_of(" \t", hash + 1), line.size());
+        size_t word_end = word_at;
+        while (word_end < line.size() && (std::isalnum(static_cast<unsigned char>(line[word_end])) || line[word_end] == '_'))
+            ++word_end;
+        const std::string word = line.substr(word_at, word_end - word_at);
+        const std::string rest = line.substr(std::min(line.find_first_not_of(" \t", word_end), line.size()));
         if (word == "if" || word == "ifdef" || word == "ifndef") {
             const bool holds = word == "if" ? condition_holds(rest, defined)
                                             : (defined.count(rest.substr(0, rest.find_first_of(" \t/"))) > 0) == (word == "ifdef");

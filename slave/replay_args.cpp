@@ -57,15 +57,29 @@ const char* Replayer::string(const Call& c, int i) {
     return p;
 }
 
-const char* const* Replayer::strings(const Call& c, int i) {
+const char* const* Replayer::strings(const Call& c, int i, int lengths) {
     const auto& list = c.args[size_t(i)].strings;
+    const PtrRecord* given = lengths >= 0 ? &c.args[size_t(lengths)].ptr : nullptr;
+    if (given && given->tag == PtrTag::Data)
+        for (size_t k = 0; k < list.size() && k < given->count; ++k) {
+            int32_t n;
+            std::memcpy(&n, given->data + 4 * k, 4);
+            const uint32_t held = list[k].tag == PtrTag::Data ? list[k].count : 0;
+            if (n >= 0 && uint32_t(n) > held)
+                throw ReplayError("string " + std::to_string(k) + " is " +
+                                  std::to_string(n) + " bytes long by its lengths, the stream holds " +
+                                  std::to_string(held));
+        }
     auto out = static_cast<const char**>(scratch_.take(sizeof(char*) * (list.size() + 1)));
     for (size_t k = 0; k < list.size(); ++k) {
+        out[k] = nullptr;
         if (list[k].tag != PtrTag::Data) continue;
         char* p = static_cast<char*>(scratch_.take(list[k].count + 1));
         std::memcpy(p, list[k].data, list[k].count);
+        p[list[k].count] = 0;
         out[k] = p;
     }
+    out[list.size()] = nullptr;
     return out;
 }
 

@@ -139,7 +139,7 @@ public:
     const void* in(const Call& c, int i, uint32_t binding = 0) override;
     void* out(const Call& c, int i, uint32_t binding, int64_t elements) override;
     const char* string(const Call& c, int i) override;
-    const char* const* strings(const Call& c, int i) override;
+    const char* const* strings(const Call& c, int i, int lengths) override;
     const void* const* index_arrays(const Call& c, int i) override;
     const void* deferred(const Call& c, int i) override;
     SizeQueries& sizes() override;

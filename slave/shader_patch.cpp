@@ -1,12 +1,27 @@
 #include "slave/shader_patch.h"
 
+#include <cctype>
 #include <regex>
-#include <sstream>
-#include <vector>
 
 namespace glcast::slave {
 
 namespace {
+
+// A run of blanks or of word characters longer than any shader's (std::regex recurses once per
+// character its \s+, \w+ or \d+ take: a stream's shader of megabytes of them would end the slave).
+bool has_long_run(const std::string& text) {
+    constexpr size_t kLongest = 4096;
+    size_t run = 0;
+    int kind = 0;  // 1: blank, 2: word character
+    for (const char ch : text) {
+        const auto u = static_cast<unsigned char>(ch);
+        const int k = std::isspace(u) ? 1 : (std::isalnum(u) || ch == '_') ? 2 : 0;
+        run = k && k == kind ? run + 1 : 1;
+        kind = k;
+        if (k && run > kLongest) return true;
+    }
+    return false;
+}
 
 bool with_clip_step(std::string& text) {
     static const std::regex main_function(R"(\bvoid\s+main\s*\()");
@@ -19,7 +34,6 @@ bool with_clip_step(std::string& text) {
 // Where a declaration may go: after the #version line and every #extension directive (the
 // driver refuses one after a declaration), outside any #if block around the last of them.
 size_t declarations_start(const std::string& text) {
-    std::vector<size_t> line_ends;
     size_t after = 0, pos = 0;
     int depth = 0, depth_after = 0;
     while (pos < text.size()) {
@@ -57,6 +71,7 @@ bool with_window_fragcoord(std::string& text) {
 }  // namespace
 
 bool patch_shader(std::string& text, ShaderPatch patch) {
+    if (patch == ShaderPatch::Untouched || has_long_run(text)) return false;
     switch (patch) {
     case ShaderPatch::Clip: return with_clip_step(text);
     case ShaderPatch::WindowFragCoord: return with_window_fragcoord(text);

@@ -18,7 +18,8 @@ enum class ShaderPatch {
 };
 
 // `text` patched as `patch` says. False (text untouched): it has nothing to patch (no main, no
-// gl_FragCoord), or redeclares gl_FragCoord (a layout of its own for it).
+// gl_FragCoord), redeclares gl_FragCoord (a layout of its own for it), or holds a run of blanks
+// or word characters longer than 4,096 (no shader's; the patterns' matching would recurse as deep).
 bool patch_shader(std::string& text, ShaderPatch patch);
 
 // The uniform glcast_fragcoord that makes a fragment at `actual` (x, y, width, height: the

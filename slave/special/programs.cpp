@@ -30,7 +30,7 @@ void glShaderSource(CallReplay& r, const Call& c) {
         throw ReplayError("glShaderSource of " + std::to_string(count) + " strings, the stream has " +
                           std::to_string(c.args[2].strings.size()));
     r.need(c, 3, count);
-    const char* const* strings = r.strings(c, 2);
+    const char* const* strings = r.strings(c, 2, 3);
     const auto* lengths = static_cast<const GLint*>(r.in(c, 3));
     const ShaderPatch patch = r.shader_patch(c.args[0].bits);
     std::string text;

@@ -40,6 +40,9 @@ CASES = {
     "draw_buffers_n": ("core_scene", ["glClear:after=glDrawBuffers(100000,d:05040000)"],
                        r"glDrawBuffers: bufs has 1 elements, the call reads 100000"),
     "shader_source_count": ("core_scene", ["glShaderSource.arg1=100000"], r"glShaderSource: glShaderSource of 100000 strings"),
+    # lengths past the strings shipped (the driver, or a shader's patch, would read that far)
+    "shader_source_lengths": ("core_scene", ["glShaderSource.arg3:fill=0x7f"],
+                              r"glShaderSource: string 0 is 2139062143 bytes long by its lengths, the stream holds \d+"),
     "call_lists_n": ("glxgears", ["glClear:after=glCallLists(0x7fffffff,0x1405,d:01000000)"],
                      r"glCallLists: glCallLists of 2147483647 lists"),
     # writes to addresses the stream chooses

@@ -150,3 +150,11 @@ TEST(ProgramCamera, AnOrthographicMatrixOverPixelsDrawsFlat) {
     EXPECT_FALSE(is_orthographic(glm::perspective(1.0, 1.3, 0.1, 100.0)));
     EXPECT_FALSE(is_orthographic(glm::rotate(glm::ortho(0.0, 640.0, 0.0, 480.0, -1.0, 1.0), 0.3, glm::dvec3(0, 0, 1))));
 }
+
+// A stream's shader of one very long directive line (std::regex would recurse once per character).
+TEST(ProgramCamera, AShaderOfOneVeryLongLineIsReadWithoutTheStackGrowing) {
+    std::string long_line = "#if " + std::string(4 << 20, '1') + "\nuniform mat4 m;\nvoid f() { m; }\n#endif\n";
+    long_line += "#define X " + std::string(4 << 20, ' ') + "y\n";
+    const auto read = glcast::slave::names_read(long_line);
+    EXPECT_TRUE(read.count("m"));
+}

@@ -72,3 +72,15 @@ TEST(ShaderPatch, TheUniformTakesATilesFragmentToTheMastersWindow) {
     window_fragcoord(program, program, u);
     for (float v : u) EXPECT_EQ(v, 0.0f);
 }
+
+// A stream's shader with a very long run of blanks where the patterns allow any (std::regex
+// recurses once per character matched): left as it is, not patched.
+TEST(ShaderPatch, AVeryLongRunOfBlanksIsLeftAlone) {
+    for (ShaderPatch patch : {ShaderPatch::WindowFragCoord, ShaderPatch::Clip}) {
+        const std::string original = "#version 150\nin" + std::string(4 << 20, ' ') + "vec4 gl_FragCoord;\nvoid" +
+                                     std::string(4 << 20, ' ') + "main() { gl_Position = vec4(gl_FragCoord); }\n";
+        std::string text = original;
+        EXPECT_FALSE(patch_shader(text, patch));
+        EXPECT_EQ(text, original);
+    }
+}
