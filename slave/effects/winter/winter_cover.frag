@@ -25,8 +25,9 @@ uniform vec2 canvas_origin;      // canvas pixel of guard-buffer pixel (0, 0)
 uniform vec2 canvas_size;
 
 // r: snow amount 0..1; g: the eye's distance (its range, not -z: a turned tile of a CAVE or a
-// cylinder sees points beside and behind the program's camera, whose -z is 0 or negative); b: 0;
-// a: 1 surface, 0 background, -1 unknown.
+// cylinder sees points beside and behind the program's camera, whose -z is 0 or negative); b: how
+// far the surface faces up to hold snow, before the noise and the mask (the lower edges of
+// winter_edges.glsl tell the ground from a wall by it); a: 1 surface, 0 background, -1 unknown.
 out vec4 out_color;
 
 vec3 eye_at(ivec2 t, float depth) {
@@ -73,12 +74,12 @@ void main() {
         allowed = dot(m.rgb, vec3(0.2126, 0.7152, 0.0722)) * m.a;
     }
     if (slope * allowed <= 0.0) {  // walls, undersides, masked out: no need for the noise
-        out_color = vec4(0.0, distance, 0.0, 1.0);
+        out_color = vec4(0.0, distance, slope, 1.0);
         return;
     }
     // Covered where the uniformized noise is below the density; the band of width 2 edge is
     // moved so that density 0 covers nothing and density 1 everything.
     float level = density * (1.0 + 2.0 * edge) - edge;
     float patches = smoothstep(-edge, edge, level - winter_uniform_fbm(world / noise_scale, seed));
-    out_color = vec4(slope * allowed * patches, distance, 0.0, 1.0);
+    out_color = vec4(slope * allowed * patches, distance, slope, 1.0);
 }

@@ -1,7 +1,7 @@
 // Normals reconstructed from the window's depth buffer (cover.normals=depth, or a frame that
 // cannot be re-rendered): the eye position of each tile pixel from its depth, the normal from
-// the differences to its neighbours, taking on each axis the side whose depth is closer (so a
-// pixel at a depth edge uses the surface it belongs to). The window holds only this tile, so
+// the differences to its neighbours, taking on each axis the side whose depth continues its own
+// (so a pixel at a depth edge uses the surface it belongs to). The window holds only this tile, so
 // guard-band pixels are marked unknown (w = -1): the icicle pass starts no icicle there.
 // Before a re-render (winter_surface_buffers.cpp) it also writes the window's depth, a little
 // behind, so that the re-rendered surfaces replace these normals where they are the visible ones.
@@ -20,15 +20,26 @@ vec3 eye_at(ivec2 t, float depth) {
     return eye.xyz / eye.w;
 }
 
-// The neighbour at `t + step` (or `t - step` when closer in depth or the only one inside).
+bool inside(ivec2 t) { return all(greaterThanEqual(t, ivec2(0))) && all(lessThan(t, ivec2(tile_size))); }
+float depth_at(ivec2 t) { return inside(t) ? texelFetch(window_depth, t, 0).r : 2.0; }
+
+// How far the depth of the neighbour `t + step` and the one beyond it, continued as a straight line,
+// misses `depth`: on a plane the window's depth is affine in screen space, so the side on this
+// pixel's own surface continues to it exactly. Without the one beyond: their difference.
+float continuation_miss(ivec2 t, ivec2 step, float depth, float near) {
+    float beyond = depth_at(t + 2 * step);
+    return beyond < 1.0 ? abs(2.0 * near - beyond - depth) : abs(near - depth);
+}
+
+// The tangent towards the neighbour at `t + step`, or from the one at `t - step`: the side that
+// continues this pixel's surface (where two meshes cross, as a track over its terrain, a strip a
+// pixel tall lies between neighbours of the other mesh, at depths as close as its own: the
+// nearer depth is no guide there).
 vec3 tangent(ivec2 t, ivec2 step, vec3 here, float depth) {
-    ivec2 a = t + step, b = t - step;
-    bool a_in = all(greaterThanEqual(a, ivec2(0))) && all(lessThan(a, ivec2(tile_size)));
-    bool b_in = all(greaterThanEqual(b, ivec2(0))) && all(lessThan(b, ivec2(tile_size)));
-    float da = a_in ? texelFetch(window_depth, a, 0).r : 2.0;
-    float db = b_in ? texelFetch(window_depth, b, 0).r : 2.0;
-    if (da < 1.0 && (abs(da - depth) <= abs(db - depth) || db >= 1.0)) return eye_at(a, da) - here;
-    if (db < 1.0) return here - eye_at(b, db);
+    float da = depth_at(t + step), db = depth_at(t - step);
+    if (da < 1.0 && (db >= 1.0 || continuation_miss(t, step, depth, da) <= continuation_miss(t, -step, depth, db)))
+        return eye_at(t + step, da) - here;
+    if (db < 1.0) return here - eye_at(t - step, db);
     return vec3(0.0);
 }
 

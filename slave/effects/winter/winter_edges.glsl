@@ -1,7 +1,9 @@
 // Lower edges of the snow cover (docs/winter.md, "Lip and icicles"), shared by the snow's lip
 // and the icicles' roots: a pixel with snow whose neighbour below is background, a surface
-// turned away by more than the edge angle (the vertical face under a roof's rim), or a surface
-// much farther away (a ledge), but not a nearer one (an object in front: an occluding contour).
+// turned away by more than the edge angle that cannot hold snow itself, for two pixels down (the
+// vertical face under a roof's rim; not a kerb's face, nor a strip of another ground mesh where
+// two cross, nor a crease between two slopes), or a surface much farther away (a ledge), but not a
+// nearer one (an object in front: an occluding contour).
 // Reads the guard-band buffers, so a tile sees the edges just beyond its border.
 uniform float edge_cos;          // cos(cover.edge_angle)
 uniform float lip_px;            // mean thickness of the snow's rounded lip, canvas pixels (0: none)
@@ -17,7 +19,11 @@ bool winter_lower_edge(sampler2D cover, sampler2D normals, ivec2 q) {
     if (below.a == 0.0) return true;
     if (below.g < here.g * 0.97) return false;
     if (below.g > here.g * 1.1) return true;
-    return dot(texelFetch(normals, q, 0).xyz, texelFetch(normals, under, 0).xyz) < edge_cos;
+    if (below.b >= 0.5 || dot(texelFetch(normals, q, 0).xyz, texelFetch(normals, under, 0).xyz) >= edge_cos)
+        return false;
+    if (q.y < 2) return true;
+    vec4 next = texelFetch(cover, q - ivec2(0, 2), 0);
+    return next.a == 0.0 || next.b < 0.5 || next.g > below.g * 1.1;
 }
 
 // Thickness of the lip hanging below the lower-edge pixel at canvas pixel `edge`: 0.5 to 1.5

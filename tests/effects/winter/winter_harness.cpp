@@ -133,6 +133,27 @@ void Harness::draw_scene(const Scene& scene, bool lit, bool class_colors) {
             }
         f.glEnd();
     }
+    for (const Track& t : scene.tracks) {
+        color(t.color, kGround);
+        // A hash of the corner's grid index: the same heights on every render and tile.
+        auto height = [&](int i, int k) {
+            uint32_t h = uint32_t(i) * 73856093u ^ uint32_t(k) * 19349663u;
+            h ^= h >> 13;
+            h *= 0x5bd1e995u;
+            h ^= h >> 15;
+            return t.amplitude * (2.0 * double(h & 0xffffu) / 65535.0 - 1.0);
+        };
+        const int nx = int(std::lround((t.x1 - t.x0) / t.cell)), nz = int(std::lround((t.z1 - t.z0) / t.cell));
+        f.glBegin(GL_QUADS);
+        f.glNormal3d(0, 1, 0);
+        for (int k = 0; k < nz; ++k)
+            for (int i = 0; i < nx; ++i) {
+                const int ci[4] = {i, i + 1, i + 1, i}, ck[4] = {k + 1, k + 1, k, k};
+                for (int c = 0; c < 4; ++c)
+                    f.glVertex3d(t.x0 + ci[c] * t.cell, height(ci[c], ck[c]), t.z0 + ck[c] * t.cell);
+            }
+        f.glEnd();
+    }
     for (const Box& b : scene.boxes) {
         f.glPushMatrix();
         const glm::dmat4 m = glm::scale(glm::rotate(glm::translate(glm::dmat4(1.0), b.center), glm::radians(b.yaw_deg),

@@ -50,8 +50,19 @@ struct Panel {
     glm::dvec3 color{0.15, 0.20, 0.45};
 };
 
+// A second ground mesh laid over the ground, as a racing game's track over its terrain: a grid of
+// quads of `cell` whose corners lie a seeded pseudo-random height within +-amplitude of the
+// ground's plane, so that the two meshes cross and the visible one alternates in thin, irregular
+// strips, many a pixel tall, along where they cross.
+struct Track {
+    double x0 = -4, x1 = 4, z0 = -12, z1 = 5;
+    double cell = 1.0, amplitude = 0.05;
+    glm::dvec3 color{0.40, 0.26, 0.12};
+};
+
 struct Scene {
     bool ground = true;
+    std::vector<Track> tracks;  // class kGround
     glm::dvec3 ground_color{0.22, 0.36, 0.16};
     std::vector<Box> boxes;
     std::vector<Panel> panels;
