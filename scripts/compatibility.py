@@ -447,8 +447,11 @@ KNOWN = """## What the table does not show
   first frame, sitting in llvmpipe's `glGenerateMipmap` under
   `SP::SPTextureManager::checkForGLCommand` (a backtrace; 25 frames in 2 to 9 minutes): with the
   program's own frames kept (`GLCAST_SNAPSHOT_DIR`, as the table captures, also from frame 200 on),
-  and also without them (a copy of the fast run's home), and with them in a fresh, empty home. So
-  not the snapshots; not traced further. Measured by hand on the fast run's capture, frame 239 of
+  and also without them (a copy of the fast run's home), and with them in a fresh, empty home. It
+  is the program on this machine's llvmpipe, not glcast: run alone, without glcast, in a fresh home
+  and with nothing else running, the same command (`--profile-time=20`) was still loading its
+  karts when killed after 10 minutes (`SP::SPTexture::texImage2d` waiting on llvmpipe's two
+  rasterizer threads, both busy); with `LP_NUM_THREADS=1` too (7 minutes). Measured by hand on the fast run's capture, frame 239 of
   the lighthouse track,
   with the table's own functions (`measure`, `cylinder`, `mosaic`;
   [plain](images/compatibility/supertuxkart-race-plain.png),
@@ -468,7 +471,14 @@ KNOWN = """## What the table does not show
   default one: its sun (`sundirection`) is a uniform of its lighting pass, not of the programs that
   draw the view. Left: a few icicles hang from the track's edges where track and terrain
   alternate in depth pixel by pixel (steps of 0.2% of the depth: the normals taken from the depth
-  there turn at random), and the tyre marks, decals drawn after the ground, lie over the snow.
+  there turn at random). Since measured again on frame 239: the normals from depth take the side
+  that continues a pixel's own surface, and a turned face is an icicle's edge only if it holds no
+  snow for two pixels (docs/winter.md, "Lower edges"): the icicle pixels on the ground before the
+  kart went from 811 to 134 (one short icicle left; the fence's, the lamp's, the crates' and the
+  kart's stay). The brown and green patches on the track are the cover's own bare patches (its
+  density, 0.9), not decals lying over the snow as this note said before: with `cover.density=1` the
+  ground is white but for a few dark dashes along the track's edge, where its mesh steps a few
+  centimetres over the terrain.
 """
 TILES = ["top-left", "top-right", "bottom-left", "bottom-right"]
 
