@@ -484,8 +484,9 @@ KNOWN = """## What the table does not show
   density, 0.9), not decals lying over the snow as this note said before: with `cover.density=1` the
   ground is white but for a few dark dashes along the track's edge, where its mesh steps a few
   centimetres over the terrain.
-- **The cover's pictures after the normals' fix** (the side that continues a pixel's own surface,
-  docs/winter.md): the table's captures of view3dscene, openarena, minetest, blender and pymol
+- **The cover's pictures after the fixes of the normals from depth and of the lower edges**
+  (docs/winter.md: the side that continues a pixel's own surface; a face that holds no snow for
+  two pixels): the table's captures of view3dscene, openarena, minetest, blender and pymol
   replayed with the cover on the new code differ from the table run's pictures in 4,769, 8,270,
   4,098, 382 and 1,379 pixels; their cover pictures are redrawn from those replays. Looked at:
   openarena's walkway no longer grows rows of icicle stubs from the dark seams between its
