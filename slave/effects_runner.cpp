@@ -562,18 +562,14 @@ void EffectsRunner::put_overlays_back(SlaveContext& ctx, bool overlays, bool tar
     gl.glUniform1i(effects::uniform(gl, st.overlay_program, "target_before"), 3);
     gl.glUniform1i(effects::uniform(gl, st.overlay_program, "target_final"), 4);
     gl.glUniform1i(effects::uniform(gl, st.overlay_program, "target_overlays"), target_overlays);
-    // (an overlay engine's colour has the scene's texels: its target holds the scene's depth)
-    GLuint engine = engine_overlays(ctx);
-    gl.glActiveTexture(GL_TEXTURE6);
-    gl.glBindTexture(GL_TEXTURE_2D, 0);
-    if (engine) gl.glBindTexture(GL_TEXTURE_2D, engine);
-    GLint bound = 0;
-    gl.glGetIntegerv(GL_TEXTURE_BINDING_2D, &bound);
-    if (GLuint(bound) != engine) engine = 0;  // (not a 2D texture: a multisampled one is not read)
-    gl.glUniform1i(effects::uniform(gl, st.overlay_program, "engine_overlay"), 6);
-    gl.glUniform1i(effects::uniform(gl, st.overlay_program, "engine_overlays"), engine != 0);
     int scene_size[2];
     const glm::vec4 texels(st.copies.scene_texels_on_tile(ctx, scene, scenes_.scene_shown(ctx), scene_size));
+    // (an overlay engine's colour has the scene's texels: its target holds the scene's depth)
+    const GLuint engine = engine_overlay_texture(ctx, scene_size);
+    gl.glActiveTexture(GL_TEXTURE6);
+    gl.glBindTexture(GL_TEXTURE_2D, engine);
+    gl.glUniform1i(effects::uniform(gl, st.overlay_program, "engine_overlay"), 6);
+    gl.glUniform1i(effects::uniform(gl, st.overlay_program, "engine_overlays"), engine != 0);
     gl.glUniform4f(effects::uniform(gl, st.overlay_program, "target_rect"), texels.x, texels.y, texels.z, texels.w);
     gl.glUniform2f(effects::uniform(gl, st.overlay_program, "tile_size"), GLfloat(ctx.width), GLfloat(ctx.height));
     gl.glUniform1i(effects::uniform(gl, st.overlay_program, "final_image"), 0);
@@ -592,6 +588,62 @@ GLuint EffectsRunner::engine_overlays(SlaveContext& ctx) {
     const SceneFacts& shown = scenes_.scene_shown(ctx).facts;
     if (!shown.main_known || !shown.scene_depth_kept || !shown.overlay_texture) return 0;
     return core_.api().glIsTexture(shown.overlay_texture) ? shown.overlay_texture : 0;  // (deleted since)
+}
+
+// Binding a multisampled texture as GL_TEXTURE_2D fails and leaves GL_INVALID_OPERATION in the
+// program's context (glcast replay --verify: its next glGetError answered 1282 where the master's
+// said 0): what the texture is is asked of a framebuffer of our own it is attached to.
+GLuint EffectsRunner::engine_overlay_texture(SlaveContext& ctx, const int size[2]) {
+    const GLuint engine = engine_overlays(ctx);
+    if (!engine) return 0;
+    ContextPasses& st = passes(ctx);
+    const GlApi& gl = core_.api();
+    effects::StateGuard guard(gl);
+    if (!st.engine_fb) gl.glGenFramebuffers(1, &st.engine_fb);
+    gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, st.engine_fb);
+    gl.glFramebufferTexture(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, engine, 0);
+    GLint samples = 0, layered = GL_FALSE;
+    const bool complete = gl.glCheckFramebufferStatus(GL_DRAW_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
+    if (complete) {
+        gl.glGetIntegerv(GL_SAMPLES, &samples);
+        gl.glGetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0,
+                                                 GL_FRAMEBUFFER_ATTACHMENT_LAYERED, &layered);
+    }
+    GLuint texture = 0;
+    if (complete && samples == 0 && !layered) {
+        texture = engine;
+    } else if (complete && samples > 0 && size[0] > 0 && size[1] > 0) {
+        GLint bound = 0, format = 0;
+        gl.glGetIntegerv(GL_TEXTURE_BINDING_2D_MULTISAMPLE, &bound);
+        gl.glBindTexture(GL_TEXTURE_2D_MULTISAMPLE, engine);
+        gl.glGetTexLevelParameteriv(GL_TEXTURE_2D_MULTISAMPLE, 0, GL_TEXTURE_INTERNAL_FORMAT, &format);
+        gl.glBindTexture(GL_TEXTURE_2D_MULTISAMPLE, GLuint(bound));
+        // (a resolve keeps the format: a blit from a multisampled buffer into another fails)
+        if (!st.engine_resolved || st.engine_resolved_format != format || st.engine_resolved_size[0] != size[0] ||
+            st.engine_resolved_size[1] != size[1]) {
+            if (st.engine_resolved) {
+                gl.glDeleteTextures(1, &st.engine_resolved);
+                gl.glDeleteFramebuffers(1, &st.engine_resolved_fb);
+            }
+            gl.glGenTextures(1, &st.engine_resolved);
+            gl.glBindTexture(GL_TEXTURE_2D, st.engine_resolved);
+            gl.glTexStorage2D(GL_TEXTURE_2D, 1, GLenum(format), size[0], size[1]);
+            gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+            gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+            st.engine_resolved_fb = effects::make_framebuffer(gl, st.engine_resolved, 0);
+            st.engine_resolved_format = format;
+            st.engine_resolved_size[0] = size[0], st.engine_resolved_size[1] = size[1];
+        }
+        gl.glBindFramebuffer(GL_READ_FRAMEBUFFER, st.engine_fb);
+        gl.glReadBuffer(GL_COLOR_ATTACHMENT0);
+        gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, st.engine_resolved_fb);
+        gl.glBlitFramebuffer(0, 0, size[0], size[1], 0, 0, size[0], size[1], GL_COLOR_BUFFER_BIT, GL_NEAREST);
+        texture = st.engine_resolved;
+    }
+    // (let go of the program's texture: a framebuffer of ours holding it would outlive its deletion)
+    gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, st.engine_fb);
+    gl.glFramebufferTexture(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, 0, 0);
+    return texture;
 }
 
 // The same pixels put back into a mask, then the frame's depth and view, for measurements.

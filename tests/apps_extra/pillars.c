@@ -110,7 +110,7 @@
  * scene's colour texture and no depth, as Blender's overlay engine draws its grid, outlines and
  * object centres into a colour-only target of the viewport's size over the engines' picture.
  *
- * With --fbo --wire (fixed function, not --msaa or --post) a wire-frame box (WIRE, lines 3
+ * With --fbo --wire (fixed function, not --post) a wire-frame box (WIRE, lines 3
  * pixels wide) with a filled lid floats over the floor, left of pillar 0, drawn after the pillars with the main
  * view's camera into a second framebuffer object that holds a colour texture of its own (cleared
  * transparent every frame) and the scene's depth, the depth test and depth writes on; the window
@@ -118,6 +118,10 @@
  * and the light's wire frames and composites them over its engines' picture. With --region (not
  * --blit) the viewport is shown by one GLSL draw that samples both textures and mixes the box over
  * the scene by its alpha, as Blender's window composites its viewport's colour and overlay textures.
+ * With --msaa (not --region) the box's target is multisampled too: a multisampled colour texture of
+ * its own over the multisampled scene's depth, resolved into a texture by a blit before it is
+ * blended over the scene. Every frame with --wire asks glGetError once, as programs that check their
+ * errors do (glcast replay --verify compares the slave's answer with the master's).
  *
  * With --fbo --mirror (fixed function, not --msaa, --region, --post or --wire) the scene is drawn
  * upside down into its target (glFrustum with its bottom and top swapped) and shown by a
@@ -590,7 +594,7 @@ int main(int argc, char **argv)
     const int markers = app_take_flag(&argc, &argv, "--markers");
     const int cull = app_take_flag(&argc, &argv, "--cull");
     const int overlay = app_take_flag(&argc, &argv, "--overlay");
-    const int wire = fbo_mode && !shader && !msaa && !by_blit && !post && app_take_flag(&argc, &argv, "--wire");
+    const int wire = fbo_mode && !shader && !(msaa && region) && !by_blit && !post && app_take_flag(&argc, &argv, "--wire");
     const int mirror = fbo_mode && !shader && !msaa && !region && !post && !wire && !fragcoord && app_take_flag(&argc, &argv, "--mirror");
     const int reflection = app_take_flag(&argc, &argv, "--reflection");
     const int bbox = (!shader || builtins || mvp) && app_take_flag(&argc, &argv, "--bbox");
@@ -842,7 +846,7 @@ int main(int argc, char **argv)
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     }
-    GLuint fbo = 0, color = 0, msaa_fbo = 0;
+    GLuint fbo = 0, color = 0, msaa_fbo = 0, msaa_depth = 0;
     /* --region: the viewport's rectangle in the window */
     const int rx = a.width / 5, rw = a.width - rx, rh = a.height * 13 / 15;
     const int fw = half ? a.width / 2 : region ? rw : a.width, fh = half ? a.height / 2 : region ? rh : a.height;
@@ -894,6 +898,7 @@ int main(int argc, char **argv)
             glBindFramebuffer(GL_FRAMEBUFFER, msaa_fbo);
             glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, rb[0]);
             glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, rb[1]);
+            msaa_depth = rb[1];
             if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
                 fprintf(stderr, "pillars: the multisampled framebuffer object is not complete\n");
                 return 1;
@@ -913,7 +918,25 @@ int main(int argc, char **argv)
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
     }
     GLuint wire_fbo = 0, wire_color = 0;  /* --wire: a colour of its own, the scene's depth */
-    if (wire && !(wire_fbo = over_scene_depth(fbo, depth_texture, fw, fh, &wire_color))) {
+    GLuint wire_resolve_fbo = 0;          /* --wire --msaa: wire_color, resolved from wire_fbo's */
+    if (wire && msaa) {
+        GLuint wire_samples = 0;
+        glGenTextures(1, &wire_samples);
+        glBindTexture(GL_TEXTURE_2D_MULTISAMPLE, wire_samples);
+        glTexImage2DMultisample(GL_TEXTURE_2D_MULTISAMPLE, 4, GL_RGBA8, fw, fh, GL_TRUE);
+        glBindTexture(GL_TEXTURE_2D_MULTISAMPLE, 0);
+        glGenFramebuffers(1, &wire_fbo);
+        glBindFramebuffer(GL_FRAMEBUFFER, wire_fbo);
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D_MULTISAMPLE, wire_samples, 0);
+        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, msaa_depth);
+        const int complete = glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
+        wire_resolve_fbo = colour_and_depth_target(fw, fh, &wire_color);
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        if (!complete || !wire_resolve_fbo) wire_fbo = 0;
+    } else if (wire) {
+        wire_fbo = over_scene_depth(fbo, depth_texture, fw, fh, &wire_color);
+    }
+    if (wire && !wire_fbo) {
         fprintf(stderr, "pillars: the wire frame's framebuffer object is not complete\n");
         return 1;
     }
@@ -924,6 +947,7 @@ int main(int argc, char **argv)
         post_fbo = colour_and_depth_target(a.width, a.height, &post_color);
     }
     for (int f = 0; f < a.frames; f++) {
+        if (wire) (void)glGetError();  /* (a program that checks its errors each frame) */
         if (fbo_mode) {
             glBindFramebuffer(GL_FRAMEBUFFER, msaa ? msaa_fbo : fbo);
             glViewport(0, 0, fw, fh);
@@ -1048,7 +1072,7 @@ int main(int argc, char **argv)
             if (overlay_fbo) glBindFramebuffer(GL_FRAMEBUFFER, fbo);
             if (overlay) glEnable(GL_DEPTH_TEST);
         }
-        if (wire) draw_wire_box(wire_fbo, fbo);
+        if (wire) draw_wire_box(wire_fbo, msaa ? msaa_fbo : fbo);
         if (bbox && !mvp) draw_bbox();
         if (canopy) {  /* a translucent sheet over everything, drawn last, writing depth */
             glEnable(GL_BLEND);
@@ -1118,6 +1142,12 @@ int main(int argc, char **argv)
                 }
             }
             if (wire) {
+                if (wire_resolve_fbo) {
+                    glBindFramebuffer(GL_READ_FRAMEBUFFER, wire_fbo);
+                    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, wire_resolve_fbo);
+                    glBlitFramebuffer(0, 0, fw, fh, 0, 0, fw, fh, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+                    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+                }
                 glBindTexture(GL_TEXTURE_2D, wire_color);
                 glEnable(GL_BLEND);
                 glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);

@@ -202,10 +202,11 @@ def shader_hud(headless):
 
 
 def pillars_pictures(prefix, variants, passes, headless, app="pillars", tail=("--size", "400x300", "--frames", "2"),
-                     frame=1):
+                     frame=1, verify=False):
     """Captures pillars (400x300, 2 frames; or `app` with `tail`) with each variant's arguments and
     replays each capture with each pass's: {(variant, pass): the pixels of `frame`}, and the
-    pictures' width and height."""
+    pictures' width and height. With `verify` every replay also compares the slave's answers to
+    the program's glGet* and glGetError calls with the master's (replay --verify)."""
     captures = {}
     with Xvfb():
         for name, extra in variants:
@@ -217,9 +218,9 @@ def pillars_pictures(prefix, variants, passes, headless, app="pillars", tail=("-
     for name, capture in captures.items():
         for label, extra in passes.items():
             out = os.path.join(OUT, f"{prefix}_{name}-{label}")
-            r = subprocess.run([GLCAST, "replay", capture, "--backend", "egl", "--out", out] + extra,
-                               capture_output=True, text=True, timeout=300, env=headless)
-            check(r.returncode == 0, f"replay {out} failed: {r.stderr[-2000:]}")
+            r = subprocess.run([GLCAST, "replay", capture, "--backend", "egl", "--out", out] + extra +
+                               (["--verify"] if verify else []), capture_output=True, text=True, timeout=300, env=headless)
+            check(r.returncode == 0, f"replay {out} failed: {r.stdout[-500:]} {r.stderr[-2000:]}")
             w, h, pictures[name, label] = read_png(os.path.join(out, f"frame-{frame:06d}.png"))
     return pictures, w, h
 
@@ -275,6 +276,11 @@ def overlay_engine(headless):
     also with --region, where one GLSL draw mixes the box's texture over the scene's as it shows
     the viewport (Blender's window composites its viewport's colour and overlay textures so):
     before, cover whitened all of the box's 1,774 pixels there and snow fell over 1,156 of them.
+    And with --msaa: the box's target a multisampled colour texture over the multisampled scene's
+    depth, resolved before it is blended (the slave reads a resolved copy). The program asks
+    glGetError each frame and every replay verifies the answers: before, the slave bound the
+    multisampled texture as a 2D one to read it, which failed and left GL_INVALID_OPERATION for the
+    program's next glGetError (1282 where the master got 0, each frame, under every pass).
     And with ff_scene --widget-wire: the scene and the box drawn by a context that presents only to
     a pbuffer of a pixel (Blender's draw manager's), the box blended over the widget by the window's
     context. Before, the scene's depth was kept at a size bounded by that context's window (4x4
@@ -285,11 +291,12 @@ def overlay_engine(headless):
     # (both with the HUD panel: both frames are then decorated under their overlays, the same way)
     layouts = (("window", "pillars", ["--fbo", "--hud"], ["--wire"]),
                ("region", "pillars", ["--fbo", "--region", "--hud"], ["--wire"]),
+               ("msaa", "pillars", ["--fbo", "--msaa", "--hud"], ["--wire"]),
                ("widget", "ff_scene", ["--widget"], ["--widget-wire"]))
     for layout, app, base, wire in layouts:
         tail = ("--frames", "5") if app == "ff_scene" else ("--size", "400x300", "--frames", "2")
         images, w, h = pillars_pictures(f"{app}_{layout}", (("no-wire", base), ("wire", base + wire)), passes, headless,
-                                        app=app, tail=tail, frame=4 if app == "ff_scene" else 1)
+                                        app=app, tail=tail, frame=4 if app == "ff_scene" else 1, verify=True)
         plain = images["wire", "plain"]
         box = {(x, y) for y in range(h) for x in range(w) if plain[y][x] != images["no-wire", "plain"][y][x]}
         check(len(box) > 300, f"{layout}: the wire-frame box is not where the test expects it ({len(box)} pixels)")
