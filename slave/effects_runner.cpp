@@ -590,6 +590,32 @@ GLuint EffectsRunner::engine_overlays(SlaveContext& ctx) {
     return core_.api().glIsTexture(shown.overlay_texture) ? shown.overlay_texture : 0;  // (deleted since)
 }
 
+// The engine's multisampled colour (attached to st.engine_fb) resolved into a texture of its
+// format (a blit from a multisampled buffer into one of another format fails) at `size`.
+GLuint EffectsRunner::resolve_engine_overlay(ContextPasses& st, GLenum format, const int size[2]) {
+    const GlApi& gl = core_.api();
+    if (!st.engine_resolved || st.engine_resolved_format != GLint(format) || st.engine_resolved_size[0] != size[0] ||
+        st.engine_resolved_size[1] != size[1]) {
+        if (st.engine_resolved) {
+            gl.glDeleteTextures(1, &st.engine_resolved);
+            gl.glDeleteFramebuffers(1, &st.engine_resolved_fb);
+        }
+        gl.glGenTextures(1, &st.engine_resolved);
+        gl.glBindTexture(GL_TEXTURE_2D, st.engine_resolved);
+        gl.glTexStorage2D(GL_TEXTURE_2D, 1, format, size[0], size[1]);
+        gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        st.engine_resolved_fb = effects::make_framebuffer(gl, st.engine_resolved, 0);
+        st.engine_resolved_format = GLint(format);
+        st.engine_resolved_size[0] = size[0], st.engine_resolved_size[1] = size[1];
+    }
+    gl.glBindFramebuffer(GL_READ_FRAMEBUFFER, st.engine_fb);
+    gl.glReadBuffer(GL_COLOR_ATTACHMENT0);
+    gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, st.engine_resolved_fb);
+    gl.glBlitFramebuffer(0, 0, size[0], size[1], 0, 0, size[0], size[1], GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    return st.engine_resolved;
+}
+
 // Binding a multisampled texture as GL_TEXTURE_2D fails and leaves GL_INVALID_OPERATION in the
 // program's context (glcast replay --verify: its next glGetError answered 1282 where the master's
 // said 0): what the texture is is asked of a framebuffer of our own it is attached to.
@@ -612,33 +638,13 @@ GLuint EffectsRunner::engine_overlay_texture(SlaveContext& ctx, const int size[2
     GLuint texture = 0;
     if (complete && samples == 0 && !layered) {
         texture = engine;
-    } else if (complete && samples > 0 && size[0] > 0 && size[1] > 0) {
+    } else if (complete && samples > 0 && size[0] > 0 && size[1] > 0 && gl.has(OP_glTexStorage2D)) {
         GLint bound = 0, format = 0;
         gl.glGetIntegerv(GL_TEXTURE_BINDING_2D_MULTISAMPLE, &bound);
         gl.glBindTexture(GL_TEXTURE_2D_MULTISAMPLE, engine);
         gl.glGetTexLevelParameteriv(GL_TEXTURE_2D_MULTISAMPLE, 0, GL_TEXTURE_INTERNAL_FORMAT, &format);
         gl.glBindTexture(GL_TEXTURE_2D_MULTISAMPLE, GLuint(bound));
-        // (a resolve keeps the format: a blit from a multisampled buffer into another fails)
-        if (!st.engine_resolved || st.engine_resolved_format != format || st.engine_resolved_size[0] != size[0] ||
-            st.engine_resolved_size[1] != size[1]) {
-            if (st.engine_resolved) {
-                gl.glDeleteTextures(1, &st.engine_resolved);
-                gl.glDeleteFramebuffers(1, &st.engine_resolved_fb);
-            }
-            gl.glGenTextures(1, &st.engine_resolved);
-            gl.glBindTexture(GL_TEXTURE_2D, st.engine_resolved);
-            gl.glTexStorage2D(GL_TEXTURE_2D, 1, GLenum(format), size[0], size[1]);
-            gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-            gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-            st.engine_resolved_fb = effects::make_framebuffer(gl, st.engine_resolved, 0);
-            st.engine_resolved_format = format;
-            st.engine_resolved_size[0] = size[0], st.engine_resolved_size[1] = size[1];
-        }
-        gl.glBindFramebuffer(GL_READ_FRAMEBUFFER, st.engine_fb);
-        gl.glReadBuffer(GL_COLOR_ATTACHMENT0);
-        gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, st.engine_resolved_fb);
-        gl.glBlitFramebuffer(0, 0, size[0], size[1], 0, 0, size[0], size[1], GL_COLOR_BUFFER_BIT, GL_NEAREST);
-        texture = st.engine_resolved;
+        if (format != 0) texture = resolve_engine_overlay(st, GLenum(format), size);
     }
     // (let go of the program's texture: a framebuffer of ours holding it would outlive its deletion)
     gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, st.engine_fb);

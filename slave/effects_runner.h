@@ -111,6 +111,7 @@ private:
     // That texture as a 2D one the put-back can sample: itself, or, multisampled (its target over a
     // multisampled scene's depth), a copy resolved at `size` (the scene's target's); 0: none.
     GLuint engine_overlay_texture(SlaveContext& ctx, const int size[2]);
+    GLuint resolve_engine_overlay(ContextPasses& st, GLenum format, const int size[2]);
 
     Replayer& core_;
     TileAdapter& tile_;
