@@ -418,17 +418,19 @@ void EffectsRunner::convert_depth(SlaveContext& ctx, effects::FrameView& v, cons
     const glm::dmat4 program = v.projection;
     ProgramDepthState state = program_depth_state(core_.api());
     state.shown_mirrored = scenes_.scene(ctx).facts.shown_mirrored;
+    state.shown_mirrored_columns = scenes_.scene(ctx).facts.shown_mirrored_columns;
     st.depth = depth_convention(program, state);
     if (st.depth.standard) return;
     if (!said_depth_convention_) {
         said_depth_convention_ = true;
         const ProgramDepthState& s = st.depth.program;
-        std::fprintf(stderr, "glcast: effects: the program's depth is its own (%s%s%s, depth range %g..%g, cleared to "
+        std::fprintf(stderr, "glcast: effects: the program's depth is its own (%s%s%s%s, depth range %g..%g, cleared to "
                              "%g): the passes read it converted to a standard projection, near %g, far %g "
                              "(docs/effects.md, \"Depth conventions\")\n",
                      s.zero_to_one ? "clip depth 0..1" : "clip depth -1..1",
                      st.depth.reversed ? ", reversed" : "",
                      s.upper_left ? ", origin upper left" : s.shown_mirrored ? ", shown upside down" : "",
+                     s.shown_mirrored_columns ? ", shown mirrored left to right" : "",
                      s.range_near, s.range_far, s.clear_depth,
                      st.depth.near, st.depth.far);
     }
@@ -436,6 +438,7 @@ void EffectsRunner::convert_depth(SlaveContext& ctx, effects::FrameView& v, cons
     // The program's tile clip space as its window shows it (origin flipped after its turn).
     glm::dmat4 flip(1.0);
     if (st.depth.program.flipped()) flip[1][1] = -1;
+    if (st.depth.program.flipped_columns()) flip[0][0] = -1;
     const glm::dmat4 program_turn = options.view.enabled ? options.view.correction(program) : glm::dmat4(1.0);
     const glm::dmat4 pass_turn = options.view.enabled ? options.view.correction(st.depth.pass_projection) : glm::dmat4(1.0);
     v.projection = st.depth.pass_projection;

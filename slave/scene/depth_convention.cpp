@@ -46,7 +46,8 @@ DepthConvention depth_convention(const glm::dmat4& projection, const ProgramDept
     const double near = w_at(reversed ? 1.0 : low);
     double far = w_at(reversed ? low : 1.0);
     if (!std::isfinite(near)) return c;
-    const bool standard = !reversed && !state.zero_to_one && !state.flipped() && state.range_near == 0 &&
+    const bool standard = !reversed && !state.zero_to_one && !state.flipped() && !state.flipped_columns() &&
+                          state.range_near == 0 &&
                           state.range_far == 1 && state.clear_depth == 1;
     if (standard) return c;  // today's path, untouched
     if (!std::isfinite(far) || far <= near) far = near * kInfiniteFarInNears;
@@ -55,9 +56,10 @@ DepthConvention depth_convention(const glm::dmat4& projection, const ProgramDept
     c.near = near / scale;  // eye distances: w is `scale` times the distance along the view
     c.far = far / scale;
     // The program's projection as the window shows it: an upper-left origin (or a scene shown
-    // upside down) flips y.
+    // upside down) flips y, a scene shown mirrored left to right x.
     glm::dmat4 program = projection;
     if (state.flipped()) set_row(program, 1, -row(projection, 1));
+    if (state.flipped_columns()) set_row(program, 0, -row(projection, 0));
     // NDC z = alpha + beta / w: -1 at near, +1 at far.
     glm::dmat4 pass = program;
     glm::dvec4 zrow = (far + near) / (far - near) * w;

@@ -23,14 +23,17 @@ struct ProgramDepthState {
     // Not GL state: the scene drawn offscreen is shown upside down (SceneFacts::shown_mirrored),
     // which the window's picture has as an upper-left origin would give it.
     bool shown_mirrored = false;
+    bool shown_mirrored_columns = false;  // ... mirrored left to right (SceneFacts::shown_mirrored_columns)
     bool flipped() const { return upper_left != shown_mirrored; }  // the window's rows run top down
+    bool flipped_columns() const { return shown_mirrored_columns; }  // ... its columns right to left
 };
 
 struct DepthConvention {
     bool standard = true;  // the program's is the passes' own: nothing to convert, nothing changes
     glm::dmat4 pass_projection{1.0};  // the projection the passes see (the program's when standard)
     // The program's projection as its window shows it, in the passes' lower-left origin (y
-    // flipped for an upper-left one): the depth conversion maps from its clip space.
+    // flipped for an upper-left one, x for a scene shown mirrored left to right): the depth
+    // conversion maps from its clip space.
     glm::dmat4 program_projection{1.0};
     // pass_projection * inverse(the program's projection): what a redraw of the program's
     // draws (run in the passes' clip convention) premultiplies to land as the passes see them.

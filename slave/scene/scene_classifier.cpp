@@ -288,6 +288,7 @@ WindowDrawMeaning window_blit(SceneFacts& f, DrawState& s, const int32_t source[
     if (!f.in_part) {
         f.presented = true;  // the scene's image copied over the window
         f.shown_mirrored = (destination[1] > destination[3]) != (source[1] > source[3]);
+        f.shown_mirrored_columns = (destination[0] > destination[2]) != (source[0] > source[2]);
         return WindowDrawMeaning::Scene;
     }
     const GLuint read = s.read_framebuffer();

@@ -61,6 +61,10 @@ struct SceneFacts {
     // picture is the target's upside down, as a program drawing with an upper-left origin
     // (Direct3D's, under Wine) presents; the passes read it as glClipControl(GL_UPPER_LEFT)'s.
     bool shown_mirrored = false;
+    // ... by a blit that swaps its columns (destination x0 right of x1, the source not): the
+    // window's picture is the target's mirrored left to right (a scene drawn with glFrustum's left
+    // and right swapped); the passes read it mirrored back.
+    bool shown_mirrored_columns = false;
     // That target has neither the window's size nor its shape: the scene is shown in part of the
     // window (a content suite's 3D viewport), by the first flat draw to the window that samples
     // `scene_texture` (its colour texture, or the one a resolve or a post-processing draw of its

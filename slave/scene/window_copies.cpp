@@ -287,6 +287,7 @@ glm::dvec4 WindowCopies::scene_texels_on_tile(const SlaveContext& ctx, const Con
     if (!placed) {
         glm::dvec4 texels = tile_source(ctx, SW, SH);
         if (scene.facts.shown_mirrored) texels.y = SH - texels.y, texels.w = SH - texels.w;  // (shown upside down)
+        if (scene.facts.shown_mirrored_columns) texels.x = SW - texels.x, texels.z = SW - texels.z;
         return texels;
     }
     // the tile's rectangle of the window, in the scene's texels (beyond them: outside the scene)

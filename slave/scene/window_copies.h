@@ -62,7 +62,8 @@ public:
     // The rectangle of the scene's texels (x0, y0, x1, y1) that this tile shows over its size: of
     // its target (as those copies are), or of a borrowed scene (`shown`: the lender's) where the
     // draw that showed it put it (beyond its texels: outside the scene); a scene shown upside down
-    // (SceneFacts::shown_mirrored) has y0 above y1. `size`: its SW x SH texels.
+    // (SceneFacts::shown_mirrored) has y0 above y1, one mirrored left to right x0 right of x1.
+    // `size`: its SW x SH texels.
     glm::dvec4 scene_texels_on_tile(const SlaveContext& ctx, const ContextScene& scene, const ContextScene& shown,
                                     int size[2]) const;
     GLuint scene_target_before = 0, scene_target_final = 0;

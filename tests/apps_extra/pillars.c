@@ -127,6 +127,8 @@
  * upside down into its target (glFrustum with its bottom and top swapped) and shown by a
  * glBlitFramebuffer into the window whose destination's rows are swapped, so that the picture is
  * the upright one: as a Direct3D program under Wine draws (its origin top left) and presents.
+ * With --mirror-columns (the same conditions) it is drawn mirrored left to right instead (glFrustum
+ * with its left and right swapped) and shown by a blit whose destination's columns are swapped.
  *
  * With --bbox (fixed function, --builtins or --mvp; not --left-handed or --scale) a bounding box's twelve
  * edges (BBOX, lines 2 pixels wide) around pillar 0, x -2..2, y -1.9..0.5, z -9..-5.5, are
@@ -195,7 +197,7 @@
  * u_lightDirection` in the eye's space, as uploaded, each face lit by the eye-space normal.
  *
  *   pillars [--shader | --builtins | --mvp [--modelview]] [--grow] [--fbo [--half | --region [--blit]] [--mrt | --msaa] [--depth-texture] [--fragcoord] [--gbuffer]] [--reversed] [--hud [--in-scene [--depth-on]] [--hud-vao]]
- *           [--hand] [--left-handed] [--mixed] [--foliage] [--post] [--grade] [--markers] [--cull] [--overlay] [--wire] [--mirror] [--reflection] [--bbox] [--canopy] [--blended] [--objects] [--fov DEG]
+ *           [--hand] [--left-handed] [--mixed] [--foliage] [--post] [--grade] [--markers] [--cull] [--overlay] [--wire] [--mirror | --mirror-columns] [--reflection] [--bbox] [--canopy] [--blended] [--objects] [--fov DEG]
  *           [--fisheye] [--scale S] [--turn DEG] [--sun X,Y,Z | --gl-light X,Y,Z] [--frames N] [--size WxH]
  */
 #define GL_GLEXT_PROTOTYPES 1
@@ -596,6 +598,8 @@ int main(int argc, char **argv)
     const int overlay = app_take_flag(&argc, &argv, "--overlay");
     const int wire = fbo_mode && !shader && !(msaa && region) && !by_blit && !post && app_take_flag(&argc, &argv, "--wire");
     const int mirror = fbo_mode && !shader && !msaa && !region && !post && !wire && !fragcoord && app_take_flag(&argc, &argv, "--mirror");
+    const int mirror_columns = fbo_mode && !shader && !msaa && !region && !post && !wire && !fragcoord && !mirror &&
+                               app_take_flag(&argc, &argv, "--mirror-columns");
     const int reflection = app_take_flag(&argc, &argv, "--reflection");
     const int bbox = (!shader || builtins || mvp) && app_take_flag(&argc, &argv, "--bbox");
     const int canopy = !shader && app_take_flag(&argc, &argv, "--canopy");
@@ -980,6 +984,7 @@ int main(int argc, char **argv)
         const double *proj = reversed ? reverse_infinite : left_handed ? left : standard;
         if (reversed || left_handed) glLoadMatrixd(proj);
         else if (mirror) glFrustum(-half * scale, half * scale, top * scale, -top * scale, n * scale, fa * scale);
+        else if (mirror_columns) glFrustum(half * scale, -half * scale, -top * scale, top * scale, n * scale, fa * scale);
         else glFrustum(-half * scale, half * scale, -top * scale, top * scale, n * scale, fa * scale);
         if (shader && !mixed) glUseProgram(program);
         if (shader && !builtins && !mvp) {
@@ -1136,6 +1141,10 @@ int main(int argc, char **argv)
                 } else if (mirror) {  /* (the scene upside down in its target: shown mirrored) */
                     glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo);
                     glBlitFramebuffer(0, 0, fw, fh, 0, a.height, a.width, 0, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+                    glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+                } else if (mirror_columns) {
+                    glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo);
+                    glBlitFramebuffer(0, 0, fw, fh, a.width, 0, 0, a.height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
                     glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
                 } else {
                     full_target_quad();

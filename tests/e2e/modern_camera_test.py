@@ -52,7 +52,10 @@ translucent only after opaque surfaces of the view (before, none of its pillars 
 A scene drawn upside down into its target and shown by a blit that swaps its rows (pillars --fbo
 --mirror, as a Direct3D program under Wine presents) is decorated as the upright one: the passes
 read it as an upper-left origin (before: its depth was read unmirrored, and the cover whitened
-the sky above the floor's mirror image and left the floor bare).
+the sky above the floor's mirror image and left the floor bare). One drawn mirrored left to right
+(glFrustum's left and right swapped) and shown by a blit that swaps its columns (pillars --fbo
+--mirror-columns) too: the passes read it mirrored back (before: its snow differed from the
+upright program's in 1,718 pixels, its shadows fell mirrored and the cover's patches lay mirrored).
 A camera in a uniform block updated each frame by glBindBuffer(GL_UNIFORM_BUFFER) and
 glBufferSubData, with another block bound by glBindBufferBase after it (pillars --shader --objects,
 as SuperTuxKart updates its camera), is decorated as the fixed-function program is: redraws bind
@@ -115,7 +118,8 @@ def main():
              "fbo_hud_depth_builtins": ["--builtins", "--fbo", "--hud", "--in-scene", "--depth-on"],
              "scaled": ["--scale", "10"], "scaled_builtins": ["--builtins", "--scale", "10"],
              "reflection": ["--reflection"], "reflection_builtins": ["--builtins", "--reflection"],
-             "fbo_mirror": ["--fbo", "--mirror"], "fbo_hud_window": ["--fbo", "--hud"],
+             "fbo_mirror": ["--fbo", "--mirror"], "fbo_mirror_columns": ["--fbo", "--mirror-columns"],
+             "fbo_hud_window": ["--fbo", "--hud"],
              "fbo_hud_mirror": ["--fbo", "--hud", "--mirror"], "painter": ["--overlay"],
              "painter_builtins": ["--builtins", "--overlay"], "canopy": ["--canopy"], "fbo_canopy": ["--fbo", "--canopy"],
              "blended": ["--blended"], "blended_builtins": ["--builtins", "--blended"],
@@ -218,7 +222,7 @@ def main():
     # before, the flakes were tested against the window's depth, which a scene drawn offscreen
     # leaves as it was, and none was drawn).
     frame = "frame-000001.png"
-    for mode in ("reversed", "reversed_builtins", "fbo", "fbo_mvp", "fbo_mirror"):
+    for mode in ("reversed", "reversed_builtins", "fbo", "fbo_mvp", "fbo_mirror", "fbo_mirror_columns"):
         w, h, a = read_png(os.path.join(OUT, "fixed-snow", frame))
         _, _, b = read_png(os.path.join(OUT, f"{mode}-snow", frame))
         _, _, plain = read_png(os.path.join(OUT, "fixed-plain", frame))
@@ -238,7 +242,8 @@ def main():
     for mode, tile, effects in (("fixed", "yaw060", "shadows,cover"), ("reversed", "yaw060", "shadows,cover"),
                                 ("fixed", "yaw060", "shadows"), ("left_handed", "yaw060", "shadows"),
                                 ("fbo", "yaw060", "shadows,cover"), ("fbo_mirror", "yaw060", "shadows,cover"),
-                                ("fbo_hud_window", "yaw000", ""), ("fbo_hud_mirror", "yaw000", ""),
+                                ("fbo_mirror_columns", "yaw060", "shadows,cover"), ("fbo_hud_window", "yaw000", ""),
+                                ("fbo_hud_mirror", "yaw000", ""),
                                 ("fbo_hud_window", "yaw060", ""), ("fbo_hud_mirror", "yaw060", "")):
         out = os.path.join(OUT, f"{mode}-cylinder-{tile}-{effects.replace(',', '-')}")
         r = subprocess.run([GLCAST, "replay", os.path.join(OUT, f"{mode}.glcs"), "--backend", "egl", "--config", config,
@@ -249,6 +254,7 @@ def main():
     for reference, mode, tile, effects in (("fixed", "reversed", "yaw060", "shadows,cover"),
                                            ("fixed", "left_handed", "yaw060", "shadows"),
                                            ("fbo", "fbo_mirror", "yaw060", "shadows,cover"),
+                                           ("fbo", "fbo_mirror_columns", "yaw060", "shadows,cover"),
                                            ("fbo_hud_window", "fbo_hud_mirror", "yaw000", ""),
                                            ("fbo_hud_window", "fbo_hud_mirror", "yaw060", "")):
         w, h, a = tiles[reference, tile, effects]

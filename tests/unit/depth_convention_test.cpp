@@ -112,6 +112,19 @@ TEST(DepthConvention, AStandardSceneShownUpsideDownIsReadAsAnUpperLeftOrigin) {
     EXPECT_TRUE(depth_convention(p, both).standard);
 }
 
+TEST(DepthConvention, ASceneDrawnMirroredAndShownMirroredBackIsReadUnmirrored) {
+    // Drawn with glFrustum's left and right swapped into a target, shown by a blit that swaps its
+    // columns (pillars --fbo --mirror-columns): the window's picture is the target's mirrored back.
+    const glm::dmat4 p = glm::frustum(0.29, -0.29, -0.22, 0.22, kNear, 100.0);
+    ProgramDepthState mirrored;
+    mirrored.shown_mirrored_columns = true;
+    expect_converted(p, mirrored);
+    const DepthConvention c = depth_convention(p, mirrored);
+    EXPECT_EQ(c.pass_projection[0][0], -p[0][0]);
+    EXPECT_GT(c.pass_projection[0][0], 0);  // as the window shows it: a standard frustum
+    EXPECT_NEAR(c.near, kNear, 1e-9);
+}
+
 TEST(DepthConvention, ARedrawCorrectedByPassFromProgramLandsAsThePassesProjectionPutsIt) {
     for (bool upper_left : {false, true}) {
         ProgramDepthState s;

@@ -626,6 +626,15 @@ TEST(SceneClassifier, ABlitFromASceneShownInPartAtTheViewsSizeShowsIt) {
     const int32_t source_flipped[4] = {0, 300, 400, 0};
     window_blit(both, s, source_flipped, window_flipped);
     EXPECT_FALSE(both.shown_mirrored);
+    EXPECT_FALSE(both.shown_mirrored_columns);
+    SceneFacts left_right;  // ... mirrored left to right (a scene drawn with left and right swapped)
+    s.framebuffer = 3;
+    classify_draw(left_right, s, 3, ClassifierSettings{false, true, 400, 300});
+    s.framebuffer = 0;
+    const int32_t window_mirrored[4] = {400, 0, 0, 300};
+    window_blit(left_right, s, window, window_mirrored);
+    EXPECT_TRUE(left_right.shown_mirrored_columns);
+    EXPECT_FALSE(left_right.shown_mirrored);
 }
 
 TEST(SceneClassifier, ALaterTargetOfTheWindowsShapeReplacesASceneFoundInPart) {
