@@ -120,7 +120,8 @@ def main():
              "reflection": ["--reflection"], "reflection_builtins": ["--builtins", "--reflection"],
              "fbo_mirror": ["--fbo", "--mirror"], "fbo_mirror_columns": ["--fbo", "--mirror-columns"],
              "fbo_hud_window": ["--fbo", "--hud"],
-             "fbo_hud_mirror": ["--fbo", "--hud", "--mirror"], "painter": ["--overlay"],
+             "fbo_hud_mirror": ["--fbo", "--hud", "--mirror"],
+             "fbo_hud_mirror_columns": ["--fbo", "--hud", "--mirror-columns"], "painter": ["--overlay"],
              "painter_builtins": ["--builtins", "--overlay"], "canopy": ["--canopy"], "fbo_canopy": ["--fbo", "--canopy"],
              "blended": ["--blended"], "blended_builtins": ["--builtins", "--blended"],
              "objects": ["--shader", "--objects"], "fbo_objects": ["--shader", "--fbo", "--objects"]}
@@ -244,7 +245,8 @@ def main():
                                 ("fbo", "yaw060", "shadows,cover"), ("fbo_mirror", "yaw060", "shadows,cover"),
                                 ("fbo_mirror_columns", "yaw060", "shadows,cover"), ("fbo_hud_window", "yaw000", ""),
                                 ("fbo_hud_mirror", "yaw000", ""),
-                                ("fbo_hud_window", "yaw060", ""), ("fbo_hud_mirror", "yaw060", "")):
+                                ("fbo_hud_window", "yaw060", ""), ("fbo_hud_mirror", "yaw060", ""),
+                                ("fbo_hud_mirror_columns", "yaw000", ""), ("fbo_hud_mirror_columns", "yaw060", "")):
         out = os.path.join(OUT, f"{mode}-cylinder-{tile}-{effects.replace(',', '-')}")
         r = subprocess.run([GLCAST, "replay", os.path.join(OUT, f"{mode}.glcs"), "--backend", "egl", "--config", config,
                             "--tile", tile, "--frames", "1:1", "--out", out] + (["--effects", effects] if effects else []),
@@ -256,7 +258,9 @@ def main():
                                            ("fbo", "fbo_mirror", "yaw060", "shadows,cover"),
                                            ("fbo", "fbo_mirror_columns", "yaw060", "shadows,cover"),
                                            ("fbo_hud_window", "fbo_hud_mirror", "yaw000", ""),
-                                           ("fbo_hud_window", "fbo_hud_mirror", "yaw060", "")):
+                                           ("fbo_hud_window", "fbo_hud_mirror", "yaw060", ""),
+                                           ("fbo_hud_window", "fbo_hud_mirror_columns", "yaw000", ""),
+                                           ("fbo_hud_window", "fbo_hud_mirror_columns", "yaw060", "")):
         w, h, a = tiles[reference, tile, effects]
         b = tiles[mode, tile, effects][2]
         differ = sum(1 for y in range(h) for x in range(w) if max(abs(a[y][x][i] - b[y][x][i]) for i in range(3)) > 8)

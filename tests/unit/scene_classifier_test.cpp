@@ -610,29 +610,24 @@ TEST(SceneClassifier, ABlitFromASceneShownInPartAtTheViewsSizeShowsIt) {
     EXPECT_TRUE(whole.presented);
     EXPECT_FALSE(whole.shown_mirrored);
     // ... upside down too (a scene drawn with Direct3D's origin, Wine's present): the window's
-    // picture is the target's with its rows swapped.
-    SceneFacts flipped;
-    s.framebuffer = 3;
-    classify_draw(flipped, s, 3, ClassifierSettings{false, true, 400, 300});
-    s.framebuffer = 0;
-    const int32_t window[4] = {0, 0, 400, 300}, window_flipped[4] = {0, 300, 400, 0};
-    EXPECT_EQ(window_blit(flipped, s, window, window_flipped), WindowDrawMeaning::Scene);
-    EXPECT_TRUE(flipped.presented);
+    // picture is the target's with its rows swapped; or mirrored left to right.
+    auto shown_by_blit = [&](const int32_t source[4], const int32_t destination[4]) {
+        SceneFacts f;
+        s.framebuffer = 3;
+        classify_draw(f, s, 3, ClassifierSettings{false, true, 400, 300});
+        s.framebuffer = 0;
+        EXPECT_EQ(window_blit(f, s, source, destination), WindowDrawMeaning::Scene);
+        EXPECT_TRUE(f.presented);
+        return f;
+    };
+    const int32_t window[4] = {0, 0, 400, 300}, rows_swapped[4] = {0, 300, 400, 0}, columns_swapped[4] = {400, 0, 0, 300};
+    const SceneFacts flipped = shown_by_blit(window, rows_swapped);
     EXPECT_TRUE(flipped.shown_mirrored);
-    SceneFacts both;  // source and destination swapped: upright
-    s.framebuffer = 3;
-    classify_draw(both, s, 3, ClassifierSettings{false, true, 400, 300});
-    s.framebuffer = 0;
-    const int32_t source_flipped[4] = {0, 300, 400, 0};
-    window_blit(both, s, source_flipped, window_flipped);
+    EXPECT_FALSE(flipped.shown_mirrored_columns);
+    const SceneFacts both = shown_by_blit(rows_swapped, rows_swapped);  // source and destination swapped: upright
     EXPECT_FALSE(both.shown_mirrored);
     EXPECT_FALSE(both.shown_mirrored_columns);
-    SceneFacts left_right;  // ... mirrored left to right (a scene drawn with left and right swapped)
-    s.framebuffer = 3;
-    classify_draw(left_right, s, 3, ClassifierSettings{false, true, 400, 300});
-    s.framebuffer = 0;
-    const int32_t window_mirrored[4] = {400, 0, 0, 300};
-    window_blit(left_right, s, window, window_mirrored);
+    const SceneFacts left_right = shown_by_blit(window, columns_swapped);
     EXPECT_TRUE(left_right.shown_mirrored_columns);
     EXPECT_FALSE(left_right.shown_mirrored);
 }
