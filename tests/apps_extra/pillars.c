@@ -241,16 +241,24 @@ static const char *take_value(int *argc, char ***argv, const char *option)
     return value;
 }
 
+/* An RGBA8 texture of w x h, nearest texels (colours stay exact), left bound. */
+static GLuint rgba8_texture(int w, int h)
+{
+    GLuint texture = 0;
+    glGenTextures(1, &texture);
+    glBindTexture(GL_TEXTURE_2D, texture);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    return texture;
+}
+
 /* A framebuffer object of w x h: a colour texture (nearest texels), returned in `color`, and a
  * depth renderbuffer of its own; 0 when it is not complete. The window is bound again after. */
 static GLuint colour_and_depth_target(int w, int h, GLuint *color)
 {
     GLuint depth = 0, fbo = 0;
-    glGenTextures(1, color);
-    glBindTexture(GL_TEXTURE_2D, *color);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    *color = rgba8_texture(w, h);
     glGenRenderbuffers(1, &depth);
     glBindRenderbuffer(GL_RENDERBUFFER, depth);
     glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, w, h);
@@ -273,11 +281,7 @@ static GLuint over_scene_depth(GLuint scene_fbo, int depth_texture, int w, int h
     glBindFramebuffer(GL_FRAMEBUFFER, scene_fbo);
     glGetFramebufferAttachmentParameteriv(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_NAME,
                                           &scene_depth);
-    glGenTextures(1, color);
-    glBindTexture(GL_TEXTURE_2D, *color);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    *color = rgba8_texture(w, h);
     glGenFramebuffers(1, &fbo);
     glBindFramebuffer(GL_FRAMEBUFFER, fbo);
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, *color, 0);
@@ -856,11 +860,7 @@ int main(int argc, char **argv)
     const int fw = half ? a.width / 2 : region ? rw : a.width, fh = half ? a.height / 2 : region ? rh : a.height;
     if (fbo_mode) {
         GLuint depth = 0;
-        glGenTextures(1, &color);
-        glBindTexture(GL_TEXTURE_2D, color);
-        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, fw, fh, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        color = rgba8_texture(fw, fh);
         if (depth_texture) {
             glGenTextures(1, &depth);
             glBindTexture(GL_TEXTURE_2D, depth);
@@ -878,11 +878,7 @@ int main(int argc, char **argv)
         if (depth_texture) glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, depth, 0);
         else glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
         if (mrt) {  /* a second target the scene writes too */
-            GLuint second = 0;
-            glGenTextures(1, &second);
-            glBindTexture(GL_TEXTURE_2D, second);
-            glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, fw, fh, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
-            glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+            const GLuint second = rgba8_texture(fw, fh);
             glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, second, 0);
             const GLenum both[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
             glDrawBuffers(2, both);
