@@ -593,61 +593,67 @@ GLuint EffectsRunner::engine_overlays(SlaveContext& ctx) {
     return core_.api().glIsTexture(shown.overlay_texture) ? shown.overlay_texture : 0;  // (deleted since)
 }
 
-// The engine's multisampled colour (attached to st.engine_fb) resolved into a texture of its
-// format (a blit from a multisampled buffer into one of another format fails) at `size`.
-GLuint EffectsRunner::resolve_engine_overlay(ContextPasses& st, GLenum format, const int size[2]) {
+// The engine's colour (attached to st.engine_fb) copied into a 2D texture of `format` at `size`.
+GLuint EffectsRunner::copy_engine_overlay(ContextPasses& st, GLenum format, const int size[2]) {
     const GlApi& gl = core_.api();
-    if (!st.engine_resolved || st.engine_resolved_format != GLint(format) || st.engine_resolved_size[0] != size[0] ||
-        st.engine_resolved_size[1] != size[1]) {
-        if (st.engine_resolved) {
-            gl.glDeleteTextures(1, &st.engine_resolved);
-            gl.glDeleteFramebuffers(1, &st.engine_resolved_fb);
+    if (!st.engine_copy || st.engine_copy_format != GLint(format) || st.engine_copy_size[0] != size[0] ||
+        st.engine_copy_size[1] != size[1]) {
+        if (st.engine_copy) {
+            gl.glDeleteTextures(1, &st.engine_copy);
+            gl.glDeleteFramebuffers(1, &st.engine_copy_fb);
         }
-        gl.glGenTextures(1, &st.engine_resolved);
-        gl.glBindTexture(GL_TEXTURE_2D, st.engine_resolved);
+        gl.glGenTextures(1, &st.engine_copy);
+        gl.glBindTexture(GL_TEXTURE_2D, st.engine_copy);
         gl.glTexStorage2D(GL_TEXTURE_2D, 1, format, size[0], size[1]);
         gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
         gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-        st.engine_resolved_fb = effects::make_framebuffer(gl, st.engine_resolved, 0);
-        st.engine_resolved_format = GLint(format);
-        st.engine_resolved_size[0] = size[0], st.engine_resolved_size[1] = size[1];
+        st.engine_copy_fb = effects::make_framebuffer(gl, st.engine_copy, 0);
+        st.engine_copy_format = GLint(format);
+        st.engine_copy_size[0] = size[0], st.engine_copy_size[1] = size[1];
     }
     gl.glBindFramebuffer(GL_READ_FRAMEBUFFER, st.engine_fb);
     gl.glReadBuffer(GL_COLOR_ATTACHMENT0);
-    gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, st.engine_resolved_fb);
+    gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, st.engine_copy_fb);
     gl.glBlitFramebuffer(0, 0, size[0], size[1], 0, 0, size[0], size[1], GL_COLOR_BUFFER_BIT, GL_NEAREST);
-    return st.engine_resolved;
+    return st.engine_copy;
 }
 
-// Binding a multisampled texture as GL_TEXTURE_2D fails and leaves GL_INVALID_OPERATION in the
-// program's context (glcast replay --verify: its next glGetError answered 1282 where the master's
-// said 0): what the texture is is asked of a framebuffer of our own it is attached to.
+// The program's texture is never bound by us: what it is (2D, rectangle, multisampled) is not
+// something GL before 4.5 answers, and binding it to the wrong target fails and leaves
+// GL_INVALID_OPERATION for the program's next glGetError (glcast replay --verify: 1282 where the
+// master's said 0). It is attached to a framebuffer of our own instead, which takes any target,
+// and copied by a blit: a multisampled one into a texture of its own format (a blit that resolves
+// cannot convert), any other into RGBA16F (the put-back reads only where its alpha is above 0).
 GLuint EffectsRunner::engine_overlay_texture(SlaveContext& ctx, const int size[2]) {
     const GLuint engine = engine_overlays(ctx);
-    if (!engine) return 0;
+    if (!engine || size[0] <= 0 || size[1] <= 0 || !core_.api().has(OP_glTexStorage2D)) return 0;
     ContextPasses& st = passes(ctx);
     const GlApi& gl = core_.api();
     effects::StateGuard guard(gl);
     if (!st.engine_fb) gl.glGenFramebuffers(1, &st.engine_fb);
     gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, st.engine_fb);
     gl.glFramebufferTexture(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, engine, 0);
-    GLint samples = 0, layered = GL_FALSE;
+    GLint samples = 0, layered = GL_FALSE, component = GL_NONE;
     const bool complete = gl.glCheckFramebufferStatus(GL_DRAW_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
     if (complete) {
         gl.glGetIntegerv(GL_SAMPLES, &samples);
         gl.glGetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0,
                                                  GL_FRAMEBUFFER_ATTACHMENT_LAYERED, &layered);
+        gl.glGetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0,
+                                                 GL_FRAMEBUFFER_ATTACHMENT_COMPONENT_TYPE, &component);
     }
+    // (an integer colour blits only into an integer one, and a layered one is not one picture)
+    const bool copyable = complete && !layered && component != GL_INT && component != GL_UNSIGNED_INT;
     GLuint texture = 0;
-    if (complete && samples == 0 && !layered) {
-        texture = engine;
-    } else if (complete && samples > 0 && size[0] > 0 && size[1] > 0 && gl.has(OP_glTexStorage2D)) {
+    if (copyable && samples == 0) {
+        texture = copy_engine_overlay(st, GL_RGBA16F, size);
+    } else if (copyable) {
         GLint bound = 0, format = 0;
         gl.glGetIntegerv(GL_TEXTURE_BINDING_2D_MULTISAMPLE, &bound);
         gl.glBindTexture(GL_TEXTURE_2D_MULTISAMPLE, engine);
         gl.glGetTexLevelParameteriv(GL_TEXTURE_2D_MULTISAMPLE, 0, GL_TEXTURE_INTERNAL_FORMAT, &format);
         gl.glBindTexture(GL_TEXTURE_2D_MULTISAMPLE, GLuint(bound));
-        if (format != 0) texture = resolve_engine_overlay(st, GLenum(format), size);
+        if (format != 0) texture = copy_engine_overlay(st, GLenum(format), size);
     }
     // (let go of the program's texture: a framebuffer of ours holding it would outlive its deletion)
     gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, st.engine_fb);

@@ -73,10 +73,10 @@ private:
         glm::dmat4 pass_clip_from_program_clip{1.0};  // the depth conversion's, with the tile's map
         GLuint report_mask = 0, report_mask_fb = 0;   // --scene-report: the kept pixels
         GLuint painter_depth_fb = 0;  // the passes' depth completed by a painter's draws, once a frame
-        // An overlay engine's multisampled colour, resolved for the put-back (engine_overlay_texture).
-        GLuint engine_fb = 0, engine_resolved = 0, engine_resolved_fb = 0;
-        GLint engine_resolved_format = 0;
-        int engine_resolved_size[2] = {0, 0};
+        // An overlay engine's colour, copied for the put-back (engine_overlay_texture).
+        GLuint engine_fb = 0, engine_copy = 0, engine_copy_fb = 0;
+        GLint engine_copy_format = 0;
+        int engine_copy_size[2] = {0, 0};
         bool painter_depth_done = false;
         int report_size[2] = {0, 0};
         UnderOverlays under_overlays;
@@ -108,10 +108,10 @@ private:
     // The colour texture an overlay engine composited over the frame's scene before it was shown
     // (SceneFacts::overlay_texture, the lender's for a borrowed scene); 0: none.
     GLuint engine_overlays(SlaveContext& ctx);
-    // That texture as a 2D one the put-back can sample: itself, or, multisampled (its target over a
-    // multisampled scene's depth), a copy resolved at `size` (the scene's target's); 0: none.
+    // That texture's picture in a 2D texture of ours the put-back can sample, at `size` (the scene's
+    // target's), whatever its target, resolved where it is multisampled; 0: none.
     GLuint engine_overlay_texture(SlaveContext& ctx, const int size[2]);
-    GLuint resolve_engine_overlay(ContextPasses& st, GLenum format, const int size[2]);
+    GLuint copy_engine_overlay(ContextPasses& st, GLenum format, const int size[2]);
 
     Replayer& core_;
     TileAdapter& tile_;

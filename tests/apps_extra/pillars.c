@@ -120,7 +120,9 @@
  * the scene by its alpha, as Blender's window composites its viewport's colour and overlay textures.
  * With --msaa (not --region) the box's target is multisampled too: a multisampled colour texture of
  * its own over the multisampled scene's depth, resolved into a texture by a blit before it is
- * blended over the scene. Every frame with --wire asks glGetError once, as programs that check their
+ * blended over the scene. With --rect (not --msaa or --region) the box's colour is a rectangle
+ * texture (GL_TEXTURE_RECTANGLE, which programs from before non-power-of-two textures keep their
+ * window-sized targets in), blended over the scene by fixed function. Every frame with --wire asks glGetError once, as programs that check their
  * errors do (glcast replay --verify compares the slave's answer with the master's).
  *
  * With --fbo --mirror (fixed function, not --msaa, --region, --post or --wire) the scene is drawn
@@ -197,7 +199,7 @@
  * u_lightDirection` in the eye's space, as uploaded, each face lit by the eye-space normal.
  *
  *   pillars [--shader | --builtins | --mvp [--modelview]] [--grow] [--fbo [--half | --region [--blit]] [--mrt | --msaa] [--depth-texture] [--fragcoord] [--gbuffer]] [--reversed] [--hud [--in-scene [--depth-on]] [--hud-vao]]
- *           [--hand] [--left-handed] [--mixed] [--foliage] [--post] [--grade] [--markers] [--cull] [--overlay] [--wire] [--mirror | --mirror-columns] [--reflection] [--bbox] [--canopy] [--blended] [--objects] [--fov DEG]
+ *           [--hand] [--left-handed] [--mixed] [--foliage] [--post] [--grade] [--markers] [--cull] [--overlay] [--wire [--rect]] [--mirror | --mirror-columns] [--reflection] [--bbox] [--canopy] [--blended] [--objects] [--fov DEG]
  *           [--fisheye] [--scale S] [--turn DEG] [--sun X,Y,Z | --gl-light X,Y,Z] [--frames N] [--size WxH]
  */
 #define GL_GLEXT_PROTOTYPES 1
@@ -242,15 +244,20 @@ static const char *take_value(int *argc, char ***argv, const char *option)
 }
 
 /* An RGBA8 texture of w x h, nearest texels (colours stay exact), left bound. */
-static GLuint rgba8_texture(int w, int h)
+static GLuint rgba8_texture_of(GLenum target, int w, int h)
 {
     GLuint texture = 0;
     glGenTextures(1, &texture);
-    glBindTexture(GL_TEXTURE_2D, texture);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glBindTexture(target, texture);
+    glTexImage2D(target, 0, GL_RGBA8, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
+    glTexParameteri(target, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(target, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     return texture;
+}
+
+static GLuint rgba8_texture(int w, int h)
+{
+    return rgba8_texture_of(GL_TEXTURE_2D, w, h);
 }
 
 /* A framebuffer object of w x h: a colour texture (nearest texels), returned in `color`, and a
@@ -274,17 +281,17 @@ static GLuint colour_and_depth_target(int w, int h, GLuint *color)
 /* A framebuffer object over the depth attachment of `scene_fbo` (a texture with --depth-texture,
  * else a renderbuffer) with an RGBA8 colour texture of its own, w x h, into *color; 0 when it is
  * not complete. As Blender's overlay engine and its viewport's resolve draw over its engines' depth. */
-static GLuint over_scene_depth(GLuint scene_fbo, int depth_texture, int w, int h, GLuint *color)
+static GLuint over_scene_depth(GLuint scene_fbo, int depth_texture, int w, int h, GLenum target, GLuint *color)
 {
     GLint scene_depth = 0;
     GLuint fbo = 0;
     glBindFramebuffer(GL_FRAMEBUFFER, scene_fbo);
     glGetFramebufferAttachmentParameteriv(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_NAME,
                                           &scene_depth);
-    *color = rgba8_texture(w, h);
+    *color = rgba8_texture_of(target, w, h);
     glGenFramebuffers(1, &fbo);
     glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, *color, 0);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, target, *color, 0);
     if (depth_texture) glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, (GLuint)scene_depth, 0);
     else glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, (GLuint)scene_depth);
     const int complete = glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
@@ -292,15 +299,21 @@ static GLuint over_scene_depth(GLuint scene_fbo, int depth_texture, int w, int h
     return complete ? fbo : 0;
 }
 
-/* The bound texture over the whole target (fixed function, identity matrices). */
-static void full_target_quad(void)
+/* The bound texture over the whole target (fixed function, identity matrices), its texture
+ * coordinates 0..s across and 0..t up (a rectangle texture's are its texels'). */
+static void target_quad(float s, float t)
 {
     glBegin(GL_QUADS);
     glTexCoord2f(0, 0); glVertex2f(-1, -1);
-    glTexCoord2f(1, 0); glVertex2f(1, -1);
-    glTexCoord2f(1, 1); glVertex2f(1, 1);
-    glTexCoord2f(0, 1); glVertex2f(-1, 1);
+    glTexCoord2f(s, 0); glVertex2f(1, -1);
+    glTexCoord2f(s, t); glVertex2f(1, 1);
+    glTexCoord2f(0, t); glVertex2f(-1, 1);
     glEnd();
+}
+
+static void full_target_quad(void)
+{
+    target_quad(1, 1);
 }
 
 /* --wire: a box's twelve edges and its top face, centred at WIRE_CENTRE with half size WIRE_HALF,
@@ -601,6 +614,8 @@ int main(int argc, char **argv)
     const int cull = app_take_flag(&argc, &argv, "--cull");
     const int overlay = app_take_flag(&argc, &argv, "--overlay");
     const int wire = fbo_mode && !shader && !(msaa && region) && !by_blit && !post && app_take_flag(&argc, &argv, "--wire");
+    const int wire_rect = wire && !msaa && !region && app_take_flag(&argc, &argv, "--rect");
+    const GLenum wire_target = wire_rect ? GL_TEXTURE_RECTANGLE : GL_TEXTURE_2D;
     const int mirror = fbo_mode && !shader && !msaa && !region && !post && !wire && !fragcoord && app_take_flag(&argc, &argv, "--mirror");
     const int mirror_columns = fbo_mode && !shader && !msaa && !region && !post && !wire && !fragcoord && !mirror &&
                                app_take_flag(&argc, &argv, "--mirror-columns");
@@ -934,7 +949,7 @@ int main(int argc, char **argv)
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
         if (!complete || !wire_resolve_fbo) wire_fbo = 0;
     } else if (wire) {
-        wire_fbo = over_scene_depth(fbo, depth_texture, fw, fh, &wire_color);
+        wire_fbo = over_scene_depth(fbo, depth_texture, fw, fh, wire_target, &wire_color);
     }
     if (wire && !wire_fbo) {
         fprintf(stderr, "pillars: the wire frame's framebuffer object is not complete\n");
@@ -942,7 +957,7 @@ int main(int argc, char **argv)
     }
     GLuint post_fbo = 0, post_color = 0;
     if (post && region) {  /* the region's size, the scene's depth */
-        post_fbo = over_scene_depth(fbo, depth_texture, fw, fh, &post_color);
+        post_fbo = over_scene_depth(fbo, depth_texture, fw, fh, GL_TEXTURE_2D, &post_color);
     } else if (post) {
         post_fbo = colour_and_depth_target(a.width, a.height, &post_color);
     }
@@ -1153,11 +1168,16 @@ int main(int argc, char **argv)
                     glBlitFramebuffer(0, 0, fw, fh, 0, 0, fw, fh, GL_COLOR_BUFFER_BIT, GL_NEAREST);
                     glBindFramebuffer(GL_FRAMEBUFFER, 0);
                 }
-                glBindTexture(GL_TEXTURE_2D, wire_color);
+                glDisable(GL_TEXTURE_2D);
+                glEnable(wire_target);
+                glBindTexture(wire_target, wire_color);
                 glEnable(GL_BLEND);
                 glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
-                full_target_quad();
+                if (wire_rect) target_quad((float)fw, (float)fh);
+                else full_target_quad();
                 glDisable(GL_BLEND);
+                glDisable(wire_target);
+                glEnable(GL_TEXTURE_2D);
             }
             glDisable(GL_TEXTURE_2D);
             if (post) {

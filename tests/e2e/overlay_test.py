@@ -281,7 +281,9 @@ def overlay_engine(headless):
     depth, resolved before it is blended (the slave reads a resolved copy). The program asks
     glGetError each frame and every replay verifies the answers: before, the slave bound the
     multisampled texture as a 2D one to read it, which failed and left GL_INVALID_OPERATION for the
-    program's next glGetError (1282 where the master got 0, each frame, under every pass).
+    program's next glGetError (1282 where the master got 0, each frame, under every pass). And with
+    --rect: the box's target a rectangle texture, blended by fixed function; the same failure
+    before (the slave now copies the engine's colour by a blit whatever its target).
     And with ff_scene --widget-wire: the scene and the box drawn by a context that presents only to
     a pbuffer of a pixel (Blender's draw manager's), the box blended over the widget by the window's
     context. Before, the scene's depth was kept at a size bounded by that context's window (4x4
@@ -293,6 +295,7 @@ def overlay_engine(headless):
     layouts = (("window", "pillars", ["--fbo", "--hud"], ["--wire"]),
                ("region", "pillars", ["--fbo", "--region", "--hud"], ["--wire"]),
                ("msaa", "pillars", ["--fbo", "--msaa", "--hud"], ["--wire"]),
+               ("rect", "pillars", ["--fbo", "--hud"], ["--wire", "--rect"]),
                ("widget", "ff_scene", ["--widget"], ["--widget-wire"]))
     for layout, app, base, wire in layouts:
         tail = ("--frames", "5") if app == "ff_scene" else ("--size", "400x300", "--frames", "2")
