@@ -259,9 +259,9 @@ SPECULAR_PROBE = "importance_sampling_specular.frag"
 
 def supertuxkart_data(root):
     """SuperTuxKart's data as Debian installs it (links), but for the shader that prefilters its
-    sky's specular probe, which takes every 64th of its 1,024 samples. Every track has a sky box,
-    and before a race the program renders 8 levels of 6 faces of 256x256 pixels with this shader,
-    1,024 cube-map samples a pixel: many minutes on llvmpipe, while the race waits. The probe is
+    sky's specular probe, which takes every 64th of its 1,024 samples. Every racing track has a sky
+    box, and before a race the program renders 8 levels of 6 faces (256x256 pixels the first) with
+    this shader, 1,024 cube-map samples a pixel: many minutes on llvmpipe, the race waiting. The probe is
     never sampled: the program's default "Degraded_IBL" lights the scene without it, so the race
     is drawn as with Debian's own data."""
     if not os.path.isdir(SUPERTUXKART_DATA):
