@@ -187,6 +187,24 @@ class Semantics:
             out.append((self.enums[e], e))
         return out
 
+    def name_pnames(self, namespaces):
+        """[(value, enum, namespace id)] of name_pnames, one per value (gl.xml's aliases share one);
+        `namespaces`: the slave's namespace ids (slave_plan.ns_id of commands.yaml's names)."""
+        out, seen = [], {}
+        for ns, pnames in self.spec["name_pnames"].items():
+            ident = re.sub(r"\W+", "_", ns)
+            if ident not in namespaces:
+                raise SemanticsError(f"semantics.yaml name_pnames: unknown namespace {ns}")
+            for e in pnames:
+                if e not in self.enums:
+                    raise SemanticsError(f"semantics.yaml name_pnames.{ns}: unknown enum {e}")
+                v = self.enums[e]
+                if seen.setdefault(v, ident) != ident:
+                    raise SemanticsError(f"semantics.yaml name_pnames: {e} is in {seen[v]} and {ns}")
+                if all(v != known for known, _, _ in out):
+                    out.append((v, e, ident))
+        return out
+
     def check_patterns(self):
         """Every pattern must name something: a typo would silently drop a property."""
         s = self.spec

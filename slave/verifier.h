@@ -8,6 +8,11 @@
 
 #include "slave/replay_observer.h"
 
+namespace glcast {
+struct Arg;
+struct ParamInfo;
+}  // namespace glcast
+
 namespace glcast::slave {
 
 class Replayer;
@@ -26,6 +31,7 @@ public:
 
 private:
     void mismatch(const Call& c, const std::string& what);
+    bool same_object(const Call& c, const Arg& a, const ParamInfo& p, const void* slave_output);
 
     Replayer& core_;
     bool checking_ = false;
