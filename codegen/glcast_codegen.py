@@ -364,7 +364,7 @@ def main():
            "opcodes": {p.cmd.name: p.opcode for p in model.plans},
            "generators": model.semantics.generators(),
            "window_system_pnames": model.semantics.window_system_pnames(),
-           "name_pnames": model.semantics.name_pnames([ns for ns, _ in model.slave.namespace_table()]),
+           "name_pnames": model.semantics.name_pnames(model.slave.namespaces),
            "state_groups": model.semantics.state_groups, "synthetic": model.synthetic,
            "snapshot": model.snapshot, "shim_answers": model.shim_answers(),
            "shim_answer_commands": model.shim_answer_commands(),

@@ -7,6 +7,8 @@ and a twin's parameters are found by position when it names them differently.
 import fnmatch
 import re
 
+from slave_plan import ns_id
+
 VENDOR_SUFFIX = re.compile(r"(ARB|EXT|OES|NV|KHR|AMD|APPLE|ATI|SGIS|SGIX|MESA|INTEL|IBM)$")
 
 MATRIX_OPS = ["mode", "push", "pop", "load", "multiply"]
@@ -189,20 +191,21 @@ class Semantics:
 
     def name_pnames(self, namespaces):
         """[(value, enum, namespace id)] of name_pnames, one per value (gl.xml's aliases share one);
-        `namespaces`: the slave's namespace ids (slave_plan.ns_id of commands.yaml's names)."""
+        `namespaces`: the names of commands.yaml slave.namespaces."""
         out, seen = [], {}
         for ns, pnames in self.spec["name_pnames"].items():
-            ident = re.sub(r"\W+", "_", ns)
-            if ident not in namespaces:
+            if ns not in namespaces:
                 raise SemanticsError(f"semantics.yaml name_pnames: unknown namespace {ns}")
             for e in pnames:
                 if e not in self.enums:
                     raise SemanticsError(f"semantics.yaml name_pnames.{ns}: unknown enum {e}")
                 v = self.enums[e]
-                if seen.setdefault(v, ident) != ident:
-                    raise SemanticsError(f"semantics.yaml name_pnames: {e} is in {seen[v]} and {ns}")
-                if all(v != known for known, _, _ in out):
-                    out.append((v, e, ident))
+                if v in seen:
+                    if seen[v] != ns:
+                        raise SemanticsError(f"semantics.yaml name_pnames: {e} is in {seen[v]} and {ns}")
+                    continue
+                seen[v] = ns
+                out.append((v, e, ns_id(ns)))
         return out
 
     def check_patterns(self):

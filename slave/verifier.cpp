@@ -63,7 +63,9 @@ void Verifier::check_reply(const Call& c, int i, const void* slave_output, int64
 }
 
 // An answer that names an object (semantics.yaml name_pnames) is the slave's name for it: the
-// master's answer is compared through the context's name map.
+// master's answer is compared through the context's name map. (kSemWindowQuery marks the glGet*v
+// family, semantics.yaml window_system_pnames.commands; an integer answer is glGetIntegerv's or
+// glGetInteger64v's.)
 bool Verifier::same_object(const Call& c, const Arg& a, const ParamInfo& p, const void* slave_output) {
     if (!(c.info->sem.flags & kSemWindowQuery) || a.reply.count != 1 || (p.wire != Wire::I32 && p.wire != Wire::I64))
         return false;
