@@ -1,4 +1,5 @@
 #include "common/environment.h"
+#include "common/immortal.h"
 
 #include <cerrno>
 #include <cstdlib>
@@ -45,18 +46,19 @@ Environment read_environment() {
 }
 
 const Environment& environment() {
-    static std::optional<Environment> read;
-    static std::string error;
+    // Immortal: the shim reads it from calls a program makes after static destruction.
+    static Immortal<std::optional<Environment>> read;
+    static Immortal<std::string> error;
     static std::once_flag once;
     std::call_once(once, [] {
         try {
-            read = read_environment();
+            *read = read_environment();
         } catch (const EnvironmentError& e) {
-            error = e.what();
+            *error = e.what();
         }
     });
-    if (!read) throw EnvironmentError(error);
-    return *read;
+    if (!*read) throw EnvironmentError(*error);
+    return **read;
 }
 
 }  // namespace glcast

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "common/gl_headers.h"
+#include "common/immortal.h"
 #include "glcast_client_arrays.h"
 #include "glcast_commands.h"
 #include "interceptor/driver_size_queries.h"
@@ -78,12 +79,12 @@ Shadow& shadow_for(ContextArrays& c, const ShadowKey& key, bool& fresh) {
 }
 
 std::mutex g_mutex;
-std::map<uint32_t, ContextArrays> g_contexts;
+Immortal<std::map<uint32_t, ContextArrays>> g_contexts;
 // Set once any context points an array at client memory: until then a draw takes no lock.
 std::atomic<bool> g_client_arrays_seen{false};
 
 ContextArrays& arrays_of_current() {
-    return g_contexts[current_context_id()];
+    return (*g_contexts)[current_context_id()];
 }
 
 struct ArrayState {

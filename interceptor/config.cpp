@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "common/environment.h"
+#include "common/immortal.h"
 
 namespace glcast {
 
@@ -56,8 +57,8 @@ static ShimConfig load() {
 }
 
 const ShimConfig& shim_config() {
-    static const ShimConfig config = load();
-    return config;
+    static const Immortal<ShimConfig> config(load());  // read by calls made after static destruction too
+    return *config;
 }
 
 }  // namespace glcast

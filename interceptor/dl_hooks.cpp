@@ -9,6 +9,7 @@
 #include <mutex>
 
 #include "glcast_commands.h"
+#include "interceptor/lifetime.h"
 #include "interceptor/shim.h"
 #include "protocol/command_info.h"
 
@@ -41,6 +42,7 @@ void note_egl_in_use() { g_egl.store(true, std::memory_order_relaxed); }
 
 // Handles of GL libraries the program opened itself; dlsym on them returns our wrappers.
 static std::mutex g_mutex;
+[[maybe_unused]] static const bool g_mutex_held_across_fork = (hold_across_fork(g_mutex), true);  // a child may dlopen
 static void* g_gl_handles[16];
 static int g_gl_handle_count = 0;
 

@@ -9,6 +9,7 @@
 #include <cstring>
 
 #include "glcast_commands.h"
+#include "common/immortal.h"
 #include "interceptor/dl_hooks.h"
 #include "interceptor/shim.h"
 #include "glcast_gl_api.h"
@@ -83,8 +84,8 @@ void* real_proc(uint32_t opcode) {
 }
 
 const GlApi& real_gl() {
-    static const GlApi gl([](void*, uint32_t opcode) { return real_proc(opcode); }, nullptr);
-    return gl;
+    static const Immortal<GlApi> gl([](void*, uint32_t opcode) { return real_proc(opcode); }, nullptr);
+    return *gl;
 }
 
 }  // namespace glcast

@@ -1,4 +1,5 @@
-// Per-thread recursion guard, tuple recording and the stream's lifetime inside the host program.
+// Per-call recursion guard, tuple recording, and the stream the tuples go to (opened at the first
+// recorded call; when it closes: interceptor/lifetime.h).
 #include "interceptor/shim.h"
 
 #include <fcntl.h>
@@ -18,6 +19,7 @@
 #include "glcast_synthetic_encode.h"
 #include "interceptor/config.h"
 #include "interceptor/driver_size_queries.h"
+#include "interceptor/lifetime.h"
 #include "interceptor/shim_internal.h"
 #include "master/publisher.h"
 #include "master/stream.h"
@@ -29,30 +31,18 @@ bool g_recording = false;
 
 static std::atomic<uint32_t> g_unserialized[kOpcodeCount];
 static std::once_flag g_stream_once;
-static std::unique_ptr<Stream> g_stream;
-
-namespace {
-// The calling thread's state, found with one instruction: a trivial pointer in the initial-exec
-// TLS model (the shim is preloaded, so it has static TLS; 8 bytes fit glibc's surplus even if
-// something dlopens it). A thread_local with a constructor in a shared library costs a
-// __tls_get_addr call and a guard test on every access: 8% of a glVertex3f's time in the shim
-// (bench/call_cost.c under perf), and a call makes four.
-[[gnu::tls_model("initial-exec")]] thread_local ThreadState* t_state = nullptr;
-}  // namespace
-
-ThreadState& thread_state() {
-    if (t_state) [[likely]] return *t_state;
-    static thread_local ThreadState state;  // each thread's scratch buffers and sizes; freed at its exit
-    t_state = &state;
-    return state;
-}
+// Never deleted (interceptor/lifetime.h): a call from a destructor that runs after the stream
+// closed must still find it, closed, and the writer's buffers are the process's until it ends.
+static Stream* g_stream = nullptr;
+static pid_t g_stream_pid = 0;  // the process that opened it: a forked child never closes it
 
 // Set once the stream exists: std::call_once writes two thread_locals of libstdc++'s (through
 // __tls_get_addr) on every call, even when done, and stream() is asked on every GL call.
 static std::atomic<Stream*> g_stream_ready{nullptr};
 
 Stream* stream() {
-    if (Stream* s = g_stream_ready.load(std::memory_order_acquire)) [[likely]] return s;
+    if (Stream* s = g_stream_ready.load(std::memory_order_acquire)) [[likely]] return in_forked_child() ? nullptr : s;
+    if (in_forked_child()) return nullptr;  // a call_once the parent was inside at fork never ends here
     std::call_once(g_stream_once, [] {
         const ShimConfig& c = shim_config();
         std::vector<std::unique_ptr<MessageSink>> sinks;
@@ -74,19 +64,23 @@ Stream* stream() {
             g_recording = false;
             return;
         }
-        g_stream = std::make_unique<Stream>(std::move(sinks), c.zstd_level, 16, c.inter_frame, c.writer_nice);
-        g_stream_ready.store(g_stream.get(), std::memory_order_release);
+        g_stream = new Stream(std::move(sinks), c.zstd_level, 16, c.inter_frame, c.writer_nice);
+        g_stream_pid = getpid();
+        g_stream_ready.store(g_stream, std::memory_order_release);
+        watch_for_the_last_thread(!c.publish.empty());
         if (!c.published_mark.empty()) {  // glcast run: the program draws, its slaves have something to wait for
             const int fd = ::open(c.published_mark.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0600);
             if (fd >= 0) ::close(fd);
         }
     });
-    return g_stream.get();
+    return g_stream;
 }
 
 CallScope::CallScope(uint32_t opcode) : opcode_(opcode) {
     ThreadState& ts = thread_state();
     recording_ = g_recording && ts.depth == 0;
+    if (!recording_ && g_stream_ready.load(std::memory_order_relaxed) && ts.depth == 0) [[unlikely]]
+        count_call_after_end(opcode);
     ts.depth++;
     ts.opcode = opcode;
 }
@@ -160,7 +154,7 @@ void print_summary() {
 }
 
 void finish_stream() {
-    if (!g_stream) return;
+    if (!g_stream || g_stream_pid != getpid()) return;
     g_stream->close();
     if (shim_config().verbose) print_summary();
 }
@@ -184,12 +178,6 @@ void on_frame_end() {
         finish_stream();
         if (c.exit_after) _exit(0);
     }
-}
-
-__attribute__((constructor)) static void shim_init() { g_recording = shim_config().has_consumer(); }
-__attribute__((destructor)) static void shim_fini() {
-    g_recording = false;
-    finish_stream();
 }
 
 }  // namespace glcast

@@ -1,5 +1,6 @@
 #include "master/journal_server.h"
 
+#include <pthread.h>
 #include <zmq.hpp>
 
 #include <algorithm>
@@ -23,7 +24,10 @@ double seconds_now() {
 JournalServer::JournalServer(zmq::context_t& context, std::string endpoint, const Journal& journal,
                              LockstepBarrier& lockstep, bool verbose)
     : context_(context), endpoint_(std::move(endpoint)), journal_(journal), lockstep_(lockstep), verbose_(verbose) {
-    thread_ = std::thread([this] { run(); });
+    thread_ = std::thread([this] {
+        pthread_setname_np(pthread_self(), "glcast-journal");  // glcast's own (interceptor/lifetime.h)
+        run();
+    });
 }
 
 JournalServer::~JournalServer() {

@@ -1,6 +1,7 @@
 #include "master/stream.h"
 
 #include <fcntl.h>
+#include <pthread.h>
 #include <sys/file.h>
 #include <sys/resource.h>
 #include <sys/syscall.h>
@@ -125,6 +126,7 @@ void Stream::writer_loop() {
     // writer takes what is left (the bounded queue still holds the program back if it is never
     // left anything).
     if (writer_nice_ > 0 && writer_nice_ < 20) setpriority(PRIO_PROCESS, pid_t(syscall(SYS_gettid)), writer_nice_);
+    pthread_setname_np(pthread_self(), "glcast-writer");  // glcast's own, not the program's (interceptor/lifetime.h)
     MessageCoder coder(zstd_level_, inter_frame_);
     std::vector<uint8_t> message;  // header + stored payload, as the sinks take it
     for (;;) {

@@ -2,6 +2,7 @@
 
 #include <dirent.h>
 #include <fcntl.h>
+#include <pthread.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -16,6 +17,7 @@
 #include <vector>
 
 #include "common/environment.h"
+#include "common/immortal.h"
 
 namespace glcast::net {
 
@@ -255,8 +257,8 @@ struct ProcessKeys {
 };
 
 ProcessKeys& process_keys() {
-    static ProcessKeys keys;
-    return keys;
+    static Immortal<ProcessKeys> keys;  // the shim's publisher may use it after static destruction
+    return *keys;
 }
 
 }  // namespace
@@ -366,7 +368,10 @@ Authenticator::Authenticator(zmq::context_t& context, std::set<std::string> auth
     socket_ = std::make_unique<zmq::socket_t>(context, zmq::socket_type::rep);
     socket_->set(zmq::sockopt::linger, 0);
     socket_->bind("inproc://zeromq.zap.01");
-    thread_ = std::thread([this] { serve(); });
+    thread_ = std::thread([this] {
+        pthread_setname_np(pthread_self(), "glcast-zap");  // glcast's own (interceptor/lifetime.h)
+        serve();
+    });
 }
 
 Authenticator::~Authenticator() {

@@ -23,6 +23,8 @@ packages=(
   libcpp-httplib-dev                    # the dashboard's HTTP server (cli/dashboard.cpp)
   chromium chromium-driver python3-selenium  # the dashboard's test in a real browser
   libzip-dev libtinyxml2-dev            # MPCDI files: the zip and its XML (display_configs/mpcdi.h)
+  # Mesa's conformance suite under the shim, and programs on GLES and Wayland (scripts/piglit.py)
+  piglit weston glmark2-x11 glmark2-es2-x11 glmark2-wayland glmark2-es2-wayland
   # benchmarks
   apitrace xscreensaver-gl-extra        # bench/stream_coding_bench.py: atlantis, sproingies
 )

@@ -23,6 +23,7 @@
 #include "glcast_synthetic_encode.h"
 #include "glcast_encode.h"
 #include "glcast_special.h"
+#include "common/immortal.h"
 #include "interceptor/driver_size_queries.h"
 #include "interceptor/shim.h"
 #include "protocol/format.h"
@@ -38,7 +39,7 @@ struct Mapping {
 };
 
 std::mutex g_mutex;
-std::map<std::pair<uint32_t, GLuint>, Mapping> g_maps;  // (context id, buffer name)
+Immortal<std::map<std::pair<uint32_t, GLuint>, Mapping>> g_maps;  // (context id, buffer name)
 std::atomic<int> g_persistent_maps{0};  // draws take the lock only while some exist
 
 GLenum binding_of(GLenum target) {
@@ -93,7 +94,7 @@ void mapped(CallScope& scope, GLuint buffer, void* pointer, int64_t offset, int6
         m.shadow.assign(m.pointer, m.pointer + length);
     (void)scope;
     std::lock_guard lock(g_mutex);
-    Mapping& slot = g_maps[{current_context_id(), buffer}];
+    Mapping& slot = (*g_maps)[{current_context_id(), buffer}];
     g_persistent_maps += int(!m.shadow.empty()) - int(!slot.shadow.empty());
     slot = std::move(m);
 }
@@ -120,20 +121,20 @@ template <class Unmap, class Encode>
 GLboolean unmap(CallScope& scope, GLuint buffer, Unmap&& real_unmap, Encode&& encode) {
     if (scope.recording()) {
         std::lock_guard lock(g_mutex);
-        auto it = g_maps.find({current_context_id(), buffer});
-        if (it != g_maps.end()) {
+        auto it = g_maps->find({current_context_id(), buffer});
+        if (it != g_maps->end()) {
             Mapping& m = it->second;
             if (!(m.access & GL_MAP_FLUSH_EXPLICIT_BIT) || !m.shadow.empty())
                 ship_changes(scope, buffer, m, 0, m.length);
         }
     }
     const GLboolean ret = real_unmap();
-    {
+    if (g_recording) {  // a forked child touches nothing of the shim's
         std::lock_guard lock(g_mutex);
-        auto it = g_maps.find({current_context_id(), buffer});
-        if (it != g_maps.end()) {
+        auto it = g_maps->find({current_context_id(), buffer});
+        if (it != g_maps->end()) {
             g_persistent_maps -= int(!it->second.shadow.empty());
-            g_maps.erase(it);
+            g_maps->erase(it);
         }
     }
     if (scope.recording()) scope.record([&](Encoder& e, SizeQueries& sz) { encode(e, sz, ret); });
@@ -142,8 +143,8 @@ GLboolean unmap(CallScope& scope, GLuint buffer, Unmap&& real_unmap, Encode&& en
 
 void flushed(CallScope& scope, GLuint buffer, int64_t offset, int64_t length) {
     std::lock_guard lock(g_mutex);
-    auto it = g_maps.find({current_context_id(), buffer});
-    if (it != g_maps.end()) ship_changes(scope, buffer, it->second, offset, length);
+    auto it = g_maps->find({current_context_id(), buffer});
+    if (it != g_maps->end()) ship_changes(scope, buffer, it->second, offset, length);
 }
 
 }  // namespace
@@ -153,7 +154,7 @@ void ship_mapped_writes(CallScope& scope) {
     if (g_persistent_maps.load(std::memory_order_relaxed) == 0) return;
     std::lock_guard lock(g_mutex);
     const uint32_t ctx = current_context_id();
-    for (auto& [key, m] : g_maps)
+    for (auto& [key, m] : *g_maps)
         if (key.first == ctx && !m.shadow.empty()) ship_changes(scope, key.second, m, 0, m.length);
 }
 

@@ -10,7 +10,9 @@
 #include "glcast_synthetic_encode.h"
 #include "glcast_encode.h"
 #include "glcast_special.h"
+#include "common/immortal.h"
 #include "interceptor/dl_hooks.h"
+#include "interceptor/lifetime.h"
 #include "interceptor/shim.h"
 #include "interceptor/config.h"
 #include "interceptor/shim_internal.h"
@@ -21,9 +23,9 @@ namespace glcast {
 namespace {
 
 std::mutex g_mutex;
-std::map<const void*, uint32_t> g_context_ids;
+Immortal<std::map<const void*, uint32_t>> g_context_ids;
 uint32_t g_next_id = 1;
-std::map<uint64_t, std::pair<int32_t, int32_t>> g_drawable_sizes;
+Immortal<std::map<uint64_t, std::pair<int32_t, int32_t>>> g_drawable_sizes;
 
 // Asking the window system for a drawable's size is a server round trip: at a swap it is
 // done at most every 100 ms per thread (a resize reaches the stream within that time), and
@@ -38,8 +40,8 @@ bool size_check_due(bool force) {
 
 uint32_t id_of(const void* handle) {
     std::lock_guard lock(g_mutex);
-    auto it = g_context_ids.find(handle);
-    return it == g_context_ids.end() ? 0 : it->second;
+    auto it = g_context_ids->find(handle);
+    return it == g_context_ids->end() ? 0 : it->second;
 }
 
 // `samples`: of the visual or config the context was made for; a slave makes its framebuffer
@@ -54,7 +56,7 @@ void created(CallScope& scope, const void* handle, const void* share, uint8_t ap
     uint32_t id;
     {
         std::lock_guard lock(g_mutex);
-        id = g_context_ids[handle] = g_next_id++;
+        id = (*g_context_ids)[handle] = g_next_id++;
     }
     encode_synth_context(scope.begin_synthetic(kSynthContext), id, reinterpret_cast<uintptr_t>(handle), id_of(share), api);
     scope.commit_synthetic();
@@ -62,13 +64,13 @@ void created(CallScope& scope, const void* handle, const void* share, uint8_t ap
 
 void destroyed(const void* handle) {
     std::lock_guard lock(g_mutex);
-    g_context_ids.erase(handle);
+    g_context_ids->erase(handle);
 }
 
 void drawable_size(CallScope& scope, uint64_t drawable, int32_t w, int32_t h) {
     {
         std::lock_guard lock(g_mutex);
-        auto& size = g_drawable_sizes[drawable];
+        auto& size = (*g_drawable_sizes)[drawable];
         if (size == std::make_pair(w, h)) return;
         size = {w, h};
     }
@@ -154,7 +156,7 @@ GLXContext special::glXCreateContextAttribsARB(glXCreateContextAttribsARB_fn rea
 Bool special::glXMakeCurrent(glXMakeCurrent_fn real, CallScope& scope, Display* dpy, GLXDrawable drawable,
                              GLXContext ctx) {
     Bool ret = real(dpy, drawable, ctx);
-    if (ret) set_current_context(ctx ? id_of(ctx) : 0);
+    if (ret && g_recording) set_current_context(ctx ? id_of(ctx) : 0);
     if (!scope.recording()) return ret;
     if (ret && ctx) glx_drawable_size(scope, dpy, drawable, true);  // the slave sizes its window first
     record(scope, [&](Encoder& e, SizeQueries& sz) { encode_glXMakeCurrent(e, sz, dpy, drawable, ctx, ret); });
@@ -164,7 +166,7 @@ Bool special::glXMakeCurrent(glXMakeCurrent_fn real, CallScope& scope, Display* 
 Bool special::glXMakeContextCurrent(glXMakeContextCurrent_fn real, CallScope& scope, Display* dpy,
                                     GLXDrawable draw, GLXDrawable read, GLXContext ctx) {
     Bool ret = real(dpy, draw, read, ctx);
-    if (ret) set_current_context(ctx ? id_of(ctx) : 0);
+    if (ret && g_recording) set_current_context(ctx ? id_of(ctx) : 0);
     if (!scope.recording()) return ret;
     if (ret && ctx) glx_drawable_size(scope, dpy, draw, true);
     record(scope, [&](Encoder& e, SizeQueries& sz) { encode_glXMakeContextCurrent(e, sz, dpy, draw, read, ctx, ret); });
@@ -174,20 +176,20 @@ Bool special::glXMakeContextCurrent(glXMakeContextCurrent_fn real, CallScope& sc
 void special::glXDestroyContext(glXDestroyContext_fn real, CallScope& scope, Display* dpy, GLXContext ctx) {
     real(dpy, ctx);
     record(scope, [&](Encoder& e, SizeQueries& sz) { encode_glXDestroyContext(e, sz, dpy, ctx); });
-    destroyed(ctx);
+    if (g_recording) destroyed(ctx);
 }
 
 // In snapshot mode, swaps of several threads are serialized so that the snapshots are numbered
 // in the order the swaps enter the stream (the replay numbers frames that way).
 std::mutex g_snapshot_swap_mutex;
 std::unique_lock<std::mutex> snapshot_lock() {
-    return shim_config().snapshot_dir.empty() ? std::unique_lock<std::mutex>()
+    return shim_config().snapshot_dir.empty() || in_forked_child() ? std::unique_lock<std::mutex>()
                                               : std::unique_lock<std::mutex>(g_snapshot_swap_mutex);
 }
 
 void special::glXSwapBuffers(glXSwapBuffers_fn real, CallScope& scope, Display* dpy, GLXDrawable drawable) {
     const auto serialized = snapshot_lock();
-    if (!shim_config().snapshot_dir.empty() && thread_state().depth == 1) {
+    if (!shim_config().snapshot_dir.empty() && !in_forked_child() && thread_state().depth == 1) {
         static const auto query = reinterpret_cast<PFNGLXQUERYDRAWABLEPROC>(real_proc(OP_glXQueryDrawable));
         unsigned w = 0, h = 0;
         query(dpy, drawable, GLX_WIDTH, &w);
@@ -220,7 +222,7 @@ EGLBoolean special::eglMakeCurrent(eglMakeCurrent_fn real, CallScope& scope, EGL
                                    EGLSurface read, EGLContext ctx) {
     note_egl_in_use();
     EGLBoolean ret = real(dpy, draw, read, ctx);
-    if (ret) set_current_context(ctx ? id_of(ctx) : 0);
+    if (ret && g_recording) set_current_context(ctx ? id_of(ctx) : 0);
     if (!scope.recording()) return ret;
     if (ret && ctx) egl_drawable_size(scope, dpy, draw, true);
     record(scope, [&](Encoder& e, SizeQueries& sz) { encode_eglMakeCurrent(e, sz, dpy, draw, read, ctx, ret); });
@@ -230,13 +232,13 @@ EGLBoolean special::eglMakeCurrent(eglMakeCurrent_fn real, CallScope& scope, EGL
 EGLBoolean special::eglDestroyContext(eglDestroyContext_fn real, CallScope& scope, EGLDisplay dpy, EGLContext ctx) {
     EGLBoolean ret = real(dpy, ctx);
     record(scope, [&](Encoder& e, SizeQueries& sz) { encode_eglDestroyContext(e, sz, dpy, ctx, ret); });
-    destroyed(ctx);
+    if (g_recording) destroyed(ctx);
     return ret;
 }
 
 EGLBoolean special::eglSwapBuffers(eglSwapBuffers_fn real, CallScope& scope, EGLDisplay dpy, EGLSurface surface) {
     const auto serialized = snapshot_lock();
-    if (!shim_config().snapshot_dir.empty() && thread_state().depth == 1) {
+    if (!shim_config().snapshot_dir.empty() && !in_forked_child() && thread_state().depth == 1) {
         static const auto query = reinterpret_cast<PFNEGLQUERYSURFACEPROC>(real_proc(OP_eglQuerySurface));
         EGLint w = 0, h = 0;
         query(dpy, surface, EGL_WIDTH, &w);
