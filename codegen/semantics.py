@@ -116,6 +116,7 @@ class Semantics:
                 break
         names = s["names"]
         sem["deletes"] = bool(self.find(cmd, names["deletes"])[0])
+        sem["asks_about"] = bool(self.find(cmd, names["asks_about"])[0])
         first_use = names["created_at_first_use"]
         sem["first_use_namespaces"] = ([self.ns_id(n) for n in first_use["namespaces"]]
                                        if self.find(cmd, first_use["commands"])[0] else [])
@@ -215,7 +216,7 @@ class Semantics:
         for section in ("matrix", "redraw", "lists"):
             for v in s[section].values():
                 pats += list(v)
-        pats += s["names"]["deletes"] + s["names"]["created_at_first_use"]["commands"] + list(s["names"]["created_by"])
+        pats += s["names"]["deletes"] + s["names"]["asks_about"] + s["names"]["created_at_first_use"]["commands"] + list(s["names"]["created_by"])
         pats += list(s["programs"]["use"]) + list(s["programs"]["link"]) + list(s["programs"]["shader_type"])
         for v in s["window"].values():
             pats += list(v)

@@ -101,6 +101,8 @@ class SlavePlanner:
                 use = "CreateAtFirstUse"
             elif role in ("name_delete", "names_delete"):
                 use = "Delete"
+            elif role == "name" and p.sem["asks_about"]:
+                use = "AskAbout"
             p.replay_params.append({"role": role, "ns": ns, "ctype": q.ctype, "name": q.name, "base": q.base,
                                     "use": use, "source": w.source, "need": self.need(role, w),
                                     "count": w.count, "lengths": w.lengths,

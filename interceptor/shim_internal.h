@@ -15,6 +15,7 @@ struct ThreadState {
     int depth = 0;                  // > 0 while inside one of our entry points
     uint32_t opcode = 0;            // the outermost call being recorded
     uint32_t context_id = 0;        // this thread's current context (0: none)
+    int es_version = 0;             // its OpenGL ES version times 10 (30: ES 3.0), 0 for desktop GL
     ByteVector scratch;             // the tuple being encoded
     Encoder encoder{scratch};
     ByteVector synthetic;           // a synthetic tuple, encoded while `scratch` is in use

@@ -9,7 +9,7 @@ packages=(
   clang libclang-rt-14-dev              # libFuzzer target over the decoder
   # GL, windowing, registry
   khronos-api libgl-dev libegl-dev libgl1-mesa-dri libglx-mesa0 libegl-mesa0
-  libosmesa6-dev libglfw3-dev libglm-dev libx11-dev
+  libosmesa6-dev libglfw3-dev libglm-dev libx11-dev libgles-dev
   # stream
   libzstd-dev zlib1g-dev libpng-dev libzmq3-dev cppzmq-dev nlohmann-json3-dev
   libfftw3-dev                          # spectral snow synthesis (slave/effects)

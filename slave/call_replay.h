@@ -32,7 +32,8 @@ public:
 
 // How a name argument is used: looked up, created by the slave at first use (compatibility
 // GL's bind-to-create, glNewList), or released.
-enum class NameUse : uint8_t { Use, CreateAtFirstUse, Delete };
+// How a call uses a name: AskAbout is glIs*'s, where a name never made is an answer (none), not an error.
+enum class NameUse : uint8_t { Use, CreateAtFirstUse, Delete, AskAbout };
 
 class CallReplay {
 public:

@@ -19,6 +19,7 @@ uint64_t Replayer::map_name(Ns ns, uint64_t master, const Call& c, NameUse use) 
         map.set(master, slave);
         return slave;
     }
+    if (use == NameUse::AskAbout) return 0;  // never made on the master either: 0 is no object here
     throw ReplayError(std::string(c.info ? c.info->name : "?") + ": " + kNamespaces[int(ns)].name + " " +
                       std::to_string(master) + " was never generated");
 }

@@ -3,10 +3,12 @@
 // kSynthDrawableSize tuple says how big the window is whenever that changes. A frame ends
 // at every swap, after the swap's own tuple.
 #include <chrono>
+#include <cstdio>
 #include <map>
 #include <mutex>
 
 #include "glcast_commands.h"
+#include "glcast_gl_api.h"
 #include "glcast_synthetic_encode.h"
 #include "glcast_encode.h"
 #include "glcast_special.h"
@@ -114,6 +116,19 @@ int glx_config_samples(Display* dpy, GLXFBConfig config) {
     return samples;
 }
 
+// The shim's own queries must ask only what the context's API has (an OpenGL ES context lacks
+// some pixel-store values): a query it lacks would leave an error for the program's glGetError.
+void made_current(uint32_t id) {
+    set_current_context(id);
+    int es = 0;
+    if (id && real_gl().has(OP_glGetString)) {
+        const auto* v = reinterpret_cast<const char*>(real_gl().glGetString(GL_VERSION));
+        int major = 0, minor = 0;
+        if (v && std::sscanf(v, "OpenGL ES %d.%d", &major, &minor) == 2) es = major * 10 + minor;
+    }
+    thread_state().es_version = es;
+}
+
 template <class F>
 void record(CallScope& scope, F&& f) {
     if (scope.recording()) scope.record(f);
@@ -156,7 +171,7 @@ GLXContext special::glXCreateContextAttribsARB(glXCreateContextAttribsARB_fn rea
 Bool special::glXMakeCurrent(glXMakeCurrent_fn real, CallScope& scope, Display* dpy, GLXDrawable drawable,
                              GLXContext ctx) {
     Bool ret = real(dpy, drawable, ctx);
-    if (ret && g_recording) set_current_context(ctx ? id_of(ctx) : 0);
+    if (ret && g_recording) made_current(ctx ? id_of(ctx) : 0);
     if (!scope.recording()) return ret;
     if (ret && ctx) glx_drawable_size(scope, dpy, drawable, true);  // the slave sizes its window first
     record(scope, [&](Encoder& e, SizeQueries& sz) { encode_glXMakeCurrent(e, sz, dpy, drawable, ctx, ret); });
@@ -166,7 +181,7 @@ Bool special::glXMakeCurrent(glXMakeCurrent_fn real, CallScope& scope, Display* 
 Bool special::glXMakeContextCurrent(glXMakeContextCurrent_fn real, CallScope& scope, Display* dpy,
                                     GLXDrawable draw, GLXDrawable read, GLXContext ctx) {
     Bool ret = real(dpy, draw, read, ctx);
-    if (ret && g_recording) set_current_context(ctx ? id_of(ctx) : 0);
+    if (ret && g_recording) made_current(ctx ? id_of(ctx) : 0);
     if (!scope.recording()) return ret;
     if (ret && ctx) glx_drawable_size(scope, dpy, draw, true);
     record(scope, [&](Encoder& e, SizeQueries& sz) { encode_glXMakeContextCurrent(e, sz, dpy, draw, read, ctx, ret); });
@@ -222,7 +237,7 @@ EGLBoolean special::eglMakeCurrent(eglMakeCurrent_fn real, CallScope& scope, EGL
                                    EGLSurface read, EGLContext ctx) {
     note_egl_in_use();
     EGLBoolean ret = real(dpy, draw, read, ctx);
-    if (ret && g_recording) set_current_context(ctx ? id_of(ctx) : 0);
+    if (ret && g_recording) made_current(ctx ? id_of(ctx) : 0);
     if (!scope.recording()) return ret;
     if (ret && ctx) egl_drawable_size(scope, dpy, draw, true);
     record(scope, [&](Encoder& e, SizeQueries& sz) { encode_eglMakeCurrent(e, sz, dpy, draw, read, ctx, ret); });

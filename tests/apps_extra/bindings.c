@@ -3,7 +3,8 @@
  * and restore state: every frame draws a floor and a box in perspective (fixed function, GLX),
  * then makes one object of each kind (a shader program, a texture, a buffer, a renderbuffer, a
  * framebuffer, a vertex array, a sampler), binds them, asks glGetIntegerv for each binding, and
- * deletes them again.
+ * deletes them again; then asks glIs* about names nobody made and names just deleted (none is
+ * an object).
  *
  * For tests/e2e/verify_names_test.py: a slave whose passes make objects of their own in the
  * program's context (after the first frame) gives the program's later objects other names than
@@ -103,6 +104,10 @@ static int ask_bindings(void)
     glDeleteShader(vs);
     glDeleteShader(fs);
     glDeleteProgram(program);
+    /* Names nobody made, and names just deleted, are no objects (Mesa's piglit asks so). */
+    const GLuint never = 900;
+    wrong += glIsTexture(never) || glIsBuffer(never + 1) || glIsFramebuffer(never + 2) || glIsRenderbuffer(never + 3);
+    wrong += glIsTexture(texture) || glIsBuffer(buffer);
     return wrong;
 }
 

@@ -56,6 +56,8 @@ def run(args, **kw):
 def main():
     mode = sys.argv[1]
     os.makedirs(OUT, exist_ok=True)
+    if mode.startswith("gles"):
+        return gles(mode)
     path = os.path.join(OUT, mode + ".glcs")
     if os.path.exists(path):
         os.remove(path)
@@ -106,6 +108,22 @@ def main():
     if mode == "fork":  # the child's own frame (a magenta clear) is its own, not in its parent's stream
         check(not any(c.startswith("glClearColor(red = 1, green = 0, blue = 1, alpha = 1)") for c in calls), "the forked child's calls are in the parent's capture")
     print(f"{mode}: {len(calls)} calls, {len(swaps)} frames, the {len(AFTER_LAST_SWAP[mode])} calls after the last swap there")
+    print("1 passed, 0 failed")
+
+
+def gles(mode):
+    """An OpenGL ES program that checks glGetError after each call the shim sizes
+    (tests/apps_extra/gles_errors.c): the shim's own queries must leave no error behind."""
+    path = os.path.join(OUT, mode + ".glcs")
+    program = [os.path.join(os.environ["APPS_DIR"], "gles_errors"), mode[4:], "--frames", str(FRAMES)]
+    with Xvfb():
+        alone = run(program)
+        shimmed = run([GLCAST, "capture", "-o", path, "--"] + program)
+    print(f"{mode}: alone exit {alone.returncode}, under the shim exit {shimmed.returncode}: {shimmed.stderr.strip()[-300:]}")
+    check(alone.returncode == 0, f"alone: {alone.stderr[-800:]}")
+    check(shimmed.returncode == 0 and shimmed.stdout == alone.stdout, f"under the shim: {shimmed.stderr[-1500:]}")
+    dumped = run([GLCAST, "dump", path, "--summary"])
+    check(dumped.returncode == 0 and "cut" not in dumped.stderr, f"dump: {dumped.stderr[-800:]}")
     print("1 passed, 0 failed")
 
 
