@@ -17,6 +17,7 @@ class SlavePlanner:
     def __init__(self, annotations):
         s = annotations["slave"]
         self.name_classes = s.get("name_classes") or {}
+        self.name_classes_by = s.get("name_classes_by") or {}
         self.namespaces = s["namespaces"]
         self.uniform_patterns = s.get("uniform_locations") or []
         self.handwritten = set(s.get("handwritten") or [])
@@ -49,6 +50,19 @@ class SlavePlanner:
         if role not in ("in", "names_in", "names_delete", "gen_out", "out", "out_string") or not w.len:
             return None
         return w.len
+
+    def name_class_by(self, name, twin, param, param_names):
+        """commands.yaml slave.name_classes_by for the parameter (by the command's name or its core
+        twin's): {"index": the deciding parameter's index, "cases": [(GL enum, ns)], "default": ns
+        or None}, or None."""
+        spec = self.name_classes_by.get(f"{name}.{param}") or self.name_classes_by.get(f"{twin}.{param}")
+        if not spec:
+            return None
+        if spec["by"] not in param_names:
+            raise ValueError(f"commands.yaml slave.name_classes_by {name}.{param}: no parameter '{spec['by']}'")
+        cases = [(k, self.namespace(v)) for k, v in spec.items() if k not in ("by", "else")]
+        default = self.namespace(spec["else"]) if "else" in spec else None
+        return {"index": param_names.index(spec["by"]), "cases": cases, "default": default}
 
     def null_ok(self, name, twin, param):
         """Whether the parameter is on commands.yaml's slave.may_be_null list (by the command's
@@ -84,11 +98,15 @@ class SlavePlanner:
             return
         deleting = p.sem["deletes"]
         uniform = any(fnmatch.fnmatchcase(cmd.name, pat) for pat in self.uniform_patterns)
+        param_names = [x.name for x in cmd.params]
         for i, (q, w) in enumerate(zip(cmd.params, p.params)):
             cls = self.name_classes.get(f"{cmd.name}.{q.name}", q.name_class)
             ns = self.namespace(cls)
             role = w.kind
-            if uniform and q.name == "location" and w.kind == "value":
+            by = self.name_class_by(cmd.name, twin, q.name, param_names)
+            if by and w.kind == "value":
+                role = "name_by"
+            elif uniform and q.name == "location" and w.kind == "value":
                 role = "uniform_location"
             elif ns and w.kind == "value":
                 role = "name_delete" if deleting else "name"
@@ -108,7 +126,7 @@ class SlavePlanner:
                                     "count": w.count, "lengths": w.lengths,
                                     "lengths_index": ([x.name for x in cmd.params].index(w.lengths)
                                                       if w.lengths in [x.name for x in cmd.params] else -1),
-                                    "null_ok": self.null_ok(cmd.name, twin, q.name)})
+                                    "null_ok": self.null_ok(cmd.name, twin, q.name), "by": by})
         p.replay_limits = self.limits_of(p)
         p.replay_store = self.store_of(p)
         p.replay_sized = (any("sz." in (a["need"] or "") for a in p.replay_params) or bool(p.draw)

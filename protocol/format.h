@@ -80,4 +80,9 @@ enum class ClientSlot : uint8_t {
     Vertex, Normal, Color, SecondaryColor, FogCoord, Index, EdgeFlag, TexCoord, Attrib
 };
 
+// glcast.context's api: the window system, and whether the context is OpenGL ES (a slave makes
+// an ES context too: its version strings, extensions and shader rules are ES's).
+enum class ContextApi : uint8_t { Glx, Egl, GlxEs, EglEs };
+inline bool is_es(ContextApi api) { return api == ContextApi::GlxEs || api == ContextApi::EglEs; }
+
 }  // namespace glcast

@@ -17,6 +17,7 @@ namespace glcast::slave {
 // eglCreateContext attributes); major 0 means "whatever compatibility context is best".
 struct ContextRequest {
     int major = 0, minor = 0;
+    bool es = false;                 // OpenGL ES (major 0: ES 1); core means nothing then
     bool core = false;               // core profile (else compatibility)
     bool forward_compatible = false;
     bool debug = false;

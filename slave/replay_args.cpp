@@ -1,5 +1,6 @@
 // Arguments of a replayed call as the slave's driver takes them: pointer records copied into
 // per-call scratch memory (slave/scratch_memory.h), outputs sized for the driver to write.
+#include <algorithm>
 #include <cstring>
 
 #include "common/gl_headers.h"
@@ -45,7 +46,17 @@ void* Replayer::out(const Call& c, int i, uint32_t binding, int64_t elements) {
     if (uint64_t(elements) > options_.limits.buffer_bytes / uint64_t(unit))
         throw ReplayError(std::string(param_name(c, i)) + ": the call writes " + std::to_string(elements) +
                           " elements, over the limit buffer_bytes=" + std::to_string(options_.limits.buffer_bytes));
-    return scratch_.take(size_t(elements * unit) + 1);  // + 1: a string's NUL where bufSize is 0
+    // + 1: a string's NUL where bufSize is 0. What the call leaves unwritten (a query that
+    // raised an error, an answer shorter than bufSize) is the program's own memory, which the
+    // master's reply holds as the program had it: the slave's starts the same, so that
+    // --verify compares what the two drivers wrote (an error only one raised shows in the
+    // program's next glGetError).
+    const size_t bytes = size_t(elements * unit);
+    auto* p = static_cast<uint8_t*>(scratch_.take(bytes + 1));
+    const size_t kept = a.reply.tag == PtrTag::Data ? std::min(bytes, size_t(a.reply.count) * size_t(unit)) : 0;
+    if (kept) std::memcpy(p, a.reply.data, kept);
+    std::memset(p + kept, 0, bytes + 1 - kept);
+    return p;
 }
 
 const char* Replayer::string(const Call& c, int i) {

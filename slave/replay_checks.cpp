@@ -66,6 +66,9 @@ void Replayer::check_offset(const Call& c, int i, uint32_t binding, uint64_t off
 
 void Replayer::need(const Call& c, int i, int64_t elements, bool null_ok, uint32_t binding) {
     const PtrRecord& r = c.args[size_t(i)].ptr;
+    // A negative count with NULL is an error the master's driver raised without reading (its
+    // program passed NULL and lived): replayed as it is, for the same error.
+    if (elements < 0 && r.tag == PtrTag::Null) return;
     if (elements < 0)
         throw ReplayError(std::string(param_name(c, i)) + ": the slave cannot compute how much the call reads");
     if (r.tag == PtrTag::Null && !null_ok && elements > 0)

@@ -6,12 +6,14 @@ namespace glcast::slave {
 
 int64_t ReplaySizeQueries::driver_count(uint32_t pname) {
     GLint v = 0;
+    if (gles_lacks(pname, es_)) return 0;
     api_.glGetIntegerv(pname, &v);
     return v;
 }
 
 int64_t ReplaySizeQueries::tex_level(uint32_t target, int32_t level, uint32_t pname) {
     GLint v = 0;
+    if (gles_lacks_tex_level_query(es_)) return 0;
     api_.glGetTexLevelParameteriv(target, level, pname, &v);
     return v;
 }
@@ -22,6 +24,7 @@ bool ReplaySizeQueries::enabled(uint32_t cap) { return api_.glIsEnabled(cap); }
 
 // The caller has checked that [offset, offset + bytes) lies in the buffer (Replayer::need).
 bool ReplaySizeQueries::read_buffer(uint32_t target, int64_t offset, int64_t bytes, void* out) {
+    if (gles_lacks_buffer_read(es_)) return false;
     api_.glGetBufferSubData(target, GLintptr(offset), GLsizeiptr(bytes), out);
     return true;
 }

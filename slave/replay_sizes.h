@@ -18,9 +18,13 @@ public:
     bool client_pointer(const void* pointer) override;
     bool enabled(uint32_t cap) override;
     bool read_buffer(uint32_t target, int64_t offset, int64_t bytes, void* out) override;
+    // The current context's OpenGL ES version (0: desktop): asked only what it has, as the shim
+    // asked the master's.
+    void set_es_version(int es) { es_ = es; }
 
 private:
     const GlApi& api_;
+    int es_ = 0;
 };
 
 // The buffer target whose binding query is `binding` (GL_ARRAY_BUFFER_BINDING ->

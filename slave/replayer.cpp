@@ -147,10 +147,12 @@ void Replayer::make_current(uint32_t id, uint64_t drawable, int width, int heigh
     const bool first = !ctx->made_current;
     if (first) {
         ctx->made_current = true;
-        GLboolean db = GL_TRUE;
-        api_.glGetBooleanv(GL_DOUBLEBUFFER, &db);
+        ctx->es_version = gles_version(reinterpret_cast<const char*>(api_.glGetString(GL_VERSION)));
+        GLboolean db = GL_TRUE;  // an ES window surface draws to its back buffer, and cannot say so
+        if (!ctx->es_version) api_.glGetBooleanv(GL_DOUBLEBUFFER, &db);
         ctx->double_buffered = db;
     }
+    sizes_->set_es_version(ctx->es_version);
     for (ReplayObserver* o : observers_) o->made_current(*ctx, first);
     if (!first_context_done_) {
         first_context_done_ = true;

@@ -33,6 +33,7 @@
 #include "protocol/decoder.h"
 #include "protocol/draw_range.h"
 #include "protocol/size_queries.h"
+#include "slave/replay_sizes.h"
 #include "slave/backend.h"
 #include "slave/effects/effect_params.h"
 #include "slave/name_map.h"
@@ -204,7 +205,7 @@ private:
     ReplayOptions options_;
     ReplayStats stats_;
     GlApi api_;
-    std::unique_ptr<SizeQueries> sizes_;  // ReplaySizeQueries over api_
+    std::unique_ptr<ReplaySizeQueries> sizes_;  // over api_
     ScratchMemory scratch_;               // the current call's
     std::map<uint32_t, std::unique_ptr<SlaveContext>> contexts_;
     SlaveContext* current_ = nullptr;

@@ -26,6 +26,7 @@ struct SlaveContext {
     int master_width = 0, master_height = 0;  // the master's drawable
     bool double_buffered = true;
     bool made_current = false;
+    int es_version = 0;             // OpenGL ES version times 10 (its GL_VERSION), 0 for desktop GL
     uint64_t drawable = 0;
     bool drawing_to_window = true;  // the draw framebuffer is the window (tracked by TileAdapter)
     uint64_t current_program = 0;   // master name, for glUniform* locations

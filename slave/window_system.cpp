@@ -69,7 +69,8 @@ bool WindowSystem::replace_call(const Call& c) {
         SynthContext t;
         read_synthetic(c, t);
         const auto request = pending_.find(t.handle);
-        const ContextRequest wanted = request != pending_.end() ? request->second : ContextRequest{};
+        ContextRequest wanted = request != pending_.end() ? request->second : ContextRequest{};
+        wanted.es = is_es(ContextApi(t.api));
         if (request != pending_.end()) pending_.erase(request);
         core_.add_context(t.id, t.handle, t.share, wanted);
         ids_by_handle_[t.handle] = t.id;

@@ -20,6 +20,7 @@
 #include "interceptor/shim_internal.h"
 #include "interceptor/snapshot.h"
 #include "protocol/format.h"
+#include "protocol/size_queries.h"
 
 namespace glcast {
 namespace {
@@ -46,9 +47,15 @@ uint32_t id_of(const void* handle) {
     return it == g_context_ids->end() ? 0 : it->second;
 }
 
+bool glx_attribs_ask_es(const int* attribs) {
+    for (const int* a = attribs; a && a[0] != None; a += 2)
+        if (a[0] == GLX_CONTEXT_PROFILE_MASK_ARB) return a[1] & GLX_CONTEXT_ES_PROFILE_BIT_EXT;
+    return false;
+}
+
 // `samples`: of the visual or config the context was made for; a slave makes its framebuffer
 // multisampled the same way (0 and 1: single-sampled, no tuple).
-void created(CallScope& scope, const void* handle, const void* share, uint8_t api, int samples) {
+void created(CallScope& scope, const void* handle, const void* share, ContextApi api, int samples) {
     if (!handle) return;
     if (samples > 1) {
         encode_synth_context_format(scope.begin_synthetic(kSynthContextFormat), reinterpret_cast<uintptr_t>(handle),
@@ -60,7 +67,7 @@ void created(CallScope& scope, const void* handle, const void* share, uint8_t ap
         std::lock_guard lock(g_mutex);
         id = (*g_context_ids)[handle] = g_next_id++;
     }
-    encode_synth_context(scope.begin_synthetic(kSynthContext), id, reinterpret_cast<uintptr_t>(handle), id_of(share), api);
+    encode_synth_context(scope.begin_synthetic(kSynthContext), id, reinterpret_cast<uintptr_t>(handle), id_of(share), uint8_t(api));
     scope.commit_synthetic();
 }
 
@@ -120,13 +127,8 @@ int glx_config_samples(Display* dpy, GLXFBConfig config) {
 // some pixel-store values): a query it lacks would leave an error for the program's glGetError.
 void made_current(uint32_t id) {
     set_current_context(id);
-    int es = 0;
-    if (id && real_gl().has(OP_glGetString)) {
-        const auto* v = reinterpret_cast<const char*>(real_gl().glGetString(GL_VERSION));
-        int major = 0, minor = 0;
-        if (v && std::sscanf(v, "OpenGL ES %d.%d", &major, &minor) == 2) es = major * 10 + minor;
-    }
-    thread_state().es_version = es;
+    const bool asks = id && real_gl().has(OP_glGetString);
+    thread_state().es_version = asks ? gles_version(reinterpret_cast<const char*>(real_gl().glGetString(GL_VERSION))) : 0;
 }
 
 template <class F>
@@ -141,7 +143,7 @@ GLXContext special::glXCreateContext(glXCreateContext_fn real, CallScope& scope,
     GLXContext ret = real(dpy, vis, shareList, direct);
     if (!scope.recording()) return ret;
     scope.record([&](Encoder& e, SizeQueries& sz) { encode_glXCreateContext(e, sz, dpy, vis, shareList, direct, ret); });
-    created(scope, ret, shareList, 0, glx_visual_samples(dpy, vis));
+    created(scope, ret, shareList, ContextApi::Glx, glx_visual_samples(dpy, vis));
     return ret;
 }
 
@@ -152,7 +154,7 @@ GLXContext special::glXCreateNewContext(glXCreateNewContext_fn real, CallScope& 
     scope.record([&](Encoder& e, SizeQueries& sz) {
         encode_glXCreateNewContext(e, sz, dpy, config, render_type, share_list, direct, ret);
     });
-    created(scope, ret, share_list, 0, glx_config_samples(dpy, config));
+    created(scope, ret, share_list, ContextApi::Glx, glx_config_samples(dpy, config));
     return ret;
 }
 
@@ -164,7 +166,8 @@ GLXContext special::glXCreateContextAttribsARB(glXCreateContextAttribsARB_fn rea
     scope.record([&](Encoder& e, SizeQueries& sz) {
         encode_glXCreateContextAttribsARB(e, sz, dpy, config, share_context, direct, attrib_list, ret);
     });
-    created(scope, ret, share_context, 0, glx_config_samples(dpy, config));
+    created(scope, ret, share_context, glx_attribs_ask_es(attrib_list) ? ContextApi::GlxEs : ContextApi::Glx,
+            glx_config_samples(dpy, config));
     return ret;
 }
 
@@ -229,7 +232,10 @@ EGLContext special::eglCreateContext(eglCreateContext_fn real, CallScope& scope,
     EGLint samples = 0;
     static const auto get = reinterpret_cast<PFNEGLGETCONFIGATTRIBPROC>(real_proc_by_name("eglGetConfigAttrib"));
     if (ret && get && config && !get(dpy, config, EGL_SAMPLES, &samples)) samples = 0;
-    created(scope, ret, share_context, 1, samples);
+    static const auto query = reinterpret_cast<PFNEGLQUERYCONTEXTPROC>(real_proc_by_name("eglQueryContext"));
+    EGLint client = EGL_OPENGL_API;
+    if (ret && query && !query(dpy, ret, EGL_CONTEXT_CLIENT_TYPE, &client)) client = EGL_OPENGL_API;
+    created(scope, ret, share_context, client == EGL_OPENGL_ES_API ? ContextApi::EglEs : ContextApi::Egl, samples);
     return ret;
 }
 

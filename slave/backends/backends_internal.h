@@ -20,6 +20,7 @@ void glfw_release();
 
 // "3.3 core", "4.6 core forward-compatible debug", "compatibility (highest)": for messages.
 inline std::string describe(const ContextRequest& r) {
+    if (r.es) return "OpenGL ES " + std::to_string(r.major ? r.major : 1) + "." + std::to_string(r.minor);
     std::string s = r.major == 0 ? std::string("compatibility, highest version")
                                  : std::to_string(r.major) + "." + std::to_string(r.minor) +
                                        (r.core ? " core" : " compatibility");

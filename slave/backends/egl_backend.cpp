@@ -5,8 +5,11 @@
 // with a GPU render node Mesa picks the GPU; without one, llvmpipe.
 //
 // libEGL.so.1 is opened at run time (dynlib.h); every EGL call goes through the pointers below.
-// EGL keeps the bound API and the current context per thread, so make_current binds
-// EGL_OPENGL_API on the calling thread each time instead of once at start.
+// EGL keeps the bound API and the current context per thread, so make_current binds the
+// context's API (EGL_OPENGL_API, or EGL_OPENGL_ES_API for a program's OpenGL ES context) on the
+// calling thread each time instead of once at start. A thread may hold one current context per
+// API, and GL calls go to the one made current last: binding a context of the other API first
+// releases the one current there, so that the replay's calls never reach a context it left.
 #define EGL_NO_X11
 #define MESA_EGL_NO_X11_HEADERS
 #include <EGL/egl.h>
@@ -95,6 +98,7 @@ public:
         EGLConfig config = EGL_NO_CONFIG_KHR;  // single-sampled, or as many samples as the program's
         EGLSurface surface = EGL_NO_SURFACE;  // the pbuffer
         int width = 0, height = 0;
+        bool es = false;  // an OpenGL ES context
     };
     static constexpr const char* name = "egl";
 
@@ -139,12 +143,10 @@ public:
         return choose_config(error) && prepare(error);
     }
 
-    bool prepare(std::string& error) {
-        if (api_.BindAPI(EGL_OPENGL_API)) return true;
-        return fail_egl(error, "eglBindAPI(EGL_OPENGL_API)");
-    }
+    bool prepare(std::string& error) { return bind_api(false, error); }
 
     bool create(const Context* share, const ContextRequest& request, Context& out, std::string& error) {
+        if (request.es) return create_es(share, request, out, error);
         std::vector<EGLint> attribs;
         EGLint flags = 0;
         if (request.major > 0) {
@@ -171,6 +173,30 @@ public:
         return true;
     }
 
+    // The program asked for an ES version (ES 2.0 may be answered with a later one, as on the
+    // master); a context shares only with one of its own API.
+    bool create_es(const Context* share, const ContextRequest& request, Context& out, std::string& error) {
+        if (share && !share->es)
+            return fail(error, "an OpenGL ES context cannot share objects with a desktop OpenGL one");
+        out.config = config_for(request.samples);
+        EGLint renderable = 0;
+        api_.GetConfigAttrib(display_, out.config, EGL_RENDERABLE_TYPE, &renderable);
+        const EGLint wanted = request.major >= 3 ? EGL_OPENGL_ES3_BIT : request.major == 2 ? EGL_OPENGL_ES2_BIT
+                                                                                            : EGL_OPENGL_ES_BIT;
+        if (!(renderable & wanted))
+            return fail(error, "the EGL config renders no " + describe(request) + " (EGL_RENDERABLE_TYPE 0x" +
+                                   hex(renderable) + ")");
+        const EGLint attribs[] = {EGL_CONTEXT_MAJOR_VERSION, request.major ? request.major : 1,
+                                  EGL_CONTEXT_MINOR_VERSION, request.minor, EGL_NONE};
+        if (!bind_api(true, error)) return false;
+        out.context = api_.CreateContext(display_, out.config, share ? share->context : EGL_NO_CONTEXT, attribs);
+        out.es = true;
+        std::string ignored;
+        bind_api(false, ignored);
+        if (out.context == EGL_NO_CONTEXT) return fail_egl(error, "eglCreateContext(" + describe(request) + ")");
+        return true;
+    }
+
     // The old pbuffer may be current (on this thread or another): destroyed once released.
     bool resize(Context& c, int width, int height, std::string& error) {
         const EGLint attribs[] = {EGL_WIDTH, width, EGL_HEIGHT, height, EGL_NONE};
@@ -185,25 +211,31 @@ public:
     // Asked for no size (0 x 0), the context is current without a framebuffer (surfaceless).
     bool bind(uint32_t id, Context& c, bool sized, std::string& error) {
         const EGLSurface surface = sized ? c.surface : EGL_NO_SURFACE;
+        if (!release_other_api(c.es, error) || !bind_api(c.es, error)) return false;
         if (!api_.MakeCurrent(display_, surface, surface, c.context))
             return fail_egl(error, "eglMakeCurrent(context " + std::to_string(id) + ")");
         destroy_retired();
         return true;
     }
 
+    // Of both APIs: eglMakeCurrent(EGL_NO_CONTEXT) releases the bound API's context only.
     bool release(std::string& error) {
-        if (!api_.MakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT))
-            return fail_egl(error, "eglMakeCurrent(release)");
+        for (const bool es : {true, false}) {
+            if (!bind_api(es, error)) return false;
+            if (!api_.MakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT))
+                return fail_egl(error, "eglMakeCurrent(release)");
+        }
         destroy_retired();
         return true;
     }
 
     // EGL defers destroying a context current on some thread; release it first on this one.
     void destroy(Context& c) {
-        if (api_.GetCurrentContext() == c.context) {
-            api_.BindAPI(EGL_OPENGL_API);
+        std::string ignored;
+        bind_api(c.es, ignored);
+        if (api_.GetCurrentContext() == c.context)
             api_.MakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
-        }
+        bind_api(false, ignored);
         api_.DestroyContext(display_, c.context);
         if (c.surface != EGL_NO_SURFACE) api_.DestroySurface(display_, c.surface);
     }
@@ -220,6 +252,24 @@ public:
 
 private:
     void (*flush_)() = nullptr;
+
+    bool bind_api(bool es, std::string& error) {
+        if (api_.BindAPI(es ? EGL_OPENGL_ES_API : EGL_OPENGL_API)) return true;
+        return fail_egl(error, es ? "eglBindAPI(EGL_OPENGL_ES_API)" : "eglBindAPI(EGL_OPENGL_API)");
+    }
+
+    bool release_other_api(bool es, std::string& error) {
+        if (!bind_api(!es, error)) return false;
+        if (api_.GetCurrentContext() == EGL_NO_CONTEXT) return true;
+        if (api_.MakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT)) return true;
+        return fail_egl(error, "eglMakeCurrent(release of the other API's context)");
+    }
+
+    static std::string hex(EGLint v) {
+        char s[16];
+        std::snprintf(s, sizeof s, "%x", unsigned(v));
+        return s;
+    }
     // One config for every context (so that they can share) and its pbuffers: 8-bit RGB without
     // alpha, 24-bit depth, 8-bit stencil, like the program's GLX visual.
     bool choose_config(std::string& error) {

@@ -54,7 +54,14 @@ public:
     bool create(const Context* share, const ContextRequest& request, Context& out, std::string& error) {
         std::vector<int> attribs = {OSMESA_FORMAT, OSMESA_BGRA, OSMESA_DEPTH_BITS, 24,
                                     OSMESA_STENCIL_BITS, 8};
-        if (request.major > 0) {
+        if (request.es && !warned_es_) {
+            warned_es_ = true;
+            std::fprintf(stderr, "glcast slave: osmesa has no OpenGL ES: the program's %s context is replayed in a "
+                                 "desktop OpenGL one, whose version strings, extensions and shader rules differ "
+                                 "(EGL makes an ES context)\n",
+                         describe(request).c_str());
+        }
+        if (request.major > 0 && !request.es) {
             attribs.insert(attribs.end(),
                            {OSMESA_PROFILE, request.core ? OSMESA_CORE_PROFILE : OSMESA_COMPAT_PROFILE,
                             OSMESA_CONTEXT_MAJOR_VERSION, request.major,
@@ -108,6 +115,7 @@ public:
 private:
     void (*flush_)() = nullptr;
     bool warned_samples_ = false;
+    bool warned_es_ = false;
     static bool fail(std::string& error, const std::string& what) {
         error = "osmesa: " + what;
         return false;

@@ -74,7 +74,7 @@ public:
 
     bool create(const Context* share, const ContextRequest& request, Context& out, std::string& error) {
         glfwDefaultWindowHints();
-        glfwWindowHint(GLFW_CLIENT_API, GLFW_OPENGL_API);
+        glfwWindowHint(GLFW_CLIENT_API, request.es ? GLFW_OPENGL_ES_API : GLFW_OPENGL_API);
         glfwWindowHint(GLFW_CONTEXT_CREATION_API, GLFW_NATIVE_CONTEXT_API);
         glfwWindowHint(GLFW_VISIBLE, GLFW_FALSE);
         glfwWindowHint(GLFW_DOUBLEBUFFER, GLFW_TRUE);
@@ -85,7 +85,10 @@ public:
         glfwWindowHint(GLFW_DEPTH_BITS, 24);
         glfwWindowHint(GLFW_STENCIL_BITS, 8);
         glfwWindowHint(GLFW_SAMPLES, request.samples > 1 ? request.samples : 0);
-        if (request.major > 0) {
+        if (request.es) {  // GLFW's defaults hold for the rest
+            glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, request.major ? request.major : 1);
+            glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, request.minor);
+        } else if (request.major > 0) {
             glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, request.major);
             glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, request.minor);
             const bool has_profile = request.major > 3 || (request.major == 3 && request.minor >= 2);

@@ -4,7 +4,9 @@
  * then makes one object of each kind (a shader program, a texture, a buffer, a renderbuffer, a
  * framebuffer, a vertex array, a sampler), binds them, asks glGetIntegerv for each binding, and
  * deletes them again; then asks glIs* about names nobody made and names just deleted (none is
- * an object).
+ * an object); then makes two textures under names it chose itself (bound first, never generated:
+ * compatibility GL makes them so), copies one into the other with glCopyImageSubData (whose
+ * names' kind its target parameters say) and reads the copy back.
  *
  * For tests/e2e/verify_names_test.py: a slave whose passes make objects of their own in the
  * program's context (after the first frame) gives the program's later objects other names than
@@ -18,6 +20,7 @@
 #include <GL/glext.h>
 #include <GL/glx.h>
 #include <stdio.h>
+#include <string.h>
 
 #include "../apps/app_common.h"
 #include "glx_window.h"
@@ -111,6 +114,26 @@ static int ask_bindings(void)
     return wrong;
 }
 
+/* Textures under names the program chose, copied: 0 if the copy holds. */
+static int copy_own_textures(int f)
+{
+    const GLuint own[2] = {600, 601};
+    unsigned char texels[4 * 4 * 4], copied[4 * 4 * 4];
+    for (int i = 0; i < (int)sizeof texels; i++) texels[i] = (unsigned char)(i * 7 + f * 31);
+    glBindTexture(GL_TEXTURE_2D, own[0]);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, 4, 4, 0, GL_RGBA, GL_UNSIGNED_BYTE, texels);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);  /* complete: copyable */
+    glBindTexture(GL_TEXTURE_2D, own[1]);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, 4, 4, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glCopyImageSubData(own[0], GL_TEXTURE_2D, 0, 0, 0, 0, own[1], GL_TEXTURE_2D, 0, 0, 0, 0, 4, 4, 1);
+    glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, GL_UNSIGNED_BYTE, copied);
+    const int wrong = (glGetError() != GL_NO_ERROR) + (memcmp(texels, copied, sizeof texels) != 0);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    glDeleteTextures(2, own);
+    return wrong;
+}
+
 int main(int argc, char **argv)
 {
     struct app_args a;
@@ -121,7 +144,7 @@ int main(int argc, char **argv)
     glViewport(0, 0, a.width, a.height);
     for (int f = 0; f < a.frames; f++) {
         draw_scene(f);
-        const int wrong = ask_bindings();
+        const int wrong = ask_bindings() + copy_own_textures(f);
         if (wrong) {
             fprintf(stderr, "bindings: %d answers of frame %d name another object\n", wrong, f);
             return 1;

@@ -3,14 +3,16 @@
  * capture must size (glReadPixels, glTexImage2D, glTexSubImage2D), as Mesa's piglit does. For
  * glcast's tests: the shim's own queries (pixel-store state, texture levels) must ask only what
  * the context's API has; a value OpenGL ES lacks left GL_INVALID_ENUM for the program's next
- * glGetError, and piglit's ES tests failed under the shim.
+ * glGetError, and piglit's ES tests failed under the shim. It also asks what only an ES context
+ * answers so (its version strings, its extensions, a shader that ES refuses for want of a
+ * precision): a replay in a desktop context answered otherwise under --verify.
  *
  *   gles_errors 2|3 [--frames N]    an ES 2.0 or 3.0 context on a headless EGL pbuffer
  * Exits 0 when every glGetError said GL_NO_ERROR, 1 (naming the call) otherwise.
  */
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
-#include <GLES2/gl2.h>
+#include <GLES3/gl3.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -27,6 +29,7 @@ static int check(const char *call, int frame)
 
 int main(int argc, char **argv)
 {
+    int failed_at_start = 0;
     const int version = argc > 1 ? atoi(argv[1]) : 0;
     if (version != 2 && version != 3) {
         fprintf(stderr, "gles_errors: the first argument is the ES version, 2 or 3\n");
@@ -37,7 +40,7 @@ int main(int argc, char **argv)
     app_parse_args("gles_errors", argc - 1, argv + 1, &a);
     EGLDisplay dpy = eglGetDisplay(EGL_DEFAULT_DISPLAY);
     if (!eglInitialize(dpy, NULL, NULL)) {
-        fprintf(stderr, "gles_errors: no EGL display\n");
+        fprintf(stderr, "gles_errors: no EGL display (eglInitialize: EGL error 0x%x)\n", eglGetError());
         return 1;
     }
     const EGLint config_attribs[] = {EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE,
@@ -58,11 +61,30 @@ int main(int argc, char **argv)
         fprintf(stderr, "gles_errors: no ES %d context\n", version);
         return 1;
     }
+    printf("gles_errors: %s; %s\n", (const char *)glGetString(GL_VERSION),
+           (const char *)glGetString(GL_SHADING_LANGUAGE_VERSION));
+    const char *extensions = (const char *)glGetString(GL_EXTENSIONS);
+    printf("gles_errors: %zu bytes of extensions\n", extensions ? strlen(extensions) : 0);
+    if (version == 3) {
+        GLint count = 0;
+        glGetIntegerv(GL_NUM_EXTENSIONS, &count);
+        for (GLint i = 0; i < count; i++) glGetStringi(GL_EXTENSIONS, (GLuint)i);
+    }
+    /* ES asks a fragment shader for a default float precision; desktop GL does not. */
+    static const char *const imprecise = "void main() { float half_ = 0.5; gl_FragColor = vec4(half_); }\n";
+    GLuint shader = glCreateShader(GL_FRAGMENT_SHADER);
+    glShaderSource(shader, 1, &imprecise, NULL);
+    glCompileShader(shader);
+    GLint compiled = -1;
+    glGetShaderiv(shader, GL_COMPILE_STATUS, &compiled);
+    printf("gles_errors: a shader without a float precision %s\n", compiled ? "compiled" : "was refused");
+    glDeleteShader(shader);
+    failed_at_start = check("the queries", -1);
     unsigned char *pixels = malloc((size_t)a.width * (size_t)a.height * 4);
     GLuint texture;
     glGenTextures(1, &texture);
     glBindTexture(GL_TEXTURE_2D, texture);
-    int failed = 0;
+    int failed = failed_at_start;
     for (int f = 0; f < a.frames && !failed; f++) {
         glClearColor(0.2f + 0.1f * (float)(f % 5), 0.4f, 0.6f, 1);
         glClear(GL_COLOR_BUFFER_BIT);

@@ -114,7 +114,9 @@ def main():
 
 def gles(mode):
     """An OpenGL ES program that checks glGetError after each call the shim sizes
-    (tests/apps_extra/gles_errors.c): the shim's own queries must leave no error behind."""
+    (tests/apps_extra/gles_errors.c): the shim's own queries must leave no error behind. Replayed
+    on EGL in an ES context, every reply is the master's (its version strings, extensions, the
+    slave's own size queries leaving no error); OSMesa, which has no ES, says so and replays."""
     path = os.path.join(OUT, mode + ".glcs")
     program = [os.path.join(os.environ["APPS_DIR"], "gles_errors"), mode[4:], "--frames", str(FRAMES)]
     with Xvfb():
@@ -125,6 +127,12 @@ def gles(mode):
     check(shimmed.returncode == 0 and shimmed.stdout == alone.stdout, f"under the shim: {shimmed.stderr[-1500:]}")
     dumped = run([GLCAST, "dump", path, "--summary"])
     check(dumped.returncode == 0 and "cut" not in dumped.stderr, f"dump: {dumped.stderr[-800:]}")
+    verified = run([GLCAST, "replay", path, "--backend", "egl", "--verify"])
+    said = verified.stdout + verified.stderr
+    print(said.strip()[-300:])
+    check(verified.returncode == 0 and "replies: 0 differ" in said, f"replay --verify: {said[-1500:]}")
+    osmesa = run([GLCAST, "replay", path, "--backend", "osmesa"])
+    check(osmesa.returncode == 0 and "osmesa has no OpenGL ES" in osmesa.stderr, f"replay on osmesa: {osmesa.stderr[-1500:]}")
     print("1 passed, 0 failed")
 
 

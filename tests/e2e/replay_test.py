@@ -30,6 +30,7 @@ CASES = {
     "fbo_ext": (lambda: [os.path.join(APPS, "fbo_ext"), "--frames", "8"], 8),
     "viewport_array": (lambda: [os.path.join(APPS, "viewport_array"), "--frames", "8"], 8),
     "client_draws": (lambda: [os.path.join(APPS, "client_draws"), "--frames", "8"], 8),
+    "api_errors": (lambda: [os.path.join(APPS, "api_errors"), "--frames", "4"], 4),
 }
 
 
