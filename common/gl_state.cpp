@@ -1,5 +1,7 @@
 #include "common/gl_state.h"
 
+#include "common/gles.h"
+
 #include <algorithm>
 
 namespace glcast {
@@ -44,12 +46,15 @@ GlStateGuard::GlStateGuard(const GlApi& gl, uint32_t groups) : gl_(gl), groups_(
         for (int i = 0; i < draw_buffer_count_; ++i) gl.glGetIntegerv(GLenum(GL_DRAW_BUFFER0 + i), &draw_buffers_[i]);
         gl.glGetIntegerv(GL_READ_BUFFER, &read_buffer_);
     }
+    // An OpenGL ES context is asked only what its version has (common/gles.h).
+    if (has(kGuardWindowRead | kGuardPixelStore | kGuardPixelPack) && gl.has(OP_glGetString))
+        es_ = gles_version(reinterpret_cast<const char*>(gl.glGetString(GL_VERSION)));
     if (has(kGuardWindowRead)) {  // GL 1.x has no framebuffer objects: the window is all there is
         if (gl.has(OP_glBindFramebuffer)) {
-            gl.glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &read_fb_);
-            gl.glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+            gl.glGetIntegerv(one_framebuffer() ? GL_FRAMEBUFFER_BINDING : GL_READ_FRAMEBUFFER_BINDING, &read_fb_);
+            gl.glBindFramebuffer(one_framebuffer() ? GL_FRAMEBUFFER : GL_READ_FRAMEBUFFER, 0);
         }
-        gl.glGetIntegerv(GL_READ_BUFFER, &read_buffer_);  // the window's own read buffer
+        if (!gles_lacks(GL_READ_BUFFER, es_)) gl.glGetIntegerv(GL_READ_BUFFER, &read_buffer_);  // the window's own
     }
     if (has(kGuardViewport)) {
         gl.glGetIntegerv(GL_VIEWPORT, viewport_);
@@ -63,12 +68,13 @@ GlStateGuard::GlStateGuard(const GlApi& gl, uint32_t groups) : gl_(gl), groups_(
         gl.glGetIntegerv(GL_ARRAY_BUFFER_BINDING, &array_buffer_);
     }
     if (has(kGuardPixelStore | kGuardPixelPack)) {
-        const bool buffers = gl.has(OP_glBindBuffer);
         const bool unpack = has(kGuardPixelStore);
+        pixel_buffers_ = gl.has(OP_glBindBuffer) && !gles_lacks(GL_PIXEL_PACK_BUFFER_BINDING, es_);
+        const bool buffers = pixel_buffers_;
         if (buffers) gl.glGetIntegerv(GL_PIXEL_PACK_BUFFER_BINDING, &pack_buffer_);
         if (buffers && unpack) gl.glGetIntegerv(GL_PIXEL_UNPACK_BUFFER_BINDING, &unpack_buffer_);
         for (GLenum p : kPixelStore) {
-            if (!unpack && !is_pack(p)) continue;
+            if ((!unpack && !is_pack(p)) || gles_lacks(p, es_)) continue;
             GLint v = 0;
             gl.glGetIntegerv(p, &v);
             pixel_store_.emplace_back(p, v);
@@ -193,7 +199,7 @@ GlStateGuard::~GlStateGuard() {
     if (has(kGuardTextures)) restore_textures();
     if (has(kGuardPixelStore | kGuardPixelPack)) {
         for (auto [p, v] : pixel_store_) gl.glPixelStorei(p, v);
-        if (gl.has(OP_glBindBuffer)) {
+        if (pixel_buffers_) {
             gl.glBindBuffer(GL_PIXEL_PACK_BUFFER, GLuint(pack_buffer_));
             if (has(kGuardPixelStore)) gl.glBindBuffer(GL_PIXEL_UNPACK_BUFFER, GLuint(unpack_buffer_));
         }
@@ -221,8 +227,9 @@ GlStateGuard::~GlStateGuard() {
         gl.glReadBuffer(GLenum(read_buffer_));
     }
     if (has(kGuardWindowRead)) {  // the window's read buffer while it is bound, then the program's
-        gl.glReadBuffer(GLenum(read_buffer_));
-        if (gl.has(OP_glBindFramebuffer)) gl.glBindFramebuffer(GL_READ_FRAMEBUFFER, GLuint(read_fb_));
+        if (!gles_lacks(GL_READ_BUFFER, es_)) gl.glReadBuffer(GLenum(read_buffer_));
+        if (gl.has(OP_glBindFramebuffer))
+            gl.glBindFramebuffer(one_framebuffer() ? GL_FRAMEBUFFER : GL_READ_FRAMEBUFFER, GLuint(read_fb_));
     }
     for (const Stack& s : stacks_) {
         gl.glMatrixMode(s.mode);

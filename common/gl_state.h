@@ -55,6 +55,8 @@ public:
 
 private:
     bool has(uint32_t g) const { return (groups_ & g) != 0; }
+    // OpenGL ES 2 binds one framebuffer for drawing and reading (GL_FRAMEBUFFER)
+    bool one_framebuffer() const { return es_ && es_ < 30; }
     void save_raster();
     void restore_raster();
     void save_textures();
@@ -63,6 +65,8 @@ private:
     const GlApi& gl_;
     uint32_t groups_;
     bool compatibility_ = false;
+    int es_ = 0;                  // the context's OpenGL ES version times 10, 0 for desktop GL
+    bool pixel_buffers_ = false;  // pixel pack and unpack buffer bindings exist
     // A framebuffer object's draw buffers, all of them (GL_DRAW_BUFFERi): restoring the first alone
     // would send the program's later draws into one attachment of several.
     static constexpr int kDrawBuffers = 8;

@@ -3,8 +3,18 @@
 #include <cstring>
 
 #include "common/gl_state.h"
+#include "common/gles.h"
 
 namespace glcast {
+namespace {
+
+// OpenGL ES 2 reads the bound framebuffer's only colour buffer: there is no glReadBuffer.
+void read_from(const GlApi& gl, GLenum buffer) {
+    const auto* version = gl.has(OP_glGetString) ? reinterpret_cast<const char*>(gl.glGetString(GL_VERSION)) : nullptr;
+    if (!gles_lacks(GL_READ_BUFFER, gles_version(version))) gl.glReadBuffer(buffer);
+}
+
+}  // namespace
 
 std::vector<uint8_t> read_window(const GlApi& gl, GLenum buffer, int width, int height) {
     std::vector<uint8_t> rgba, scratch;
@@ -14,7 +24,7 @@ std::vector<uint8_t> read_window(const GlApi& gl, GLenum buffer, int width, int 
 
 void read_window_rows(const GlApi& gl, GLenum buffer, int width, int height, uint8_t* rows, int row_pixels) {
     GlStateGuard guard(gl, kGuardWindowRead | kGuardPixelPack);
-    gl.glReadBuffer(buffer);
+    read_from(gl, buffer);
     gl.glPixelStorei(GL_PACK_ALIGNMENT, 1);
     gl.glPixelStorei(GL_PACK_ROW_LENGTH, row_pixels);
     gl.glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, rows);
@@ -26,7 +36,7 @@ void read_window_into(const GlApi& gl, GLenum buffer, int width, int height, std
     rgba.resize(bottom_up.size());
     {
         GlStateGuard guard(gl, kGuardWindowRead | kGuardPixelPack);
-        gl.glReadBuffer(buffer);
+        read_from(gl, buffer);
         gl.glPixelStorei(GL_PACK_ALIGNMENT, 1);
         gl.glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, bottom_up.data());
     }

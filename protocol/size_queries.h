@@ -13,20 +13,13 @@
 #include <cstdint>
 #include <string>
 
+#include "common/gles.h"
 #include "glcast_pnames.h"
 
 namespace glcast {
 
 enum class Dir { In, Out };
 
-// OpenGL ES contexts. `es`: the ES version times 10 (30: ES 3.0), 0 for desktop GL. Asking an
-// ES context what its version lacks raises GL_INVALID_ENUM, which the program's next glGetError
-// would see: both sides take GL's default there (0: no row length, no skipping, no swapping),
-// as the context behaves.
-int gles_version(const char* gl_version);      // of glGetString(GL_VERSION)
-bool gles_lacks(uint32_t pname, int es);       // as glGetIntegerv's pname
-bool gles_lacks_tex_level_query(int es);       // glGetTexLevelParameter is ES 3.1's
-bool gles_lacks_buffer_read(int es);           // glGetBufferSubData is desktop GL's  // In: the call reads (unpack state); Out: it writes (pack state)
 
 struct PixelStore {
     int32_t row_length = 0, image_height = 0, skip_pixels = 0, skip_rows = 0, skip_images = 0;
