@@ -21,6 +21,10 @@ namespace glcast {
 namespace {
 
 constexpr int kSlots = 256;
+// Pages left writable after a take, compared again at each take until there are more than this
+// (then all are protected again by one mprotect per run): a page's re-protection costs a system
+// call that splits and merges the kernel's map of the range, its comparison a memcmp.
+constexpr int kOpenPages = 8;
 
 struct Slot {
     std::atomic<uintptr_t> lo{0}, hi{0};           // the range; hi == 0: free
@@ -29,6 +33,8 @@ struct Slot {
     size_t page_words = 0, group_words = 0;
     std::atomic<int> users{0};                     // handlers inside this slot now
     std::atomic<bool> written{false};
+    size_t open[kOpenPages + 1] = {};               // writable pages, ascending (the taker's alone)
+    int open_count = 0;
 };
 
 Slot g_slots[kSlots];
@@ -186,6 +192,7 @@ void untrack_writes(int index) {
     s.lo.store(0);
     while (s.users.load()) sched_yield();
     if (s.written.exchange(false)) g_written.fetch_sub(1);
+    s.open_count = 0;
     delete[] s.pages;
     delete[] s.groups;
     s.pages = s.groups = nullptr;
@@ -193,13 +200,34 @@ void untrack_writes(int index) {
 
 bool any_pages_written() { return g_written.load(std::memory_order_relaxed) > 0; }
 
-void take_written_pages(int index, std::vector<std::pair<size_t, size_t>>& runs) {
+namespace {
+
+void add_page(std::vector<std::pair<size_t, size_t>>& runs, size_t page) {
+    if (!runs.empty() && runs.back().second == page)
+        runs.back().second = page + 1;
+    else
+        runs.push_back({page, page + 1});
+}
+
+void protect(const Slot& s, const std::vector<std::pair<size_t, size_t>>& runs) {
+    const uintptr_t lo = s.lo.load();
+    for (const auto& [first, end] : runs)
+        mprotect(reinterpret_cast<void*>(lo + first * kTrackedPage), (end - first) * kTrackedPage, PROT_READ);
+}
+
+}  // namespace
+
+void take_written_pages(int index, std::vector<std::pair<size_t, size_t>>& runs, bool close_all) {
     runs.clear();
     if (index < 0 || index >= kSlots) return;
     Slot& s = g_slots[index];
-    if (!s.written.load()) return;
+    if (!s.written.load() && (!s.open_count || !close_all)) {  // only the open pages, still writable
+        for (int i = 0; i < s.open_count; ++i) add_page(runs, s.open[i]);
+        return;
+    }
     if (s.written.exchange(false)) g_written.fetch_sub(1);
-    const uintptr_t lo = s.lo.load();
+    thread_local std::vector<std::pair<size_t, size_t>> fresh;
+    fresh.clear();
     for (size_t g = 0; g < s.group_words; ++g) {
         uint64_t group = s.groups[g].exchange(0);
         while (group) {
@@ -207,17 +235,35 @@ void take_written_pages(int index, std::vector<std::pair<size_t, size_t>>& runs)
             group &= group - 1;
             uint64_t bits = s.pages[word].exchange(0);
             while (bits) {
-                const size_t page = word * 64 + size_t(__builtin_ctzll(bits));
+                add_page(fresh, word * 64 + size_t(__builtin_ctzll(bits)));
                 bits &= bits - 1;
-                if (!runs.empty() && runs.back().second == page)
-                    runs.back().second = page + 1;
-                else
-                    runs.push_back({page, page + 1});
             }
         }
     }
+    // The open pages and the fresh ones, merged in order.
+    size_t fresh_pages = 0;
+    for (const auto& [first, end] : fresh) fresh_pages += end - first;
+    auto f = fresh.begin();
+    size_t next_fresh = f == fresh.end() ? SIZE_MAX : f->first;
+    int o = 0;
+    while (o < s.open_count || next_fresh != SIZE_MAX) {
+        size_t page;
+        if (o < s.open_count && s.open[o] <= next_fresh) {
+            page = s.open[o++];
+        } else {
+            page = next_fresh;
+            if (++next_fresh == f->second) next_fresh = ++f == fresh.end() ? SIZE_MAX : f->first;
+        }
+        if (runs.empty() || runs.back().second <= page) add_page(runs, page);
+    }
+    if (close_all || size_t(s.open_count) + fresh_pages > size_t(kOpenPages)) {
+        protect(s, runs);
+        s.open_count = 0;
+        return;
+    }
+    s.open_count = 0;
     for (const auto& [first, end] : runs)
-        mprotect(reinterpret_cast<void*>(lo + first * kTrackedPage), (end - first) * kTrackedPage, PROT_READ);
+        for (size_t page = first; page < end; ++page) s.open[s.open_count++] = page;
 }
 
 bool check_handler() {

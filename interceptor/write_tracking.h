@@ -33,10 +33,13 @@ void untrack_writes(int slot);
 // True when some page of any tracked range has been written since it was last taken.
 bool any_pages_written();
 
-// The runs of pages of `slot` written since the last call, as [first, end) page indices, each
-// run write-protected again before it is returned (so a write that lands after the protection
-// faults again, and one that lands before is in the memory the caller reads next).
-void take_written_pages(int slot, std::vector<std::pair<size_t, size_t>>& runs);
+// The runs of pages of `slot` the caller must compare, as [first, end) page indices: those written
+// since the last call and those still writable since an earlier one (a few are left writable, so
+// that a page written at each draw costs no system call at each draw). Pages re-protected are
+// protected before they are returned (so a write that lands after the protection faults again,
+// and one that lands before is in the memory the caller reads next). `close_all` (at a frame's
+// end) re-protects every page returned, so that an idle mapping costs nothing.
+void take_written_pages(int slot, std::vector<std::pair<size_t, size_t>>& runs, bool close_all);
 
 // False once the program has replaced glcast's SIGSEGV handler without sigaction or signal;
 // the caller then releases its ranges and compares. Costs one system call.

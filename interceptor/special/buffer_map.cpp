@@ -139,6 +139,18 @@ void mapped(CallScope& scope, GLuint buffer, void* pointer, int64_t offset, int6
     slot = std::move(m);
 }
 
+// Narrows [lo, hi) to its first and last byte that differ from the shadow; false when none do.
+bool changed_span(const Mapping& m, int64_t& lo, int64_t& hi) {
+    const uint8_t *now = m.pointer, *was = m.shadow.data();
+    if (lo >= hi || !std::memcmp(now + lo, was + lo, size_t(hi - lo))) return false;
+    constexpr int64_t kBlock = 64;  // a block at a time, then bytes
+    while (hi - lo > kBlock && !std::memcmp(now + lo, was + lo, kBlock)) lo += kBlock;
+    while (hi - lo > kBlock && !std::memcmp(now + hi - kBlock, was + hi - kBlock, kBlock)) hi -= kBlock;
+    while (now[lo] == was[lo]) ++lo;
+    while (now[hi - 1] == was[hi - 1]) --hi;
+    return true;
+}
+
 // Ships what the program wrote into a mapping; for persistent maps only the changed span.
 void ship_changes(CallScope& scope, GLuint buffer, Mapping& m, int64_t from, int64_t bytes) {
     if (!(m.access & GL_MAP_WRITE_BIT)) return;
@@ -149,9 +161,7 @@ void ship_changes(CallScope& scope, GLuint buffer, Mapping& m, int64_t from, int
         return;
     }
     int64_t lo = from, hi = from + bytes;
-    while (lo < hi && m.pointer[lo] == m.shadow[size_t(lo)]) ++lo;
-    while (hi > lo && m.pointer[hi - 1] == m.shadow[size_t(hi - 1)]) --hi;
-    if (lo == hi) return;
+    if (!changed_span(m, lo, hi)) return;
     std::memcpy(m.shadow.data() + lo, m.pointer + lo, size_t(hi - lo));
     emit_write(scope, buffer, m.offset + lo, m.pointer + lo, hi - lo);
 }
@@ -166,11 +176,8 @@ void ship_pages(CallScope& scope, GLuint buffer, Mapping& m, int64_t from, int64
         lo = hi = -1;
     };
     for (int64_t page = from; page < to; page += int64_t(kTrackedPage)) {
-        const int64_t end = std::min<int64_t>(page + int64_t(kTrackedPage), to);
-        if (!std::memcmp(m.pointer + page, m.shadow.data() + page, size_t(end - page))) continue;
-        int64_t a = page, b = end;
-        while (m.pointer[a] == m.shadow[size_t(a)]) ++a;
-        while (m.pointer[b - 1] == m.shadow[size_t(b - 1)]) --b;
+        int64_t a = page, b = std::min<int64_t>(page + int64_t(kTrackedPage), to);
+        if (!changed_span(m, a, b)) continue;
         if (lo >= 0 && a - hi > kMergeGap) flush();
         if (lo < 0) lo = a;
         hi = b;
@@ -179,11 +186,11 @@ void ship_pages(CallScope& scope, GLuint buffer, Mapping& m, int64_t from, int64
 }
 
 // Everything the program wrote into a persistent mapping since the last time.
-void ship_persistent(CallScope& scope, GLuint buffer, Mapping& m) {
+void ship_persistent(CallScope& scope, GLuint buffer, Mapping& m, bool frame_end = false) {
     if (m.tracked < 0) return ship_changes(scope, buffer, m, 0, m.length);
     ship_changes(scope, buffer, m, 0, m.tracked_from);
     thread_local std::vector<std::pair<size_t, size_t>> runs;
-    take_written_pages(m.tracked, runs);
+    take_written_pages(m.tracked, runs, frame_end);
     for (const auto& [first, end] : runs)
         ship_pages(scope, buffer, m, m.tracked_from + int64_t(first * kTrackedPage),
                    m.tracked_from + int64_t(end * kTrackedPage));
@@ -240,12 +247,18 @@ void delete_buffers(CallScope& scope, GLsizei n, const GLuint* buffers, Delete&&
 
 }  // namespace
 
-void ship_mapped_writes(CallScope& scope) {
-    if (g_persistent_maps.load(std::memory_order_relaxed) == 0) return;
+namespace {
+void ship_current_context(CallScope& scope, bool frame_end) {
     std::lock_guard lock(g_mutex);
     const uint32_t ctx = current_context_id();
     for (auto& [key, m] : *g_maps)
-        if (key.first == ctx && !m.shadow.empty()) ship_persistent(scope, key.second, m);
+        if (key.first == ctx && !m.shadow.empty()) ship_persistent(scope, key.second, m, frame_end);
+}
+}  // namespace
+
+void ship_mapped_writes(CallScope& scope) {
+    if (g_persistent_maps.load(std::memory_order_relaxed) == 0) return;
+    ship_current_context(scope, false);
 }
 
 void ship_mapped_writes_at_frame_end(CallScope& scope) {
@@ -254,7 +267,7 @@ void ship_mapped_writes_at_frame_end(CallScope& scope) {
         std::lock_guard lock(g_mutex);
         for (auto& entry : *g_maps) stop_tracking(entry.second);
     }
-    ship_mapped_writes(scope);
+    ship_current_context(scope, true);
 }
 
 void forget_mappings_of_context(uint32_t context) {

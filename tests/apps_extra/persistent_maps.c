@@ -12,6 +12,8 @@
  *            between them, as GL asks): the second draw must show the second write
  *   sigsegv  the ring, and the program's own SIGSEGV handlers (one installed before the ring is
  *            mapped, one after) must still see the program's own faults
+ *   subdata  the ring's data and draws through glBufferSubData, no mapping: what the same stream
+ *            costs without finding changes (bench/persistent_maps_bench.py)
  *
  *   persistent_maps [--shape S] [--ring-mb N] [--draws N] [--frames N] [--size WxH]
  *
@@ -46,6 +48,7 @@ static const char *shape = "ring";
 static size_t ring_bytes, slots;
 static unsigned char *ring;
 static long written_this_frame;
+static int subdata; /* --shape subdata: no mapping, each write a glBufferSubData */
 
 static void die(const char *what)
 {
@@ -86,6 +89,7 @@ static void write_triangle(unsigned char *at, const float *xy, const float *rgba
         memcpy(&v[i][4], rgba, 4 * sizeof(float));
     }
     memcpy(at, v, sizeof v);
+    if (subdata) glBufferSubData(GL_ARRAY_BUFFER, at - ring, sizeof v, v);
     written_this_frame += (long)sizeof v;
 }
 
@@ -134,8 +138,13 @@ static GLuint make_ring(GLenum target)
     GLuint b;
     glGenBuffers(1, &b);
     glBindBuffer(target, b);
-    glBufferStorage(target, (GLsizeiptr)ring_bytes, NULL, kStorage);
-    ring = glMapBufferRange(target, 0, (GLsizeiptr)ring_bytes, kStorage);
+    if (subdata) {
+        glBufferStorage(target, (GLsizeiptr)ring_bytes, NULL, GL_DYNAMIC_STORAGE_BIT);
+        ring = malloc(ring_bytes);
+    } else {
+        glBufferStorage(target, (GLsizeiptr)ring_bytes, NULL, kStorage);
+        ring = glMapBufferRange(target, 0, (GLsizeiptr)ring_bytes, kStorage);
+    }
     if (!ring) die("glMapBufferRange returned NULL");
     check_gl("mapping the ring");
     slots = ring_bytes / SLOT;
@@ -471,7 +480,8 @@ int main(int argc, char **argv)
     const int sigsegv = strcmp(shape, "sigsegv") == 0;
     if (sigsegv) install_before();
     int ok;
-    if (strcmp(shape, "ring") == 0 || sigsegv) {
+    subdata = strcmp(shape, "subdata") == 0;
+    if (strcmp(shape, "ring") == 0 || sigsegv || subdata) {
         if (sigsegv) {
             make_ring(GL_ARRAY_BUFFER); /* mapped: glcast's own handler (if any) is in place now */
             own_fault();
@@ -497,7 +507,7 @@ int main(int argc, char **argv)
     } else if (strcmp(shape, "rewrite") == 0) {
         ok = run_rewrite(&w, &a);
     } else {
-        die("unknown --shape (ring, uniform, unpack, thread, rewrite, sigsegv)");
+        die("unknown --shape (ring, uniform, unpack, thread, rewrite, sigsegv, subdata)");
     }
     if (!ok) return 1;
     printf("persistent_maps: %s ok, %ld bytes written a frame\n", shape, written_this_frame);
