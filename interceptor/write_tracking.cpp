@@ -8,6 +8,7 @@
 #include <signal.h>
 #include <sys/mman.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cstdio>
 #include <cstring>
@@ -21,10 +22,15 @@ namespace glcast {
 namespace {
 
 constexpr int kSlots = 256;
-// Pages left writable after a take, compared again at each take until there are more than this
-// (then all are protected again by one mprotect per run): a page's re-protection costs a system
-// call that splits and merges the kernel's map of the range, its comparison a memcmp.
-constexpr int kOpenPages = 8;
+// A fault costs a signal and a system call that splits the kernel's map of the range, and a
+// page's re-protection another; comparing a page with its shadow costs a memcmp of 4 KiB. So:
+//  - a fault on the page after the last ones opened (a program writing forward, as a ring does)
+//    opens twice as many pages as the last time, up to kMaxAhead;
+//  - pages opened are left writable after a take and compared again at each take, until a take
+//    finds more fresh pages than it can keep: then the older ones are protected again (one
+//    mprotect a run), and at a frame's end every one is.
+constexpr size_t kMaxAhead = 16;
+constexpr int kOpenPages = 16;
 
 struct Slot {
     std::atomic<uintptr_t> lo{0}, hi{0};           // the range; hi == 0: free
@@ -33,7 +39,9 @@ struct Slot {
     size_t page_words = 0, group_words = 0;
     std::atomic<int> users{0};                     // handlers inside this slot now
     std::atomic<bool> written{false};
-    size_t open[kOpenPages + 1] = {};               // writable pages, ascending (the taker's alone)
+    std::atomic<size_t> ahead_from{0}, ahead_to{0};  // the pages the last fault opened
+    size_t pages_total = 0;
+    size_t open[kOpenPages] = {};                    // writable pages, ascending (the taker's alone)
     int open_count = 0;
 };
 
@@ -71,10 +79,18 @@ bool mark_written(uintptr_t address) {
         const bool ours = address >= lo && address < hi;
         if (ours) {
             const size_t page = (address - lo) / kTrackedPage;
-            s.pages[page / 64].fetch_or(uint64_t(1) << (page % 64));
-            s.groups[page / 4096].fetch_or(uint64_t(1) << (page / 64 % 64));
+            const size_t from = s.ahead_from.load(), to = s.ahead_to.load();
+            const size_t ahead = page > from && page <= to ? std::min((to - from) * 2, kMaxAhead) : 1;
+            const size_t end = std::min(page + ahead, s.pages_total);
+            for (size_t p = page; p < end; ++p) {
+                s.pages[p / 64].fetch_or(uint64_t(1) << (p % 64));
+                s.groups[p / 4096].fetch_or(uint64_t(1) << (p / 64 % 64));
+            }
+            s.ahead_from.store(page);
+            s.ahead_to.store(end);
             if (!s.written.exchange(true)) g_written.fetch_add(1);
-            mprotect(reinterpret_cast<void*>(lo + page * kTrackedPage), kTrackedPage, PROT_READ | PROT_WRITE);
+            mprotect(reinterpret_cast<void*>(lo + page * kTrackedPage), (end - page) * kTrackedPage,
+                     PROT_READ | PROT_WRITE);
         }
         s.users.fetch_sub(1);
         if (ours) return true;
@@ -163,6 +179,9 @@ int track_writes(uint8_t* begin, size_t bytes) {
     slot->pages = new std::atomic<uint64_t>[slot->page_words]();
     slot->groups = new std::atomic<uint64_t>[slot->group_words]();
     slot->written.store(false);
+    slot->pages_total = pages;
+    slot->ahead_from.store(0);
+    slot->ahead_to.store(0);
     slot->lo.store(reinterpret_cast<uintptr_t>(begin));
     slot->hi.store(reinterpret_cast<uintptr_t>(begin) + bytes);
     if (mprotect(begin, bytes, PROT_READ) != 0) {
@@ -240,7 +259,7 @@ void take_written_pages(int index, std::vector<std::pair<size_t, size_t>>& runs,
             }
         }
     }
-    // The open pages and the fresh ones, merged in order.
+    // Every page to compare: the open ones and the fresh ones, merged in order.
     size_t fresh_pages = 0;
     for (const auto& [first, end] : fresh) fresh_pages += end - first;
     auto f = fresh.begin();
@@ -256,9 +275,19 @@ void take_written_pages(int index, std::vector<std::pair<size_t, size_t>>& runs,
         }
         if (runs.empty() || runs.back().second <= page) add_page(runs, page);
     }
-    if (close_all || size_t(s.open_count) + fresh_pages > size_t(kOpenPages)) {
+    if (close_all || fresh_pages > size_t(kOpenPages)) {
         protect(s, runs);
         s.open_count = 0;
+        return;
+    }
+    if (size_t(s.open_count) + fresh_pages > size_t(kOpenPages)) {  // the older ones closed, the fresh kept open
+        thread_local std::vector<std::pair<size_t, size_t>> older;
+        older.clear();
+        for (int i = 0; i < s.open_count; ++i) add_page(older, s.open[i]);
+        protect(s, older);
+        s.open_count = 0;
+        for (const auto& [first, end] : fresh)
+            for (size_t page = first; page < end; ++page) s.open[s.open_count++] = page;
         return;
     }
     s.open_count = 0;
