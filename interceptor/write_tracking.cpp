@@ -29,8 +29,8 @@ constexpr int kSlots = 256;
 //  - pages opened are left writable after a take and compared again at each take, until a take
 //    finds more fresh pages than it can keep: then the older ones are protected again (one
 //    mprotect a run), and at a frame's end every one is.
-constexpr size_t kMaxAhead = 16;
-constexpr int kOpenPages = 16;
+constexpr size_t kMaxAhead = 8;
+constexpr int kOpenPages = 8;
 
 struct Slot {
     std::atomic<uintptr_t> lo{0}, hi{0};           // the range; hi == 0: free
