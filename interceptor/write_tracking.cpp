@@ -15,6 +15,7 @@
 #include <mutex>
 #include <sched.h>
 
+#include "common/immortal.h"
 #include "interceptor/config.h"
 #include "interceptor/dl_hooks.h"
 
@@ -48,6 +49,8 @@ struct Slot {
 Slot g_slots[kSlots];
 std::atomic<int> g_written{0};  // slots with `written` set (a hint: only ever too high)
 std::mutex g_slots_mutex;       // track/untrack; the handler never takes it
+// Scratch of take_written_pages (its callers serialize its calls).
+Immortal<std::vector<std::pair<size_t, size_t>>> g_fresh, g_older;
 
 using SigactionFn = int (*)(int, const struct sigaction*, struct sigaction*);
 using SignalFn = sighandler_t (*)(int, sighandler_t);
@@ -245,7 +248,7 @@ void take_written_pages(int index, std::vector<std::pair<size_t, size_t>>& runs,
         return;
     }
     if (s.written.exchange(false)) g_written.fetch_sub(1);
-    thread_local std::vector<std::pair<size_t, size_t>> fresh;
+    std::vector<std::pair<size_t, size_t>>& fresh = *g_fresh;
     fresh.clear();
     for (size_t g = 0; g < s.group_words; ++g) {
         uint64_t group = s.groups[g].exchange(0);
@@ -281,7 +284,7 @@ void take_written_pages(int index, std::vector<std::pair<size_t, size_t>>& runs,
         return;
     }
     if (size_t(s.open_count) + fresh_pages > size_t(kOpenPages)) {  // the older ones closed, the fresh kept open
-        thread_local std::vector<std::pair<size_t, size_t>> older;
+        std::vector<std::pair<size_t, size_t>>& older = *g_older;
         older.clear();
         for (int i = 0; i < s.open_count; ++i) add_page(older, s.open[i]);
         protect(s, older);

@@ -39,6 +39,7 @@ bool any_pages_written();
 // protected before they are returned (so a write that lands after the protection faults again,
 // and one that lands before is in the memory the caller reads next). `close_all` (at a frame's
 // end) re-protects every page returned, so that an idle mapping costs nothing.
+// Calls are serialized by the caller (one lock over every tracked range's takes).
 void take_written_pages(int slot, std::vector<std::pair<size_t, size_t>>& runs, bool close_all);
 
 // False once the program has replaced glcast's SIGSEGV handler without sigaction or signal;

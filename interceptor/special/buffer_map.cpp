@@ -55,6 +55,7 @@ constexpr int64_t kMergeGap = 64;
 std::mutex g_mutex;
 Immortal<std::map<std::pair<uint32_t, GLuint>, Mapping>> g_maps;  // (context id, buffer name)
 std::atomic<int> g_persistent_maps{0};  // draws take the lock only while some exist
+Immortal<std::vector<std::pair<size_t, size_t>>> g_runs;  // ship_persistent's scratch, under g_mutex
 
 void start_tracking(Mapping& m) {
     const uintptr_t p = reinterpret_cast<uintptr_t>(m.pointer);
@@ -189,7 +190,7 @@ void ship_pages(CallScope& scope, GLuint buffer, Mapping& m, int64_t from, int64
 void ship_persistent(CallScope& scope, GLuint buffer, Mapping& m, bool frame_end = false) {
     if (m.tracked < 0) return ship_changes(scope, buffer, m, 0, m.length);
     ship_changes(scope, buffer, m, 0, m.tracked_from);
-    thread_local std::vector<std::pair<size_t, size_t>> runs;
+    std::vector<std::pair<size_t, size_t>>& runs = *g_runs;  // under g_mutex
     take_written_pages(m.tracked, runs, frame_end);
     for (const auto& [first, end] : runs)
         ship_pages(scope, buffer, m, m.tracked_from + int64_t(first * kTrackedPage),

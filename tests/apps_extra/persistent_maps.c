@@ -12,6 +12,8 @@
  *            between them, as GL asks): the second draw must show the second write
  *   sigsegv  the ring, and the program's own SIGSEGV handlers (one installed before the ring is
  *            mapped, one after) must still see the program's own faults
+ *   crash    the ring for a frame, then a write into a read-only page of the program's own, with
+ *            no handler of its own: the program must die of SIGSEGV as it would alone
  *   subdata  the ring's data and draws through glBufferSubData, no mapping: what the same stream
  *            costs without finding changes (bench/persistent_maps_bench.py)
  *
@@ -498,6 +500,15 @@ int main(int argc, char **argv)
         } else {
             ok = run_ring(&w, &a, 0);
         }
+    } else if (strcmp(shape, "crash") == 0) {
+        a.frames = 1;
+        ok = run_ring(&w, &a, 0);
+        unsigned char *own = mmap(NULL, 4096, PROT_READ, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+        if (own == MAP_FAILED) die("mmap");
+        printf("persistent_maps: crash: writing into a read-only page\n");
+        fflush(stdout);
+        own[0] = (unsigned char)ok;
+        die("the write into a read-only page did not fault");
     } else if (strcmp(shape, "thread") == 0) {
         ok = run_ring(&w, &a, 1);
     } else if (strcmp(shape, "uniform") == 0) {
@@ -507,7 +518,7 @@ int main(int argc, char **argv)
     } else if (strcmp(shape, "rewrite") == 0) {
         ok = run_rewrite(&w, &a);
     } else {
-        die("unknown --shape (ring, uniform, unpack, thread, rewrite, sigsegv, subdata)");
+        die("unknown --shape (ring, uniform, unpack, thread, rewrite, sigsegv, crash, subdata)");
     }
     if (!ok) return 1;
     printf("persistent_maps: %s ok, %ld bytes written a frame\n", shape, written_this_frame);

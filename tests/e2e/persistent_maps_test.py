@@ -9,11 +9,14 @@ replays of a canvas the size of the window, stitched) within the wall's toleranc
 
     persistent_maps_test.py SHAPE     ring uniform unpack thread rewrite sigsegv, or:
       untracked   the ring with GLCAST_MAP_TRACKING=0: said once, compared whole, the same frames
+      crash       a fault of the program's own with no handler of its own (after the ring is
+                  tracked) kills it with SIGSEGV, as without glcast, and the capture is still read
       with GLCAST, GLCAST_SHIM, APPS_DIR, OUT_DIR in the environment
 """
 import os
 import re
 import shutil
+import signal
 import subprocess
 import sys
 
@@ -39,10 +42,24 @@ def run(cmd, env=None, timeout=300):
     return subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=env)
 
 
+def crash(out):
+    program = [os.path.join(APPS, "persistent_maps"), "--shape", "crash", "--size", f"{W}x{H}"]
+    with Xvfb():
+        alone = run(program)
+        r = run(program, env=dict(os.environ, LD_PRELOAD=os.environ["GLCAST_SHIM"],
+                                  GLCAST_CAPTURE=os.path.join(out, "capture.glcs")), timeout=60)
+    check(alone.returncode == -signal.SIGSEGV, f"alone the program ended {alone.returncode}: {alone.stderr[-500:]}")
+    check(r.returncode == -signal.SIGSEGV and "writing into a read-only page" in r.stdout,
+          f"under the shim the program ended {r.returncode}, not by SIGSEGV: {r.stdout} {r.stderr[-1500:]}")
+    print("crash: the program's own fault kills it with SIGSEGV under the shim as alone")
+
+
 def main(case):
     out = os.path.join(os.environ.get("OUT_DIR", "/tmp/glcast-e2e"), "persistent_maps", case)
     shutil.rmtree(out, ignore_errors=True)
     os.makedirs(out)
+    if case == "crash":
+        return crash(out)
     shape = "ring" if case == "untracked" else case
     capture, own = os.path.join(out, "capture.glcs"), os.path.join(out, "program")
     with Xvfb():  # (it sets DISPLAY)
