@@ -12,6 +12,11 @@
  *            between them, as GL asks): the second draw must show the second write
  *   sigsegv  the ring, and the program's own SIGSEGV handlers (one installed before the ring is
  *            mapped, one after) must still see the program's own faults
+ *   several  three persistent mappings at once, each made visible its own way: positions in a
+ *            coherent ring, colours in an explicit-flush ring (glFlushMappedBufferRange), indices
+ *            in a small non-coherent ring (glMemoryBarrier(GL_CLIENT_MAPPED_BUFFER_BARRIER_BIT))
+ *   contexts two threads, each with its own window, its own context (sharing nothing) and its own
+ *            ring, in the ring's shape (frames counted per thread)
  *   crash    the ring for a frame, then a write into a read-only page of the program's own, with
  *            no handler of its own: the program must die of SIGSEGV as it would alone
  *   subdata  the ring's data and draws through glBufferSubData, no mapping: what the same stream
@@ -92,7 +97,7 @@ static void write_triangle(unsigned char *at, const float *xy, const float *rgba
     }
     memcpy(at, v, sizeof v);
     if (subdata) glBufferSubData(GL_ARRAY_BUFFER, at - ring, sizeof v, v);
-    written_this_frame += (long)sizeof v;
+    __atomic_add_fetch(&written_this_frame, (long)sizeof v, __ATOMIC_RELAXED);
 }
 
 /* The pixel at the centre of draw k's triangle, as the program drew it. */
@@ -425,6 +430,129 @@ static int run_unpack(struct glx_window *w, const struct app_args *a)
     return ok;
 }
 
+static void *map_persistent(GLenum target, size_t bytes, GLbitfield flags, GLuint *name)
+{
+    glGenBuffers(1, name);
+    glBindBuffer(target, *name);
+    glBufferStorage(target, (GLsizeiptr)bytes, NULL, flags & ~GL_MAP_FLUSH_EXPLICIT_BIT);
+    void *p = glMapBufferRange(target, 0, (GLsizeiptr)bytes, flags);
+    if (!p) die("glMapBufferRange returned NULL");
+    return p;
+}
+
+/* Draw k's three vertices are vertices slot * 256 + 0..2 of the position and colour rings (16 bytes
+ * each, so that both index alike); its three indices are the 16 bytes at slot * 16 of the index ring. */
+static int run_several(struct glx_window *w, const struct app_args *a)
+{
+    const GLbitfield write = GL_MAP_WRITE_BIT | GL_MAP_PERSISTENT_BIT;
+    GLuint positions, colours, indices;
+    float *pos = map_persistent(GL_ARRAY_BUFFER, ring_bytes, write | GL_MAP_COHERENT_BIT, &positions);
+    glVertexPointer(2, GL_FLOAT, 16, (const void *)0);
+    float *col = map_persistent(GL_ARRAY_BUFFER, ring_bytes, write | GL_MAP_FLUSH_EXPLICIT_BIT, &colours);
+    glColorPointer(4, GL_FLOAT, 16, (const void *)0);
+    slots = ring_bytes / SLOT;
+    GLuint *idx = map_persistent(GL_ELEMENT_ARRAY_BUFFER, slots * 16, write, &indices);
+    check_gl("mapping three rings");
+    glEnableClientState(GL_VERTEX_ARRAY);
+    glEnableClientState(GL_COLOR_ARRAY);
+    if (slots < (size_t)draws) die("--ring-mb too small for one frame of --draws");
+    fence_count = (int)(slots / (size_t)draws);
+    fences = calloc((size_t)fence_count, sizeof *fences);
+    int ok = 1;
+    for (int f = 0; f < a->frames; f++) {
+        written_this_frame = 0;
+        wait_for_frame(f);
+        glClearColor(0.1f, 0.1f, 0.12f, 1);
+        glClear(GL_COLOR_BUFFER_BIT);
+        for (int k = 0; k < draws; k++) {
+            const size_t slot = ((size_t)f * draws + k) % slots, vertex = slot * SLOT / 16;
+            float xy[6], rgba[4];
+            triangle_of(f, k, draws, xy, rgba);
+            for (int i = 0; i < 3; i++) {
+                memcpy(pos + (vertex + i) * 4, xy + 2 * i, 2 * sizeof(float));
+                memcpy(col + (vertex + i) * 4, rgba, sizeof rgba);
+                idx[slot * 4 + i] = (GLuint)(vertex + i);
+            }
+            written_this_frame += 3 * (8 + 16 + 4);
+            glBindBuffer(GL_ARRAY_BUFFER, colours);
+            glFlushMappedBufferRange(GL_ARRAY_BUFFER, (GLintptr)(vertex * 16), 48);
+            glMemoryBarrier(GL_CLIENT_MAPPED_BUFFER_BARRIER_BIT);
+            glDrawElements(GL_TRIANGLES, 3, GL_UNSIGNED_INT, (const void *)(slot * 16));
+        }
+        frame_done(f);
+        if (f == a->frames - 1)
+            for (int k = 0; k < draws && ok; k += (draws + 7) / 8) {
+                int x, y;
+                unsigned char rgb[3];
+                probe_of(f, k, draws, a->width, a->height, &x, &y, rgb);
+                ok = pixel_is(x, y, rgb, "a triangle of the last frame");
+            }
+        glXSwapBuffers(w->dpy, w->win);
+        check_gl("in a frame");
+    }
+    return ok;
+}
+
+/* One of two threads of --shape contexts: its own window, context and ring. */
+struct context_thread {
+    const struct app_args *a;
+    int id, ok;
+};
+static pthread_mutex_t window_lock = PTHREAD_MUTEX_INITIALIZER;
+
+static void *run_context(void *arg)
+{
+    struct context_thread *t = arg;
+    const struct app_args *a = t->a;
+    int attribs[] = {GLX_RGBA, GLX_DOUBLEBUFFER, GLX_RED_SIZE, 8, GLX_GREEN_SIZE, 8, GLX_BLUE_SIZE, 8, None};
+    pthread_mutex_lock(&window_lock);
+    struct glx_window w = glx_window_open("persistent_maps", a, attribs, "RGB");
+    pthread_mutex_unlock(&window_lock);
+    glViewport(0, 0, a->width, a->height);
+    const GLbitfield flags = GL_MAP_WRITE_BIT | GL_MAP_PERSISTENT_BIT | GL_MAP_COHERENT_BIT;
+    GLuint b;
+    unsigned char *mine = map_persistent(GL_ARRAY_BUFFER, ring_bytes, flags, &b);
+    setup_fixed_function();
+    const size_t n = ring_bytes / SLOT;
+    t->ok = 1;
+    for (int f = 0; f < a->frames; f++) {
+        glClearColor(0.1f, 0.1f * t->id, 0.12f, 1);
+        glClear(GL_COLOR_BUFFER_BIT);
+        for (int k = 0; k < draws; k++) {
+            const size_t slot = ((size_t)f * draws + k) % n;
+            float xy[6], rgba[4];
+            triangle_of(f + 3 * t->id, k, draws, xy, rgba);
+            write_triangle(mine + slot * SLOT, xy, rgba);
+            draw_slot(slot);
+        }
+        glFinish(); /* the ring's next slots are written only after the GPU read these */
+        if (f == a->frames - 1)
+            for (int k = 0; k < draws && t->ok; k += (draws + 7) / 8) {
+                int x, y;
+                unsigned char rgb[3];
+                probe_of(f + 3 * t->id, k, draws, a->width, a->height, &x, &y, rgb);
+                t->ok = pixel_is(x, y, rgb, "a triangle of a thread's last frame");
+            }
+        glXSwapBuffers(w.dpy, w.win);
+        check_gl("in a frame");
+    }
+    glUnmapBuffer(GL_ARRAY_BUFFER);
+    pthread_mutex_lock(&window_lock);
+    glx_window_close(&w);
+    pthread_mutex_unlock(&window_lock);
+    return NULL;
+}
+
+static int run_contexts(const struct app_args *a)
+{
+    struct context_thread t[2] = {{a, 0, 0}, {a, 1, 0}};
+    pthread_t th[2];
+    for (int i = 0; i < 2; i++) pthread_create(&th[i], NULL, run_context, &t[i]);
+    for (int i = 0; i < 2; i++) pthread_join(th[i], NULL);
+    written_this_frame /= a->frames * 2; /* a frame of one thread */
+    return t[0].ok && t[1].ok;
+}
+
 /* Two draws of a frame read slot 0; between them (after a fence on the first) it is written again. */
 static int run_rewrite(struct glx_window *w, const struct app_args *a)
 {
@@ -476,6 +604,12 @@ int main(int argc, char **argv)
     app_parse_args("persistent_maps", argc - (i - 1), argv + (i - 1), &a);
     if (ring_mb < 1 || ring_mb > 4096 || draws < 1 || draws > 100000) die("bad --ring-mb or --draws");
     ring_bytes = (size_t)ring_mb << 20;
+    if (strcmp(shape, "contexts") == 0) {
+        XInitThreads();
+        if (!run_contexts(&a)) return 1;
+        printf("persistent_maps: contexts ok, %ld bytes written a frame\n", written_this_frame);
+        return 0;
+    }
     int attribs[] = {GLX_RGBA, GLX_DOUBLEBUFFER, GLX_RED_SIZE, 8, GLX_GREEN_SIZE, 8, GLX_BLUE_SIZE, 8, None};
     struct glx_window w = glx_window_open("persistent_maps", &a, attribs, "RGB");
     glViewport(0, 0, a.width, a.height);
@@ -500,6 +634,8 @@ int main(int argc, char **argv)
         } else {
             ok = run_ring(&w, &a, 0);
         }
+    } else if (strcmp(shape, "several") == 0) {
+        ok = run_several(&w, &a);
     } else if (strcmp(shape, "crash") == 0) {
         a.frames = 1;
         ok = run_ring(&w, &a, 0);
@@ -518,7 +654,7 @@ int main(int argc, char **argv)
     } else if (strcmp(shape, "rewrite") == 0) {
         ok = run_rewrite(&w, &a);
     } else {
-        die("unknown --shape (ring, uniform, unpack, thread, rewrite, sigsegv, crash, subdata)");
+        die("unknown --shape (ring, uniform, unpack, thread, rewrite, sigsegv, several, contexts, crash, subdata)");
     }
     if (!ok) return 1;
     printf("persistent_maps: %s ok, %ld bytes written a frame\n", shape, written_this_frame);
