@@ -47,7 +47,6 @@ struct Slot {
 };
 
 Slot g_slots[kSlots];
-std::atomic<int> g_written{0};  // slots with `written` set (a hint: only ever too high)
 std::mutex g_slots_mutex;       // track/untrack; the handler never takes it
 // Scratch of take_written_pages (its callers serialize its calls).
 Immortal<std::vector<std::pair<size_t, size_t>>> g_fresh, g_older;
@@ -91,7 +90,7 @@ bool mark_written(uintptr_t address) {
             }
             s.ahead_from.store(page);
             s.ahead_to.store(end);
-            if (!s.written.exchange(true)) g_written.fetch_add(1);
+            s.written.store(true);
             mprotect(reinterpret_cast<void*>(lo + page * kTrackedPage), (end - page) * kTrackedPage,
                      PROT_READ | PROT_WRITE);
         }
@@ -213,14 +212,12 @@ void untrack_writes(int index) {
     s.hi.store(0);
     s.lo.store(0);
     while (s.users.load()) sched_yield();
-    if (s.written.exchange(false)) g_written.fetch_sub(1);
+    s.written.store(false);
     s.open_count = 0;
     delete[] s.pages;
     delete[] s.groups;
     s.pages = s.groups = nullptr;
 }
-
-bool any_pages_written() { return g_written.load(std::memory_order_relaxed) > 0; }
 
 namespace {
 
@@ -247,7 +244,7 @@ void take_written_pages(int index, std::vector<std::pair<size_t, size_t>>& runs,
         for (int i = 0; i < s.open_count; ++i) add_page(runs, s.open[i]);
         return;
     }
-    if (s.written.exchange(false)) g_written.fetch_sub(1);
+    s.written.store(false);
     std::vector<std::pair<size_t, size_t>>& fresh = *g_fresh;
     fresh.clear();
     for (size_t g = 0; g < s.group_words; ++g) {

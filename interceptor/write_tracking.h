@@ -30,9 +30,6 @@ int track_writes(uint8_t* begin, size_t bytes);
 // Makes the range writable again and frees its slot. After it returns no handler refers to it.
 void untrack_writes(int slot);
 
-// True when some page of any tracked range has been written since it was last taken.
-bool any_pages_written();
-
 // The runs of pages of `slot` the caller must compare, as [first, end) page indices: those written
 // since the last call and those still writable since an earlier one (a few are left writable, so
 // that a page written at each draw costs no system call at each draw). Pages re-protected are
