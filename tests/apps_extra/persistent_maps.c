@@ -123,6 +123,18 @@ static int pixel_is(int x, int y, const unsigned char *rgb, const char *what)
     return 1;
 }
 
+/* Whether the frame shows draw k of frame f for every eighth k of n draws. */
+static int frame_shows(int f, int n, const struct app_args *a, const char *what)
+{
+    for (int k = 0; k < n; k += (n + 7) / 8) {
+        int x, y;
+        unsigned char rgb[3];
+        probe_of(f, k, n, a->width, a->height, &x, &y, rgb);
+        if (!pixel_is(x, y, rgb, what)) return 0;
+    }
+    return 1;
+}
+
 /* --- frame fences: a slot of the ring is written again only after the GPU read it ----- */
 
 static GLsync *fences;
@@ -287,12 +299,7 @@ static int run_ring(struct glx_window *w, const struct app_args *a, int threaded
         }
         frame_done(f);
         if (f == a->frames - 1)
-            for (int k = 0; k < draws && ok; k += (draws + 7) / 8) {
-                int x, y;
-                unsigned char rgb[3];
-                probe_of(f, k, draws, a->width, a->height, &x, &y, rgb);
-                ok = pixel_is(x, y, rgb, "a triangle of the last frame");
-            }
+            ok = frame_shows(f, draws, a, "a triangle of the last frame");
         glXSwapBuffers(w->dpy, w->win);
         check_gl("in a frame");
     }
@@ -370,12 +377,7 @@ static int run_uniform(struct glx_window *w, const struct app_args *a)
         }
         frame_done(f);
         if (f == a->frames - 1)
-            for (int k = 0; k < draws && ok; k += (draws + 7) / 8) {
-                int x, y;
-                unsigned char rgb[3];
-                probe_of(f, k, draws, a->width, a->height, &x, &y, rgb);
-                ok = pixel_is(x, y, rgb, "a uniform-ring quad of the last frame");
-            }
+            ok = frame_shows(f, draws, a, "a uniform-ring quad of the last frame");
         glXSwapBuffers(w->dpy, w->win);
         check_gl("in a frame");
     }
@@ -481,12 +483,7 @@ static int run_several(struct glx_window *w, const struct app_args *a)
         }
         frame_done(f);
         if (f == a->frames - 1)
-            for (int k = 0; k < draws && ok; k += (draws + 7) / 8) {
-                int x, y;
-                unsigned char rgb[3];
-                probe_of(f, k, draws, a->width, a->height, &x, &y, rgb);
-                ok = pixel_is(x, y, rgb, "a triangle of the last frame");
-            }
+            ok = frame_shows(f, draws, a, "a triangle of the last frame");
         glXSwapBuffers(w->dpy, w->win);
         check_gl("in a frame");
     }
@@ -527,12 +524,7 @@ static void *run_context(void *arg)
         }
         glFinish(); /* the ring's next slots are written only after the GPU read these */
         if (f == a->frames - 1)
-            for (int k = 0; k < draws && t->ok; k += (draws + 7) / 8) {
-                int x, y;
-                unsigned char rgb[3];
-                probe_of(f + 3 * t->id, k, draws, a->width, a->height, &x, &y, rgb);
-                t->ok = pixel_is(x, y, rgb, "a triangle of a thread's last frame");
-            }
+            t->ok = frame_shows(f + 3 * t->id, draws, a, "a triangle of a thread's last frame");
         glXSwapBuffers(w.dpy, w.win);
         check_gl("in a frame");
     }
