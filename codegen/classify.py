@@ -55,6 +55,7 @@ class Plan:
     handwritten: bool = False
     reply_only: bool = False
     draw: dict | None = None
+    reads_buffers: bool = False  # may read a buffer's memory: persistent mappings ship first
 
     @property
     def serializable(self):
@@ -240,6 +241,8 @@ class Classifier:
             plan.ret = self.ret(cmd)
             for key, expr in (plan.draw or {}).items():
                 self.check_expr(cmd, expr, f"draw range ({key})")
+            plan.reads_buffers = bool(plan.draw) or any(w.source for w in plan.params) or any(
+                fnmatch.fnmatchcase(cmd.name, pat) for pat in self.a.get("reads_mapped_memory") or [])
         except Unserializable as e:
             plan.reason = str(e)
             plan.params = []

@@ -46,6 +46,9 @@ static ShimConfig load() {
     v = 0;
     ok &= read_uint("GLCAST_VERBOSE", 0, 1, v);
     c.verbose = v;
+    v = 1;
+    ok &= read_uint("GLCAST_MAP_TRACKING", 0, 1, v);
+    c.map_tracking = v != 0;
     v = 10;
     ok &= read_uint("GLCAST_WRITER_NICE", 0, 19, v);
     c.writer_nice = int(v);

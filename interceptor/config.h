@@ -16,6 +16,7 @@ struct ShimConfig {
     bool inter_frame = true;    // GLCAST_INTER_FRAME: 0 compresses each message alone (format version 2 still)
     bool verbose = false;       // GLCAST_VERBOSE=1: summary on stderr at exit
     int writer_nice = 10;       // GLCAST_WRITER_NICE: the writer thread's nice value, 0..19 (0: the program's)
+    bool map_tracking = true;   // GLCAST_MAP_TRACKING=0: persistent mappings compared whole, not page-tracked
     std::string snapshot_dir;   // GLCAST_SNAPSHOT_DIR: the program's own frames as PNGs (tests)
     uint64_t snapshot_from = 0; // GLCAST_SNAPSHOT_FROM: ... from this frame on
     std::string publish;        // GLCAST_PUBLISH: ZeroMQ endpoint the stream is published on

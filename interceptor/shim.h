@@ -63,8 +63,14 @@ private:
 uint32_t current_context_id();
 void set_current_context(uint32_t id);
 
-// Mapped buffers (special/buffer_map.cpp): called before every draw, ships what the program
-// wrote into persistent mappings since the last one.
+// Mapped buffers (special/buffer_map.cpp): ships what the program wrote into the current
+// context's persistent mappings since the last time. Called after the driver's call and before
+// the tuple of every command that may read a buffer's memory (draws, compute, commands with a
+// buffer-offset pointer, commands.yaml reads_mapped_memory); at a swap, the frame-end variant
+// also notices a lost SIGSEGV handler (interceptor/write_tracking.h).
 void ship_mapped_writes(CallScope& scope);
+void ship_mapped_writes_at_frame_end(CallScope& scope);
+// Before a context is destroyed: its mappings' memory may be freed with it.
+void forget_mappings_of_context(uint32_t context);
 
 }  // namespace glcast

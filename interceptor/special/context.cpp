@@ -192,6 +192,7 @@ Bool special::glXMakeContextCurrent(glXMakeContextCurrent_fn real, CallScope& sc
 }
 
 void special::glXDestroyContext(glXDestroyContext_fn real, CallScope& scope, Display* dpy, GLXContext ctx) {
+    if (g_recording) forget_mappings_of_context(id_of(ctx));
     real(dpy, ctx);
     record(scope, [&](Encoder& e, SizeQueries& sz) { encode_glXDestroyContext(e, sz, dpy, ctx); });
     if (g_recording) destroyed(ctx);
@@ -217,6 +218,7 @@ void special::glXSwapBuffers(glXSwapBuffers_fn real, CallScope& scope, Display* 
     if (!scope.recording()) return real(dpy, drawable);
     glx_drawable_size(scope, dpy, drawable, false);
     real(dpy, drawable);
+    ship_mapped_writes_at_frame_end(scope);
     scope.record([&](Encoder& e, SizeQueries& sz) { encode_glXSwapBuffers(e, sz, dpy, drawable); });
     on_frame_end();
 }
@@ -251,6 +253,7 @@ EGLBoolean special::eglMakeCurrent(eglMakeCurrent_fn real, CallScope& scope, EGL
 }
 
 EGLBoolean special::eglDestroyContext(eglDestroyContext_fn real, CallScope& scope, EGLDisplay dpy, EGLContext ctx) {
+    if (g_recording) forget_mappings_of_context(id_of(ctx));
     EGLBoolean ret = real(dpy, ctx);
     record(scope, [&](Encoder& e, SizeQueries& sz) { encode_eglDestroyContext(e, sz, dpy, ctx, ret); });
     if (g_recording) destroyed(ctx);
@@ -269,6 +272,7 @@ EGLBoolean special::eglSwapBuffers(eglSwapBuffers_fn real, CallScope& scope, EGL
     if (!scope.recording()) return real(dpy, surface);
     egl_drawable_size(scope, dpy, surface, false);
     EGLBoolean ret = real(dpy, surface);
+    ship_mapped_writes_at_frame_end(scope);
     scope.record([&](Encoder& e, SizeQueries& sz) { encode_eglSwapBuffers(e, sz, dpy, surface, ret); });
     on_frame_end();
     return ret;
