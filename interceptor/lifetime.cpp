@@ -123,7 +123,14 @@ void watch_last_thread() {
     }
 }
 
+// The thread that runs the exit handlers (set before the flags that say it is known).
+pthread_t g_exiting_thread;
+std::atomic<bool> g_exit_begun{false};      // the drain before the libraries' destructors began
+std::atomic<bool> g_closing_at_exit{false};  // the close after them began
+
 void close_at_last(void*) {
+    if (!g_exit_begun.load(std::memory_order_acquire)) g_exiting_thread = pthread_self();
+    g_closing_at_exit.store(true, std::memory_order_release);
     g_watching.store(false, std::memory_order_relaxed);
     g_recording = false;
     finish_stream();
@@ -152,6 +159,15 @@ void watch_for_the_last_thread(bool publishing) {
 
 bool in_forked_child() { return g_forked_child.load(std::memory_order_relaxed); }
 
+bool records_while_ending() {
+    return !g_exit_begun.load(std::memory_order_acquire) || pthread_equal(pthread_self(), g_exiting_thread);
+}
+
+void stay_out_of_the_exit() {
+    if (!g_closing_at_exit.load(std::memory_order_acquire) || pthread_equal(pthread_self(), g_exiting_thread)) return;
+    for (;;) pause();  // until exit_group ends the process with this thread in it
+}
+
 void count_call_after_end(uint32_t opcode) {
     if (g_calls_after_end.fetch_add(1, std::memory_order_relaxed) == 0 && shim_config().verbose)
         std::fprintf(stderr, "glcast: %s (pid %d) after %s: passed to the driver, not recorded\n",
@@ -159,8 +175,25 @@ void count_call_after_end(uint32_t opcode) {
                      in_forked_child() ? "fork (the stream is the parent's)" : "the stream ended");
 }
 
+// The program's own exit handlers have run (they were registered later), its threads may still
+// be drawing, and next the dynamic linker runs every library's destructors, the driver's among
+// them: what the stream holds is written now, so that closing it after those destructors takes
+// only what they added, not a backlog during which the program's other threads would run into a
+// torn-down driver (alone, the process would already have ended).
+// From here on only the exiting thread's calls are recorded: what other threads draw while the
+// process ends is cut off by its end, alone as under glcast.
+void drain_before_the_libraries_end(void*) {
+    if (!g_recording || in_forked_child()) return;
+    g_exiting_thread = pthread_self();
+    g_exit_begun.store(true, std::memory_order_release);
+    drain_stream();
+}
+
 __attribute__((constructor)) static void shim_init() {
     g_recording = shim_config().has_consumer();
+    // Registered before the program's constructors run: after the dynamic linker's own
+    // (registered before any constructor), so it runs before every library's destructor.
+    if (g_recording) __cxa_atexit(drain_before_the_libraries_end, nullptr, nullptr);
     pthread_once(&g_thread_exit_key_once, make_thread_exit_key);  // before the program makes keys of its own
     pthread_atfork(before_fork, after_fork_in_parent, after_fork_in_child);
 }

@@ -9,6 +9,13 @@
 //  - The stream is closed after every exit handler and library destructor has run (the
 //    shim's own destructor registers the close as the last exit handler), so calls made there
 //    are recorded; a call after that is passed to the driver and counted.
+//  - When the program's exit handlers have run, what the stream holds is written before the
+//    libraries' destructors, and from then on only the exiting thread's calls are recorded
+//    (others are passed to the driver, as calls the process's end cuts off). While the exiting
+//    thread closes the stream after those destructors (the driver's among them), a call of
+//    another thread waits there for the process to end, as it would have ended already
+//    without glcast: a thread that goes on drawing as another calls exit must not reach a
+//    driver torn down for longer than it would alone.
 //  - When the program's last thread exits, glcast's own threads do not keep it alive.
 //  - A forked child passes every call to the driver and touches nothing of the shim's: the
 //    stream is its parent's (a child that execs starts a shim of its own).
@@ -31,6 +38,13 @@ void watch_for_the_last_thread(bool publishing);
 
 // True in a child forked from a program whose shim had a consumer.
 bool in_forked_child();
+
+// False for a call of a thread other than the exiting one once the process has begun to end.
+bool records_while_ending();
+
+// For a call of a thread other than the one closing the stream at exit: returns only when the
+// stream is not being closed at exit.
+void stay_out_of_the_exit();
 
 // Calls passed to the driver because the stream had ended (or belongs to the parent). Counted by
 // CallScope; the first is said on stderr under GLCAST_VERBOSE.

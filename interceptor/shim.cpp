@@ -78,9 +78,11 @@ Stream* stream() {
 
 CallScope::CallScope(uint32_t opcode) : opcode_(opcode) {
     ThreadState& ts = thread_state();
-    recording_ = g_recording && ts.depth == 0;
-    if (!recording_ && g_stream_ready.load(std::memory_order_relaxed) && ts.depth == 0) [[unlikely]]
+    recording_ = g_recording && ts.depth == 0 && records_while_ending();
+    if (!recording_ && g_stream_ready.load(std::memory_order_relaxed) && ts.depth == 0) [[unlikely]] {
+        stay_out_of_the_exit();
         count_call_after_end(opcode);
+    }
     ts.depth++;
     ts.opcode = opcode;
 }
@@ -151,6 +153,10 @@ void print_summary() {
         if (uint32_t n = g_unserialized[op].load())
             std::fprintf(stderr, "glcast:   unserialized %s x%u: %s\n", command_info(op)->name, n,
                          *command_info(op)->reason ? command_info(op)->reason : "size unknown at run time");
+}
+
+void drain_stream() {
+    if (g_stream && g_stream_pid == getpid()) g_stream->drain();
 }
 
 void finish_stream() {

@@ -25,6 +25,7 @@ struct ThreadState {
 
 Stream* stream();          // nullptr when no consumer could be opened
 void on_frame_end();       // after a swap's tuple: ends the frame, applies GLCAST_FRAMES
+void drain_stream();   // writes what the stream holds so far (interceptor/lifetime.h)
 void finish_stream();
 
 }  // namespace glcast

@@ -81,6 +81,19 @@ void Stream::flush() {
     queue_changed_.wait(lock, [&] { return in_flight_ == 0; });
 }
 
+void Stream::drain() {
+    uint64_t sealed = 0;
+    {
+        std::lock_guard lock(open_lock_);
+        if (closed_) return;
+        seal_open(false);
+        std::lock_guard queue_lock(mutex_);
+        sealed = next_sequence_;
+    }
+    std::unique_lock lock(mutex_);
+    queue_changed_.wait(lock, [&] { return written_batches_ >= sealed || stopping_; });
+}
+
 void Stream::close() {
     {
         std::lock_guard open_lock(open_lock_);
@@ -168,6 +181,7 @@ void Stream::writer_loop() {
         stats_.compress_seconds += compress_seconds;
         stats_.compressions += coder.compressions();
         in_flight_--;
+        written_batches_++;
         queue_changed_.notify_all();
     }
 }

@@ -46,6 +46,9 @@ public:
     void append(const uint8_t* tuple, size_t bytes);  // one whole tuple; thread-safe
     void end_frame();                                  // after a swap's tuple
     void flush();                                      // seal the open batch, wait for the writer
+    // Seal the open batch and wait until the writer has handed every batch sealed so far to the
+    // sinks (not those other threads seal meanwhile: it ends while they go on recording).
+    void drain();
     void close();                                      // flush, stop the writer, close sinks
     uint64_t frame() const;
     StreamStats stats() const;
@@ -80,6 +83,7 @@ private:
     size_t in_flight_ = 0;
     bool stopping_ = false;
     uint64_t next_sequence_ = 0;
+    uint64_t written_batches_ = 0;  // handed to the sinks (batches are written in sequence order)
     StreamStats stats_;
     int zstd_level_;
     bool inter_frame_;

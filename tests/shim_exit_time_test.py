@@ -1,13 +1,14 @@
 #!/usr/bin/env python3
-"""The shim registers nothing to run at exit but the close of its stream.
+"""The shim registers nothing to run at exit but the drain and the close of its stream.
 
 A program calls GL from its exit handlers, its libraries' destructors and its threads' exits, in an
 order nobody controls; a global of the shim's destroyed before such a call is freed memory under
 it (Mesa's piglit tests aborted at exit on glibc's heap checks, and their captures were empty).
 So every object of the shim that such a call can reach is Immortal (common/immortal.h), and its
 per-thread state is freed by a pthread key (interceptor/lifetime.cpp). This test reads the
-shim's machine code: the only function that may register an exit-time function is the shim's
-own destructor (interceptor/lifetime.cpp's shim_fini, which registers the stream's close), and no
+shim's machine code: the only functions that may register an exit-time function are the shim's
+own destructor (interceptor/lifetime.cpp's shim_fini, which registers the stream's close) and its
+constructor (shim_init, which registers the drain before the libraries' destructors), and no
 thread_local object may have a destructor (__cxa_thread_atexit_impl). A new global std::map, a
 function-local static std::string or a thread_local with a destructor anywhere in the shim fails
 it, naming the function that registers it.
@@ -18,7 +19,7 @@ import re
 import subprocess
 import sys
 
-ALLOWED = {"glcast::shim_fini()"}
+ALLOWED = {"glcast::shim_fini()", "glcast::shim_init()"}
 
 
 def registrations(path):

@@ -21,6 +21,9 @@
  *   last-thread   the frames are drawn by a second thread; main calls pthread_exit, so the
  *                 process ends when the drawing thread returns (glibc's exit from the last thread;
  *                 with the driver's own threads off: LP_NUM_THREADS=0 MESA_SHADER_CACHE_DISABLE=true)
+ *   threads-exit  three threads, each with a window and a context of its own, draw the frames
+ *                 together; then the first leaves its open frame and calls exit(0) while the
+ *                 other two wait, their contexts released; main waits on the first
  *   fork          after half the frames the program forks: the child sets the clear colour to
  *                 (1, 0, 1) and calls exit(0); the parent waits for it (a nonzero status of the
  *                 child's becomes the program's) and draws the rest
@@ -37,6 +40,7 @@
 #include <dlfcn.h>
 #include <pthread.h>
 #include <signal.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -208,6 +212,52 @@ static void run_threads(void)
     gl.DestroyContext(dpy, second_ctx);
 }
 
+/* --- several contexts, exit from a thread -------------------------------------------------- */
+
+enum { kDrawers = 3 };
+static Display *drawer_displays[kDrawers];  /* a connection each, as toolkits' threads have */
+static Window drawer_windows[kDrawers];
+static GLXContext drawer_contexts[kDrawers];
+static pthread_barrier_t drawn;
+
+static void *drawer(void *which)
+{
+    const int i = (int)(intptr_t)which;
+    Display *const own = drawer_displays[i];
+    gl.MakeCurrent(own, drawer_windows[i], drawer_contexts[i]);
+    for (int f = 0; f < args.frames; f++) {
+        gl.ClearColor(0.1f * (float)(i + 1), 0.2f, 0.3f + 0.05f * (float)f, 1);
+        gl.Clear(GL_COLOR_BUFFER_BIT);
+        gl.SwapBuffers(own, drawer_windows[i]);
+    }
+    pthread_barrier_wait(&drawn);
+    if (i == 0) {
+        open_frame();
+        printf("exit_paths: %s done\n", mode);
+        fflush(stdout);
+        exit(0);
+    }
+    /* Its context released, it waits for the process to end (drawing on as another thread
+     * calls exit races the libraries' destructors, alone too: 2 of 20 runs died so). */
+    gl.MakeCurrent(own, None, NULL);
+    for (;;) pause();
+    return NULL;
+}
+
+static void run_threads_exit(void)
+{
+    pthread_barrier_init(&drawn, NULL, kDrawers);
+    pthread_t threads[kDrawers];
+    for (int i = 0; i < kDrawers; i++) {
+        if (i > 0) open_window();  /* the first is main's */
+        drawer_displays[i] = dpy;
+        drawer_windows[i] = win;
+        drawer_contexts[i] = gl.CreateContext(dpy, vi, NULL, True);
+    }
+    for (int i = 0; i < kDrawers; i++) pthread_create(&threads[i], NULL, drawer, (void *)(intptr_t)i);
+    pthread_join(threads[0], NULL);  /* never returns: the thread ends the process */
+}
+
 /* --- fork -------------------------------------------------------------------------------- */
 
 /* A forked child cannot draw with its parent's context (the driver's threads stayed in the parent),
@@ -257,12 +307,12 @@ static void run_dlclose(void)
 int main(int argc, char **argv)
 {
     static const char *const modes[] = {"return", "atexit", "destructor", "thread", "last-thread",
-                                        "fork", "dlclose", "_exit", "signal"};
+                                        "threads-exit", "fork", "dlclose", "_exit", "signal"};
     mode = argc > 1 ? argv[1] : "";
     int known = 0;
     for (size_t i = 0; i < sizeof modes / sizeof *modes; i++) known |= strcmp(mode, modes[i]) == 0;
     if (!known) {
-        fprintf(stderr, "exit_paths: unknown mode '%s' (return, atexit, destructor, thread, last-thread, fork, "
+        fprintf(stderr, "exit_paths: unknown mode '%s' (return, atexit, destructor, thread, last-thread, threads-exit, fork, "
                         "dlclose, _exit or signal)\n", mode);
         return 2;
     }
@@ -273,11 +323,14 @@ int main(int argc, char **argv)
         printf("exit_paths: %s done\n", mode);
         return 0;
     }
-    if (strcmp(mode, "thread") == 0 || strcmp(mode, "last-thread") == 0) XInitThreads();
+    const int threaded = strcmp(mode, "thread") == 0 || strcmp(mode, "last-thread") == 0 ||
+                         strcmp(mode, "threads-exit") == 0;
+    if (threaded) XInitThreads();
     opened_gl();
     open_window();
+    if (strcmp(mode, "threads-exit") == 0) run_threads_exit();
     ctx = gl.CreateContext(dpy, vi, NULL, True);
-    if (strcmp(mode, "thread") == 0 || strcmp(mode, "last-thread") == 0) {
+    if (threaded) {
         run_threads();
         printf("exit_paths: %s done\n", mode);
         return 0;
