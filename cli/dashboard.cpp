@@ -1,5 +1,6 @@
 #include "cli/dashboard.h"
 
+#include <arpa/inet.h>
 #include <httplib.h>
 
 #include <algorithm>
@@ -57,8 +58,22 @@ void split_address(const std::string& address_port, std::string& host, int& port
     port = int(p);
 }
 
+bool same_name(const std::string& a, const std::string& b) {
+    return a.size() == b.size() &&
+           std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) { return std::tolower(uint8_t(x)) == std::tolower(uint8_t(y)); });
+}
+
+// An address literal of loopback (127.0.0.0/8 in dotted decimal, ::1 however it is spelled, or
+// ::ffff:127.x.y.z), or `localhost`. Not a name that starts with "127.": a page of another site
+// can make its own name resolve to 127.0.0.1 (DNS rebinding).
 bool loopback(const std::string& host) {
-    return host == "localhost" || host == "::1" || host.rfind("127.", 0) == 0;
+    if (same_name(host, "localhost")) return true;
+    in_addr v4{};
+    if (inet_pton(AF_INET, host.c_str(), &v4) == 1) return (ntohl(v4.s_addr) >> 24) == 127;
+    in6_addr v6{};
+    if (inet_pton(AF_INET6, host.c_str(), &v6) != 1) return false;
+    if (IN6_IS_ADDR_LOOPBACK(&v6)) return true;
+    return IN6_IS_ADDR_V4MAPPED(&v6) && v6.s6_addr[12] == 127;
 }
 
 std::string content_type(const std::string& name) {
@@ -216,15 +231,21 @@ Dashboard::~Dashboard() {
 bool Dashboard::allowed(const std::string& host_header, const std::string& token) const {
     if (!token_.empty()) return token.size() == token_.size() && token == token_;
     // Loopback: only requests that name this server (a page of another site resolved to
-    // 127.0.0.1 names its own host).
-    std::string host = host_header;
+    // 127.0.0.1 names its own host): HOST or HOST:PORT, [IPV6] or [IPV6]:PORT, nothing after.
+    std::string host = host_header, port;
     if (!host.empty() && host[0] == '[') {
         const size_t end = host.find(']');
-        host = end == std::string::npos ? std::string() : host.substr(1, end - 1);
+        if (end == std::string::npos) return false;
+        port = host.substr(end + 1);
+        host = host.substr(1, end - 1);
+        if (!port.empty() && port[0] != ':') return false;
     } else if (const size_t colon = host.find(':'); colon != std::string::npos) {
+        port = host.substr(colon);
         host = host.substr(0, colon);
     }
-    return loopback(host);
+    if (!port.empty() && (port.size() < 2 || port.size() > 6 || !std::all_of(port.begin() + 1, port.end(), ::isdigit)))
+        return false;
+    return loopback(host) || same_name(host, host_);
 }
 
 }  // namespace glcast::cli
