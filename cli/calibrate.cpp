@@ -87,6 +87,8 @@ Spec read_spec(const std::string& path) {
                 throw std::runtime_error(error);
     Spec s;
     if (j.contains("name") && j["name"].is_string()) s.name = j["name"];
+    // It names files (NAME.mpcdi in --out): a name, never a path (as tiles' names).
+    if (!is_valid_display_name(s.name)) throw std::runtime_error(path + ": name is not a plain name (letters, digits, '_', '-', '.')");
     const json& surface = j.value("surface", json::object());
     const std::string kind = surface.value("kind", "cylinder");
     s.surface.kind = kind == "dome" ? Surface::dome : kind == "plane" ? Surface::plane : Surface::cylinder;
@@ -100,7 +102,13 @@ Spec read_spec(const std::string& path) {
     pair_of(surface, "x", s.surface.x_from, s.surface.x_to, w);
     pair_of(surface, "y", s.surface.y_from, s.surface.y_to, w);
     s.canvas_width = int(number(j, "canvas_width", s.canvas_width, 16, 8192, path));
-    s.canvas_height = std::max(16, int(std::lround(s.canvas_width / s.surface.aspect())));
+    // The height follows from the surface's shape: bounded as the width is, before any pixel.
+    const double height = s.canvas_width / s.surface.aspect();
+    if (!(height <= 8192))
+        throw std::runtime_error(path + ": a canvas " + std::to_string(s.canvas_width) + " wide on this surface is " +
+                                 std::to_string(std::llround(std::min(height, 1e12))) +
+                                 " high, over 8192: give a smaller canvas_width, or a surface less tall");
+    s.canvas_height = std::max(16, int(std::lround(height)));
     s.node_spacing = int(number(j, "node_spacing", s.node_spacing, 1, 256, path));
     if (!j.contains("projectors") || !j["projectors"].is_array() || j["projectors"].empty() || j["projectors"].size() > 64)
         throw std::runtime_error(path + ": projectors must list 1 to 64 projectors");

@@ -9,6 +9,7 @@
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "cli/paths.h"
+#include "cli/wall_control.h"
 #include "display_configs/display_config.h"
 #include "net/security.h"
 #include "net/wall_endpoints.h"
@@ -70,6 +71,10 @@ int ctl(CtlArgs& a, const std::vector<std::string>& words) {
         std::fprintf(stderr, "glcast ctl: what to change? (effects +NAME -NAME, or param NAME=VALUE)\n");
         return 2;
     }
+    if (request.size() > 1024) {  // the control channel's bound (cli/wall_control.cpp)
+        std::fprintf(stderr, "glcast ctl: a request of %zu bytes: the wall takes at most 1024\n", request.size());
+        return 2;
+    }
     try {
         // The operator's own key pair when it has one (operator.key), else this machine's.
         net::Security security = net::process_security();
@@ -77,7 +82,7 @@ int ctl(CtlArgs& a, const std::vector<std::string>& words) {
         zmq::context_t context(1);
         zmq::socket_t socket(context, zmq::socket_type::dealer);
         socket.set(zmq::sockopt::linger, 0);
-        socket.set(zmq::sockopt::maxmsgsize, int64_t(4096));
+        socket.set(zmq::sockopt::maxmsgsize, int64_t(WallControl::kMaxReplyBytes));
         net::secure_client(socket, endpoint, security);
         socket.connect(endpoint);
         socket.send(zmq::buffer(request), zmq::send_flags::none);

@@ -1,6 +1,6 @@
 #include "cli/dashboard.h"
 
-#include <httplib.h>
+#include <arpa/inet.h>
 
 #include <algorithm>
 #include <cmath>
@@ -10,6 +10,7 @@
 #include <random>
 #include <stdexcept>
 
+#include "cli/http_server.h"
 #include "net/security.h"
 #include "slave/effects/effect_params.h"
 
@@ -18,8 +19,6 @@ namespace glcast::cli {
 const std::map<std::string, std::string>& dashboard_files();  // generated: cmake/embed_files.cmake
 
 namespace {
-
-constexpr size_t kMaxRequestBodyBytes = 4096;
 
 double degrees(double radians) { return radians * 180.0 / M_PI; }
 
@@ -57,8 +56,22 @@ void split_address(const std::string& address_port, std::string& host, int& port
     port = int(p);
 }
 
+bool same_name(const std::string& a, const std::string& b) {
+    return a.size() == b.size() &&
+           std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) { return std::tolower(uint8_t(x)) == std::tolower(uint8_t(y)); });
+}
+
+// An address literal of loopback (127.0.0.0/8 in dotted decimal, ::1 however it is spelled, or
+// ::ffff:127.x.y.z), or `localhost`. Not a name that starts with "127.": a page of another site
+// can make its own name resolve to 127.0.0.1 (DNS rebinding).
 bool loopback(const std::string& host) {
-    return host == "localhost" || host == "::1" || host.rfind("127.", 0) == 0;
+    if (same_name(host, "localhost")) return true;
+    in_addr v4{};
+    if (inet_pton(AF_INET, host.c_str(), &v4) == 1) return (ntohl(v4.s_addr) >> 24) == 127;
+    in6_addr v6{};
+    if (inet_pton(AF_INET6, host.c_str(), &v6) != 1) return false;
+    if (IN6_IS_ADDR_LOOPBACK(&v6)) return true;
+    return IN6_IS_ADDR_V4MAPPED(&v6) && v6.s6_addr[12] == 127;
 }
 
 std::string content_type(const std::string& name) {
@@ -136,7 +149,7 @@ nlohmann::json wall_layout(const slave::DisplayConfig* config) {
 
 Dashboard::Dashboard(const std::string& address_port, WallControl& control, const WallStatus& status,
                      nlohmann::json layout)
-    : control_(control), status_(status), layout_(std::move(layout)), server_(std::make_unique<httplib::Server>()) {
+    : control_(control), status_(status), layout_(std::move(layout)) {
     split_address(address_port, host_, port_);
     if (!loopback(host_)) token_ = random_token();
     layout_["effects"] = slave::effects::known_display_effects();
@@ -145,86 +158,82 @@ Dashboard::Dashboard(const std::string& address_port, WallControl& control, cons
         if (!p.text) params.push_back({{"name", p.name}, {"value", p.value}, {"min", p.min}, {"max", p.max}, {"help", p.help}});
     layout_["params"] = params;
 
-    httplib::Server& s = *server_;
-    s.set_payload_max_length(kMaxRequestBodyBytes);
-    s.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
-        // The page, its style and script say nothing of the wall: served to anyone, so that the
-        // page can load them by plain links; everything under /api/ asks.
-        if (req.path.rfind("/api/", 0) != 0) return httplib::Server::HandlerResponse::Unhandled;
-        const std::string token = req.has_param("token") ? req.get_param_value("token") : "";
-        if (allowed(req.get_header_value("Host"), token)) return httplib::Server::HandlerResponse::Unhandled;
-        res.status = 403;
-        res.set_content(token_.empty() ? "this dashboard answers only to its own address (the Host header)\n"
-                                       : "this dashboard needs the token glcast run printed at its start (?token=...)\n",
-                        "text/plain");
-        return httplib::Server::HandlerResponse::Handled;
-    });
-    auto file = [](const std::string& name) {
-        return [name](const httplib::Request&, httplib::Response& res) {
-            res.set_content(dashboard_files().at(name), content_type(name).c_str());
-            res.set_header("Cache-Control", "no-cache");
-        };
+    // Names of the page's files and of tiles, as the thumbnails' path takes them.
+    auto plain = [](const std::string& s) {
+        return !s.empty() && s.size() <= 64 && std::all_of(s.begin(), s.end(), [](char c) {
+            return std::isalnum(uint8_t(c)) || c == '_' || c == '.' || c == '-';
+        });
     };
-    s.Get("/", file("index.html"));
-    for (const auto& [name, text] : dashboard_files()) s.Get("/" + name, file(name));
-    s.Get("/api/wall", [this](const httplib::Request&, httplib::Response& res) {
-        res.set_content(layout_.dump(), "application/json");
-    });
-    s.Get("/api/status", [this](const httplib::Request&, httplib::Response& res) {
-        const nlohmann::json j = {{"latest", status_.latest()},
-                                  {"history", history_series(status_.history())},
-                                  {"effects", effects_json(control_.effects())}};
-        res.set_content(j.dump(), "application/json");
-        res.set_header("Cache-Control", "no-store");
-    });
-    s.Get(R"(/api/thumbnail/([A-Za-z0-9_.-]{1,64}))", [this](const httplib::Request& req, httplib::Response& res) {
-        std::string jpeg;
-        uint64_t frame = 0;
-        if (!control_.thumbnail(req.matches[1], jpeg, frame)) {
-            res.status = 404;
-            res.set_content("no thumbnail of that tile yet\n", "text/plain");
-            return;
+    auto handle = [this, plain](const HttpRequest& req, HttpResponse& res) {
+        res.headers.push_back({"Cache-Control", "no-store"});
+        const std::string& path = req.path;
+        if (path.rfind("/api/", 0) != 0) {
+            // The page, its style and script say nothing of the wall: served to anyone, so that
+            // the page can load them by plain links; everything under /api/ asks.
+            const std::string name = path == "/" ? "index.html" : path.substr(1);
+            const auto& files = dashboard_files();
+            if (req.method != "GET" || !plain(name) || !files.count(name)) return res.set(404, "no such page\n");
+            res.headers = {{"Cache-Control", "no-cache"}};
+            return res.set(200, files.at(name), content_type(name));
         }
-        res.set_content(jpeg, "image/jpeg");
-        res.set_header("X-Glcast-Frame", std::to_string(frame));
-        res.set_header("Cache-Control", "no-store");
-    });
-    s.Post("/api/ctl", [this](const httplib::Request& req, httplib::Response& res) {
-        if (!req.has_header("X-Glcast-Request")) {  // a form of another site cannot set it
-            res.status = 403;
-            res.set_content("a request that changes the wall needs the header X-Glcast-Request\n", "text/plain");
-            return;
+        if (!allowed(req.header("Host"), req.param("token")))
+            return res.set(403, token_.empty() ? "this dashboard answers only to its own address (the Host header)\n"
+                                               : "this dashboard needs the token glcast run printed at its start (?token=...)\n");
+        if (req.method == "POST" && path == "/api/ctl") {
+            if (!req.has_header("X-Glcast-Request"))  // a form of another site cannot set it
+                return res.set(403, "a request that changes the wall needs the header X-Glcast-Request\n");
+            std::string reply;
+            const bool ok = control_.change_effects(req.body, reply);
+            return res.set(ok ? 200 : 400, nlohmann::json{{"ok", ok}, {"reply", reply}}.dump(), "application/json");
         }
-        std::string reply;
-        const bool ok = control_.change_effects(req.body, reply);
-        res.status = ok ? 200 : 400;
-        res.set_content(nlohmann::json{{"ok", ok}, {"reply", reply}}.dump(), "application/json");
-    });
-    if (!s.bind_to_port(host_, port_))
-        throw std::runtime_error("--dashboard " + address_port + ": cannot listen there (in use, or not an address of "
-                                 "this machine)");
+        if (req.method != "GET") return res.set(405, "the dashboard takes GET, and POST of /api/ctl\n");
+        if (path == "/api/wall") return res.set(200, layout_.dump(), "application/json");
+        if (path == "/api/status") {
+            const nlohmann::json j = {{"latest", status_.latest()},
+                                      {"history", history_series(status_.history())},
+                                      {"effects", effects_json(control_.effects())}};
+            return res.set(200, j.dump(), "application/json");
+        }
+        const std::string thumbnail = "/api/thumbnail/";
+        if (path.rfind(thumbnail, 0) == 0 && plain(path.substr(thumbnail.size()))) {
+            std::string jpeg;
+            uint64_t frame = 0;
+            if (!control_.thumbnail(path.substr(thumbnail.size()), jpeg, frame))
+                return res.set(404, "no thumbnail of that tile yet\n");
+            res.headers.push_back({"X-Glcast-Frame", std::to_string(frame)});
+            return res.set(200, std::move(jpeg), "image/jpeg");
+        }
+        res.set(404, "no such request\n");
+    };
+    try {
+        server_ = std::make_unique<HttpServer>(host_, port_, handle);
+    } catch (const std::exception& e) {
+        throw std::runtime_error("--dashboard " + address_port + ": " + e.what());
+    }
     const std::string shown = host_.find(':') != std::string::npos ? "[" + host_ + "]" : host_;
     url_ = "http://" + shown + ":" + std::to_string(port_) + "/" + (token_.empty() ? "" : "?token=" + token_);
-    thread_ = std::thread([this] { server_->listen_after_bind(); });
 }
 
-Dashboard::~Dashboard() {
-    server_->stop();
-    if (thread_.joinable()) thread_.join();
-}
+Dashboard::~Dashboard() = default;
 
 bool Dashboard::allowed(const std::string& host_header, const std::string& token) const {
     if (!token_.empty()) return token.size() == token_.size() && token == token_;
     // Loopback: only requests that name this server (a page of another site resolved to
-    // 127.0.0.1 names its own host).
-    std::string host = host_header;
+    // 127.0.0.1 names its own host): HOST or HOST:PORT, [IPV6] or [IPV6]:PORT, nothing after.
+    std::string host = host_header, port;
     if (!host.empty() && host[0] == '[') {
         const size_t end = host.find(']');
-        host = end == std::string::npos ? std::string() : host.substr(1, end - 1);
+        if (end == std::string::npos) return false;
+        port = host.substr(end + 1);
+        host = host.substr(1, end - 1);
+        if (!port.empty() && port[0] != ':') return false;
     } else if (const size_t colon = host.find(':'); colon != std::string::npos) {
+        port = host.substr(colon);
         host = host.substr(0, colon);
     }
-    return loopback(host);
+    if (!port.empty() && (port.size() < 2 || port.size() > 6 || !std::all_of(port.begin() + 1, port.end(), ::isdigit)))
+        return false;
+    return loopback(host) || same_name(host, host_);
 }
 
 }  // namespace glcast::cli

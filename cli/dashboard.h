@@ -1,5 +1,5 @@
 // `glcast run --dashboard ADDRESS:PORT`: the wall in a browser (docs/wall.md, "The dashboard").
-// An HTTP server (cpp-httplib) serves the page of cli/dashboard/ (built into the binary) and its
+// An HTTP server of its own (cli/http_server.h: bounded in all a client sends) serves the page of cli/dashboard/ (built into the binary) and its
 // API: the wall's layout, its status and history (cli/wall_status.h), each tile's thumbnail and
 // the live effects (cli/wall_control.h).
 //
@@ -20,11 +20,9 @@
 #include "cli/wall_status.h"
 #include "display_configs/display_config.h"
 
-namespace httplib {
-class Server;
-}
-
 namespace glcast::cli {
+
+class HttpServer;
 
 // The wall as the page draws it: planar tiles as rectangles of the canvas, view tiles (a
 // cylinder, a CAVE) unrolled by the angles they cover. `config` null: the one window.
@@ -45,8 +43,7 @@ private:
     nlohmann::json layout_;
     std::string host_, token_, url_;
     int port_ = 0;
-    std::unique_ptr<httplib::Server> server_;
-    std::thread thread_;
+    std::unique_ptr<HttpServer> server_;
 };
 
 }  // namespace glcast::cli

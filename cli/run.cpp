@@ -256,7 +256,13 @@ int run(RunArgs& a, const std::vector<std::string>& program) {
             plan.swap_barrier = true;
             head_for = [&tracker](uint64_t, slave::HeadPose& out) { return tracker->latest(out); };
         }
-        WallControl wall(e.control, tile_names, plan.swap_barrier, head_for);
+        std::vector<std::string> unbound;
+        const auto keys = tile_keys(plan.tiles, here, net::process_security(), &unbound);
+        for (const std::string& tile : unbound)
+            std::fprintf(stderr, "glcast run: tile %s is on a machine whose key is not in %s/authorized/ (as MACHINE.pub, "
+                                 "the machine's name in the config): no slave can speak for it\n",
+                         tile.c_str(), net::process_security().dir.c_str());
+        WallControl wall(e.control, tile_names, plan.swap_barrier, head_for, keys);
         wall.set_started_effects(slave::LiveEffects::from(plan.effects));
         WallStatus view(wall, plan.tiles, a.status_json);
         std::unique_ptr<Dashboard> dashboard;

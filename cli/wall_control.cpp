@@ -80,6 +80,8 @@ namespace {
 // A part: a request, or a thumbnail's JPEG (slave/wall_link.h).
 constexpr size_t kMaxRequestBytes = slave::WallLink::kMaxThumbnailBytes;
 constexpr size_t kMaxWordsBytes = 1024;  // the words of a request
+constexpr size_t kMaxReplyBytes = WallControl::kMaxReplyBytes;
+static_assert(slave::LiveEffects::kMaxWordsBytes + 128 < kMaxReplyBytes, "an OK names the whole state");
 
 bool plain_name(const std::string& s) {
     return !s.empty() && s.size() <= 64 &&
@@ -94,6 +96,12 @@ double seconds_since_start() {
 }  // namespace
 
 bool TileOwners::speaks_for(const std::string& tile, const std::string& peer, double now) {
+    // A proven key speaks only for the tiles bound to it. (A peer without one is on this
+    // machine's ipc:// path: the first to name a tile speaks for it, as below.)
+    if (auto bound = keys_.find(tile); bound != keys_.end() && peer.rfind("key ", 0) == 0 && peer != bound->second) {
+        refused_++;
+        return false;
+    }
     auto [it, fresh] = owners_.try_emplace(tile, Owner{peer, now});
     Owner& o = it->second;
     if (!fresh && o.peer != peer) {
@@ -107,8 +115,26 @@ bool TileOwners::speaks_for(const std::string& tile, const std::string& peer, do
     return true;
 }
 
-WallControl::WallControl(std::string endpoint, std::vector<std::string> tiles, bool barrier, HeadPoseFor head_for)
-    : endpoint_(std::move(endpoint)), tiles_(std::move(tiles)), barrier_(barrier), head_for_(std::move(head_for)),
+std::map<std::string, std::string> tile_keys(const std::vector<std::pair<std::string, std::string>>& tiles,
+                                             const std::string& here, const net::Security& security,
+                                             std::vector<std::string>* unbound) {
+    std::map<std::string, std::string> keys;
+    if (!security.keyed()) return keys;
+    for (const auto& [tile, machine] : tiles) {
+        std::string& key = keys[tile];
+        if (machine.empty() || machine == here) {
+            if (security.has_client_pair) key = "key " + security.client.public_key;
+        } else if (auto it = security.machines.find(machine); it != security.machines.end()) {
+            key = "key " + it->second;
+        }
+        if (key.empty() && unbound) unbound->push_back(tile);
+    }
+    return keys;
+}
+
+WallControl::WallControl(std::string endpoint, std::vector<std::string> tiles, bool barrier, HeadPoseFor head_for,
+                         std::map<std::string, std::string> keys)
+    : endpoint_(std::move(endpoint)), tiles_(std::move(tiles)), keys_(std::move(keys)), barrier_(barrier), head_for_(std::move(head_for)),
       sockets_(std::make_unique<Sockets>()) {
     for (const std::string& t : tiles_) status_[t];
     zmq::socket_t& router = sockets_->router;
@@ -191,6 +217,10 @@ uint64_t WallControl::switch_frame() const {
 }
 
 bool WallControl::apply_request(const std::string& request, std::string& reply) {
+    if (request.size() > kMaxWordsBytes) {  // (the dashboard's; the channel's are bounded where read)
+        reply = "ERROR a request of more than " + std::to_string(kMaxWordsBytes) + " bytes";
+        return false;
+    }
     std::unique_lock lock(mutex_);
     slave::LiveEffects next = effects_;
     std::string error;
@@ -248,8 +278,15 @@ std::string WallControl::pose_text(uint64_t frame) {
 
 void WallControl::serve() {
     zmq::socket_t& router = sockets_->router;
+    // An answer never longer than what glcast ctl reads (kMaxReplyBytes): a longer one would
+    // make libzmq hang up on it, and the operator hear nothing of a request that was applied.
+    auto reply_to = [&](const zmq::message_t& identity, std::string reply) {
+        if (reply.size() > kMaxReplyBytes) reply = reply.substr(0, kMaxReplyBytes - 3) + "...";
+        router.send(zmq::buffer(identity.data(), identity.size()), zmq::send_flags::sndmore | zmq::send_flags::dontwait);
+        router.send(zmq::buffer(reply), zmq::send_flags::dontwait);
+    };
     BarrierState state(tiles_, kDropSeconds, seconds_since_start());
-    TileOwners owners(kTakeoverSeconds);
+    TileOwners owners(kTakeoverSeconds, keys_);
     bool said_refused = false;
     while (!stopping_) {
         zmq::pollitem_t item{router.handle(), 0, ZMQ_POLLIN, 0};
@@ -262,7 +299,12 @@ void WallControl::serve() {
             if (thumb) well_formed = router.get(zmq::sockopt::rcvmore) && router.recv(jpeg);  // its second part
             well_formed = well_formed && !router.get(zmq::sockopt::rcvmore);
             while (router.get(zmq::sockopt::rcvmore)) (void)router.recv(jpeg);  // extra parts: read and forget
-            if (!well_formed || identity.size() == 0 || identity.size() > 255 || body.size() > kMaxWordsBytes) continue;
+            if (!well_formed || identity.size() == 0 || identity.size() > 255) continue;
+            if (body.size() > kMaxWordsBytes) {
+                if (body.size() >= 4 && std::memcmp(body.data(), "CTL ", 4) == 0)  // an operator waits for an answer
+                    reply_to(identity, "ERROR a request of more than " + std::to_string(kMaxWordsBytes) + " bytes");
+                continue;
+            }
             std::istringstream words(body.to_string());
             std::string verb, tile;
             words >> verb >> tile;
@@ -280,8 +322,7 @@ void WallControl::serve() {
                             "or the master's own)";
                 else
                     apply_request(body.to_string().substr(4), reply);
-                router.send(zmq::buffer(identity.data(), identity.size()), zmq::send_flags::sndmore | zmq::send_flags::dontwait);
-                router.send(zmq::buffer(reply), zmq::send_flags::dontwait);
+                reply_to(identity, reply);
                 continue;
             }
             if (verb == "TIME" && tile.empty()) {  // glcast doctor's clock: this machine's, in seconds

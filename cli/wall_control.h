@@ -43,6 +43,10 @@
 #include "slave/live_effects.h"
 #include "slave/viewer.h"
 
+namespace glcast::net {
+struct Security;
+}
+
 namespace glcast::cli {
 
 struct TileStatus {
@@ -93,9 +97,14 @@ private:
 // has said nothing for `takeover_seconds` (a slave that restarted). Without it any peer on the
 // channel could answer READY for a live tile and hold the barrier, or report for it. Pure (time
 // is given), for tests.
+//
+// On a keyed wall a tile's name belongs to one key, the one the config and the keys give it
+// (`tile_keys`): a peer with another key never speaks for it, whoever named it first.
 class TileOwners {
 public:
-    explicit TileOwners(double takeover_seconds) : takeover_seconds_(takeover_seconds) {}
+    // `keys`: tile -> the only key ("key Z85") that speaks for it; "" for a tile no key may take.
+    explicit TileOwners(double takeover_seconds, std::map<std::string, std::string> keys = {})
+        : takeover_seconds_(takeover_seconds), keys_(std::move(keys)) {}
     // True: `peer` speaks for `tile` (now its owner, or still).
     bool speaks_for(const std::string& tile, const std::string& peer, double now);
     uint64_t refused() const { return refused_; }
@@ -107,8 +116,18 @@ private:
     };
     std::map<std::string, Owner> owners_;
     double takeover_seconds_;
+    std::map<std::string, std::string> keys_;
     uint64_t refused_ = 0;
 };
+
+// On a keyed wall, the peer ("key Z85") that speaks for each tile of `tiles` (name, machine): a tile
+// of this machine (`here`) this machine's own client key (its local slaves connect with it), a
+// tile of another machine the key of authorized/MACHINE.pub. A tile whose machine has no such
+// file gets "" (no key may speak for it) and is named in `unbound`. Without keys: empty (a
+// local channel; its first peer speaks for a tile).
+std::map<std::string, std::string> tile_keys(const std::vector<std::pair<std::string, std::string>>& tiles,
+                                             const std::string& here, const net::Security& security,
+                                             std::vector<std::string>* unbound = nullptr);
 
 // The head pose that holds at a frame (a recorded track, a tracker's latest); false: none.
 using HeadPoseFor = std::function<bool(uint64_t frame, slave::HeadPose& out)>;
@@ -117,11 +136,14 @@ class WallControl {
 public:
     static constexpr double kDropSeconds = 2;
     static constexpr double kTakeoverSeconds = 5;  // TileOwners
+    static constexpr size_t kMaxReplyBytes = 4096;  // what glcast ctl reads of an answer
     // Binds `endpoint` (secured as net/security.h says); throws std::runtime_error. With
     // `head_for`, each "GO n" carries the pose for frame n + 1 as " POSE px py pz qw qx qy qz",
     // asked once per frame, so that every tile of a frame gets the same one; "HEAD TILE n" (a
     // tile's first frame, which no GO precedes) is answered "HEAD n" with the pose of frame n.
-    WallControl(std::string endpoint, std::vector<std::string> tiles, bool barrier, HeadPoseFor head_for = nullptr);
+    // `keys`: tile_keys' binding of tiles to the keys that speak for them.
+    WallControl(std::string endpoint, std::vector<std::string> tiles, bool barrier, HeadPoseFor head_for = nullptr,
+                std::map<std::string, std::string> keys = {});
     ~WallControl();
     std::map<std::string, TileStatus> status() const;
 
@@ -146,6 +168,7 @@ private:
     std::map<uint64_t, std::string> pose_words_;  // by frame, the last 64
     std::string endpoint_;
     std::vector<std::string> tiles_;
+    std::map<std::string, std::string> keys_;  // tile_keys
     bool barrier_;
     HeadPoseFor head_for_;
     std::atomic<bool> stopping_{false};

@@ -1,6 +1,9 @@
 #include "common/image.h"
 
+#include <fcntl.h>
 #include <png.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -45,7 +48,9 @@ bool valid(const Image& image) {
 // The libpng calls of read_png. Between setjmp and a possible longjmp this frame creates no
 // object with a destructor; `pixels` and `rows` live in the caller, so nothing is skipped.
 // `refusal` gets our own (non-libpng) reason for refusing the file.
-bool decode(png_structp png, png_infop info, std::FILE* f, int& width, int& height,
+constexpr char kTooManyPixels[] = "too many pixels";
+
+bool decode(png_structp png, png_infop info, std::FILE* f, int64_t max_pixels, int& width, int& height,
             std::vector<uint8_t>& pixels, std::vector<png_bytep>& rows, const char*& refusal) {
     if (setjmp(png_jmpbuf(png))) return false;
     png_init_io(png, f);
@@ -68,8 +73,9 @@ bool decode(png_structp png, png_infop info, std::FILE* f, int& width, int& heig
         refusal = "unknown PNG colour type";
         return false;
     }
-    if (int64_t(w) * int64_t(h) > kMaxPixels) {
-        refusal = "image too large (more than 2^28 pixels)";
+    if (int64_t(w) * int64_t(h) > std::min(kMaxPixels, max_pixels)) {  // before a byte of it is held
+        width = int(std::min<png_uint_32>(w, 1u << 30)), height = int(std::min<png_uint_32>(h, 1u << 30));
+        refusal = kTooManyPixels;
         return false;
     }
     if (png_get_valid(png, info, PNG_INFO_tRNS)) png_set_tRNS_to_alpha(png);
@@ -152,7 +158,7 @@ bool write_png(const std::string& path, const Image& image, std::string& error) 
 namespace {
 
 // read_png's work on an open file (a file, or bytes in memory); `path` names it in messages.
-bool read_png_from(std::FILE* f, const std::string& path, Image& image, std::string& error) {
+bool read_png_from(std::FILE* f, const std::string& path, int64_t max_pixels, Image& image, std::string& error) {
     File file;
     file.f = f;
     unsigned char signature[8];
@@ -174,11 +180,18 @@ bool read_png_from(std::FILE* f, const std::string& path, Image& image, std::str
     const char* refusal = nullptr;
     bool ok = false;
     try {
-        ok = decode(png, info, file.f, width, height, pixels, rows, refusal);
+        ok = decode(png, info, file.f, max_pixels, width, height, pixels, rows, refusal);
     } catch (const std::bad_alloc&) {
         refusal = "out of memory";
     }
     png_destroy_read_struct(&png, &info, nullptr);
+    if (!ok && refusal == kTooManyPixels) {
+        const int64_t most = std::min(kMaxPixels, max_pixels);
+        error = "read_png " + path + ": an image of " + std::to_string(width) + "x" + std::to_string(height) +
+                " pixels, more than the " + std::to_string(most) + " it may have here (" +
+                std::to_string(most * 4 >> 20) + " MiB as RGBA)";
+        return false;
+    }
     if (!ok) {
         error = "read_png " + path + ": " + (refusal ? std::string(refusal) : "libpng: " + std::string(errors.message));
         return false;
@@ -191,22 +204,34 @@ bool read_png_from(std::FILE* f, const std::string& path, Image& image, std::str
 
 }  // namespace
 
-bool read_png(const std::string& path, Image& image, std::string& error) {
-    std::FILE* f = std::fopen(path.c_str(), "rb");
-    if (!f) {
-        error = "read_png " + path + ": " + std::strerror(errno);
+bool read_png(const std::string& path, Image& image, std::string& error, int64_t max_pixels) {
+    // Opened without blocking and only as a regular file: a FIFO named as a picture must not hang
+    // the reader (as the display config's reader, display_configs/config_check.h).
+    const int fd = open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    struct stat st {};
+    if (fd < 0 || fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+        error = "read_png " + path + ": " + (fd < 0 ? std::strerror(errno) : "not a regular file");
+        if (fd >= 0) close(fd);
         return false;
     }
-    return read_png_from(f, path, image, error);
+    fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) & ~O_NONBLOCK);
+    std::FILE* f = fdopen(fd, "rb");
+    if (!f) {
+        error = "read_png " + path + ": " + std::strerror(errno);
+        close(fd);
+        return false;
+    }
+    return read_png_from(f, path, max_pixels, image, error);
 }
 
-bool read_png_bytes(const std::string& bytes, const std::string& name, Image& image, std::string& error) {
+bool read_png_bytes(const std::string& bytes, const std::string& name, Image& image, std::string& error,
+                    int64_t max_pixels) {
     std::FILE* f = bytes.empty() ? nullptr : fmemopen(const_cast<char*>(bytes.data()), bytes.size(), "rb");
     if (!f) {
         error = "read_png " + name + ": " + (bytes.empty() ? "empty" : std::strerror(errno));
         return false;
     }
-    return read_png_from(f, name, image, error);
+    return read_png_from(f, name, max_pixels, image, error);
 }
 
 Image scaled_down(const Image& in, int factor) {

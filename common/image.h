@@ -20,9 +20,12 @@ bool write_png(const std::string& path, const Image& image, std::string& error);
 // Reads an 8-bit gray, gray+alpha, RGB or RGBA PNG (interlaced or not) and converts it to RGBA
 // (alpha 255 where the file has none, or from a tRNS chunk). Palette and 1/2/4/16-bit files are
 // refused with an error saying so; corrupt or truncated files give an error, never a crash.
-bool read_png(const std::string& path, Image& image, std::string& error);
+// A file is opened only when it is a regular file, without blocking (a FIFO is refused). An
+// image of more than `max_pixels` is refused from its header, before its pixels are held.
+bool read_png(const std::string& path, Image& image, std::string& error, int64_t max_pixels = int64_t(1) << 28);
 // The same from bytes in memory (an entry of an archive); `name` names them in messages.
-bool read_png_bytes(const std::string& bytes, const std::string& name, Image& image, std::string& error);
+bool read_png_bytes(const std::string& bytes, const std::string& name, Image& image, std::string& error,
+                    int64_t max_pixels = int64_t(1) << 28);
 
 // Each factor x factor block's mean, rounded (a partial block at the right or bottom edge is
 // dropped): a thumbnail, or a picture compared at a coarser resolution. factor 1: a copy.

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "common/image.h"
+#include "display_configs/config_check.h"
 
 namespace glcast::slave {
 
@@ -18,28 +19,24 @@ namespace {
 
 constexpr size_t kMaxPfmHeaderBytes = 256;
 
+// As the display config is read (config_check.h): a regular file only, opened without blocking
+// (a FIFO named as a map must not hang the slave), bounded as it is read (it may grow while it
+// is), and a read that fails is a message, never an exception.
 bool read_file(const std::string& path, uint64_t max_bytes, std::string& out, std::string& error) {
-    struct stat st {};
-    if (stat(path.c_str(), &st) != 0) {
-        error = path + ": " + std::strerror(errno);
-        return false;
+    int error_number = 0;
+    std::string kind;
+    switch (config_check::read_regular_file(path, size_t(max_bytes), out, error_number, kind)) {
+        case config_check::FileProblem::none: return true;
+        case config_check::FileProblem::cannot_open: error = path + ": " + std::strerror(error_number); break;
+        case config_check::FileProblem::not_regular: error = path + ": is " + kind + ", not a regular file"; break;
+        case config_check::FileProblem::too_large:
+            error = path + ": more than a map may have (" + std::to_string(max_bytes) + " bytes)";
+            break;
+        case config_check::FileProblem::cannot_read:
+            error = path + ": cannot be read: " + std::strerror(error_number);
+            break;
     }
-    if (!S_ISREG(st.st_mode)) {
-        error = path + ": not a regular file";
-        return false;
-    }
-    if (uint64_t(st.st_size) > max_bytes) {
-        error = path + ": " + std::to_string(st.st_size) + " bytes, more than a map may have (" +
-                std::to_string(max_bytes) + ")";
-        return false;
-    }
-    std::ifstream in(path, std::ios::binary);
-    out.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-    if (!in.good() && !in.eof()) {
-        error = path + ": cannot be read";
-        return false;
-    }
-    return true;
+    return false;
 }
 
 // The next whitespace-separated word of a PFM header, within its first kMaxPfmHeaderBytes.
@@ -171,7 +168,14 @@ bool warp_from_pfm(const FloatImage& pfm, const std::string& name, WarpMap& out,
 
 bool blend_from_png(const std::string& bytes, const std::string& name, BlendMap& out, std::string& error) {
     Image image;
-    if (!read_png_bytes(bytes, name, image, error)) return false;
+    // Its cost checked from the PNG's header, before anything is held: 4 bytes a pixel decoded,
+    // then 3 floats.
+    if (!read_png_bytes(bytes, name, image, error, kMaxBlendPixels)) {
+        if (error.find("more than the") != std::string::npos)
+            error += "; a blend map holds at most " + std::to_string(kMaxBlendPixels) + " pixels (" +
+                     std::to_string(kMaxBlendPixels * 16 >> 20) + " MiB as it is read)";
+        return false;
+    }
     if (image.width > kMaxMapSide || image.height > kMaxMapSide) {
         error = name + ": a blend map of " + std::to_string(image.width) + "x" + std::to_string(image.height) +
                 ": each side must be at most " + std::to_string(kMaxMapSide);

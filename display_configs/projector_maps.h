@@ -14,6 +14,7 @@ namespace glcast::slave {
 
 constexpr int kMaxMapSide = 16384;                  // nodes or pixels along one side of a map
 constexpr uint64_t kMaxMapValues = 64ull << 20;     // floats in one map (256 MiB)
+constexpr int64_t kMaxBlendPixels = 64ll << 20;     // pixels of a blend map (1 GiB as read: RGBA, then 3 floats)
 constexpr double kMaxWarpCoordinate = 1e3;          // |u|, |v| of a warp node (outside [0,1]: black)
 
 // A float image as PFM stores it: rows here top to bottom (PFM's are bottom to top).

@@ -219,7 +219,7 @@ bool load_security(const std::string& dir, bool insecure, Security& out, std::st
     s.operators.insert(s.master_public);
     if (s.has_client_pair) s.authorized.insert(s.client.public_key);
     // Every NAME.pub of a folder into `keys` (and the authorized, whom the ZAP handler admits).
-    auto read_keys_in = [&](const std::string& folder, std::set<std::string>& keys) {
+    auto read_keys_in = [&](const std::string& folder, std::set<std::string>& keys, bool machines) {
         DIR* d = opendir(folder.c_str());
         if (!d) return true;
         while (dirent* e = readdir(d)) {
@@ -238,11 +238,13 @@ bool load_security(const std::string& dir, bool insecure, Security& out, std::st
             }
             keys.insert(k.public_key);
             s.authorized.insert(k.public_key);
+            if (machines) s.machines[name.substr(0, name.size() - 4)] = k.public_key;
         }
         closedir(d);
         return true;
     };
-    if (!read_keys_in(dir + "/authorized", s.authorized) || !read_keys_in(dir + "/operators", s.operators)) return false;
+    if (!read_keys_in(dir + "/authorized", s.authorized, true) || !read_keys_in(dir + "/operators", s.operators, false))
+        return false;
     out = s;
     return true;
 }

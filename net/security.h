@@ -20,6 +20,7 @@
 // (epgm://, pgm://) cannot carry CURVE at all and always needs it.
 #pragma once
 
+#include <map>
 #include <memory>
 #include <set>
 #include <stdexcept>
@@ -47,6 +48,7 @@ struct Security {
     bool has_client_pair = false;
     std::set<std::string> authorized; // authorized/*.pub, operators/*.pub, and the master's own key
     std::set<std::string> operators;  // operators/*.pub, and the master's own key
+    std::map<std::string, std::string> machines;  // authorized/NAME.pub: NAME -> its key (a tile of machine NAME speaks with it)
     KeyPair operator_pair;            // operator.key, else the client pair
     bool has_operator_pair = false;
     bool insecure = false;            // GLCAST_INSECURE=1: non-loopback endpoints without keys allowed

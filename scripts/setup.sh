@@ -20,7 +20,6 @@ packages=(
   iptables                              # scripts/chaos.sh: packet loss on a display machine's link
   help2man lintian man-db               # the package's manual pages, and Debian's checks of it
   libturbojpeg0-dev                     # the dashboard's thumbnails (common/jpeg.h)
-  libcpp-httplib-dev                    # the dashboard's HTTP server (cli/dashboard.cpp)
   chromium chromium-driver python3-selenium  # the dashboard's test in a real browser
   libzip-dev libtinyxml2-dev            # MPCDI files: the zip and its XML (display_configs/mpcdi.h)
   # Mesa's conformance suite under the shim, and programs on GLES and Wayland (scripts/piglit.py)

@@ -1,5 +1,7 @@
 #include "slave/live_effects.h"
 
+#include <cstdio>
+#include <cstdlib>
 #include <sstream>
 #include <vector>
 
@@ -30,20 +32,40 @@ bool text_param(const std::string& name) {
     return false;
 }
 
-// One NAME=VALUE, checked as --effect-param checks it; text parameters are refused.
+// The shortest text that reads back as `v` (at most 24 characters): what a number is, however
+// it was spelled ("0.5000...0" of 990 characters is 0.5).
+std::string number_text(double v) {
+    char text[32];
+    for (int digits = 1; digits <= 17; digits++) {
+        std::snprintf(text, sizeof text, "%.*g", digits, v);
+        if (std::strtod(text, nullptr) == v) break;
+    }
+    return text;
+}
+
+// One NAME=VALUE, checked as --effect-param checks it, the value kept as the number it is; text
+// parameters are refused.
 bool check_param(const std::string& assignment, std::string& name, std::string& value, std::string& error) {
     const size_t eq = assignment.find('=');
     if (eq == std::string::npos || eq == 0) {
-        error = "a parameter is NAME=VALUE, got \"" + assignment + "\"";
+        error = "a parameter is NAME=VALUE, got \"" + assignment.substr(0, 64) + (assignment.size() > 64 ? "...\"" : "\"");
         return false;
     }
     name = assignment.substr(0, eq), value = assignment.substr(eq + 1);
+    if (name.size() > 64) {
+        error = "unknown effect parameter \"" + name.substr(0, 64) + "...\"";
+        return false;
+    }
     effects::EffectParams check;
-    if (!check.set(name, value, error)) return false;
+    if (!check.set(name, value, error)) {
+        if (error.size() > 256) error = error.substr(0, 256) + "...";
+        return false;
+    }
     if (text_param(name)) {
         error = "effect parameter " + name + " names a file: it is set when the tiles start, not live";
         return false;
     }
+    value = number_text(std::strtod(value.c_str(), nullptr));
     return true;
 }
 
@@ -83,7 +105,7 @@ bool LiveEffects::change(const std::string& request, std::string& error) {
             const std::string name = (word[0] == '+' || word[0] == '-') ? word.substr(1) : word;
             bool* flag = pass_flag(next, name);
             if (!flag) {
-                error = "unknown effect \"" + name + "\" (effects: " + known_effects() + ")";
+                error = "unknown effect \"" + name.substr(0, 64) + "\" (effects: " + known_effects() + ")";
                 return false;
             }
             *flag = on;
@@ -109,7 +131,16 @@ bool LiveEffects::change(const std::string& request, std::string& error) {
             return false;
         }
     } else {
-        error = "unknown request \"" + what + "\" (requests: effects +NAME -NAME, param NAME=VALUE)";
+        error = "unknown request \"" + what.substr(0, 64) + "\" (requests: effects +NAME -NAME, param NAME=VALUE)";
+        return false;
+    }
+    // The state crosses the tile link whole: bounded here, whatever the requests add up to
+    // (the largest version and frame numbers counted).
+    LiveEffects widest = next;
+    widest.version = widest.frame = UINT64_MAX;
+    if (const size_t bytes = widest.words().size(); bytes > kMaxWordsBytes) {
+        error = "the wall's live state would take " + std::to_string(bytes) + " bytes, over " +
+                std::to_string(kMaxWordsBytes) + " (what the tiles' link carries): set fewer parameters";
         return false;
     }
     *this = next;
@@ -123,6 +154,7 @@ std::string LiveEffects::words() const {
 }
 
 bool LiveEffects::parse(const std::string& words, LiveEffects& out) {
+    if (words.size() > kMaxWordsBytes) return false;
     std::istringstream in(words);
     std::string verb, list, word;
     LiveEffects e;

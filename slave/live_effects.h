@@ -19,6 +19,10 @@ struct LiveEffects {
     bool snow = false, rain = false, cover = false, icicles = false, shadows = false;
     std::map<std::string, std::string> params;  // changed while running; the rest as started
 
+    // The most words() may hold: it crosses the tile link in one message of at most 4,096
+    // bytes, and glcast ctl's answer (the same, with some words before it) in one of 4,096.
+    static constexpr size_t kMaxWordsBytes = 2048;
+
     // The wall's state at start: the passes and parameters every tile was started with.
     static LiveEffects from(const effects::EffectsSettings& started);
     // The settings a tile runs: its own as started, with this state's passes and parameters.

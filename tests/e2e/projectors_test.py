@@ -30,6 +30,7 @@ import shutil
 import struct
 import subprocess
 import sys
+import time
 import zipfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -386,6 +387,43 @@ def crafted():
           f"a misspelt key in the installation: {r.stderr[-800:]}")
 
 
+def hostile():
+    """What an installation file or a command line can make calibrate do: a name that is a path
+    (it replaced a file outside --out, exit 0), a canvas whose height follows from a tall surface
+    (8192 wide on a plane 12.5 times taller asked for 8192x102400), a FIFO among --simulate's
+    outputs or as its --reference (read_png blocked forever on it)."""
+    folder = os.path.join(OUT, "hostile")
+    shutil.rmtree(folder, ignore_errors=True)
+    os.makedirs(os.path.join(folder, "victim"))
+    victim = os.path.join(folder, "victim", "escaped.mpcdi")
+    open(victim, "w").write("precious\n")
+    small = dict(CYLINDER, canvas_width=256)
+    spec = os.path.join(folder, "escape.json")
+    json.dump(dict(small, name="../victim/escaped"), open(spec, "w"))
+    r = run([GLCAST, "calibrate", spec, "--out", os.path.join(folder, "out"), "--format", "mpcdi"], timeout=120)
+    check(r.returncode == 1 and "name is not a plain name" in r.stderr, f"a name that is a path: exit {r.returncode} {r.stderr[-800:]}")
+    check(open(victim).read() == "precious\n", "a file outside --out was replaced")
+    tall = os.path.join(folder, "tall.json")
+    json.dump({"name": "tall", "canvas_width": 8192, "surface": {"kind": "plane", "distance": 3, "x": [-0.5, 0.5], "y": [0, 12.5]},
+               "projectors": [{"name": "p1", "position": [0, 6, 0], "left": -20, "right": 20, "down": -60, "up": 60}]},
+              open(tall, "w"))
+    start = time.time()
+    r = run([GLCAST, "calibrate", tall, "--out", os.path.join(folder, "tall")], timeout=120)
+    check(r.returncode == 1 and "over 8192" in r.stderr, f"a canvas of 8192x102400: exit {r.returncode} {r.stderr[-800:]}")
+    check(time.time() - start < 30, f"refused only after {time.time() - start:.1f} s")
+    spec_path, wall = installation(small, os.path.join(folder, "plain"))
+    outputs = os.path.join(folder, "outputs")
+    os.makedirs(outputs)
+    for tile in json.load(open(wall))["tiles"]:
+        os.mkfifo(os.path.join(outputs, tile["name"] + ".png"))
+    try:
+        r = run([GLCAST, "calibrate", spec_path, "--simulate", wall, "--outputs", outputs, "--image",
+                 os.path.join(folder, "unrolled.png")], timeout=20)
+    except subprocess.TimeoutExpired:
+        raise AssertionError("calibrate --simulate blocked on a FIFO among its outputs")
+    check(r.returncode == 1 and "not a regular file" in r.stderr, f"a FIFO as an output: exit {r.returncode} {r.stderr[-800:]}")
+
+
 def trails():
     folder = os.path.join(OUT, "trails")
     shutil.rmtree(folder, ignore_errors=True)
@@ -413,5 +451,5 @@ def trails():
 
 if __name__ == "__main__":
     {"cylinder": cylinder, "dome": dome, "mpcdi": mpcdi, "mpcdi3d": three_d, "cylinder3d": three_d_cylinder,
-     "crafted": crafted, "trails": trails}[sys.argv[1]]()
+     "crafted": crafted, "trails": trails, "hostile": hostile}[sys.argv[1]]()
     print("projectors: ok")

@@ -4,7 +4,9 @@
 // of another stream (the journal's message where it ends differs) is dropped for the journal's
 // start, never replayed in front of the wrong messages.
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 #include <zlib.h>
 #include <zmq.hpp>
@@ -244,4 +246,41 @@ TEST(KeptState, StartsAKeeperWhereItEndsAndOnlyOnItsOwnStream) {
         EXPECT_EQ(source.joined_frame(), 0u);
         EXPECT_EQ(replayed(source), (Seen{{0, false}, {1, false}, {2, false}, {3, false}, {4, false}, {5, false}}));
     }
+}
+
+// A sparse state file under the size limit (a header, then 1 GiB of nothing) must be refused by
+// what its header says before the keeper holds it: it was read whole into memory and every message
+// copied out of it (twice the file), and the keeper ended in std::bad_alloc instead of leaving it
+// for the journal. Read in a child with 512 MiB of address space to spare: it must answer, not abort.
+TEST(KeptState, AFileLargerThanMemoryIsRefusedBeforeItIsHeld) {
+    Folder dir;
+    const std::string path = dir.path + "/sparse.state";
+    {
+        std::string error;
+        ASSERT_TRUE(keeper::save_kept_state(path, a_state(), error)) << error;
+        ASSERT_EQ(truncate(path.c_str(), off_t(1) << 30), 0);
+    }
+    const pid_t child = fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+        size_t used = 0;  // what the process maps already, then 512 MiB more
+        std::ifstream maps("/proc/self/statm");
+        maps >> used;
+        used *= size_t(sysconf(_SC_PAGESIZE));
+        rlimit limit{used + (size_t(512) << 20), used + (size_t(512) << 20)};
+        setrlimit(RLIMIT_AS, &limit);
+        slave::NetworkSource::State s;
+        std::string error;
+        try {
+            const bool taken = keeper::load_kept_state(path, uint64_t(2) << 30, s, error);
+            _exit(!taken && error.find(path) != std::string::npos ? 0 : 1);
+        } catch (...) {
+            _exit(2);
+        }
+    }
+    int status = 0;
+    waitpid(child, &status, 0);
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0)
+        << (WIFSIGNALED(status) ? "the reader died of signal " + std::to_string(WTERMSIG(status))
+                                : "the reader exited " + std::to_string(WEXITSTATUS(status)));
 }

@@ -575,3 +575,123 @@ TEST(BindProbe, RefusesAPortInUseNamingTheChannel) {
     }
     EXPECT_NO_THROW(net::check_can_bind("ipc:///nonexistent-folder/stream", "stream"));
 }
+
+// On a keyed wall a tile's name belongs to the key of the machine the config puts it on
+// (authorized/MACHINE.pub): another authorized display key that names it first (a squatter
+// reporting it live at frame 4242 before its slave is up) is refused, and the real slave is not.
+TEST(WallControlChannel, ASquattingDisplayKeyCannotTakeAnotherMachinesTile) {
+    const std::string master_dir = temp_dir(), a_dir = temp_dir(), b_dir = temp_dir();
+    std::string error;
+    ASSERT_TRUE(net::write_key_pair(master_dir + "/master", error)) << error;
+    ASSERT_TRUE(net::write_key_pair(a_dir + "/slave", error)) << error;
+    ASSERT_TRUE(net::write_key_pair(b_dir + "/slave", error)) << error;
+    mkdir((master_dir + "/authorized").c_str(), 0755);
+    for (const std::string& d : {a_dir, b_dir})
+        std::ofstream(d + "/master.pub") << std::ifstream(master_dir + "/master.pub").rdbuf();
+    std::ofstream(master_dir + "/authorized/display-a.pub") << std::ifstream(a_dir + "/slave.pub").rdbuf();
+    std::ofstream(master_dir + "/authorized/display-b.pub") << std::ifstream(b_dir + "/slave.pub").rdbuf();
+    net::Security master, a_keys, b_keys;
+    ASSERT_TRUE(net::load_security(master_dir, false, master, error)) << error;
+    ASSERT_TRUE(net::load_security(a_dir, false, a_keys, error)) << error;
+    ASSERT_TRUE(net::load_security(b_dir, false, b_keys, error)) << error;
+    setenv("GLCAST_KEYS", master_dir.c_str(), 1);
+    net::use_process_keys(master_dir, false);
+    const std::string endpoint = free_loopback_endpoint();
+    const std::vector<std::pair<std::string, std::string>> tiles = {{"a", "display-a"}, {"b", "display-b"}};
+    std::vector<std::string> unbound;
+    WallControl wall(endpoint, {"a", "b"}, true, nullptr,
+                     glcast::cli::tile_keys(tiles, "master", net::process_security(), &unbound));
+    EXPECT_TRUE(unbound.empty());
+    zmq::context_t context(1);
+    auto peer = [&](const net::Security& s) {
+        auto socket = std::make_unique<zmq::socket_t>(context, zmq::socket_type::dealer);
+        socket->set(zmq::sockopt::linger, 0);
+        net::secure_client(*socket, endpoint, s);
+        socket->connect(endpoint);
+        return socket;
+    };
+    auto squatter = peer(b_keys);
+    squatter->send(zmq::str_buffer("STATUS a live 4242 4242 60 1 0 0 display-a"), zmq::send_flags::none);
+    squatter->send(zmq::str_buffer("STATUS b live 7 7 60 1 0 0 display-b"), zmq::send_flags::none);  // its own
+    std::this_thread::sleep_for(std::chrono::milliseconds(400));
+    auto real = peer(a_keys);
+    for (int i = 0; i < 5; i++) {
+        real->send(zmq::str_buffer("STATUS a live 10 10 60 1 0 0 display-a"), zmq::send_flags::none);
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    const auto status = wall.status();
+    EXPECT_EQ(status.at("a").frame, 10u) << "the squatter's report stood";
+    EXPECT_EQ(status.at("b").frame, 7u);
+    // The squatter's READY for a's frame does not hold or release the barrier for it.
+    squatter->send(zmq::str_buffer("READY a 11"), zmq::send_flags::none);
+    squatter->send(zmq::str_buffer("READY b 11"), zmq::send_flags::none);
+    EXPECT_TRUE(heard(*squatter, 500).empty()) << "b was released while a had not said READY";
+    real->send(zmq::str_buffer("READY a 11"), zmq::send_flags::none);
+    EXPECT_EQ(heard(*real, 500), std::vector<std::string>{"GO 11"});
+    // A machine whose key is not among authorized/ has no peer that may speak for its tiles: said.
+    std::vector<std::string> none;
+    glcast::cli::tile_keys({{"c", "display-c"}, {"m", "master"}}, "master", net::process_security(), &none);
+    EXPECT_EQ(none, std::vector<std::string>{"c"});
+    squatter.reset();
+    real.reset();
+    net::use_process_keys("", false);
+    unsetenv("GLCAST_KEYS");
+}
+
+// Live control's state is carried to every tile in one message of the tile link (4,096 bytes at
+// most) and the operator's answer in one of glcast ctl's (the same): requests each under the
+// channel's 1,024 bytes must not add up past either. Six values of 990 characters (a number with
+// 985 zeros: each in range) made a state of about 7 KB: the tiles never got it and the operator
+// heard nothing, for requests that were applied.
+TEST(WallControlChannel, LiveStateNeverOutgrowsTheBuffersThatCarryIt) {
+    unsetenv("GLCAST_KEYS");
+    const std::string endpoint = "ipc://" + temp_dir() + "/control";
+    WallControl wall(endpoint, {"a"}, false);
+    glcast::slave::WallLink link(endpoint, "a", "host-a");
+    zmq::context_t context(1);
+    zmq::socket_t operator_socket(context, zmq::socket_type::dealer);
+    operator_socket.set(zmq::sockopt::linger, 0);
+    operator_socket.set(zmq::sockopt::maxmsgsize, int64_t(4096));  // as glcast ctl reads
+    operator_socket.set(zmq::sockopt::sndtimeo, 1000);  // a peer that hung up on a long answer takes no request
+    operator_socket.connect(endpoint);
+    std::vector<glcast::slave::effects::ParamSpec> numbers;
+    for (const auto& s : glcast::slave::effects::all_param_specs())
+        if (!s.text) numbers.push_back(s);
+    ASSERT_GE(numbers.size(), 6u);
+    int answered = 0;
+    for (size_t i = 0; i < 6; i++) {
+        char value[64];
+        std::snprintf(value, sizeof value, "%.17g", numbers[i].min);
+        std::string padded = value;
+        if (padded.find('.') == std::string::npos) padded += ".";
+        padded += std::string(990 - padded.size(), '0');
+        const std::string reply = ask(operator_socket, "CTL param " + numbers[i].name + "=" + padded);
+        answered += reply != "(no answer)";
+        EXPECT_LT(reply.size(), 4096u);
+    }
+    EXPECT_EQ(answered, 6) << "requests were applied without an answer the operator could read";
+    // Every parameter at once, each with a value of 17 digits: taken or refused, always answered.
+    std::string all = "CTL param";
+    for (const auto& s : numbers) {
+        char value[64];
+        std::snprintf(value, sizeof value, "%.17g", s.min + (s.max - s.min) / 3);
+        all += " " + s.name + "=" + value;
+    }
+    if (all.size() <= 1024) EXPECT_NE(ask(operator_socket, all), "(no answer)");
+    // Over the channel's bound for one request: refused with an answer, not dropped unanswered.
+    EXPECT_EQ(ask(operator_socket, "CTL param " + numbers[0].name + "=" + std::string(1100, '1')).rfind("ERROR", 0), 0u);
+    EXPECT_LE(wall.effects().words().size(), glcast::slave::LiveEffects::kMaxWordsBytes);
+    // The tile, which joined at version 0, gets the wall's newest state.
+    glcast::slave::TileReport report;
+    report.state = "live";
+    glcast::slave::LiveEffects got;
+    bool took = false;
+    for (int i = 0; i < 40 && !took; i++) {
+        link.report(report);
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        took = link.take_effects(got) && got.version == wall.effects().version;
+    }
+    EXPECT_TRUE(took) << "the tile never got version " << wall.effects().version << " ("
+                      << wall.effects().words().size() << " bytes)";
+}
