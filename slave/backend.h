@@ -21,6 +21,7 @@ struct ContextRequest {
     bool core = false;               // core profile (else compatibility)
     bool forward_compatible = false;
     bool debug = false;
+    bool no_error = false;           // KHR_no_error: the driver may skip its error checks
     // Samples of the program's framebuffer (glcast.context_format; 0: single-sampled). A
     // backend that cannot match it says so once and renders single-sampled.
     int samples = 0;

@@ -170,6 +170,8 @@ public:
     // slave's names differ from the master's from then on (tests of the name maps).
     void keep_own_objects(int n);
     uint64_t frame() const { return frame_; }
+    // The name a call gets for one the stream never made: no object of the slave's driver has it.
+    static constexpr uint64_t kNoObjectName = 0xffffffffu;
     // The frame the next swap ends: a slave that joined from a snapshot of the master's frame N
     // counts from N, as the master does.
     void set_frame(uint64_t frame) { frame_ = frame; }
@@ -205,6 +207,7 @@ private:
     ReplayOptions options_;
     ReplayStats stats_;
     GlApi api_;
+    bool said_name_never_made_ = false;
     std::unique_ptr<ReplaySizeQueries> sizes_;  // over api_
     ScratchMemory scratch_;               // the current call's
     std::map<uint32_t, std::unique_ptr<SlaveContext>> contexts_;

@@ -31,6 +31,7 @@ ContextRequest glx_request(const PtrRecord& attribs) {
     r.core = r.major * 10 + r.minor >= 32 && (profile & GLX_CONTEXT_CORE_PROFILE_BIT_ARB);
     r.forward_compatible = flags & GLX_CONTEXT_FORWARD_COMPATIBLE_BIT_ARB;
     r.debug = flags & GLX_CONTEXT_DEBUG_BIT_ARB;
+    r.no_error = attrib_value(attribs, GLX_CONTEXT_OPENGL_NO_ERROR_ARB, 0, 4);
     if (r.major == 1 && r.minor == 0) r.major = 0;  // GLX's default: any compatible context
     return r;
 }
@@ -43,6 +44,7 @@ ContextRequest egl_request(const PtrRecord& attribs) {
     r.core = r.major * 10 + r.minor >= 32 && (profile & EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT);
     r.forward_compatible = attrib_value(attribs, EGL_CONTEXT_OPENGL_FORWARD_COMPATIBLE, 0, 4);
     r.debug = attrib_value(attribs, EGL_CONTEXT_OPENGL_DEBUG, 0, 4);
+    r.no_error = attrib_value(attribs, EGL_CONTEXT_OPENGL_NO_ERROR_KHR, 0, 4);
     if (r.major == 1 && r.minor == 0) r.major = 0;
     return r;
 }

@@ -26,6 +26,7 @@ inline std::string describe(const ContextRequest& r) {
                                        (r.core ? " core" : " compatibility");
     if (r.forward_compatible) s += " forward-compatible";
     if (r.debug) s += " debug";
+    if (r.no_error) s += " no-error";
     return s;
 }
 

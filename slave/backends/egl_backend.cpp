@@ -165,6 +165,7 @@ public:
         // context the driver has (a "core" flag means nothing without a version, as in GLX).
         if (request.debug) flags |= EGL_CONTEXT_OPENGL_DEBUG_BIT_KHR;
         if (flags) attribs.insert(attribs.end(), {EGL_CONTEXT_FLAGS_KHR, flags});
+        if (request.no_error) attribs.insert(attribs.end(), {EGL_CONTEXT_OPENGL_NO_ERROR_KHR, EGL_TRUE});
         attribs.push_back(EGL_NONE);
 
         out.config = config_for(request.samples);

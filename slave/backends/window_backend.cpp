@@ -101,6 +101,7 @@ public:
         // major 0: GLFW's default 1.0 with any profile, which GLX answers with the highest
         // compatibility context.
         glfwWindowHint(GLFW_OPENGL_DEBUG_CONTEXT, request.debug ? GLFW_TRUE : GLFW_FALSE);
+        glfwWindowHint(GLFW_CONTEXT_NO_ERROR, request.no_error ? GLFW_TRUE : GLFW_FALSE);
 
         glfwGetError(nullptr);
         const bool first = !share;

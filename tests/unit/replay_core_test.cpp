@@ -65,7 +65,7 @@ TEST(ReplayCore, ACreatedProgramsNameIsMappedAndADeletedOneUnmapped) {
     GL(glUseProgram, 9);  // deleted: no longer a name of the stream
     h.replay();
     const std::vector<std::string> uses = h.calls("glUseProgram");
-    ASSERT_EQ(uses.size(), 1u) << h.log;
+    ASSERT_EQ(uses.size(), 2u) << h.log;
     const uint64_t slave_name = h.gl->calls[0].reply;  // placeholder, replaced below
     (void)slave_name;
     std::string created;
@@ -73,20 +73,24 @@ TEST(ReplayCore, ACreatedProgramsNameIsMappedAndADeletedOneUnmapped) {
         if (c.text == "glCreateProgram()") created = std::to_string(c.reply);
     EXPECT_EQ(uses[0], "glUseProgram(" + created + ")");
     EXPECT_EQ(h.calls("glDeleteProgram"), std::vector<std::string>{"glDeleteProgram(" + created + ")"});
-    EXPECT_EQ(h.replayer->stats().errors, 1u);
-    EXPECT_NE(h.log.find("program 9 was never generated"), std::string::npos) << h.log;
+    // deleted: no object on the master, none on the slave (the driver raises the master's error)
+    EXPECT_EQ(uses[1], "glUseProgram(4294967295)");
+    EXPECT_EQ(h.replayer->stats().errors, 0u);
+    EXPECT_NE(h.log.find("program 9 was never made by the stream"), std::string::npos) << h.log;
 }
 
-TEST(ReplayCore, ANameNeverGeneratedIsRefusedBeforeTheDriver) {
+// A program may use a name it never made (Mesa's piglit does, for the error): the slave's driver
+// gets a name that is no object, and raises the same error.
+TEST(ReplayCore, ANameNeverGeneratedIsNoObjectOnTheSlave) {
     ReplayHarness h;
     GL(glUseProgram, 77);
     GL(glClear, GL_COLOR_BUFFER_BIT);
     h.swap();
     h.replay();
-    EXPECT_TRUE(h.calls("glUseProgram").empty());
-    EXPECT_EQ(h.calls("glClear("), std::vector<std::string>{"glClear(16384)"});  // the replay went on
-    EXPECT_EQ(h.replayer->stats().errors, 1u);
-    EXPECT_NE(h.log.find("frame 0, call"), std::string::npos) << h.log;
+    EXPECT_EQ(h.calls("glUseProgram"), std::vector<std::string>{"glUseProgram(4294967295)"});
+    EXPECT_EQ(h.calls("glClear("), std::vector<std::string>{"glClear(16384)"});
+    EXPECT_EQ(h.replayer->stats().errors, 0u);
+    EXPECT_NE(h.log.find("frame 0, call 0: glUseProgram: program 77 was never made"), std::string::npos) << h.log;
 }
 
 TEST(ReplayCore, AReplyOnlyQueryIsNotAskedAgain) {
