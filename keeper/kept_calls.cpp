@@ -27,20 +27,30 @@ void KeptCalls::before_call(const Call& c, const uint8_t* tuple, size_t bytes) {
             calls.create = std::move(create->second);
             pending_create_.erase(create);
         }
-        auto format = pending_format_.find(t.handle);
         calls.format.clear();
-        if (format != pending_format_.end()) {
-            calls.format = std::move(format->second);
-            pending_format_.erase(format);
+        for (auto* pending : {&pending_format_, &pending_bits_}) {
+            auto kept = pending->find(t.handle);
+            if (kept == pending->end()) continue;
+            calls.format.insert(calls.format.end(), kept->second.begin(), kept->second.end());
+            pending->erase(kept);
         }
         calls.context.assign(tuple, tuple + bytes);
         calls.handle = t.handle;
         return;
     }
-    if (c.opcode == kSynthContextFormat) {
-        SynthContextFormat t;
-        read_synthetic(c, t);
-        if (pending_create_.count(t.handle)) pending_format_[t.handle].assign(tuple, tuple + bytes);
+    if (c.opcode == kSynthContextFormat || c.opcode == kSynthContextBits) {  // kept together, in order
+        uint64_t handle = 0;
+        if (c.opcode == kSynthContextFormat) {
+            SynthContextFormat t;
+            read_synthetic(c, t);
+            handle = t.handle;
+        } else {
+            SynthContextBits t;
+            read_synthetic(c, t);
+            handle = t.handle;
+        }
+        if (pending_create_.count(handle))
+            (c.opcode == kSynthContextFormat ? pending_format_ : pending_bits_)[handle].assign(tuple, tuple + bytes);
         return;
     }
     if (c.opcode == kSynthDrawableSize) {
@@ -231,6 +241,7 @@ void KeptCalls::reset() {
     contexts_.clear();
     pending_create_.clear();
     pending_format_.clear();
+    pending_bits_.clear();
     drawable_sizes_.clear();
     lists_.clear();
     list_matrices_.clear();

@@ -25,7 +25,7 @@ using Tuple = std::vector<uint8_t>;
 
 struct ContextCalls {
     Tuple create;        // glXCreateContext*, eglCreateContext: the request the slave follows
-    Tuple format;        // glcast.context_format (multisampled framebuffers only)
+    Tuple format;        // glcast.context_format and glcast.context_bits where sent, one after the other
     Tuple context;       // glcast.context: id, handle, share group
     Tuple make_current;  // the last call that made it current (empty: never made current)
     uint64_t handle = 0;
@@ -88,6 +88,7 @@ private:
     std::map<uint32_t, ContextCalls> contexts_;
     std::map<uint64_t, Tuple> pending_create_;  // by the driver handle it returned
     std::map<uint64_t, Tuple> pending_format_;  // glcast.context_format, by handle
+    std::map<uint64_t, Tuple> pending_bits_;    // glcast.context_bits, by handle
     std::map<uint64_t, Tuple> drawable_sizes_;  // by drawable
     std::map<std::shared_ptr<slave::ShareGroup>, ListBodies> lists_;
     std::map<std::shared_ptr<slave::ShareGroup>, LinkedPrograms> linked_;

@@ -25,6 +25,8 @@ struct ContextRequest {
     // Samples of the program's framebuffer (glcast.context_format; 0: single-sampled). A
     // backend that cannot match it says so once and renders single-sampled.
     int samples = 0;
+    // Bits of the program's window framebuffer (glcast.context_bits; else a slave's own: 0, 24, 8).
+    int alpha = 0, depth = 24, stencil = 8;
 };
 
 // A backend is called from one thread at a time (the slave replays on one thread) and does no

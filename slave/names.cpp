@@ -21,6 +21,9 @@ uint64_t Replayer::map_name(Ns ns, uint64_t master, const Call& c, NameUse use) 
         return slave;
     }
     if (use == NameUse::AskAbout) return 0;  // never made on the master either: 0 is no object here
+    if (redrawing_)
+        throw ReplayError(std::string(c.info ? c.info->name : "?") + ": " + kNamespaces[int(ns)].name + " " +
+                          std::to_string(master) + " is no longer an object of the stream");
     // A name the stream never made (or deleted) was no object on the master: its call raised its
     // error there (Mesa's piglit makes such calls on purpose) or did nothing (glCallList). The
     // slave passes a name no object of its driver has (its generators count up from 1), so that

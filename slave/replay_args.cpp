@@ -37,6 +37,9 @@ void* Replayer::out(const Call& c, int i, uint32_t binding, int64_t elements) {
     if (a.ptr.tag != PtrTag::Reply && a.ptr.tag != PtrTag::Offset) return nullptr;
     const ArgKind kind = c.info->params[i].kind;
     const int64_t unit = kind == ArgKind::OutString ? 1 : int64_t(element_bytes(c, i));
+    // A negative count the master's driver refused without writing (Replayer::need_reply): the
+    // slave's driver gets NULL and refuses it the same way.
+    if (elements < 0 && a.ptr.tag == PtrTag::Reply && a.reply.count == 0) return nullptr;
     if (elements < 0)
         throw ReplayError(std::string(param_name(c, i)) + ": the slave cannot compute how much the call writes");
     if (a.ptr.tag == PtrTag::Offset) {

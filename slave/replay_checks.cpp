@@ -100,6 +100,8 @@ void Replayer::refuse_data_under_buffer(const Call& c, int i, uint32_t binding) 
 // A generator writes as many names as it is asked for, whatever the master's reply holds.
 void Replayer::need_reply(const Call& c, int i, int64_t elements) const {
     const Arg& a = c.args[size_t(i)];
+    // A negative count: the master's driver raised GL_INVALID_VALUE and generated nothing.
+    if (elements < 0 && (a.ptr.tag == PtrTag::Null || (a.ptr.tag == PtrTag::Reply && a.reply.count == 0))) return;
     if (a.ptr.tag != PtrTag::Reply) {
         if (a.ptr.tag != PtrTag::Null || elements > 0)
             throw ReplayError(std::string(param_name(c, i)) + ": a generator's output must be a reply");

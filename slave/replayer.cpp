@@ -296,6 +296,13 @@ void Replayer::redispatch(const Call& c) {
     }
     if (!kReplay[c.opcode]) return;  // recorded inside glBegin/glEnd, but not repeated by a slave
     // (every call, whatever they asked for: a redraw changes what a call means to them)
+    // A name the frame deleted since is refused here (the redraw skips the call), not given to
+    // the driver as no object: the error would be left for the program's next glGetError.
+    redrawing_ = true;
+    struct Done {
+        bool& flag;
+        ~Done() { flag = false; }
+    } done{redrawing_};
     observe(c, nullptr, 0, redraw_observers_, [this, &c] {
         kReplay[c.opcode](*this, c);
         if (c.info->sem.program_use >= 0) current().current_program = c.args[size_t(c.info->sem.program_use)].bits;

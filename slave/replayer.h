@@ -208,6 +208,7 @@ private:
     ReplayStats stats_;
     GlApi api_;
     bool said_name_never_made_ = false;
+    bool redrawing_ = false;  // running recorded calls again for the passes (redispatch)
     std::unique_ptr<ReplaySizeQueries> sizes_;  // over api_
     ScratchMemory scratch_;               // the current call's
     std::map<uint32_t, std::unique_ptr<SlaveContext>> contexts_;

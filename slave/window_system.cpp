@@ -2,6 +2,10 @@
 // the master's drawable had (slave/backend.h says why it is not an FBO).
 #include "slave/window_system.h"
 
+#include <cstdio>
+
+#include <algorithm>
+
 #include "common/gl_headers.h"
 #include "slave/replayer.h"
 
@@ -52,7 +56,9 @@ ContextRequest egl_request(const PtrRecord& attribs) {
 }  // namespace
 
 bool WindowSystem::wants(uint32_t opcode, const CommandInfo* info) const {
-    if (!info) return opcode == kSynthContext || opcode == kSynthDrawableSize || opcode == kSynthContextFormat;
+    if (!info)
+        return opcode == kSynthContext || opcode == kSynthDrawableSize || opcode == kSynthContextFormat ||
+               opcode == kSynthContextBits;
     return info->sem.context != ContextOp::Nothing;
 }
 
@@ -65,6 +71,29 @@ bool WindowSystem::replace_call(const Call& c) {
                               std::to_string(kMaxSamples) + ")");
         auto request = pending_.find(t.handle);
         if (request != pending_.end()) request->second.samples = t.samples;  // else its creation failed
+        return true;
+    }
+    if (c.opcode == kSynthContextBits) {
+        SynthContextBits t;
+        read_synthetic(c, t);
+        const auto within = [](int32_t v, int32_t most) { return v >= 0 && v <= most; };
+        if (!within(t.alpha, 32) || !within(t.depth, 32) || !within(t.stencil, 16))
+            throw ReplayError("a context of " + std::to_string(t.alpha) + " alpha, " + std::to_string(t.depth) +
+                              " depth and " + std::to_string(t.stencil) + " stencil bits (at most 32, 32 and 16)");
+        auto request = pending_.find(t.handle);
+        if (request == pending_.end()) return true;  // its creation failed
+        request->second.alpha = t.alpha;
+        // The passes read and test the scene's depth (and stencil) in the window framebuffer: with
+        // them on, a slave keeps at least its own 24 and 8 bits (what the program asks of them then
+        // differs; said once).
+        const bool passes = core_.options().effects.followed();
+        request->second.depth = passes ? std::max(t.depth, 24) : t.depth;
+        request->second.stencil = passes ? std::max(t.stencil, 8) : t.stencil;
+        if (passes && (t.depth < 24 || t.stencil < 8) && !said_passes_keep_depth_) {
+            said_passes_keep_depth_ = true;
+            std::fprintf(stderr, "glcast slave: the program's window has %d depth and %d stencil bits; the passes keep "
+                                 "the slave's 24 and 8\n", t.depth, t.stencil);
+        }
         return true;
     }
     if (c.opcode == kSynthContext) {

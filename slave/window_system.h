@@ -34,6 +34,7 @@ private:
 
     Replayer& core_;
     std::map<uint64_t, ContextRequest> pending_;  // creation requests by master handle
+    bool said_passes_keep_depth_ = false;
     std::map<uint64_t, uint32_t> ids_by_handle_;
     void keep_drawable_size(uint64_t drawable, int width, int height);
     std::map<uint64_t, std::pair<int, int>> drawable_sizes_;

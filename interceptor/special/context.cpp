@@ -53,13 +53,23 @@ bool glx_attribs_ask_es(const int* attribs) {
     return false;
 }
 
-// `samples`: of the visual or config the context was made for; a slave makes its framebuffer
-// multisampled the same way (0 and 1: single-sampled, no tuple).
-void created(CallScope& scope, const void* handle, const void* share, ContextApi api, int samples) {
+// Of the visual or config a context was made for: a slave makes its window framebuffer the same
+// (a program reads its alpha back, asks its depth and stencil sizes). What a slave has without
+// being told (one sample, no alpha, 24 depth and 8 stencil bits) goes without a tuple.
+struct FramebufferBits {
+    int samples = 0, alpha = 0, depth = 24, stencil = 8;
+};
+
+void created(CallScope& scope, const void* handle, const void* share, ContextApi api, const FramebufferBits& bits) {
     if (!handle) return;
-    if (samples > 1) {
+    if (bits.samples > 1) {
         encode_synth_context_format(scope.begin_synthetic(kSynthContextFormat), reinterpret_cast<uintptr_t>(handle),
-                                    samples);
+                                    bits.samples);
+        scope.commit_synthetic();
+    }
+    if (bits.alpha != 0 || bits.depth != 24 || bits.stencil != 8) {
+        encode_synth_context_bits(scope.begin_synthetic(kSynthContextBits), reinterpret_cast<uintptr_t>(handle),
+                                  bits.alpha, bits.depth, bits.stencil);
         scope.commit_synthetic();
     }
     uint32_t id;
@@ -109,18 +119,30 @@ void egl_drawable_size(CallScope& scope, EGLDisplay dpy, EGLSurface surface, boo
     drawable_size(scope, reinterpret_cast<uintptr_t>(surface), w, h);
 }
 
-int glx_visual_samples(Display* dpy, XVisualInfo* vis) {
-    static const auto get = reinterpret_cast<int (*)(Display*, XVisualInfo*, int, int*)>(real_proc(OP_glXGetConfig));
-    int samples = 0;
-    if (get && dpy && vis && get(dpy, vis, GLX_SAMPLES, &samples) != 0) samples = 0;
-    return samples;
+// `get(attribute, value)`: true when the driver answered.
+template <class Get>
+FramebufferBits framebuffer_bits(Get&& get, int samples, int alpha, int depth, int stencil) {
+    FramebufferBits bits;
+    int v = 0;
+    if (get(samples, v)) bits.samples = v;
+    if (get(alpha, v)) bits.alpha = v;
+    if (get(depth, v)) bits.depth = v;
+    if (get(stencil, v)) bits.stencil = v;
+    return bits;
 }
 
-int glx_config_samples(Display* dpy, GLXFBConfig config) {
+FramebufferBits glx_visual_bits(Display* dpy, XVisualInfo* vis) {
+    static const auto get = reinterpret_cast<int (*)(Display*, XVisualInfo*, int, int*)>(real_proc(OP_glXGetConfig));
+    if (!get || !dpy || !vis) return {};
+    return framebuffer_bits([&](int a, int& v) { return get(dpy, vis, a, &v) == 0; }, GLX_SAMPLES, GLX_ALPHA_SIZE,
+                            GLX_DEPTH_SIZE, GLX_STENCIL_SIZE);
+}
+
+FramebufferBits glx_config_bits(Display* dpy, GLXFBConfig config) {
     static const auto get = reinterpret_cast<PFNGLXGETFBCONFIGATTRIBPROC>(real_proc(OP_glXGetFBConfigAttrib));
-    int samples = 0;
-    if (get && dpy && config && get(dpy, config, GLX_SAMPLES, &samples) != 0) samples = 0;
-    return samples;
+    if (!get || !dpy || !config) return {};
+    return framebuffer_bits([&](int a, int& v) { return get(dpy, config, a, &v) == 0; }, GLX_SAMPLES, GLX_ALPHA_SIZE,
+                            GLX_DEPTH_SIZE, GLX_STENCIL_SIZE);
 }
 
 // The shim's own queries must ask only what the context's API has (an OpenGL ES context lacks
@@ -143,7 +165,7 @@ GLXContext special::glXCreateContext(glXCreateContext_fn real, CallScope& scope,
     GLXContext ret = real(dpy, vis, shareList, direct);
     if (!scope.recording()) return ret;
     scope.record([&](Encoder& e, SizeQueries& sz) { encode_glXCreateContext(e, sz, dpy, vis, shareList, direct, ret); });
-    created(scope, ret, shareList, ContextApi::Glx, glx_visual_samples(dpy, vis));
+    created(scope, ret, shareList, ContextApi::Glx, glx_visual_bits(dpy, vis));
     return ret;
 }
 
@@ -154,7 +176,7 @@ GLXContext special::glXCreateNewContext(glXCreateNewContext_fn real, CallScope& 
     scope.record([&](Encoder& e, SizeQueries& sz) {
         encode_glXCreateNewContext(e, sz, dpy, config, render_type, share_list, direct, ret);
     });
-    created(scope, ret, share_list, ContextApi::Glx, glx_config_samples(dpy, config));
+    created(scope, ret, share_list, ContextApi::Glx, glx_config_bits(dpy, config));
     return ret;
 }
 
@@ -167,7 +189,7 @@ GLXContext special::glXCreateContextAttribsARB(glXCreateContextAttribsARB_fn rea
         encode_glXCreateContextAttribsARB(e, sz, dpy, config, share_context, direct, attrib_list, ret);
     });
     created(scope, ret, share_context, glx_attribs_ask_es(attrib_list) ? ContextApi::GlxEs : ContextApi::Glx,
-            glx_config_samples(dpy, config));
+            glx_config_bits(dpy, config));
     return ret;
 }
 
@@ -231,13 +253,15 @@ EGLContext special::eglCreateContext(eglCreateContext_fn real, CallScope& scope,
     scope.record([&](Encoder& e, SizeQueries& sz) {
         encode_eglCreateContext(e, sz, dpy, config, share_context, attrib_list, ret);
     });
-    EGLint samples = 0;
     static const auto get = reinterpret_cast<PFNEGLGETCONFIGATTRIBPROC>(real_proc_by_name("eglGetConfigAttrib"));
-    if (ret && get && config && !get(dpy, config, EGL_SAMPLES, &samples)) samples = 0;
+    FramebufferBits bits;
+    if (ret && get && config)
+        bits = framebuffer_bits([&](EGLint a, int& v) { return get(dpy, config, a, &v) == EGL_TRUE; }, EGL_SAMPLES,
+                                EGL_ALPHA_SIZE, EGL_DEPTH_SIZE, EGL_STENCIL_SIZE);
     static const auto query = reinterpret_cast<PFNEGLQUERYCONTEXTPROC>(real_proc_by_name("eglQueryContext"));
     EGLint client = EGL_OPENGL_API;
     if (ret && query && !query(dpy, ret, EGL_CONTEXT_CLIENT_TYPE, &client)) client = EGL_OPENGL_API;
-    created(scope, ret, share_context, client == EGL_OPENGL_ES_API ? ContextApi::EglEs : ContextApi::Egl, samples);
+    created(scope, ret, share_context, client == EGL_OPENGL_ES_API ? ContextApi::EglEs : ContextApi::Egl, bits);
     return ret;
 }
 

@@ -15,6 +15,7 @@
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
 
+#include <array>
 #include <cstdio>
 #include <cstdlib>
 #include <map>
@@ -168,7 +169,7 @@ public:
         if (request.no_error) attribs.insert(attribs.end(), {EGL_CONTEXT_OPENGL_NO_ERROR_KHR, EGL_TRUE});
         attribs.push_back(EGL_NONE);
 
-        out.config = config_for(request.samples);
+        out.config = config_for(request);
         out.context = api_.CreateContext(display_, out.config, share ? share->context : EGL_NO_CONTEXT, attribs.data());
         if (out.context == EGL_NO_CONTEXT) return fail_egl(error, "eglCreateContext(" + describe(request) + ")");
         return true;
@@ -179,7 +180,7 @@ public:
     bool create_es(const Context* share, const ContextRequest& request, Context& out, std::string& error) {
         if (share && !share->es)
             return fail(error, "an OpenGL ES context cannot share objects with a desktop OpenGL one");
-        out.config = config_for(request.samples);
+        out.config = config_for(request);
         EGLint renderable = 0;
         api_.GetConfigAttrib(display_, out.config, EGL_RENDERABLE_TYPE, &renderable);
         const EGLint wanted = request.major >= 3 ? EGL_OPENGL_ES3_BIT : request.major == 2 ? EGL_OPENGL_ES2_BIT
@@ -305,33 +306,40 @@ private:
         return true;
     }
 
-    // A multisampled program gets a pbuffer of as many samples (resolved when read back or
-    // copied, as a window is), from the config of the same layout as config_ (lowest id).
-    EGLConfig config_for(int samples) {
-        if (samples <= 1) return config_;
-        auto known = multisampled_.find(samples);
-        if (known != multisampled_.end()) return known->second;
+    // A program's window framebuffer of other bits (samples, resolved when read back or copied as
+    // a window is; alpha, depth, stencil) gets a pbuffer of the same, RGB as config_ (lowest id).
+    EGLConfig config_for(const ContextRequest& r) {
+        const int samples = r.samples > 1 ? r.samples : 0;
+        if (!samples && r.alpha == 0 && r.depth == 24 && r.stencil == 8) return config_;
+        const std::array<int, 4> key{samples, r.alpha, r.depth, r.stencil};
+        auto known = configs_.find(key);
+        if (known != configs_.end()) return known->second;
         const EGLint attribs[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_SURFACE_TYPE, EGL_PBUFFER_BIT,
-                                  EGL_RED_SIZE, 8, EGL_GREEN_SIZE, 8, EGL_BLUE_SIZE, 8, EGL_ALPHA_SIZE, 0,
-                                  EGL_DEPTH_SIZE, 24, EGL_STENCIL_SIZE, 8, EGL_SAMPLE_BUFFERS, 1,
-                                  EGL_SAMPLES, samples, EGL_NONE};
-        EGLConfig configs[64];
+                                  EGL_RED_SIZE, 8, EGL_GREEN_SIZE, 8, EGL_BLUE_SIZE, 8, EGL_ALPHA_SIZE, r.alpha,
+                                  EGL_DEPTH_SIZE, r.depth, EGL_STENCIL_SIZE, r.stencil,
+                                  EGL_SAMPLE_BUFFERS, samples ? 1 : 0, EGL_SAMPLES, samples, EGL_NONE};
+        EGLConfig configs[256];
         EGLint count = 0, best_id = 0;
         EGLConfig best = config_;
-        if (api_.ChooseConfig(display_, attribs, configs, 64, &count)) {
+        if (api_.ChooseConfig(display_, attribs, configs, 256, &count)) {
             for (EGLint i = 0; i < count; ++i) {
-                EGLint id = 0, r = 0, a = 0, s = 0;
+                EGLint id = 0, red = 0, alpha = 0, depth = 0, stencil = 0, s = 0;
                 api_.GetConfigAttrib(display_, configs[i], EGL_CONFIG_ID, &id);
-                api_.GetConfigAttrib(display_, configs[i], EGL_RED_SIZE, &r);
-                api_.GetConfigAttrib(display_, configs[i], EGL_ALPHA_SIZE, &a);
+                api_.GetConfigAttrib(display_, configs[i], EGL_RED_SIZE, &red);
+                api_.GetConfigAttrib(display_, configs[i], EGL_ALPHA_SIZE, &alpha);
+                api_.GetConfigAttrib(display_, configs[i], EGL_DEPTH_SIZE, &depth);
+                api_.GetConfigAttrib(display_, configs[i], EGL_STENCIL_SIZE, &stencil);
                 api_.GetConfigAttrib(display_, configs[i], EGL_SAMPLES, &s);
-                if (r == 8 && a == 0 && s == samples && (!best_id || id < best_id)) best_id = id, best = configs[i];
+                const bool same = red == 8 && alpha == r.alpha && depth == r.depth && stencil == r.stencil && s == samples;
+                if (same && (!best_id || id < best_id)) best_id = id, best = configs[i];
             }
         }
         if (!best_id)
-            std::fprintf(stderr, "glcast slave: egl: no pbuffer config with %d samples; this context renders "
-                                 "single-sampled, and polygon edges differ from the program's\n", samples);
-        multisampled_[samples] = best;
+            std::fprintf(stderr, "glcast slave: egl: no pbuffer config with %d samples, %d alpha, %d depth and %d "
+                                 "stencil bits; this context renders with the default (1 sample, 0, 24, 8), and what "
+                                 "the program reads of the missing bits differs\n",
+                         samples, r.alpha, r.depth, r.stencil);
+        configs_[key] = best;
         return best;
     }
 
@@ -352,7 +360,7 @@ private:
     EglApi api_;
     EGLDisplay display_ = EGL_NO_DISPLAY;
     EGLConfig config_ = EGL_NO_CONFIG_KHR;
-    std::map<int, EGLConfig> multisampled_;  // by samples
+    std::map<std::array<int, 4>, EGLConfig> configs_;  // by samples, alpha, depth, stencil
     int version_ = 0;
     bool display_counted_ = false;
     std::vector<EGLSurface> retired_;  // replaced pbuffers, until the next make-current

@@ -52,14 +52,20 @@ public:
     }
 
     bool create(const Context* share, const ContextRequest& request, Context& out, std::string& error) {
-        std::vector<int> attribs = {OSMESA_FORMAT, OSMESA_BGRA, OSMESA_DEPTH_BITS, 24,
-                                    OSMESA_STENCIL_BITS, 8};
+        std::vector<int> attribs = {OSMESA_FORMAT, OSMESA_BGRA, OSMESA_DEPTH_BITS, request.depth,
+                                    OSMESA_STENCIL_BITS, request.stencil};
         if (request.es && !warned_es_) {
             warned_es_ = true;
             std::fprintf(stderr, "glcast slave: osmesa has no OpenGL ES: the program's %s context is replayed in a "
                                  "desktop OpenGL one, whose version strings, extensions and shader rules differ "
                                  "(EGL makes an ES context)\n",
                          describe(request).c_str());
+        }
+        if (request.depth > 24 && !warned_depth_) {
+            warned_depth_ = true;
+            std::fprintf(stderr, "glcast slave: osmesa has at most 24 depth bits: the program's %d are 24 here, and "
+                                 "what it asks of them differs (EGL matches them)\n",
+                         request.depth);
         }
         if (request.major > 0 && !request.es) {
             attribs.insert(attribs.end(),
@@ -116,6 +122,7 @@ private:
     void (*flush_)() = nullptr;
     bool warned_samples_ = false;
     bool warned_es_ = false;
+    bool warned_depth_ = false;
     static bool fail(std::string& error, const std::string& what) {
         error = "osmesa: " + what;
         return false;

@@ -81,9 +81,9 @@ public:
         glfwWindowHint(GLFW_RED_BITS, 8);
         glfwWindowHint(GLFW_GREEN_BITS, 8);
         glfwWindowHint(GLFW_BLUE_BITS, 8);
-        glfwWindowHint(GLFW_ALPHA_BITS, 0);
-        glfwWindowHint(GLFW_DEPTH_BITS, 24);
-        glfwWindowHint(GLFW_STENCIL_BITS, 8);
+        glfwWindowHint(GLFW_ALPHA_BITS, request.alpha);
+        glfwWindowHint(GLFW_DEPTH_BITS, request.depth);
+        glfwWindowHint(GLFW_STENCIL_BITS, request.stencil);
         glfwWindowHint(GLFW_SAMPLES, request.samples > 1 ? request.samples : 0);
         if (request.es) {  // GLFW's defaults hold for the rest
             glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, request.major ? request.major : 1);

@@ -10,7 +10,8 @@
  * what the drivers wrote (glGetFloati_v past the last viewport, glGetTransformFeedbackiv of a
  * pname it lacks, glGetInternalformativ with a bufSize shorter than its array); a negative count
  * with NULL is replayed for the error it raises (glViewportArrayv(0, -1, NULL): the slave
- * stopped, "cannot compute how much the call reads").
+ * stopped, "cannot compute how much the call reads"), and so is a generator's
+ * (glCreateTransformFeedbacks(-1): "the call generates -1 names, the reply has 0").
  *
  *   api_errors [--frames N] [--size WxH]
  */
@@ -70,6 +71,12 @@ static int refusals(int frame)
     glGetInternalformativ(GL_TEXTURE_BINDING_2D, GL_RGBA8, GL_NUM_SAMPLE_COUNTS, 2, refused);
     wrong += expect(GL_INVALID_ENUM, "glGetInternalformativ(GL_TEXTURE_BINDING_2D)", frame);
     wrong += untouched(refused, 0, 2, "glGetInternalformativ(GL_TEXTURE_BINDING_2D)", frame);
+
+    /* A generator asked for a negative count: an error, no name made. */
+    GLint generated[1] = {SENTINEL};
+    glCreateTransformFeedbacks(-1, (GLuint *)generated);
+    wrong += expect(GL_INVALID_VALUE, "glCreateTransformFeedbacks(-1)", frame);
+    wrong += untouched(generated, 0, 1, "glCreateTransformFeedbacks(-1)", frame);
     return wrong;
 }
 

@@ -31,6 +31,7 @@ CASES = {
     "viewport_array": (lambda: [os.path.join(APPS, "viewport_array"), "--frames", "8"], 8),
     "client_draws": (lambda: [os.path.join(APPS, "client_draws"), "--frames", "8"], 8),
     "api_errors": (lambda: [os.path.join(APPS, "api_errors"), "--frames", "4"], 4),
+    "window_bits": (lambda: [os.path.join(APPS, "window_bits"), "--frames", "4"], 4),
 }
 
 
