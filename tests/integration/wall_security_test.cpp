@@ -104,6 +104,41 @@ TEST(SwapBarrier, ASilentTileIsDroppedAndTakenBackWhenItReturns) {
     EXPECT_EQ(released(s, 3.9).size(), 4u);
 }
 
+// A tile stopped for a while (SIGSTOP, a machine that hung) comes back with frames the wall
+// presented long ago: it shows them at once, as it replays them, and counts again only when it
+// reaches a frame the others have not presented. Before, its first READY made it count at once
+// with its old frame, and the others waited until it had replayed its whole backlog.
+TEST(SwapBarrier, ATileThatComesBackBehindDoesNotHoldTheOthers) {
+    BarrierState s(kTiles, 2.0, 0);
+    for (const char* t : {"a", "b", "c", "d"}) s.ready(t, 1, 0.1);
+    EXPECT_EQ(released(s, 0.1).size(), 4u);
+    for (const char* t : {"a", "b", "c"}) s.ready(t, 2, 0.2);
+    std::vector<std::string> dropped;
+    EXPECT_EQ(released(s, 2.3, &dropped), (std::vector<std::string>{"a@2", "b@2", "c@2"}));
+    EXPECT_EQ(dropped, std::vector<std::string>{"d"});
+    for (uint64_t f = 3; f <= 40; f++) {
+        for (const char* t : {"a", "b", "c"}) s.ready(t, f, 2.3 + f * 0.01);
+        EXPECT_EQ(released(s, 2.3 + f * 0.01).size(), 3u);
+    }
+    // d continues: its backlog, frame 2 on, while the others go on from 41.
+    for (const char* t : {"a", "b", "c"}) s.ready(t, 41, 3.0);
+    s.ready("d", 2, 3.0);
+    EXPECT_EQ(released(s, 3.0), (std::vector<std::string>{"a@41", "b@41", "c@41", "d@2"}));  // d at once: behind
+    EXPECT_FALSE(s.counted("d"));
+    EXPECT_TRUE(s.back.empty());
+    for (uint64_t f = 3; f <= 41; f++) {  // d alone, at once; the others are never held by it
+        s.ready("d", f, 3.0 + f * 0.001);
+        EXPECT_EQ(released(s, 3.0 + f * 0.001), (std::vector<std::string>{"d@" + std::to_string(f)}));
+    }
+    EXPECT_FALSE(s.counted("d"));
+    // 42: a frame the others have not presented: d counts again, and all four go together.
+    for (const char* t : {"a", "b", "c"}) s.ready(t, 42, 3.1);
+    s.ready("d", 42, 3.1);
+    EXPECT_TRUE(s.counted("d"));
+    EXPECT_EQ(s.back, std::vector<std::string>{"d"});
+    EXPECT_EQ(released(s, 3.1).size(), 4u);
+}
+
 TEST(Endpoints, TransportsAndWhatNeedsKeys) {
     EXPECT_EQ(net::transport_of("ipc:///tmp/x"), net::Transport::local);
     EXPECT_EQ(net::transport_of("tcp://127.0.0.1:5"), net::Transport::loopback);
