@@ -130,7 +130,7 @@ ClockOffset::Sample ClockOffset::best() const {
 
 void WallLink::sync_clock() {
     const double now = steady_seconds();
-    if (now < next_sample_ || clock_failures_ >= 3) return;
+    if (now < next_sample_) return;
     char t0_text[64];
     std::snprintf(t0_text, sizeof t0_text, "%.9f", now);
     const std::string answer = std::string("CLOCK ") + t0_text;
@@ -141,13 +141,9 @@ void WallLink::sync_clock() {
         return end && *end == 0 && std::isfinite(run_time);
     });
     const double t2 = steady_seconds();
-    if (answered) {
-        clock_.sample(std::strtod(t0_text, nullptr), run_time, t2);
-        clock_failures_ = 0;
-    } else {
-        clock_failures_++;
-    }
-    next_sample_ = t2 + (clock_.samples() < kQuickSamples ? 0.0 : 1.0);
+    if (answered) clock_.sample(std::strtod(t0_text, nullptr), run_time, t2);
+    // Unanswered (no run serves the channel, or one of before CLOCK): asked again in 5 s.
+    next_sample_ = t2 + (!answered ? 5.0 : clock_.samples() < kQuickSamples ? 0.0 : 1.0);
 }
 
 void WallLink::timing(const FrameTiming& t) {
@@ -165,10 +161,11 @@ void WallLink::send_timings() {
     char head[160];
     std::snprintf(head, sizeof head, "TIMING %s %.9f %.9f", tile_.c_str(), clock_.offset(), clock_.error());
     std::string lines;
-    const double offset = clock_.offset();
+    const double offset = clock_.offset(), stale = steady_seconds() - 5;
     size_t n = 0;
     for (; n < timings_.size() && lines.size() < kMaxThumbnailBytes - 128; n++) {
         const FrameTiming& t = timings_[n];
+        if (t.presented < stale) continue;  // held while no run answered: another program's, perhaps
         char line[128];
         std::snprintf(line, sizeof line, "%llu %.6f %.6f %.6f\n", (unsigned long long)t.frame, t.arrived + offset,
                       t.replayed + offset, t.presented + offset);

@@ -76,8 +76,9 @@ public:
     // of at most a tenth of a second; held until the clock is known (at most kMaxHeldTimings).
     // Never waits; a batch may be lost.
     void timing(const FrameTiming& t);
-    // One clock sample when due (the first kQuickSamples at once, then one a second): waits at
-    // most a round trip (kClockWaitMs). Call where a wait matters least (after a present).
+    // One clock sample when due (the first kQuickSamples at once, then one a second, and 5 s
+    // after one unanswered): waits at most kClockWaitMs. Call where a wait matters least (after
+    // a present).
     void sync_clock();
     void flush_timings();  // what is held, now (a program's last frames)
     const ClockOffset& clock() const { return clock_; }
@@ -102,7 +103,6 @@ private:
     LiveEffects effects_;
     ClockOffset clock_;
     double next_sample_ = 0;  // steady seconds
-    int clock_failures_ = 0;  // in a row: a run that does not answer CLOCK is not asked again
     std::vector<FrameTiming> timings_;  // not yet sent
     double timings_sent_ = 0;
     std::unique_ptr<zmq::context_t> context_;
