@@ -49,7 +49,7 @@ def config_file(tmp, barrier):
 def run_wall(glcast, counter, tmp, backend, barrier, frames, fps, name, during=None):
     """One `glcast run --timing`; returns the timing file's lines. `during(run_pid)` runs beside it."""
     timing = os.path.join(tmp, f"{name}.jsonl")
-    program = ["sh", "-c", f'LD_PRELOAD="$LD_PRELOAD:{counter}" exec glxgears']
+    program = ["sh", "-c", f'LD_PRELOAD="{counter}:$LD_PRELOAD" exec glxgears']
     env = dict(os.environ, FRAME_COUNTER_FPS=str(fps))
     p = subprocess.Popen([glcast, "run", "--config", config_file(tmp, barrier), "--backend", backend, "--frames",
                           str(frames), "--timing", timing, "--"] + program, env=env,
@@ -125,6 +125,8 @@ def slow_tile(glcast, counter, tmp, frames, fps, stop_seconds):
     def stop_one(run_pid):
         time.sleep(3)
         pid = slave_pid(run_pid, "bottom-right")
+        if not pid:
+            print("descendants:", [open(f"/proc/{p}/cmdline").read()[:80] for p in descendants(run_pid)], file=sys.stderr)
         if not pid:
             return
         marks["stop"] = time.monotonic()
