@@ -26,6 +26,7 @@
 #include "slave/wall_link.h"
 
 using glcast::cli::BarrierState;
+using glcast::cli::TileFrameTiming;
 using glcast::cli::WallControl;
 namespace net = glcast::net;
 
@@ -125,7 +126,7 @@ TEST(SwapBarrier, ATileThatComesBackBehindDoesNotHoldTheOthers) {
     // d continues: its backlog, frame 2 on, while the others go on from 41.
     for (const char* t : {"a", "b", "c"}) s.ready(t, 41, 3.0);
     s.ready("d", 2, 3.0);
-    EXPECT_EQ(released(s, 3.0), (std::vector<std::string>{"a@41", "b@41", "c@41", "d@2"}));  // d at once: behind
+    EXPECT_EQ(released(s, 3.0), (std::vector<std::string>{"d@2", "a@41", "b@41", "c@41"}));  // d at once: behind
     EXPECT_FALSE(s.counted("d"));
     EXPECT_TRUE(s.back.empty());
     for (uint64_t f = 3; f <= 41; f++) {  // d alone, at once; the others are never held by it
