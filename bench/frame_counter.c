@@ -3,7 +3,8 @@
  * FRAME_COUNTER_SKIP to the last one, and the CPU time the whole process (every thread: the
  * program's, the driver's, glcast's writer) spent in those frames, and ends the program. Start-up
  * (context creation, the driver's shader compiles) is left out of both. Costs one clock read per
- * frame. */
+ * frame. FRAME_COUNTER_FPS=N paces the program to N frames a second (it sleeps after each swap
+ * until the next tick), as a program held by a display's refresh would be. */
 #define _GNU_SOURCE
 #include <dlfcn.h>
 #include <stdio.h>
@@ -27,7 +28,26 @@ static double process_cpu(void) {
     return r.ru_utime.tv_sec + r.ru_utime.tv_usec * 1e-6 + r.ru_stime.tv_sec + r.ru_stime.tv_usec * 1e-6;
 }
 
+static void pace(void) {
+    static double period = -1, next;
+    if (period < 0) {
+        const char* f = getenv("FRAME_COUNTER_FPS");
+        period = f && atof(f) > 0 ? 1.0 / atof(f) : 0;
+        next = now();
+    }
+    if (period == 0) return;
+    next += period;
+    const double wait = next - now();
+    if (wait > 0) {
+        struct timespec ts = {(time_t)wait, (long)((wait - (time_t)wait) * 1e9)};
+        nanosleep(&ts, NULL);
+    } else {
+        next = now();  /* late: from now on, not a burst to make up */
+    }
+}
+
 static void frame(void) {
+    pace();
     if (!stop) {
         const char* s = getenv("FRAME_COUNTER_EXIT");
         const char* k = getenv("FRAME_COUNTER_SKIP");

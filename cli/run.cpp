@@ -49,7 +49,7 @@ namespace {
 
 struct RunArgs {
     std::string config_path, backend = std::getenv("DISPLAY") ? "window" : "egl", out_dir, endpoint, keys, machine,
-                                     status_json, head_poses, tracker, dashboard;
+                                     status_json, head_poses, tracker, dashboard, timing;
     uint64_t frames = 0;  // 0: as long as the program runs
     bool lockstep = false, insecure = false;
     int wait_tiles = 10;  // seconds to wait for the tiles of other machines before the program starts
@@ -262,7 +262,14 @@ int run(RunArgs& a, const std::vector<std::string>& program) {
             std::fprintf(stderr, "glcast run: tile %s is on a machine whose key is not in %s/authorized/ (as MACHINE.pub, "
                                  "the machine's name in the config): no slave can speak for it\n",
                          tile.c_str(), net::process_security().dir.c_str());
+        // (before the channel that feeds it, so that it outlives it)
+        std::unique_ptr<WallTiming> timing;
+        if (!a.timing.empty()) timing = std::make_unique<WallTiming>(a.timing, session.dir() + "/swaps", tile_names);
         WallControl wall(e.control, tile_names, plan.swap_barrier, head_for, keys);
+        if (timing)
+            wall.set_timing_sink([&timing](const std::string& tile, uint64_t frame, const TileFrameTiming& t) {
+                timing->add(tile, frame, t);
+            });
         wall.set_started_effects(slave::LiveEffects::from(plan.effects));
         WallStatus view(wall, plan.tiles, a.status_json);
         std::unique_ptr<Dashboard> dashboard;
@@ -280,6 +287,7 @@ int run(RunArgs& a, const std::vector<std::string>& program) {
             {"GLCAST_WAIT_SUBSCRIBERS", std::to_string(session.slaves() + size_t(remote_here) + (e.reachable ? 1 : 0))},
             {"GLCAST_LOCKSTEP", a.lockstep ? std::to_string(plan.tiles.size()) : "0"},
             {"GLCAST_PUBLISHED_MARK", session.dir() + "/published"}};
+        if (timing) env["GLCAST_TEST_SWAP_LOG"] = session.dir() + "/swaps";
         if (a.frames) {
             env["GLCAST_FRAMES"] = std::to_string(a.frames);
             env["GLCAST_EXIT_AFTER_FRAMES"] = "1";
@@ -353,6 +361,10 @@ Command add_run(CLI::App& glcast) {
                     "docs/immersive.md); default: the config's viewer.tracker. Turns the swap barrier on")
         ->type_name("ENDPOINT");
     app->add_option("--status-json", a->status_json, "write the wall's status once a second as JSON lines")
+        ->type_name("FILE");
+    app->add_option("--timing", a->timing,
+                    "write when each frame left the program and when each tile received, replayed and\n"
+                    "presented it, on one clock, as JSON lines (docs/wall.md)")
         ->type_name("FILE");
     app->add_option("--dashboard", a->dashboard,
                     "serve the wall's dashboard here: its tiles with thumbnails and status, plots, effects\n"

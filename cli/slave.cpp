@@ -239,6 +239,7 @@ private:
                     std::fprintf(stderr, "glcast slave: %s\n", err.c_str());
             };
             pair.replay(source);
+            if (link_) link_->flush_timings();
             return;
         }
         Replayer& replayer = *replayer_;
@@ -249,12 +250,14 @@ private:
         // Every frame replayed is counted for the status at its present, whether it is written or
         // not (--frames A:B writes some); frames are read back only to be written.
         replayer.before_present = [this, &source, &rates](uint64_t frame) { before_present(source, rates, frame); };
+        replayer.after_present = [this](uint64_t frame) { after_present(frame); };
         replayer.on_frame = nullptr;
         if (!out.empty())
             replayer.on_frame = [&out](uint64_t frame, int w, int h, const std::vector<uint8_t>& rgba) {
                 write_frame(out, frame, w, h, rgba);
             };
         replayer.replay(source);
+        if (link_) link_->flush_timings();
     }
 
     // The passes switched live (slave/live_effects.h): the newest state the run sent, applied
@@ -294,6 +297,10 @@ private:
     }
 
     void before_present(NetworkSource& source, Rates& rates, uint64_t frame) {
+        // The frame's times for the run's --timing (docs/wall.md): live frames only (one caught
+        // up from the journal arrived long after the program drew it, and is not held).
+        pending_timing_.reset();
+        if (link_ && source.live()) pending_timing_ = FrameTiming{frame, source.arrived(), steady_seconds(), 0};
         frame_counted(source, rates, frame);
         // After one wait in vain (glcast run is gone), later frames wait briefly until a GO comes again.
         bool held = false;
@@ -318,6 +325,19 @@ private:
         follow_live_effects(frame);
         if (!stereo_.pair) send_thumbnail(frame, nullptr);
         if (a_.lockstep && source.caught_up()) source.done(frame);
+        if (stereo_.pair) after_present(frame);  // (its eyes are shown together, just after)
+    }
+
+    // The frame is on the tile: its times go to the run, and the clock is sampled now, when a
+    // wait delays the next frame's replay rather than this one's present.
+    void after_present(uint64_t frame) {
+        if (!link_) return;
+        if (pending_timing_ && pending_timing_->frame == frame) {
+            pending_timing_->presented = steady_seconds();
+            link_->timing(*pending_timing_);
+        }
+        pending_timing_.reset();
+        link_->sync_clock();
     }
 
     // Frames replayed while catching up from the journal are written too: they are the same
@@ -359,6 +379,7 @@ private:
     StereoTile stereo_;
     std::unique_ptr<FILE, FileCloser> present_log_;  // test hook: "frame seconds held-by-the-barrier" a present
     TileReport report_;
+    std::optional<FrameTiming> pending_timing_;  // the frame being presented
     std::chrono::steady_clock::time_point last_report_ = std::chrono::steady_clock::now() - std::chrono::seconds(10);
     bool barrier_answered_ = true;
     std::optional<std::pair<uint64_t, HeadPose>> next_head_;  // a pose from the barrier, and its frame

@@ -26,7 +26,9 @@ bool BarrierState::ready(const std::string& tile, uint64_t frame, double now) {
     t.waiting = true;
     t.frame = frame;
     t.last_heard = now;
-    if (t.dropped) {
+    // A dropped tile counts again once it reaches a frame the wall has not presented; before,
+    // it is behind (its backlog after a stop) and each of its frames goes at once.
+    if (t.dropped && !(started_ && frame <= last_released_)) {
         t.dropped = false;
         back.push_back(tile);
     }
@@ -47,6 +49,11 @@ std::vector<BarrierState::Release> BarrierState::release(double now, std::vector
     bool anyone_waits = false;
     for (auto& [name, t] : tiles_) anyone_waits |= t.waiting;
     if (!anyone_waits) return out;
+    for (auto& [name, t] : tiles_)  // dropped and behind: it holds no one, and no one holds it
+        if (t.dropped && t.waiting) {
+            out.push_back({name, t.frame});
+            t.waiting = false;
+        }
     // A tile that keeps the others waiting and has said nothing for drop_seconds_ is gone.
     for (auto& [name, t] : tiles_)
         if (!t.dropped && !t.waiting && now - t.last_heard > drop_seconds_) {
@@ -59,13 +66,15 @@ std::vector<BarrierState::Release> BarrierState::release(double now, std::vector
         if (!t.waiting) return out;  // still drawing
         lowest = std::min(lowest, t.frame);
     }
+    if (lowest == UINT64_MAX) return out;  // every tile dropped
     for (auto& [name, t] : tiles_)
-        if (t.waiting && t.frame == lowest) {
+        if (!t.dropped && t.waiting && t.frame == lowest) {
             out.push_back({name, t.frame});
             t.waiting = false;
             t.last_heard = now;  // drawing the next frame from now on
+            last_released_ = started_ ? std::max(last_released_, lowest) : lowest;
+            started_ = true;
         }
-    started_ |= !out.empty();
     return out;
 }
 
@@ -175,6 +184,11 @@ void WallControl::set_started_effects(const slave::LiveEffects& e) {
     std::lock_guard lock(mutex_);
     effects_ = e;
     effects_.version = 0, effects_.frame = 0;
+}
+
+void WallControl::set_timing_sink(TimingSink sink) {
+    std::lock_guard lock(mutex_);
+    timing_sink_ = std::move(sink);
 }
 
 bool WallControl::thumbnail(const std::string& tile, std::string& jpeg, uint64_t& frame) const {
@@ -292,11 +306,12 @@ void WallControl::serve() {
         zmq::pollitem_t item{router.handle(), 0, ZMQ_POLLIN, 0};
         zmq::poll(&item, 1, std::chrono::milliseconds(50));
         for (int n = 0; n < 256 && (item.revents & ZMQ_POLLIN); n++) {
-            zmq::message_t identity, body, jpeg;
+            zmq::message_t identity, body, jpeg;  // (jpeg: a second part, a thumbnail's or a TIMING's lines)
             if (!router.recv(identity, zmq::recv_flags::dontwait)) break;
             bool well_formed = router.get(zmq::sockopt::rcvmore) && router.recv(body);
             const bool thumb = well_formed && body.size() > 6 && std::memcmp(body.data(), "THUMB ", 6) == 0;
-            if (thumb) well_formed = router.get(zmq::sockopt::rcvmore) && router.recv(jpeg);  // its second part
+            const bool timing = well_formed && body.size() > 7 && std::memcmp(body.data(), "TIMING ", 7) == 0;
+            if (thumb || timing) well_formed = router.get(zmq::sockopt::rcvmore) && router.recv(jpeg);
             well_formed = well_formed && !router.get(zmq::sockopt::rcvmore);
             while (router.get(zmq::sockopt::rcvmore)) (void)router.recv(jpeg);  // extra parts: read and forget
             if (!well_formed || identity.size() == 0 || identity.size() > 255) continue;
@@ -329,6 +344,17 @@ void WallControl::serve() {
                 char now[64];
                 std::snprintf(now, sizeof now, "TIME %.6f",
                               std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count());
+                router.send(zmq::buffer(identity.data(), identity.size()), zmq::send_flags::sndmore | zmq::send_flags::dontwait);
+                router.send(zmq::buffer(std::string(now)), zmq::send_flags::dontwait);
+                continue;
+            }
+            if (verb == "CLOCK") {  // a slave's clock offset: this machine's steady clock, the swaps' clock
+                std::string t0;
+                char* end = nullptr;
+                if (!(words >> t0) || t0.size() > 32 || (std::strtod(t0.c_str(), &end), !end || *end)) continue;
+                char now[96];
+                std::snprintf(now, sizeof now, "CLOCK %s %.9f", t0.c_str(),
+                              std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count());
                 router.send(zmq::buffer(identity.data(), identity.size()), zmq::send_flags::sndmore | zmq::send_flags::dontwait);
                 router.send(zmq::buffer(std::string(now)), zmq::send_flags::dontwait);
                 continue;
@@ -370,6 +396,13 @@ void WallControl::serve() {
                 const bool behind = s.effects_version < effects_.version;
                 lock.unlock();
                 if (behind) send_effects(identity.to_string());  // it joined later, or lost the last
+            } else if (timing) {
+                double offset = NAN, error = NAN;
+                std::vector<std::pair<uint64_t, TileFrameTiming>> frames;
+                if (!(words >> offset >> error) || !parse_timing_lines(jpeg.to_string(), offset, error, frames)) continue;
+                std::lock_guard lock(mutex_);
+                if (timing_sink_)
+                    for (const auto& [frame, t] : frames) timing_sink_(tile, frame, t);
             } else if (thumb) {
                 uint64_t frame = 0;
                 if (!(words >> frame) || jpeg.size() < 4 || std::memcmp(jpeg.data(), "\xff\xd8", 2) != 0) continue;

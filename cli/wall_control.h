@@ -5,7 +5,9 @@
 // Swap barrier: before presenting frame n a tile says "READY TILE n" and waits for "GO n", sent
 // once every tile of the wall still counted waits for frame n or a later one. A tile that says
 // nothing (no READY, no report of drawing the program live) for kDropSeconds while others wait is
-// no longer counted (said once); it is again as soon as it says READY. A tile joining the program
+// no longer counted (said once); it is again from its first READY of a frame the wall has not
+// released yet. Until then it is behind (a backlog after a stop) and each of its READYs is
+// answered at once, holding no one. A tile joining the program
 // holds the others only until the wall's first frame: one that joins later (a restarted slave
 // catching up from the keeper) draws none of the frames they wait for.
 //
@@ -13,7 +15,11 @@
 // "HEAD TILE n" asks for frame n's (a tile's first frame).
 //
 // Clock: "TIME" is answered "TIME SECONDS" (this machine's clock, since the epoch), for glcast
-// doctor's offset.
+// doctor's offset; "CLOCK TILE T0" is answered "CLOCK T0 SECONDS" (this machine's steady clock,
+// the one the program's swaps are timed on), for the slaves' offsets (slave/wall_link.h).
+// "TIMING TILE OFFSET ERROR" with a second part of lines "FRAME ARRIVED REPLAYED PRESENTED" (on
+// this machine's steady clock): when the tile received, replayed and presented frames, for
+// --timing (cli/wall_timing.h).
 //
 // Status: each slave says "STATUS TILE STATE FRAME MASTER_FRAME FPS MBPS LAG RECOVERIES MACHINE
 // EFFECTS_VERSION" once a second (slave/wall_link.h); status() gathers the newest of each tile.
@@ -40,6 +46,7 @@
 #include <thread>
 #include <vector>
 
+#include "cli/wall_timing.h"
 #include "slave/live_effects.h"
 #include "slave/viewer.h"
 
@@ -90,6 +97,7 @@ private:
     std::map<std::string, Tile> tiles_;
     double drop_seconds_;
     bool started_ = false;
+    uint64_t last_released_ = 0;  // the newest frame released to the tiles counted
 };
 
 // Who speaks for each tile: the first peer that names it (its CURVE key on a wall across
@@ -156,6 +164,9 @@ public:
     bool thumbnail(const std::string& tile, std::string& jpeg, uint64_t& frame) const;
     // What the tiles started with: the first state, version 0.
     void set_started_effects(const slave::LiveEffects& e);
+    // Where the tiles' frame times go (glcast run --timing), from the serve thread.
+    using TimingSink = std::function<void(const std::string& tile, uint64_t frame, const TileFrameTiming& t)>;
+    void set_timing_sink(TimingSink sink);
 
 private:
     void serve();
@@ -180,6 +191,7 @@ private:
         uint64_t frame = 0;
     };
     std::map<std::string, Thumbnail> thumbnails_;
+    TimingSink timing_sink_;
     slave::LiveEffects effects_;
     uint64_t last_released_ = 0;  // the swap barrier's newest GO
     bool released_any_ = false;

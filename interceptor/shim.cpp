@@ -168,13 +168,14 @@ void finish_stream() {
 void on_frame_end() {
     Stream* s = stream();
     if (!s) return;
-    s->end_frame();
-    // Benchmark hook: when each frame left the program (CLOCK_MONOTONIC), for wall latencies.
+    // When each frame left the program (CLOCK_MONOTONIC, taken before it is sent: a slave may
+    // have it before this thread writes the line): glcast run --timing, wall latency benchmarks.
     static FILE* swap_log = shim_config().swap_log.empty() ? nullptr : std::fopen(shim_config().swap_log.c_str(), "w");
+    timespec swapped{};
+    if (swap_log) clock_gettime(CLOCK_MONOTONIC, &swapped);
+    s->end_frame();
     if (swap_log) {
-        timespec ts;
-        clock_gettime(CLOCK_MONOTONIC, &ts);
-        std::fprintf(swap_log, "%llu %.6f\n", (unsigned long long)(s->frame() - 1), ts.tv_sec + ts.tv_nsec * 1e-9);
+        std::fprintf(swap_log, "%llu %.6f\n", (unsigned long long)(s->frame() - 1), swapped.tv_sec + swapped.tv_nsec * 1e-9);
         std::fflush(swap_log);
     }
     const ShimConfig& c = shim_config();

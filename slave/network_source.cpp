@@ -478,6 +478,7 @@ bool NetworkSource::receive_live(std::vector<uint8_t>& bytes) {
     }
     zmq::message_t msg;
     if (!sub_->recv(msg)) return false;
+    arrived_ = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
     bytes.assign(msg.data<uint8_t>(), msg.data<uint8_t>() + msg.size());
     return true;
 }

@@ -69,6 +69,9 @@ public:
     void set_idle_interval(int ms) { idle_ms_ = ms; }
 
     bool live() const { return live_; }              // the last message came from the live stream
+    // When the last live message was taken from the stream's socket (steady seconds): a slave busy
+    // with earlier frames takes it later than the network brought it.
+    double arrived() const { return arrived_; }
     bool from_state() const { return from_state_; }  // ... or from a keeper's snapshot (its own sequence)
     // ... or was the last of a snapshot: the newest frame the master has, which a master in
     // lockstep waits for (the live message that showed a gap is in the snapshot, not replayed again)
@@ -151,6 +154,7 @@ private:
     uint64_t gap_live_ = UINT64_MAX;  // the live message of the last gap, and how often it was one
     int gap_tries_ = 0;
     bool live_ = false, from_state_ = false;
+    double arrived_ = 0;
     uint64_t recoveries_ = 0, bytes_ = 0, master_frame_ = 0;
     std::string gap_;
     bool replaced_ = false;

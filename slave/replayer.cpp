@@ -174,6 +174,7 @@ void Replayer::finish_frame() {
     }
     if (before_present) before_present(frame_);
     backend_->present();
+    if (after_present) after_present(frame_);
     for (ReplayObserver* o : observers_) o->presented(ctx);
     frame_++;
     stats_.frames++;

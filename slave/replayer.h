@@ -88,6 +88,8 @@ public:
     std::function<void(uint64_t frame, int width, int height, GLenum buffer)> on_frame_drawn;
     // Called just before each frame is presented (the swap barrier waits here).
     std::function<void(uint64_t frame)> before_present;
+    // Called just after each frame was presented (when it was shown: docs/wall.md's timing).
+    std::function<void(uint64_t frame)> after_present;
     // Called before the first call of each frame, with its number (a tracked viewer's pose).
     std::function<void(uint64_t frame)> before_frame;
     // Called after the injected passes of each frame, with the frame's view (tests of redraw).

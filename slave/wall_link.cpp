@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <functional>
 #include <thread>
 
 #include "common/environment.h"
@@ -68,12 +69,10 @@ bool parse_go(const std::string& answer, const std::string& go, HeadPose* head, 
 
 }  // namespace
 
-// Sends `request` and waits at most timeout_ms for the answer that starts with `answer` (ending at
-// a space or the end: "GO 1" is not "GO 12"), with the pose it may carry; whatever else comes in
-// the meantime is heard (older GOs are skipped).
-bool WallLink::ask(const std::string& request, const std::string& answer, int timeout_ms, HeadPose* head,
-                   bool* has_head) {
-    if (has_head) *has_head = false;
+// Whatever else comes in the meantime is heard (older GOs are skipped). An answer ends at a
+// space or at its end: "GO 1" is not "GO 12".
+bool WallLink::ask(const std::string& request, const std::string& answer, int timeout_ms,
+                   const std::function<bool(const std::string&)>& accept) {
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
     // Nothing is queued before the run's channel is connected (CURVE's handshake takes a while
     // across machines): the request is offered again until it is taken, within the same wait.
@@ -81,14 +80,16 @@ bool WallLink::ask(const std::string& request, const std::string& answer, int ti
         if (std::chrono::steady_clock::now() >= deadline) return false;
         std::this_thread::sleep_for(std::chrono::milliseconds(5));
     }
-    while (std::chrono::steady_clock::now() < deadline) {
+    for (auto now = std::chrono::steady_clock::now(); now < deadline; now = std::chrono::steady_clock::now()) {
         zmq::pollitem_t item{socket_->handle(), 0, ZMQ_POLLIN, 0};
-        zmq::poll(&item, 1, std::chrono::milliseconds(50));
+        zmq::poll(&item, 1, std::min(std::chrono::milliseconds(50),
+                                     std::chrono::duration_cast<std::chrono::milliseconds>(deadline - now) +
+                                         std::chrono::milliseconds(1)));
         if (!(item.revents & ZMQ_POLLIN)) continue;
         zmq::message_t message;
         const std::string text = socket_->recv(message) ? message.to_string() : std::string();
-        if ((text.size() == answer.size() || (text.size() > answer.size() && text[answer.size()] == ' ')) &&
-            parse_go(text, answer, head, has_head))
+        if (text.compare(0, answer.size(), answer) == 0 && (text.size() == answer.size() || text[answer.size()] == ' ') &&
+            accept(text))
             return true;
         heard(text);
     }
@@ -96,15 +97,84 @@ bool WallLink::ask(const std::string& request, const std::string& answer, int ti
 }
 
 bool WallLink::barrier(uint64_t frame, int timeout_ms, HeadPose* next_head, bool* has_head) {
-    return ask("READY " + tile_ + " " + std::to_string(frame), "GO " + std::to_string(frame), timeout_ms, next_head,
-               has_head);
+    if (has_head) *has_head = false;
+    const std::string go = "GO " + std::to_string(frame);
+    return ask("READY " + tile_ + " " + std::to_string(frame), go, timeout_ms,
+               [&](const std::string& text) { return parse_go(text, go, next_head, has_head); });
 }
 
 bool WallLink::first_head(uint64_t frame, int timeout_ms, HeadPose& head) {
     bool has_head = false;
-    return ask("HEAD " + tile_ + " " + std::to_string(frame), "HEAD " + std::to_string(frame), timeout_ms, &head,
-               &has_head) &&
+    const std::string answer = "HEAD " + std::to_string(frame);
+    return ask("HEAD " + tile_ + " " + std::to_string(frame), answer, timeout_ms,
+               [&](const std::string& text) { return parse_go(text, answer, &head, &has_head); }) &&
            has_head;
+}
+
+double steady_seconds() {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+void ClockOffset::sample(double t0, double run_time, double t2) {
+    if (!(t2 >= t0) || !std::isfinite(run_time)) return;
+    if (samples_.size() == kSamples) samples_.pop_front();
+    samples_.push_back({run_time - (t0 + t2) / 2, t2 - t0});
+}
+
+ClockOffset::Sample ClockOffset::best() const {
+    Sample b{0, 0};
+    for (size_t i = 0; i < samples_.size(); i++)
+        if (i == 0 || samples_[i].round_trip < b.round_trip) b = samples_[i];
+    return b;
+}
+
+void WallLink::sync_clock() {
+    const double now = steady_seconds();
+    if (now < next_sample_) return;
+    char t0_text[64];
+    std::snprintf(t0_text, sizeof t0_text, "%.9f", now);
+    const std::string answer = std::string("CLOCK ") + t0_text;
+    double run_time = NAN;
+    const bool answered = ask("CLOCK " + tile_ + " " + t0_text, answer, kClockWaitMs, [&](const std::string& text) {
+        char* end = nullptr;
+        run_time = std::strtod(text.c_str() + answer.size(), &end);
+        return end && *end == 0 && std::isfinite(run_time);
+    });
+    const double t2 = steady_seconds();
+    if (answered) clock_.sample(std::strtod(t0_text, nullptr), run_time, t2);
+    // Unanswered (no run serves the channel, or one of before CLOCK): asked again in 5 s.
+    next_sample_ = t2 + (!answered ? 5.0 : clock_.samples() < kQuickSamples ? 0.0 : 1.0);
+}
+
+void WallLink::timing(const FrameTiming& t) {
+    if (timings_.size() < kMaxHeldTimings) timings_.push_back(t);
+    if (clock_.known() && steady_seconds() - timings_sent_ >= 0.1) send_timings();
+}
+
+void WallLink::flush_timings() {
+    while (clock_.known() && !timings_.empty()) send_timings();
+}
+
+// "TIMING TILE OFFSET ERROR" and, as a second part, a line "FRAME ARRIVED REPLAYED PRESENTED"
+// a frame, on the run's clock (cli/wall_control.h bounds both).
+void WallLink::send_timings() {
+    char head[160];
+    std::snprintf(head, sizeof head, "TIMING %s %.9f %.9f", tile_.c_str(), clock_.offset(), clock_.error());
+    std::string lines;
+    const double offset = clock_.offset(), stale = steady_seconds() - 5;
+    size_t n = 0;
+    for (; n < timings_.size() && lines.size() < kMaxThumbnailBytes - 128; n++) {
+        const FrameTiming& t = timings_[n];
+        if (t.presented < stale) continue;  // held while no run answered: another program's, perhaps
+        char line[128];
+        std::snprintf(line, sizeof line, "%llu %.6f %.6f %.6f\n", (unsigned long long)t.frame, t.arrived + offset,
+                      t.replayed + offset, t.presented + offset);
+        lines += line;
+    }
+    timings_.erase(timings_.begin(), timings_.begin() + n);
+    timings_sent_ = steady_seconds();
+    if (socket_->send(zmq::buffer(std::string(head)), zmq::send_flags::sndmore | zmq::send_flags::dontwait))
+        (void)socket_->send(zmq::buffer(lines), zmq::send_flags::dontwait);
 }
 
 void WallLink::heard(const std::string& text) {

@@ -3,8 +3,11 @@
 #pragma once
 
 #include <cstdint>
+#include <deque>
+#include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "slave/live_effects.h"
 #include "slave/viewer.h"
@@ -24,6 +27,36 @@ struct TileReport {
     uint64_t effects_version = 0;  // of the live effects it holds (slave/live_effects.h)
 };
 
+// This machine's steady clock against the wall run's (NTP's way over the control channel): a
+// sample asks "CLOCK TILE t0" at t0 and hears "CLOCK t0 T" at t2; the run's clock read T somewhere
+// between, so run = here + T - (t0 + t2) / 2 within (t2 - t0) / 2. Of the last kSamples the one
+// with the shortest round trip is used: queueing only lengthens a trip, and the bound stays true.
+class ClockOffset {
+public:
+    static constexpr size_t kSamples = 16;
+    void sample(double t0, double run_time, double t2);
+    bool known() const { return !samples_.empty(); }
+    double offset() const { return best().offset; }  // add to this machine's seconds: the run's
+    double error() const { return best().round_trip / 2; }
+    size_t samples() const { return samples_.size(); }
+
+private:
+    struct Sample {
+        double offset, round_trip;
+    };
+    Sample best() const;
+    std::deque<Sample> samples_;
+};
+
+// When one frame reached a tile, was replayed and was presented (steady seconds of this machine).
+struct FrameTiming {
+    uint64_t frame = 0;
+    double arrived = 0, replayed = 0, presented = 0;
+};
+
+// Seconds of this machine's steady clock (CLOCK_MONOTONIC: the shim's swap log's clock too).
+double steady_seconds();
+
 class WallLink {
 public:
     // Connects (secured as net/security.h says; throws std::runtime_error when refused).
@@ -39,6 +72,18 @@ public:
     // known, refused as a GO's would be, or no answer in time).
     bool first_head(uint64_t frame, int timeout_ms, HeadPose& head);
     void report(const TileReport& r);  // never waits; a report may be lost
+    // A frame's times, sent to the run on its clock (with the offset and its bound) in batches
+    // of at most a tenth of a second; held until the clock is known (at most kMaxHeldTimings).
+    // Never waits; a batch may be lost.
+    void timing(const FrameTiming& t);
+    // One clock sample when due (the first kQuickSamples at once, then one a second, and 5 s
+    // after one unanswered): waits at most kClockWaitMs. Call where a wait matters least (after
+    // a present).
+    void sync_clock();
+    void flush_timings();  // what is held, now (a program's last frames)
+    const ClockOffset& clock() const { return clock_; }
+    static constexpr size_t kQuickSamples = 8, kMaxHeldTimings = 4096;
+    static constexpr int kClockWaitMs = 100;
     // A small JPEG of what the tile shows, for the dashboard (about once a second); never waits.
     void thumbnail(uint64_t frame, const std::string& jpeg);
     // The newest live effects the wall's run sent (read without waiting, and while barrier()
@@ -47,11 +92,19 @@ public:
     static constexpr size_t kMaxThumbnailBytes = 64 * 1024;
 
 private:
-    bool ask(const std::string& request, const std::string& answer, int timeout_ms, HeadPose* head, bool* has_head);
+    // Sends `request` and waits at most timeout_ms for an answer that starts with `answer` and
+    // that `accept` takes (given the whole answer).
+    bool ask(const std::string& request, const std::string& answer, int timeout_ms,
+             const std::function<bool(const std::string&)>& accept);
+    void send_timings();
     void heard(const std::string& text);  // a message that is not the answer waited for
     std::string endpoint_, tile_, machine_;
     bool has_effects_ = false;
     LiveEffects effects_;
+    ClockOffset clock_;
+    double next_sample_ = 0;  // steady seconds
+    std::vector<FrameTiming> timings_;  // not yet sent
+    double timings_sent_ = 0;
     std::unique_ptr<zmq::context_t> context_;
     std::unique_ptr<zmq::socket_t> socket_;
 };

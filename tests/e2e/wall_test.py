@@ -24,6 +24,8 @@ loss: with every 29th message dropped on purpose, the slave notices, starts over
   journal, and its frames still equal the program's own (in lockstep, so that the journal is
   still there for a slave that fell behind).
 sigstop: a slave stopped with SIGSTOP does not hold the program back.
+timing: glcast run --timing: every frame's swap and each tile's arrival, replay and present,
+  ordered, on one clock within the offsets' bounds.
 
 Tolerance of the mosaic: llvmpipe evaluates interpolants relative to the framebuffer's
 origin, so a tile (whose viewport is the canvas viewport moved by the tile's offset) rounds a
@@ -510,6 +512,66 @@ def case_swap_barrier():
     spread = max(max(times[f]) - min(times[f]) for f in frames)
     print(f"swap barrier: {len(frames)} frames, every tile presented frame N before any presented N+1; "
           f"widest spread within a frame {spread * 1000:.1f} ms")
+
+
+def read_timing(path):
+    """glcast run --timing's lines: {frame: line}, each frame once."""
+    lines = {}
+    for text in open(path):
+        line = json.loads(text)
+        check(line["frame"] not in lines, f"frame {line['frame']} written twice")
+        lines[line["frame"]] = line
+    return lines
+
+
+def case_timing():
+    # glcast run --timing on a 2x2 wall of null slaves with the barrier: every frame the tiles
+    # drew live has the program's swap and each tile's arrival, replay and present, in that order
+    # on one clock; the slaves' clock offsets (the same machine: truly 0) are within their bounds;
+    # and no tile presented a frame before every tile had replayed it (the barrier, seen on the
+    # clock).
+    out = os.path.join(OUT, "timing")
+    shutil.rmtree(out, ignore_errors=True)
+    os.makedirs(out)
+    timing = os.path.join(out, "timing.jsonl")
+    config = os.path.join(ROOT, "tests", "configs", "wall-2x2-barrier.json")
+    r = run([GLCAST, "run", "--config", config, "--backend", "null", "--frames", "150", "--timing", timing, "--",
+             "glxgears"])
+    check(r.returncode == 0, f"glcast run failed: {r.stderr[-3000:]}")
+    lines = read_timing(timing)
+    tiles = ("top-left", "top-right", "bottom-left", "bottom-right")
+    full = sorted(f for f, line in lines.items() if line["swap"] is not None and len(line["tiles"]) == 4)
+    check(full, f"no frame with the swap and all four tiles: {list(lines.values())[:3]}")
+    # From the first frame all four drew live (before it they join through the journal, which
+    # is not timed) to the program's last: every one, complete.
+    last_swap = max(f for f, line in lines.items() if line["swap"] is not None)
+    missing = [f for f in range(full[0], last_swap + 1) if f not in full]
+    check(not missing, f"frames {missing[:10]} (of {full[0]}..{last_swap}) lack the swap or a tile: "
+                       f"{[lines.get(f) for f in missing[:2]]}")
+    check(last_swap - full[0] >= 100, f"only frames {full[0]}..{last_swap} timed")
+    latencies, spreads, worst_error = [], [], 0
+    for f in full:
+        line = lines[f]
+        for tile in tiles:
+            t = line["tiles"][tile]
+            err = t["clock_error"]
+            worst_error = max(worst_error, err)
+            check(0 <= err < 0.005, f"frame {f} {tile}: clock error {err} s (the same machine: a round trip)")
+            check(abs(t["clock_offset"]) <= err + 1e-6,
+                  f"frame {f} {tile}: clock offset {t['clock_offset']} s beyond its bound {err} s on one machine")
+            check(line["swap"] <= t["arrived"] + err, f"frame {f} {tile}: arrived before the program swapped: {line}")
+            check(t["arrived"] <= t["replayed"] <= t["presented"], f"frame {f} {tile}: times out of order: {t}")
+            latencies.append(t["presented"] - line["swap"])
+        replayed_all = max(line["tiles"][t]["replayed"] for t in tiles)
+        first_present = min(line["tiles"][t]["presented"] for t in tiles)
+        worst = max(line["tiles"][t]["clock_error"] for t in tiles)
+        check(first_present >= replayed_all - 2 * worst,
+              f"frame {f}: a tile presented before every tile had replayed it (the barrier): {line}")
+        spreads.append(max(line["tiles"][t]["presented"] for t in tiles) - first_present)
+    latencies.sort()
+    spreads.sort()
+    print(f"timing: frames {full[0]}..{last_swap}, swap to present median {latencies[len(latencies) // 2] * 1000:.2f} ms, "
+          f"spread median {spreads[len(spreads) // 2] * 1000:.3f} ms, worst clock error {worst_error * 1e6:.0f} us")
 
 
 @contextlib.contextmanager

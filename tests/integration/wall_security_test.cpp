@@ -14,6 +14,8 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <mutex>
+#include <cstdio>
 #include <random>
 #include <string>
 #include <thread>
@@ -24,6 +26,7 @@
 #include "slave/wall_link.h"
 
 using glcast::cli::BarrierState;
+using glcast::cli::TileFrameTiming;
 using glcast::cli::WallControl;
 namespace net = glcast::net;
 
@@ -102,6 +105,41 @@ TEST(SwapBarrier, ASilentTileIsDroppedAndTakenBackWhenItReturns) {
     EXPECT_EQ(s.back, std::vector<std::string>{"d"});
     for (const char* t : {"a", "b", "c"}) s.ready(t, 4, 3.9);
     EXPECT_EQ(released(s, 3.9).size(), 4u);
+}
+
+// A tile stopped for a while (SIGSTOP, a machine that hung) comes back with frames the wall
+// presented long ago: it shows them at once, as it replays them, and counts again only when it
+// reaches a frame the others have not presented. Before, its first READY made it count at once
+// with its old frame, and the others waited until it had replayed its whole backlog.
+TEST(SwapBarrier, ATileThatComesBackBehindDoesNotHoldTheOthers) {
+    BarrierState s(kTiles, 2.0, 0);
+    for (const char* t : {"a", "b", "c", "d"}) s.ready(t, 1, 0.1);
+    EXPECT_EQ(released(s, 0.1).size(), 4u);
+    for (const char* t : {"a", "b", "c"}) s.ready(t, 2, 0.2);
+    std::vector<std::string> dropped;
+    EXPECT_EQ(released(s, 2.3, &dropped), (std::vector<std::string>{"a@2", "b@2", "c@2"}));
+    EXPECT_EQ(dropped, std::vector<std::string>{"d"});
+    for (uint64_t f = 3; f <= 40; f++) {
+        for (const char* t : {"a", "b", "c"}) s.ready(t, f, 2.3 + f * 0.01);
+        EXPECT_EQ(released(s, 2.3 + f * 0.01).size(), 3u);
+    }
+    // d continues: its backlog, frame 2 on, while the others go on from 41.
+    for (const char* t : {"a", "b", "c"}) s.ready(t, 41, 3.0);
+    s.ready("d", 2, 3.0);
+    EXPECT_EQ(released(s, 3.0), (std::vector<std::string>{"d@2", "a@41", "b@41", "c@41"}));  // d at once: behind
+    EXPECT_FALSE(s.counted("d"));
+    EXPECT_TRUE(s.back.empty());
+    for (uint64_t f = 3; f <= 41; f++) {  // d alone, at once; the others are never held by it
+        s.ready("d", f, 3.0 + f * 0.001);
+        EXPECT_EQ(released(s, 3.0 + f * 0.001), (std::vector<std::string>{"d@" + std::to_string(f)}));
+    }
+    EXPECT_FALSE(s.counted("d"));
+    // 42: a frame the others have not presented: d counts again, and all four go together.
+    for (const char* t : {"a", "b", "c"}) s.ready(t, 42, 3.1);
+    s.ready("d", 42, 3.1);
+    EXPECT_TRUE(s.counted("d"));
+    EXPECT_EQ(s.back, std::vector<std::string>{"d"});
+    EXPECT_EQ(released(s, 3.1).size(), 4u);
 }
 
 TEST(Endpoints, TransportsAndWhatNeedsKeys) {
@@ -398,6 +436,52 @@ TEST(WallControlChannel, GarbageIsIgnored) {
     EXPECT_EQ(status.at("c").age_seconds, -1);  // never reported
     // "a": only the report with one word too many was well formed up to the machine: it counts.
     EXPECT_EQ(status.at("a").machine, "host");
+}
+
+// The tiles' frame times (glcast run --timing): a CLOCK is answered with the run's steady clock
+// and the time asked at; TIMING lines reach the sink only when every line is well formed, from
+// the peer that speaks for the tile.
+TEST(WallControlChannel, ClockAndTimingsOnlyWhenWellFormed) {
+    unsetenv("GLCAST_KEYS");
+    const std::string endpoint = "ipc://" + temp_dir() + "/control";
+    WallControl wall(endpoint, kTiles, false);
+    std::mutex m;
+    std::vector<std::string> got;
+    wall.set_timing_sink([&](const std::string& tile, uint64_t frame, const TileFrameTiming& t) {
+        std::lock_guard lock(m);
+        got.push_back(tile + "@" + std::to_string(frame) + " " + std::to_string(t.presented + t.clock_offset * 0) +
+                      " err " + std::to_string(t.clock_error));
+    });
+    zmq::context_t context(1);
+    zmq::socket_t dealer(context, zmq::socket_type::dealer);
+    dealer.set(zmq::sockopt::linger, 0);
+    dealer.set(zmq::sockopt::rcvtimeo, 2000);
+    dealer.connect(endpoint);
+    const double before = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+    dealer.send(zmq::str_buffer("CLOCK a 12.5x"), zmq::send_flags::none);  // not a number: no answer
+    dealer.send(zmq::str_buffer("CLOCK a 12.5"), zmq::send_flags::none);
+    zmq::message_t answer;
+    ASSERT_TRUE(dealer.recv(answer));
+    double t0 = 0, run_time = 0;
+    ASSERT_EQ(std::sscanf(answer.to_string().c_str(), "CLOCK %lf %lf", &t0, &run_time), 2) << answer.to_string();
+    EXPECT_EQ(t0, 12.5);
+    EXPECT_GE(run_time, before);
+    auto timing = [&](const std::string& head, const std::string& lines) {
+        dealer.send(zmq::buffer(head), zmq::send_flags::sndmore);
+        dealer.send(zmq::buffer(lines), zmq::send_flags::none);
+    };
+    timing("TIMING a 0 0.001", "1 1.0 2.0 3.0\n2 1.5 2.5 3.5\n");  // taken
+    timing("TIMING a 0 0.001", "3 1.0 2.0 3.0\n4 1.5 2.5\n");      // a short line: none taken
+    timing("TIMING a 0 0.001", "5 1.0 2.0 nan\n");
+    timing("TIMING a 0 -1", "6 1.0 2.0 3.0\n");                    // a negative bound
+    timing("TIMING a nan 0.001", "7 1.0 2.0 3.0\n");
+    timing("TIMING stranger 0 0.001", "8 1.0 2.0 3.0\n");          // not a tile of the wall
+    dealer.send(zmq::str_buffer("TIMING a 0 0.001"), zmq::send_flags::none);  // no second part
+    timing("TIMING b 0 0.002", "9 4.0 5.0 6.0");                   // the last line unended: taken
+    std::this_thread::sleep_for(std::chrono::milliseconds(400));
+    std::lock_guard lock(m);
+    EXPECT_EQ(got, (std::vector<std::string>{"a@1 3.000000 err 0.001000", "a@2 3.500000 err 0.001000",
+                                             "b@9 6.000000 err 0.002000"}));
 }
 
 // One `glcast run` after another on the same wall: what a slave said while no run was serving
