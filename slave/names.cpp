@@ -88,8 +88,23 @@ void Replayer::map_created(Ns ns, uint64_t master, uint64_t slave) {
 }
 
 void Replayer::forget(Ns ns, uint64_t master) {
+    // A program deleted while in use keeps its name until it is no longer current (GL 4.6, 7.3):
+    // the program may go on asking about it (piglit's copyteximage does).
+    if (ns == Ns::program && master && master == current().current_program) {
+        current().program_deleted_in_use = master;
+        return;
+    }
     release_store(current(), ns, master);
     current().names.map(ns).erase(master);
+}
+
+void Replayer::used_program(uint64_t master) {
+    SlaveContext& ctx = current();
+    ctx.current_program = master;
+    const uint64_t deleted = ctx.program_deleted_in_use;
+    if (!deleted || deleted == master) return;
+    ctx.program_deleted_in_use = 0;
+    forget(Ns::program, deleted);
 }
 
 void Replayer::forget_names(Ns ns, const Call& c, int i) {

@@ -321,7 +321,7 @@ void Replayer::run_default(const Call& c) {
         current();  // a GL call needs a current context
         kReplay[c.opcode](*this, c);
         stats_.replayed++;
-        if (c.info->sem.program_use >= 0) current().current_program = c.args[size_t(c.info->sem.program_use)].bits;
+        if (c.info->sem.program_use >= 0) used_program(c.args[size_t(c.info->sem.program_use)].bits);
         break;
     case ReplayKind::ReplyOnly: {
         stats_.reply_only++;

@@ -209,6 +209,7 @@ private:
     ReplayOptions options_;
     ReplayStats stats_;
     GlApi api_;
+    void used_program(uint64_t master);  // glUseProgram's: a program deleted in use goes now
     bool said_name_never_made_ = false;
     bool redrawing_ = false;  // running recorded calls again for the passes (redispatch)
     std::unique_ptr<ReplaySizeQueries> sizes_;  // over api_

@@ -30,6 +30,7 @@ struct SlaveContext {
     uint64_t drawable = 0;
     bool drawing_to_window = true;  // the draw framebuffer is the window (tracked by TileAdapter)
     uint64_t current_program = 0;   // master name, for glUniform* locations
+    uint64_t program_deleted_in_use = 0;  // master name deleted while current: unmapped when unused
     uint32_t list_base = 0;         // glListBase, applied to glCallLists on the slave side
     // The window's draw and read buffers as the master named them (GL_BACK, ...; 0: never set):
     // the slave's driver holds its own window's (slave/special/framebuffers.cpp).
