@@ -83,15 +83,16 @@ bool WindowSystem::replace_call(const Call& c) {
         auto request = pending_.find(t.handle);
         if (request == pending_.end()) return true;  // its creation failed
         request->second.alpha = t.alpha;
-        // The passes read and test the scene's depth (and stencil) in the window framebuffer: with
-        // them on, a slave keeps at least its own 24 and 8 bits (what the program asks of them then
-        // differs; said once).
-        const bool passes = core_.options().effects.followed();
+        // The passes and a tile's adaptation read and test depth (and stencil) in the window
+        // framebuffer: with either on, a slave keeps at least its own 24 and 8 bits (what the
+        // program asks of them then differs; said once). (A 2x2 mosaic of a depth-less program
+        // differed from its canvas in 24,576 pixels without them.)
+        const bool passes = core_.options().effects.followed() || core_.options().tile.enabled;
         request->second.depth = passes ? std::max(t.depth, 24) : t.depth;
         request->second.stencil = passes ? std::max(t.stencil, 8) : t.stencil;
         if (passes && (t.depth < 24 || t.stencil < 8) && !said_passes_keep_depth_) {
             said_passes_keep_depth_ = true;
-            std::fprintf(stderr, "glcast slave: the program's window has %d depth and %d stencil bits; the passes keep "
+            std::fprintf(stderr, "glcast slave: the program's window has %d depth and %d stencil bits; the passes and tiles keep "
                                  "the slave's 24 and 8\n", t.depth, t.stencil);
         }
         return true;
